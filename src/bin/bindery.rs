@@ -1,0 +1,123 @@
+//! `bindery`: builds and packages the FMUs, and keeps `modelDescription/` current.
+//!
+//! - `bindery build`: compiles every FMU's cdylib (release) and writes `out/fmus/<id>.fmu`.
+//! - `bindery describe`: writes `modelDescription/<id>.xml`; `--check` fails if one is stale.
+
+use bindery_fmu::catalog::{self, Entry};
+use bindery_fmu::package::FmuContents;
+use clap::{Parser, Subcommand};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::path::{Path, PathBuf};
+use std::process::{Command, ExitCode};
+
+#[derive(Parser)]
+#[command(name = "bindery", about = "Bookbinding mechanisms as FMI 2.0 co-simulation FMUs")]
+struct Cli {
+    #[command(subcommand)]
+    command: Cmd,
+}
+
+#[derive(Subcommand)]
+enum Cmd {
+    /// Build every FMU (or those named) into out/fmus/
+    Build {
+        /// Only these modelIdentifiers
+        models: Vec<String>,
+        /// Output folder
+        #[arg(long, default_value = "out/fmus")]
+        out: PathBuf,
+    },
+    /// Write modelDescription/<id>.xml for every FMU
+    Describe {
+        /// Do not write; fail if a committed file differs from the generated one
+        #[arg(long)]
+        check: bool,
+    },
+}
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn target_dir() -> PathBuf {
+    std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root().join("target"))
+}
+
+fn selected(models: &[String]) -> Result<Vec<Entry>, String> {
+    let all = catalog::all();
+    if let Some(bad) = models.iter().find(|m| !all.iter().any(|e| e.identifier == m.as_str())) {
+        let known: Vec<_> = all.iter().map(|e| e.identifier).collect();
+        return Err(format!("unknown model {bad:?}; known: {}", known.join(", ")));
+    }
+    Ok(all.into_iter().filter(|e| models.is_empty() || models.iter().any(|m| m == e.identifier)).collect())
+}
+
+fn build(models: &[String], out: &Path) -> Result<(), String> {
+    let entries = selected(models)?;
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let mut cmd = Command::new(cargo);
+    cmd.current_dir(root()).args(["build", "--release", "--lib"]);
+    for e in &entries {
+        cmd.args(["-p", e.package]);
+    }
+    eprintln!("compiling {} FMU binaries (release)...", entries.len());
+    let status = cmd.status().map_err(|e| format!("cannot run cargo: {e}"))?;
+    if !status.success() {
+        return Err("cargo build of the FMU binaries failed".into());
+    }
+    let out = if out.is_absolute() { out.to_path_buf() } else { root().join(out) };
+    std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let bar = ProgressBar::new(entries.len() as u64);
+    bar.set_style(ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?);
+    for e in &entries {
+        bar.set_message(e.identifier);
+        let so = target_dir().join("release").join(format!("lib{}.so", e.identifier));
+        let binary = std::fs::read(&so).map_err(|err| format!("{}: {err}", so.display()))?;
+        let (model_description, _guid) = (e.describe)();
+        let (documentation, icon) = (e.documentation)()?;
+        let fmu = FmuContents { identifier: e.identifier.into(), model_description, binary, documentation, icon, resources: vec![] };
+        let path = out.join(format!("{}.fmu", e.identifier));
+        std::fs::write(&path, fmu.to_zip()?).map_err(|err| format!("{}: {err}", path.display()))?;
+        bar.inc(1);
+        bar.println(format!("wrote {}", path.display()));
+    }
+    bar.finish_and_clear();
+    if let Err(stale) = check_descriptions(&entries, true) {
+        eprintln!("warning: {stale}; run `cargo run --release -- describe` and commit modelDescription/");
+    }
+    Ok(())
+}
+
+/// Compares (or writes) the committed descriptions.
+fn check_descriptions(entries: &[Entry], check: bool) -> Result<(), String> {
+    let mut stale = Vec::new();
+    for e in entries {
+        let path = root().join("modelDescription").join(format!("{}.xml", e.identifier));
+        let (xml, _) = (e.describe)();
+        if check {
+            if std::fs::read_to_string(&path).ok().as_deref() != Some(xml.as_str()) {
+                stale.push(path.display().to_string());
+            }
+        } else {
+            std::fs::create_dir_all(path.parent().unwrap()).map_err(|err| err.to_string())?;
+            std::fs::write(&path, xml).map_err(|err| format!("{}: {err}", path.display()))?;
+            eprintln!("wrote {}", path.display());
+        }
+    }
+    if stale.is_empty() { Ok(()) } else { Err(format!("stale model description(s): {}", stale.join(", "))) }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let result = match cli.command {
+        Cmd::Build { models, out } => build(&models, &out),
+        Cmd::Describe { check } => check_descriptions(&catalog::all(), check),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -1,0 +1,95 @@
+//! The `documentation/` folder of every FMU and its `model.png` icon, generic over mechanisms:
+//! a page ([`index_html`]) with the mechanism's introduction, a table of every variable and
+//! the figures, each figure a PNG line plot ([`render_png`]).
+//!
+//! No system library and no system font: plots are drawn with plotters into memory, text in
+//! DejaVu Sans embedded in the binary, and PNGs are encoded here. Everything is
+//! deterministic (no time, no hash-map order, no machine state), so rebuilding an FMU gives
+//! the same bytes.
+
+mod html;
+mod plot;
+
+pub use html::{escape, index_html};
+pub use plot::{FIGURE_SIZE, ICON_SIZE, icon_png, render_png};
+
+use crate::md::ModelInfo;
+use crate::model::Var;
+
+/// One line of a figure.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Series {
+    /// Legend entry (shown when the figure has more than one series).
+    pub label: String,
+    /// `(x, y)` in plot units; a non-finite point breaks the line.
+    pub points: Vec<(f64, f64)>,
+}
+
+impl Series {
+    pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
+        Series { label: label.into(), points }
+    }
+}
+
+/// A figure of the documentation: a line plot and its caption.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Figure {
+    /// File name in `documentation/`, e.g. `fig2_gamma.png`.
+    pub file: String,
+    /// Drawn above the plot; also the image's `alt` text.
+    pub title: String,
+    /// Axis labels, with units, e.g. `shaft angle φ [deg]`.
+    pub x_label: String,
+    pub y_label: String,
+    pub series: Vec<Series>,
+    /// Plain text under the figure on the page.
+    pub caption: String,
+    /// One unit as long on both axes (paths of a point in the plane).
+    pub equal_axes: bool,
+}
+
+/// Every file of `documentation/`, in order: `index.html`, then each figure's PNG.
+/// Fails on a figure that cannot be drawn or a file name that is not a plain, unique
+/// `*.png` name.
+pub fn documentation(info: &ModelInfo, vars: &[(u32, &Var)], intro_html: &str, figures: &[Figure]) -> Result<Vec<(String, Vec<u8>)>, String> {
+    let mut files = vec![("index.html".to_string(), index_html(info, vars, intro_html, figures).into_bytes())];
+    for fig in figures {
+        let plain = fig.file.len() > 4
+            && fig.file.ends_with(".png")
+            && !fig.file.starts_with('.')
+            && fig.file.chars().all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'));
+        if !plain {
+            return Err(format!("figure file name {:?}: want a plain name like fig1_motion.png", fig.file));
+        }
+        if files.iter().any(|(f, _)| *f == fig.file) {
+            return Err(format!("figure file name {:?} used twice", fig.file));
+        }
+        files.push((fig.file.clone(), render_png(fig)?));
+    }
+    Ok(files)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::Experiment;
+
+    #[test]
+    fn documentation_files() {
+        let info = ModelInfo {
+            identifier: "t",
+            model_name: "T",
+            description: "d",
+            experiment: Experiment { start: 0.0, stop: 1.0, step: 1e-3, tolerance: None },
+        };
+        let v = Var::output("y", "m", "out");
+        let fig = |f: &str| Figure { file: f.into(), series: vec![Series::new("a", vec![(0.0, 0.0), (1.0, 1.0)])], ..Default::default() };
+        let files = documentation(&info, &[(0, &v)], "", &[fig("fig1_a.png"), fig("fig2_b.png")]).unwrap();
+        let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
+        assert_eq!(names, ["index.html", "fig1_a.png", "fig2_b.png"]);
+        for bad in ["../x.png", "x.svg", "index.html", "a b.png", ".png"] {
+            assert!(documentation(&info, &[], "", &[fig(bad)]).is_err(), "{bad}");
+        }
+        assert!(documentation(&info, &[], "", &[fig("a.png"), fig("a.png")]).is_err());
+    }
+}

@@ -1,0 +1,998 @@
+//! The generic FMI 2.0 co-simulation runtime: one instance type over any [`Model`], one entry
+//! wrapper ([`entry`]) that checks the component, the state machine and catches panics, and
+//! the implementation of every call. It knows no mechanism: what it knows of a model is the
+//! [`Model`] trait and the variable table.
+//!
+//! The `extern "C"` symbols themselves are generated per FMU by [`crate::export_fmu!`], each a
+//! one-line call into this module.
+
+use super::state::{Call, State, allowed};
+use super::types::*;
+use crate::md;
+use crate::model::{Log, Model, SetPhase, Severity, Values, Var, VarSet, VarType, check_bounds};
+use std::ffi::{CStr, CString};
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::PathBuf;
+
+const MAGIC: u64 = 0x4249_4e44_4552_5932; // "BINDERY2"
+const STATE_MAGIC: &[u8; 8] = b"BNDRYST1";
+
+/// Log categories as bits (see [`md::LOG_CATEGORIES`]).
+fn category_bit(name: &str) -> Option<u32> {
+    md::LOG_CATEGORIES.iter().position(|(n, _)| *n == name).map(|i| 1 << i)
+}
+
+/// The host's logger, with the instance name and the enabled categories.
+pub struct Logger {
+    callback: CallbackLogger,
+    env: ComponentEnvironment,
+    name: CString,
+    on: bool,
+    categories: u32,
+}
+
+impl Logger {
+    /// Sends one message; `%` is escaped because hosts treat the message as a printf format.
+    pub fn emit(&self, status: Status, category: &str, message: &str) {
+        let debug = matches!(status, Status::Ok | Status::Pending);
+        if debug && !(self.on && category_bit(category).is_some_and(|b| self.categories & b != 0)) {
+            return;
+        }
+        let Some(cb) = self.callback else { return };
+        let msg = CString::new(message.replace('%', "%%").replace('\0', " ")).unwrap_or_default();
+        let cat = CString::new(category).unwrap_or_default();
+        // SAFETY: the host gave us this logger for this environment; all strings are valid C strings.
+        unsafe { cb(self.env, self.name.as_ptr(), status, cat.as_ptr(), msg.as_ptr()) };
+    }
+}
+
+impl Log for Logger {
+    fn log(&mut self, severity: Severity, message: &str) {
+        match severity {
+            Severity::Info => self.emit(Status::Ok, "logEvents", message),
+            Severity::Warning => self.emit(Status::Warning, "logStatusWarning", message),
+        }
+    }
+}
+
+/// A saved FMU state: everything that determines a run, and no pointers.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Snapshot {
+    state: State,
+    time: f64,
+    start_time: f64,
+    stop_time: Option<f64>,
+    values: Vec<f64>,
+    model_state: Vec<f64>,
+}
+
+impl Snapshot {
+    fn to_bytes(&self, guid_hash: u128) -> Vec<u8> {
+        let mut b = Vec::with_capacity(64 + 8 * (self.values.len() + self.model_state.len()));
+        b.extend_from_slice(STATE_MAGIC);
+        b.extend_from_slice(&guid_hash.to_le_bytes());
+        b.extend_from_slice(&self.state.code().to_le_bytes());
+        for x in [self.time, self.start_time, self.stop_time.unwrap_or(f64::NAN)] {
+            b.extend_from_slice(&x.to_bits().to_le_bytes());
+        }
+        b.push(self.stop_time.is_some() as u8);
+        for v in [&self.values, &self.model_state] {
+            b.extend_from_slice(&(v.len() as u64).to_le_bytes());
+            for x in v.iter() {
+                b.extend_from_slice(&x.to_bits().to_le_bytes());
+            }
+        }
+        b
+    }
+
+    fn from_bytes(bytes: &[u8], guid_hash: u128, n_values: usize) -> Result<Snapshot, String> {
+        let mut r = Reader { b: bytes, at: 0 };
+        if r.take(8)? != STATE_MAGIC {
+            return Err("not a serialized state of a bindery-fmu FMU".into());
+        }
+        if u128::from_le_bytes(r.take(16)?.try_into().unwrap()) != guid_hash {
+            return Err("serialized state belongs to another FMU (GUID differs)".into());
+        }
+        let code = u16::from_le_bytes(r.take(2)?.try_into().unwrap());
+        let state = State::from_code(code).ok_or_else(|| format!("unknown state code {code}"))?;
+        let time = r.f64()?;
+        let start_time = r.f64()?;
+        let stop = r.f64()?;
+        let stop_defined = r.take(1)?[0] == 1;
+        let values = r.vec()?;
+        if values.len() != n_values {
+            return Err(format!("serialized state has {} values, this FMU {}", values.len(), n_values));
+        }
+        let model_state = r.vec()?;
+        if r.at != bytes.len() {
+            return Err(format!("{} trailing bytes in serialized state", bytes.len() - r.at));
+        }
+        Ok(Snapshot { state, time, start_time, stop_time: stop_defined.then_some(stop), values, model_state })
+    }
+}
+
+struct Reader<'a> {
+    b: &'a [u8],
+    at: usize,
+}
+
+impl<'a> Reader<'a> {
+    fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
+        let end = self.at.checked_add(n).filter(|&e| e <= self.b.len()).ok_or("serialized state is truncated")?;
+        let s = &self.b[self.at..end];
+        self.at = end;
+        Ok(s)
+    }
+    fn f64(&mut self) -> Result<f64, String> {
+        Ok(f64::from_bits(u64::from_le_bytes(self.take(8)?.try_into().unwrap())))
+    }
+    fn vec(&mut self) -> Result<Vec<f64>, String> {
+        let n = u64::from_le_bytes(self.take(8)?.try_into().unwrap()) as usize;
+        if n > self.b.len() / 8 {
+            return Err("serialized state is truncated".into());
+        }
+        (0..n).map(|_| self.f64()).collect()
+    }
+}
+
+/// One FMU instance.
+pub struct Instance<M: Model> {
+    magic: u64,
+    guid_hash: u128,
+    pub logger: Logger,
+    pub state: State,
+    pub values: Values<M::Var>,
+    model: Option<M>,
+    /// Outputs are stale (an input, parameter or the time changed since the last evaluation).
+    dirty: bool,
+    /// Parameters changed since the model was prepared.
+    params_changed: bool,
+    pub time: f64,
+    start_time: f64,
+    stop_time: Option<f64>,
+    /// Where the FMU's `resources/` folder is, if the host said.
+    pub resources: Option<PathBuf>,
+    /// FMU states handed out and not yet freed (so a foreign pointer is refused, not followed).
+    snapshots: Vec<*mut Snapshot>,
+}
+
+type Outcome = Result<Status, String>;
+
+impl<M: Model> Instance<M> {
+    fn new(logger: Logger, resources: Option<PathBuf>, guid: &str) -> Self {
+        Instance {
+            magic: MAGIC,
+            guid_hash: md::fnv1a_128(guid.as_bytes()),
+            logger,
+            state: State::Instantiated,
+            values: Values::start(),
+            model: None,
+            dirty: true,
+            params_changed: true,
+            time: 0.0,
+            start_time: 0.0,
+            stop_time: None,
+            resources,
+            snapshots: Vec::new(),
+        }
+    }
+
+    fn table() -> &'static [Var] {
+        <M::Var as VarSet>::table()
+    }
+
+    fn var(vr: ValueReference) -> Result<&'static Var, String> {
+        Self::table().get(vr as usize).ok_or_else(|| format!("unknown value reference {vr}"))
+    }
+
+    /// Makes sure the outputs are current (lazy outputs).
+    fn refresh(&mut self) -> Result<(), String> {
+        if self.params_changed || self.model.is_none() {
+            check_bounds(&self.values).map_err(|e| e.to_string())?;
+            self.model = Some(M::prepare(&self.values).map_err(|e| e.to_string())?);
+            self.params_changed = false;
+            self.dirty = true;
+        }
+        if self.dirty {
+            let model = self.model.as_mut().expect("prepared above");
+            model.evaluate(&mut self.values, self.time, &mut self.logger);
+            self.dirty = false;
+        }
+        Ok(())
+    }
+
+    fn set_phase(&self) -> SetPhase {
+        match self.state {
+            State::Instantiated => SetPhase::Instantiated,
+            State::InitializationMode => SetPhase::Initialization,
+            _ => SetPhase::Running,
+        }
+    }
+
+    /// Validates every (vr, value) first, then applies them all: a refused call changes nothing.
+    fn set_values(&mut self, vrs: &[ValueReference], vals: &[f64], kind: &str, type_ok: fn(VarType) -> bool) -> Outcome {
+        let phase = self.set_phase();
+        for (&vr, &x) in vrs.iter().zip(vals) {
+            let v = Self::var(vr)?;
+            if !type_ok(v.ty) {
+                return Err(format!("{} (vr {vr}) is not of type {kind}", v.name));
+            }
+            if !v.settable(phase) {
+                return Err(format!("{} cannot be set {}", v.name, match phase {
+                    SetPhase::Running => "after initialization (it is not an input or tunable parameter)",
+                    _ => "(it is not a parameter or an input)",
+                }));
+            }
+            if !x.is_finite() {
+                return Err(format!("{} = {x} refused: not a finite number; the previous value {} is kept", v.name, self.values.raw()[vr as usize]));
+            }
+            if let VarType::Enumeration(t) = v.ty
+                && t.item(x as i32).is_none()
+            {
+                return Err(format!("{} = {x} refused: not an item of {} (1..={})", v.name, t.name, t.items.len()));
+            }
+        }
+        for (&vr, &x) in vrs.iter().zip(vals) {
+            let v = &Self::table()[vr as usize];
+            let slot = &mut self.values.raw_mut()[vr as usize];
+            if *slot != x {
+                *slot = x;
+                self.dirty = true;
+                if v.causality == crate::model::Causality::Parameter {
+                    self.params_changed = true;
+                }
+            }
+        }
+        Ok(Status::Ok)
+    }
+
+    fn get_values(&mut self, vrs: &[ValueReference], kind: &str, type_ok: fn(VarType) -> bool, mut out: impl FnMut(usize, f64)) -> Outcome {
+        for &vr in vrs {
+            let v = Self::var(vr)?;
+            if !type_ok(v.ty) {
+                return Err(format!("{} (vr {vr}) is not of type {kind}", v.name));
+            }
+        }
+        self.refresh()?;
+        for (i, &vr) in vrs.iter().enumerate() {
+            out(i, self.values.raw()[vr as usize]);
+        }
+        Ok(Status::Ok)
+    }
+
+    fn snapshot(&self) -> Snapshot {
+        Snapshot {
+            state: self.state,
+            time: self.time,
+            start_time: self.start_time,
+            stop_time: self.stop_time,
+            values: self.values.raw().to_vec(),
+            model_state: self.model.as_ref().map(M::save_state).unwrap_or_default(),
+        }
+    }
+
+    fn restore(&mut self, s: &Snapshot) -> Outcome {
+        if s.values.len() != self.values.raw().len() {
+            return Err("FMU state does not belong to this FMU".into());
+        }
+        let mut values = Values::<M::Var>::start();
+        values.raw_mut().copy_from_slice(&s.values);
+        let model = if matches!(s.state, State::Instantiated) {
+            None
+        } else {
+            match M::prepare(&values) {
+                Ok(mut m) => {
+                    m.restore_state(&s.model_state)?;
+                    Some(m)
+                }
+                Err(e) if s.state == State::InitializationMode => {
+                    let _ = e;
+                    None
+                }
+                Err(e) => return Err(format!("FMU state cannot be restored: {e}")),
+            }
+        };
+        self.values = values;
+        self.params_changed = model.is_none();
+        self.model = model;
+        self.state = s.state;
+        self.time = s.time;
+        self.start_time = s.start_time;
+        self.stop_time = s.stop_time;
+        self.dirty = true;
+        Ok(Status::Ok)
+    }
+
+    fn own_snapshot(&self, p: FMUstate) -> Result<*mut Snapshot, String> {
+        let p = p as *mut Snapshot;
+        if p.is_null() {
+            return Err("FMU state is NULL".into());
+        }
+        if !self.snapshots.contains(&p) {
+            return Err("FMU state was not created by this instance (or was already freed)".into());
+        }
+        Ok(p)
+    }
+}
+
+impl<M: Model> Drop for Instance<M> {
+    fn drop(&mut self) {
+        for p in self.snapshots.drain(..) {
+            // SAFETY: every pointer in `snapshots` came from Box::into_raw and was not freed.
+            drop(unsafe { Box::from_raw(p) });
+        }
+        self.magic = 0;
+    }
+}
+
+fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+    p.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| p.downcast_ref::<String>().cloned()).unwrap_or_else(|| "unknown panic".into())
+}
+
+/// The one entry wrapper: checks the component pointer, the state machine, runs `f` with panics
+/// caught, and logs any refusal with its reason.
+///
+/// # Safety
+/// `c` must be NULL or a pointer returned by [`instantiate`] for the same model and not freed.
+pub unsafe fn entry<M: Model>(c: Component, call: Call, f: impl FnOnce(&mut Instance<M>) -> Outcome) -> Status {
+    if c.is_null() {
+        return Status::Error;
+    }
+    // SAFETY: per the contract above.
+    let inst = unsafe { &mut *(c as *mut Instance<M>) };
+    if inst.magic != MAGIC {
+        return Status::Error;
+    }
+    if !allowed(call, inst.state) {
+        let msg = format!("fmi2{call:?} is not allowed in state {:?}", inst.state);
+        inst.logger.emit(Status::Error, "logStatusError", &msg);
+        return Status::Error;
+    }
+    inst.logger.emit(Status::Ok, "logAll", &format!("fmi2{call:?}"));
+    match catch_unwind(AssertUnwindSafe(|| f(inst))) {
+        Ok(Ok(status)) => status,
+        Ok(Err(msg)) => {
+            inst.logger.emit(Status::Error, "logStatusError", &format!("fmi2{call:?}: {msg}"));
+            Status::Error
+        }
+        Err(p) => {
+            let msg = format!("fmi2{call:?}: internal error (panic caught at the FMI boundary): {}", panic_text(&*p));
+            inst.state = State::Error;
+            inst.logger.emit(Status::Error, "logStatusError", &msg);
+            Status::Error
+        }
+    }
+}
+
+/// Builds a slice from a C array, refusing NULL when `n > 0`.
+///
+/// # Safety
+/// `p` must point to `n` valid elements when non-NULL.
+unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], String> {
+    if n == 0 {
+        return Ok(&[]);
+    }
+    if p.is_null() {
+        return Err(format!("{what} is NULL but nvr = {n}"));
+    }
+    // SAFETY: per the contract above.
+    Ok(unsafe { std::slice::from_raw_parts(p, n) })
+}
+
+/// As [`slice`], mutable.
+///
+/// # Safety
+/// `p` must point to `n` valid elements when non-NULL.
+unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], String> {
+    if n == 0 {
+        return Ok(&mut []);
+    }
+    if p.is_null() {
+        return Err(format!("{what} is NULL but nvr = {n}"));
+    }
+    // SAFETY: per the contract above.
+    Ok(unsafe { std::slice::from_raw_parts_mut(p, n) })
+}
+
+/// # Safety
+/// `s` must be NULL or a valid C string.
+unsafe fn c_str<'a>(s: FmiString) -> Option<&'a str> {
+    // SAFETY: per the contract above.
+    (!s.is_null()).then(|| unsafe { CStr::from_ptr(s) }.to_str().ok()).flatten()
+}
+
+/// Turns an FMI resource location (`file:/...`, `file:///...`, percent-encoded) into a path.
+pub fn resource_path(uri: &str) -> Option<PathBuf> {
+    let rest = uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:"))?;
+    // file://localhost/path or file:///path or file:/path
+    let rest = rest.strip_prefix("localhost").unwrap_or(rest);
+    let bytes = rest.as_bytes();
+    let mut out = Vec::with_capacity(bytes.len());
+    let mut i = 0;
+    while i < bytes.len() {
+        if bytes[i] == b'%' && i + 2 < bytes.len() {
+            if let Ok(b) = u8::from_str_radix(std::str::from_utf8(&bytes[i + 1..i + 3]).ok()?, 16) {
+                out.push(b);
+                i += 3;
+                continue;
+            }
+        }
+        out.push(bytes[i]);
+        i += 1;
+    }
+    let s = String::from_utf8(out).ok()?;
+    let s = if s.starts_with('/') { s } else { format!("/{s}") };
+    Some(PathBuf::from(s))
+}
+
+// ---- the calls ------------------------------------------------------------------------------
+
+/// `fmi2Instantiate`.
+///
+/// # Safety
+/// Pointer arguments must be NULL or valid per the FMI 2.0 standard.
+pub unsafe fn instantiate<M: Model>(
+    instance_name: FmiString,
+    fmu_type: FmuType,
+    guid: FmiString,
+    resource_location: FmiString,
+    functions: *const CallbackFunctions,
+    _visible: Boolean,
+    logging_on: Boolean,
+) -> Component {
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        if functions.is_null() {
+            eprintln!("{}: fmi2Instantiate: callback functions are NULL; refused", M::IDENTIFIER);
+            return std::ptr::null_mut();
+        }
+        // SAFETY: non-NULL, per the standard a valid struct.
+        let f = unsafe { *functions };
+        // SAFETY: NULL or valid C string.
+        let name = unsafe { c_str(instance_name) }.unwrap_or("");
+        let logger = Logger {
+            callback: f.logger,
+            env: f.component_environment,
+            name: CString::new(if name.is_empty() { M::IDENTIFIER } else { name }).unwrap_or_default(),
+            on: logging_on != FALSE,
+            categories: u32::MAX,
+        };
+        let refuse = |why: String| {
+            logger.emit(Status::Error, "logStatusError", &format!("fmi2Instantiate: {why}; refused"));
+            std::ptr::null_mut()
+        };
+        if f.logger.is_none() {
+            eprintln!("{}: fmi2Instantiate: the logger callback is NULL; refused", M::IDENTIFIER);
+            return std::ptr::null_mut();
+        }
+        if name.is_empty() {
+            return refuse("instanceName is NULL or empty".into());
+        }
+        if fmu_type as i32 != FmuType::CoSimulation as i32 {
+            return refuse(format!("fmuType {} requested; this FMU provides Co-Simulation (1) only", fmu_type as i32));
+        }
+        let (_, our_guid) = md::describe::<M>();
+        // SAFETY: NULL or valid C string.
+        match unsafe { c_str(guid) } {
+            Some(g) if g == our_guid => {}
+            g => return refuse(format!("GUID {:?} does not match this binary's {our_guid}", g.unwrap_or("NULL"))),
+        }
+        // SAFETY: NULL or valid C string.
+        let resources = unsafe { c_str(resource_location) }.and_then(resource_path);
+        let inst = Box::new(Instance::<M>::new(logger, resources, &our_guid));
+        Box::into_raw(inst) as Component
+    }));
+    result.unwrap_or_else(|p| {
+        eprintln!("{}: fmi2Instantiate: internal error: {}", M::IDENTIFIER, panic_text(&*p));
+        std::ptr::null_mut()
+    })
+}
+
+/// `fmi2FreeInstance`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn free_instance<M: Model>(c: Component) {
+    // SAFETY: as entry.
+    let ok = unsafe { entry::<M>(c, Call::FreeInstance, |_| Ok(Status::Ok)) };
+    if ok == Status::Ok {
+        // SAFETY: entry checked the pointer is a live instance of ours.
+        drop(unsafe { Box::from_raw(c as *mut Instance<M>) });
+    }
+}
+
+/// `fmi2SetDebugLogging`.
+///
+/// # Safety
+/// As [`entry`]; `categories` holds `n` C strings.
+pub unsafe fn set_debug_logging<M: Model>(c: Component, on: Boolean, n: usize, categories: *const FmiString) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetDebugLogging, |inst| {
+            let cats = slice(categories, n, "categories")?;
+            let mut bits = 0;
+            for &p in cats {
+                let name = c_str(p).ok_or("a category is NULL")?;
+                bits |= category_bit(name).ok_or_else(|| format!("unknown log category {name:?}"))?;
+            }
+            // No list: everything on or off. A list: exactly those on, or those off.
+            match (n, on != FALSE) {
+                (0, on) => (inst.logger.on, inst.logger.categories) = (on, u32::MAX),
+                (_, true) => (inst.logger.on, inst.logger.categories) = (true, bits),
+                (_, false) => inst.logger.categories &= !bits,
+            }
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2SetupExperiment`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn setup_experiment<M: Model>(c: Component, _tol_defined: Boolean, _tol: f64, start: f64, stop_defined: Boolean, stop: f64) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetupExperiment, |inst| {
+            if !start.is_finite() {
+                return Err(format!("startTime = {start} is not finite"));
+            }
+            if stop_defined != FALSE && !(stop.is_finite() && stop >= start) {
+                return Err(format!("stopTime = {stop} must be finite and not before startTime = {start}"));
+            }
+            inst.start_time = start;
+            inst.time = start;
+            inst.stop_time = (stop_defined != FALSE).then_some(stop);
+            inst.dirty = true;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2EnterInitializationMode`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn enter_initialization_mode<M: Model>(c: Component) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::EnterInitializationMode, |inst| {
+            inst.state = State::InitializationMode;
+            inst.dirty = true;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2ExitInitializationMode`: the parameters are final; a set the mechanism cannot work with
+/// is refused here, naming the parameter, and the instance stays in initialization mode so the
+/// host can correct it.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn exit_initialization_mode<M: Model>(c: Component) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::ExitInitializationMode, |inst| {
+            inst.params_changed = true;
+            inst.refresh().map_err(|e| format!("parameters refused: {e}"))?;
+            inst.state = State::StepComplete;
+            inst.logger.emit(Status::Ok, "logEvents", "initialized");
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2Terminate`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn terminate<M: Model>(c: Component) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::Terminate, |inst| {
+            inst.state = State::Terminated;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2Reset`: back to a freshly instantiated state (start values, no experiment).
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn reset<M: Model>(c: Component) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::Reset, |inst| {
+            inst.state = State::Instantiated;
+            inst.values = Values::start();
+            inst.model = None;
+            inst.dirty = true;
+            inst.params_changed = true;
+            inst.time = 0.0;
+            inst.start_time = 0.0;
+            inst.stop_time = None;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+fn is_real(t: VarType) -> bool {
+    t == VarType::Real
+}
+fn is_int(t: VarType) -> bool {
+    t.is_integer_like()
+}
+fn is_bool(t: VarType) -> bool {
+    t == VarType::Boolean
+}
+fn is_none(_: VarType) -> bool {
+    false
+}
+
+/// `fmi2GetReal`.
+///
+/// # Safety
+/// As [`entry`]; arrays hold `n` elements.
+pub unsafe fn get_real<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *mut Real) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetReal, |inst| {
+            let vrs = slice(vr, n, "vr")?;
+            let out = slice_mut(value, n, "value")?;
+            inst.get_values(vrs, "Real", is_real, |i, x| out[i] = x)
+        })
+    }
+}
+
+/// `fmi2GetInteger` (Integer and Enumeration variables).
+///
+/// # Safety
+/// As [`entry`]; arrays hold `n` elements.
+pub unsafe fn get_integer<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *mut Integer) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetInteger, |inst| {
+            let vrs = slice(vr, n, "vr")?;
+            let out = slice_mut(value, n, "value")?;
+            inst.get_values(vrs, "Integer", is_int, |i, x| out[i] = x as Integer)
+        })
+    }
+}
+
+/// `fmi2GetBoolean`.
+///
+/// # Safety
+/// As [`entry`]; arrays hold `n` elements.
+pub unsafe fn get_boolean<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *mut Boolean) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetBoolean, |inst| {
+            let vrs = slice(vr, n, "vr")?;
+            let out = slice_mut(value, n, "value")?;
+            inst.get_values(vrs, "Boolean", is_bool, |i, x| out[i] = if x != 0.0 { TRUE } else { FALSE })
+        })
+    }
+}
+
+/// `fmi2GetString`: the models have no String variables.
+///
+/// # Safety
+/// As [`entry`]; arrays hold `n` elements.
+pub unsafe fn get_string<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *mut FmiString) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetString, |inst| {
+            let vrs = slice(vr, n, "vr")?;
+            let _ = slice_mut(value, n, "value")?;
+            inst.get_values(vrs, "String", is_none, |_, _| ())
+        })
+    }
+}
+
+/// `fmi2SetReal`: non-finite values are refused and the previous values kept.
+///
+/// # Safety
+/// As [`entry`]; arrays hold `n` elements.
+pub unsafe fn set_real<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *const Real) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetReal, |inst| {
+            let vrs = slice(vr, n, "vr")?;
+            let vals = slice(value, n, "value")?;
+            inst.set_values(vrs, vals, "Real", is_real)
+        })
+    }
+}
+
+/// `fmi2SetInteger` (Integer and Enumeration variables).
+///
+/// # Safety
+/// As [`entry`]; arrays hold `n` elements.
+pub unsafe fn set_integer<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *const Integer) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetInteger, |inst| {
+            let vrs = slice(vr, n, "vr")?;
+            let vals: Vec<f64> = slice(value, n, "value")?.iter().map(|&x| x as f64).collect();
+            inst.set_values(vrs, &vals, "Integer", is_int)
+        })
+    }
+}
+
+/// `fmi2SetBoolean`.
+///
+/// # Safety
+/// As [`entry`]; arrays hold `n` elements.
+pub unsafe fn set_boolean<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *const Boolean) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetBoolean, |inst| {
+            let vrs = slice(vr, n, "vr")?;
+            let vals: Vec<f64> = slice(value, n, "value")?.iter().map(|&x| if x != FALSE { 1.0 } else { 0.0 }).collect();
+            inst.set_values(vrs, &vals, "Boolean", is_bool)
+        })
+    }
+}
+
+/// `fmi2SetString`: the models have no String variables.
+///
+/// # Safety
+/// As [`entry`]; arrays hold `n` elements.
+pub unsafe fn set_string<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *const FmiString) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetString, |inst| {
+            let vrs = slice(vr, n, "vr")?;
+            let _ = slice(value, n, "value")?;
+            let vals = vec![0.0; n];
+            inst.set_values(vrs, &vals, "String", is_none)
+        })
+    }
+}
+
+/// `fmi2DoStep`: checks the communication point, `h > 0` and the stop time; the outputs at the
+/// new time are computed when read.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn do_step<M: Model>(c: Component, t: f64, h: f64, _no_prior: Boolean) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::DoStep, |inst| {
+            if !(t.is_finite() && h.is_finite()) {
+                return Err(format!("currentCommunicationPoint = {t}, communicationStepSize = {h}: not finite"));
+            }
+            if h <= 0.0 {
+                return Err(format!("communicationStepSize = {h} must be > 0"));
+            }
+            let tol = 1e-9 * inst.time.abs().max(1.0);
+            if (t - inst.time).abs() > tol {
+                return Err(format!("currentCommunicationPoint = {t} differs from the FMU's time {}", inst.time));
+            }
+            if let Some(stop) = inst.stop_time
+                && t + h > stop + 1e-9 * stop.abs().max(1.0)
+            {
+                return Err(format!("step to {} passes the stop time {stop}", t + h));
+            }
+            inst.refresh()?;
+            let model = inst.model.as_mut().expect("refreshed");
+            if let Err(why) = model.do_step(&mut inst.values, t, h, &mut inst.logger) {
+                inst.state = State::StepFailed;
+                inst.logger.emit(Status::Discard, "logStatusDiscard", &format!("fmi2DoStep from t = {t}: {why}"));
+                return Ok(Status::Discard);
+            }
+            inst.time = t + h;
+            inst.dirty = true;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2GetFMUstate`.
+///
+/// # Safety
+/// As [`entry`]; `state` points to an `fmi2FMUstate`.
+pub unsafe fn get_fmu_state<M: Model>(c: Component, state: *mut FMUstate) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetFMUstate, |inst| {
+            if state.is_null() {
+                return Err("FMUstate pointer is NULL".into());
+            }
+            let snap = inst.snapshot();
+            if (*state).is_null() {
+                let p = Box::into_raw(Box::new(snap));
+                inst.snapshots.push(p);
+                *state = p as FMUstate;
+            } else {
+                let p = inst.own_snapshot(*state)?;
+                *p = snap;
+            }
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2SetFMUstate`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn set_fmu_state<M: Model>(c: Component, state: FMUstate) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetFMUstate, |inst| {
+            let p = inst.own_snapshot(state)?;
+            let snap = (*p).clone();
+            inst.restore(&snap)
+        })
+    }
+}
+
+/// `fmi2FreeFMUstate`.
+///
+/// # Safety
+/// As [`entry`]; `state` points to an `fmi2FMUstate`.
+pub unsafe fn free_fmu_state<M: Model>(c: Component, state: *mut FMUstate) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::FreeFMUstate, |inst| {
+            if state.is_null() || (*state).is_null() {
+                return Ok(Status::Ok);
+            }
+            let p = inst.own_snapshot(*state)?;
+            inst.snapshots.retain(|&q| q != p);
+            drop(Box::from_raw(p));
+            *state = std::ptr::null_mut();
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2SerializedFMUstateSize`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn serialized_fmu_state_size<M: Model>(c: Component, state: FMUstate, size: *mut usize) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SerializedFMUstateSize, |inst| {
+            let p = inst.own_snapshot(state)?;
+            if size.is_null() {
+                return Err("size pointer is NULL".into());
+            }
+            *size = (*p).to_bytes(inst.guid_hash).len();
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2SerializeFMUstate`.
+///
+/// # Safety
+/// As [`entry`]; `bytes` holds `size` bytes.
+pub unsafe fn serialize_fmu_state<M: Model>(c: Component, state: FMUstate, bytes: *mut Byte, size: usize) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SerializeFMUstate, |inst| {
+            let p = inst.own_snapshot(state)?;
+            let data = (*p).to_bytes(inst.guid_hash);
+            if size < data.len() {
+                return Err(format!("buffer of {size} bytes is too small for {} bytes", data.len()));
+            }
+            let out = slice_mut(bytes as *mut u8, data.len(), "serializedState")?;
+            out.copy_from_slice(&data);
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2DeSerializeFMUstate`: refuses bytes that are truncated, from another FMU or corrupt.
+///
+/// # Safety
+/// As [`entry`]; `bytes` holds `size` bytes; `state` points to an `fmi2FMUstate`.
+pub unsafe fn deserialize_fmu_state<M: Model>(c: Component, bytes: *const Byte, size: usize, state: *mut FMUstate) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::DeSerializeFMUstate, |inst| {
+            if state.is_null() {
+                return Err("FMUstate pointer is NULL".into());
+            }
+            let data = slice(bytes as *const u8, size, "serializedState")?;
+            let snap = Snapshot::from_bytes(data, inst.guid_hash, inst.values.raw().len())?;
+            if (*state).is_null() {
+                let p = Box::into_raw(Box::new(snap));
+                inst.snapshots.push(p);
+                *state = p as FMUstate;
+            } else {
+                let p = inst.own_snapshot(*state)?;
+                *p = snap;
+            }
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// A call whose capability flag is false: logged and refused.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn unsupported<M: Model>(c: Component, call: Call, why: &str) -> Status {
+    // SAFETY: as entry.
+    unsafe { entry::<M>(c, call, |_| Err(format!("not supported: {why}"))) }
+}
+
+/// `fmi2GetStatus` and the typed variants: only what a synchronous slave can answer.
+///
+/// # Safety
+/// As [`entry`]; `value` points to one element.
+pub unsafe fn get_real_status<M: Model>(c: Component, kind: StatusKind, value: *mut Real) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetRealStatus, |inst| {
+            if value.is_null() {
+                return Err("value is NULL".into());
+            }
+            if kind as i32 != StatusKind::LastSuccessfulTime as i32 {
+                return Err(format!("fmi2GetRealStatus answers fmi2LastSuccessfulTime (2) only, not {}", kind as i32));
+            }
+            *value = inst.time;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2GetBooleanStatus`: `fmi2Terminated` is always false (the slave never ends a run itself).
+///
+/// # Safety
+/// As [`entry`]; `value` points to one element.
+pub unsafe fn get_boolean_status<M: Model>(c: Component, kind: StatusKind, value: *mut Boolean) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetBooleanStatus, |_| {
+            if value.is_null() {
+                return Err("value is NULL".into());
+            }
+            if kind as i32 != StatusKind::Terminated as i32 {
+                return Err(format!("fmi2GetBooleanStatus answers fmi2Terminated (3) only, not {}", kind as i32));
+            }
+            *value = FALSE;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn resource_locations() {
+        assert_eq!(resource_path("file:///tmp/a%20b/resources"), Some(PathBuf::from("/tmp/a b/resources")));
+        assert_eq!(resource_path("file:/tmp/x"), Some(PathBuf::from("/tmp/x")));
+        assert_eq!(resource_path("file://localhost/tmp/x"), Some(PathBuf::from("/tmp/x")));
+        assert_eq!(resource_path("http://example/x"), None);
+    }
+
+    #[test]
+    fn snapshot_bytes_round_trip_and_refuse_garbage() {
+        let s = Snapshot {
+            state: State::StepComplete,
+            time: 0.1 + 0.2,
+            start_time: 0.0,
+            stop_time: Some(4.0),
+            values: vec![1.0, -0.0, f64::MIN_POSITIVE, 3.5],
+            model_state: vec![2.0],
+        };
+        let b = s.to_bytes(42);
+        let back = Snapshot::from_bytes(&b, 42, 4).unwrap();
+        assert_eq!(back.to_bytes(42), b);
+        assert_eq!(back.values[1].to_bits(), (-0.0f64).to_bits());
+        assert!(Snapshot::from_bytes(&b, 43, 4).unwrap_err().contains("GUID"));
+        assert!(Snapshot::from_bytes(&b[..b.len() - 1], 42, 4).unwrap_err().contains("truncated"));
+        assert!(Snapshot::from_bytes(&b, 42, 5).is_err());
+        let mut longer = b.clone();
+        longer.push(0);
+        assert!(Snapshot::from_bytes(&longer, 42, 4).unwrap_err().contains("trailing"));
+    }
+}

@@ -1,0 +1,21 @@
+//! bindery-fmu: mechanisms of bookbinding machines as FMI 2.0 co-simulation FMUs.
+//!
+//! Layers, each knowing only the ones below it:
+//! - [`mechanics`]: shared mechanics (motion laws, slider-crank, Geneva pair, Hertz contact, ...).
+//! - [`mechanisms`]: one folder per mechanism: its physics (pure math) and its FMU model
+//!   (variables declared once, see [`model`]).
+//! - [`model`]: the narrow interface every mechanism implements, and the variable declarations.
+//! - [`md`]: the modelDescription.xml writer and GUID, generated from those declarations.
+//! - [`fmi2`]: the FMI 2.0 C ABI runtime; knows no mechanism.
+//! - `docs` (feature `tools`): the FMU's `documentation/` page, figures and icon; knows no mechanism.
+#[cfg(feature = "tools")]
+pub mod catalog;
+#[cfg(feature = "tools")]
+pub mod docs;
+pub mod fmi2;
+pub mod md;
+pub mod mechanics;
+pub mod mechanisms;
+pub mod model;
+#[cfg(feature = "tools")]
+pub mod package;

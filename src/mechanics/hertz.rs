@@ -1,0 +1,189 @@
+//! Hertz line contact (roller on cam or ramp), paper 002 eq. 8 and `sewing-table.md`.
+//!
+//! `σH = 0.418·√(q·E/ρ)`, with the load per unit length `q = F/b`, the reduced modulus
+//! `E = 2·E1·E2/(E1 + E2)` and the reduced radius `1/ρ = 1/r1 ± 1/r2` (+ for a convex
+//! counter-surface, − for a concave one). The factor 0.418 is `√(1/(2π(1 − ν²)))` for
+//! Poisson's ratio ν = 0.3 (steel on steel).
+
+use std::fmt;
+
+/// Hertz factor of paper 002 eq. 8 (ν = 0.3).
+pub const HERTZ_FACTOR: f64 = 0.418;
+
+/// Shape of the second body's surface where the roller touches it (`sewing-table.md`:
+/// "+ convex flank, − concave").
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Surface {
+    /// Convex: curvatures add, `1/ρ = 1/r1 + 1/r2`.
+    Convex,
+    /// Concave: curvatures subtract, `1/ρ = 1/r1 − 1/r2`.
+    Concave,
+}
+
+/// Why a Hertz stress cannot be given.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum HertzError {
+    /// The reduced curvature `1/ρ` is ≤ 0: a concave surface as tight as the roller or tighter
+    /// (conformal contact or a roller that does not fit; for a cam, an undercut profile).
+    NonPositiveCurvature {
+        /// The reduced curvature `1/r1 − 1/r2`, 1/m.
+        inv_rho: f64,
+    },
+    /// A non-positive or non-finite width, modulus or roller radius, or a non-finite force.
+    InvalidInput(&'static str),
+}
+
+impl fmt::Display for HertzError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            HertzError::NonPositiveCurvature { inv_rho } => {
+                write!(
+                    f,
+                    "reduced curvature 1/rho = {inv_rho} 1/m is not positive (conformal or undercut contact)"
+                )
+            }
+            HertzError::InvalidInput(what) => write!(f, "invalid Hertz input: {what}"),
+        }
+    }
+}
+
+impl std::error::Error for HertzError {}
+
+/// Reduced modulus `E = 2·E1·E2/(E1 + E2)` (paper 002, below eq. 8), Pa.
+#[inline]
+pub fn reduced_modulus(e1: f64, e2: f64) -> f64 {
+    2.0 * e1 * e2 / (e1 + e2)
+}
+
+/// Reduced curvature `1/ρ = 1/r1 ± 1/r2` (paper 002, below eq. 8), 1/m. `r2 = ∞` is a flat.
+#[inline]
+pub fn reduced_curvature(r1: f64, r2: f64, surface: Surface) -> f64 {
+    match surface {
+        Surface::Convex => 1.0 / r1 + 1.0 / r2,
+        Surface::Concave => 1.0 / r1 - 1.0 / r2,
+    }
+}
+
+/// Hertz line-contact stress `σH = 0.418·√(q·E/ρ)` (paper 002 eq. 8), Pa.
+///
+/// `force` F (N) presses a roller of radius `r1` (m) and width `b` (m) against a surface of
+/// curvature radius `r2` (m, `f64::INFINITY` for a flat) of the given shape; `e1`, `e2` are the
+/// two Young's moduli (Pa). The stress depends on the magnitude of the force (the caller decides
+/// which flank carries it). Errors when `1/ρ ≤ 0` or an input is out of range.
+pub fn line_contact_stress(
+    force: f64,
+    b: f64,
+    e1: f64,
+    e2: f64,
+    r1: f64,
+    r2: f64,
+    surface: Surface,
+) -> Result<f64, HertzError> {
+    if !force.is_finite() {
+        return Err(HertzError::InvalidInput("force must be finite"));
+    }
+    if !(b > 0.0 && b.is_finite()) {
+        return Err(HertzError::InvalidInput("contact width b must be positive"));
+    }
+    if !(e1 > 0.0 && e2 > 0.0 && e1.is_finite() && e2.is_finite()) {
+        return Err(HertzError::InvalidInput("moduli must be positive"));
+    }
+    if !(r1 > 0.0 && r1.is_finite() && r2 > 0.0) {
+        return Err(HertzError::InvalidInput("radii must be positive"));
+    }
+    let inv_rho = reduced_curvature(r1, r2, surface);
+    if inv_rho <= 0.0 {
+        return Err(HertzError::NonPositiveCurvature { inv_rho });
+    }
+    let q = force.abs() / b;
+    Ok(HERTZ_FACTOR * (q * reduced_modulus(e1, e2) * inv_rho).sqrt())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use approx::assert_relative_eq;
+    use std::f64::consts::PI;
+
+    /// Hand calculation: F = 1000 N, b = 15 mm, steel on steel (2.1e11 Pa), roller 15 mm on a
+    /// convex flank of 100 mm: 1/ρ = 66.667 + 10 = 76.667 1/m, q = 66 667 N/m,
+    /// q·E/ρ = 66 667 · 2.1e11 · 76.667 = 1.07333e18, √ = 1.03602e9, × 0.418 = 433.06 MPa.
+    #[test]
+    fn hand_calculation() {
+        let s = line_contact_stress(1000.0, 0.015, 2.1e11, 2.1e11, 0.015, 0.1, Surface::Convex)
+            .unwrap();
+        assert_relative_eq!(s, 433.06e6, max_relative = 1e-4);
+        // Concave flank of 100 mm: 1/ρ = 56.667 → 372.31 MPa.
+        let s = line_contact_stress(1000.0, 0.015, 2.1e11, 2.1e11, 0.015, 0.1, Surface::Concave)
+            .unwrap();
+        assert_relative_eq!(s, 372.31e6, max_relative = 1e-4);
+        // Steel on bronze (1.1e11): E = 2·2.1·1.1/3.2 e11 = 1.44375e11 → 359.07 MPa.
+        assert_relative_eq!(
+            reduced_modulus(2.1e11, 1.1e11),
+            1.44375e11,
+            max_relative = 1e-12
+        );
+        let s = line_contact_stress(1000.0, 0.015, 2.1e11, 1.1e11, 0.015, 0.1, Surface::Convex)
+            .unwrap();
+        assert_relative_eq!(s, 359.07e6, max_relative = 1e-4);
+        // Same modulus: E = E1; a flat: 1/ρ = 1/r1; the force's sign does not matter.
+        assert_relative_eq!(
+            reduced_modulus(2.1e11, 2.1e11),
+            2.1e11,
+            max_relative = 1e-15
+        );
+        let flat = line_contact_stress(
+            -1000.0,
+            0.015,
+            2.1e11,
+            2.1e11,
+            0.015,
+            f64::INFINITY,
+            Surface::Convex,
+        );
+        let expected = HERTZ_FACTOR * (1000.0 / 0.015 * 2.1e11 / 0.015f64).sqrt();
+        assert_relative_eq!(flat.unwrap(), expected, max_relative = 1e-15);
+        // Scaling: σ ∝ √F.
+        let s1 =
+            line_contact_stress(250.0, 0.015, 2.1e11, 2.1e11, 0.015, 0.1, Surface::Convex).unwrap();
+        assert_relative_eq!(s1, 433.06e6 / 2.0, max_relative = 1e-4);
+    }
+
+    #[test]
+    fn factor_is_classical_hertz_for_steel() {
+        // σ = √(F·E'/(π·b·ρ)), E' = E/(2(1 − ν²)) for equal materials: factor √(1/(2π(1 − ν²))).
+        let nu: f64 = 0.3;
+        assert_relative_eq!(
+            (1.0 / (2.0 * PI * (1.0 - nu * nu))).sqrt(),
+            HERTZ_FACTOR,
+            max_relative = 1e-3
+        );
+    }
+
+    #[test]
+    fn refuses_non_positive_curvature_and_bad_input() {
+        // A concave surface exactly as tight as the roller, and a tighter one.
+        assert!(matches!(
+            line_contact_stress(100.0, 0.01, 2e11, 2e11, 0.015, 0.015, Surface::Concave),
+            Err(HertzError::NonPositiveCurvature { inv_rho }) if inv_rho == 0.0
+        ));
+        assert!(matches!(
+            line_contact_stress(100.0, 0.01, 2e11, 2e11, 0.015, 0.01, Surface::Concave),
+            Err(HertzError::NonPositiveCurvature { inv_rho }) if inv_rho < 0.0
+        ));
+        for bad in [
+            line_contact_stress(100.0, 0.0, 2e11, 2e11, 0.015, 0.1, Surface::Convex),
+            line_contact_stress(100.0, 0.01, -2e11, 2e11, 0.015, 0.1, Surface::Convex),
+            line_contact_stress(100.0, 0.01, 2e11, 2e11, 0.0, 0.1, Surface::Convex),
+            line_contact_stress(f64::NAN, 0.01, 2e11, 2e11, 0.015, 0.1, Surface::Convex),
+            line_contact_stress(100.0, 0.01, 2e11, 2e11, 0.015, -0.1, Surface::Convex),
+        ] {
+            assert!(matches!(bad, Err(HertzError::InvalidInput(_))), "{bad:?}");
+        }
+        // Zero force: zero stress.
+        assert_eq!(
+            line_contact_stress(0.0, 0.01, 2e11, 2e11, 0.015, 0.1, Surface::Convex),
+            Ok(0.0)
+        );
+    }
+}

@@ -1,0 +1,101 @@
+//! Shared mechanics, written once and used by every mechanism.
+//!
+//! Pure functions of geometry and motion: no FFI, no FMI. Every formula names its source:
+//! paper 003 (seed `003_*`, the Geneva knife drive), paper 002 (seed `002_*`, perforators and
+//! Hertz stress, eq. 8), paper 004 (seed `004_*`, disc-knife drive), and the spec pages in
+//! `shared/spec/` (`geneva-knife-drive.md`, `motion-laws.md`, `sewing-table.md`, ...).
+//!
+//! - [`motion_laws`]: normalized cam motion laws (cycloidal, harmonic, 3-4-5 polynomial).
+//! - [`slider_crank`]: central and offset slider-crank, exact closed forms.
+//! - [`geneva`]: external Geneva pair (driver with roller, cross with Z slots).
+//! - [`hertz`]: Hertz line-contact stress.
+//! - [`cam`]: pitch-curve curvature and pressure angle of a radial cam.
+
+pub mod cam;
+pub mod geneva;
+pub mod hertz;
+pub mod motion_laws;
+pub mod slider_crank;
+
+use std::f64::consts::TAU;
+use std::fmt;
+
+/// Standard gravity g, m/s² (used by every mechanism's weights).
+pub const STANDARD_GRAVITY: f64 = 9.80665;
+
+/// The angle `phi` reduced to one turn, in `[0, 2π)`.
+///
+/// Uses `rem_euclid`, so negative angles wrap forwards; rounding can make `rem_euclid` return
+/// exactly `2π` for a tiny negative input, which is mapped to 0. For `|phi|` up to 1e9 the result
+/// carries the absolute rounding of `phi` itself (about `|phi|·1.1e-16`), nothing more.
+/// A non-finite `phi` gives NaN.
+#[inline]
+pub fn wrap_angle(phi: f64) -> f64 {
+    let psi = phi.rem_euclid(TAU);
+    if psi >= TAU { 0.0 } else { psi }
+}
+
+/// A parameter set a mechanism cannot work with: which parameter, its value and the violated
+/// condition (`interface.md`: refused at `fmi2ExitInitializationMode` with one log line).
+///
+/// Displayed as `"geneva.Z = 2: needs at least 3 slots"`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ParamError {
+    /// The FMI variable name, e.g. `"geneva.Z"`.
+    pub param: &'static str,
+    /// Its value (integers as `f64`).
+    pub value: f64,
+    /// What is wrong, in words a user can act on.
+    pub condition: String,
+}
+
+impl ParamError {
+    /// Builds an error for `param = value` violating `condition`.
+    pub fn new(param: &'static str, value: f64, condition: impl Into<String>) -> Self {
+        Self {
+            param,
+            value,
+            condition: condition.into(),
+        }
+    }
+}
+
+impl fmt::Display for ParamError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        write!(f, "{} = {}: {}", self.param, self.value, self.condition)
+    }
+}
+
+impl std::error::Error for ParamError {}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn wrap_angle_stays_in_one_turn() {
+        assert_eq!(wrap_angle(0.0), 0.0);
+        assert_eq!(wrap_angle(TAU), 0.0);
+        assert!((wrap_angle(-0.5) - (TAU - 0.5)).abs() < 1e-15);
+        assert!((wrap_angle(3.0 * TAU + 1.0) - 1.0).abs() < 1e-14);
+        // A tiny negative angle: rem_euclid rounds to exactly 2π, which must become 0.
+        let w = wrap_angle(-1e-300);
+        assert!((0.0..TAU).contains(&w));
+        for phi in [1e9, -1e9, 123_456_789.123, -987_654_321.5] {
+            let w = wrap_angle(phi);
+            assert!((0.0..TAU).contains(&w), "{phi} -> {w}");
+        }
+        assert!(wrap_angle(f64::NAN).is_nan());
+    }
+
+    #[test]
+    fn param_error_display() {
+        let e = ParamError::new("geneva.Z", 2.0, "needs at least 3 slots");
+        assert_eq!(e.to_string(), "geneva.Z = 2: needs at least 3 slots");
+        let e = ParamError::new("rod.l", 0.05, "must be longer than crank.r = 0.07");
+        assert_eq!(
+            e.to_string(),
+            "rod.l = 0.05: must be longer than crank.r = 0.07"
+        );
+    }
+}

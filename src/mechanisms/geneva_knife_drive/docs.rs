@@ -1,0 +1,79 @@
+//! The GenevaKnifeDrive FMU's `documentation/`: what the mechanism is, every variable, and the
+//! paper's Figs. 2-7 (paper 003) redrawn from [`super::physics`].
+
+use super::model::GenevaKnifeDrive;
+use super::physics::Params;
+use crate::catalog::variables_of;
+use crate::docs::{Figure, Series, icon_png, index_html, render_png};
+use crate::md::ModelInfo;
+use std::f64::consts::PI;
+
+const INTRO: &str = r#"<p>A three-knife trimmer cuts book blocks, brochures and magazines on three sides.
+Paper 003 drives its knives with a <b>4-slot Geneva mechanism</b>: driver 1 on the main shaft (angle
+&phi;) carries a roller that enters the slots of cross 2 and turns it by 90&deg;; gear 3, fixed to the
+cross, drives gear 4 with crank 5; rod 6 moves slider 7 with the knife housing in guides 8. The gear
+ratio <i>i</i> = 4 makes the crank turn 360&deg; while the driver turns 90&deg;: the knife makes its
+working and idle strokes while the cross moves, and stands still at the top for the other 3/4 of the
+driver turn.</p>
+<p>Inputs: the shaft connector <code>shaft.phi</code>, <code>shaft.w</code>, <code>shaft.a</code>
+(Modelica <code>GeneralAngleToTorqueAdaptor</code> convention); or set <code>drive.mode</code> =
+<code>constant_speed</code> to run alone at <code>drive.n</code>. Level <code>kinematic</code> gives
+positions, velocities and accelerations in closed form (exact); <code>kinetostatic</code> (default) adds
+the cutting resistance, inertia, guide friction, gear losses and the shaft torque
+<code>shaft.tau</code>.</p>
+<p>Two errata of the paper are not copied: it multiplies the slider's displacement invariant
+6 &minus; cos 4&gamma; &minus; 5 cos &nu; by S = 2r<sub>2</sub> (the factor is r<sub>2</sub>), and its
+slider velocity leaves out the gear ratio (&theta;' = i&gamma;').</p>"#;
+
+/// Samples `f` over one driver turn.
+fn turn(n: usize, f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
+    (0..=n).map(|k| {
+        let phi = 2.0 * PI * k as f64 / n as f64;
+        (phi.to_degrees(), f(phi))
+    })
+    .collect()
+}
+
+fn figure(file: &str, title: &str, y: &str, label: &str, points: Vec<(f64, f64)>, caption: &str) -> Figure {
+    Figure {
+        file: file.into(),
+        title: title.into(),
+        x_label: "driver angle phi, deg".into(),
+        y_label: y.into(),
+        series: vec![Series { label: label.into(), points }],
+        caption: caption.into(),
+        equal_axes: false,
+    }
+}
+
+/// The paper's Figs. 2-7 over one driver turn, with the default parameters.
+pub fn figures() -> Vec<Figure> {
+    let p = Params::default();
+    let k = |phi: f64| p.kinematics(phi, 1.0, 0.0);
+    let n = 720;
+    vec![
+        figure("fig2_gamma.png", "Fig. 2: cross angle", "gamma, rad", "gamma(phi)", turn(n, |f| k(f).gamma), "Cross angle within its index over one driver turn (paper 003, Fig. 2)."),
+        figure("fig3_gamma_d.png", "Fig. 3: cross velocity invariant", "gamma' = dgamma/dphi", "gamma'(phi)", turn(n, |f| k(f).gamma_d), "Analogue of the cross's angular velocity; its maximum 1/(lambda-1) = 2.4142 at phi = 45 deg (paper 003, Fig. 3)."),
+        figure("fig4_gamma_dd.png", "Fig. 4: cross acceleration invariant", "gamma'' = d2gamma/dphi2", "gamma''(phi)", turn(n, |f| k(f).gamma_dd), "Analogue of the cross's angular acceleration; it jumps from 0 to 1.0 at entry and exit (paper 003, Fig. 4)."),
+        figure("fig5_s.png", "Fig. 5: knife displacement invariant", "s/r2", "s/r2", turn(n, |f| k(f).s / p.crank_r), "Knife displacement from the top over r2 = the paper's 6 - cos(4 gamma) - 5 cos(nu), 0..2 (paper 003, Fig. 5)."),
+        figure("fig6_v.png", "Fig. 6: knife velocity invariant", "(ds/dphi)/r2", "s'/r2", turn(n, |f| k(f).s_d / p.crank_r), "Knife velocity analogue ds/dphi over r2, with the gear ratio the paper leaves out (paper 003, Fig. 6)."),
+        figure("fig7_a.png", "Fig. 7: knife acceleration invariant", "(d2s/dphi2)/r2", "s''/r2", turn(n, |f| k(f).s_dd / p.crank_r), "Knife acceleration analogue d2s/dphi2 over r2 (paper 003, Fig. 7)."),
+        {
+            let w = p.drive_n;
+            let f = |phi: f64| p.kinetostatics(&p.kinematics(phi, w, 0.0), w, 0.0).shaft_tau;
+            figure("shaft_tau.png", "Shaft torque at 30 rpm", "shaft.tau, N.m", "shaft.tau", turn(n, f), "Torque at the main shaft over one turn at the nominal 30 rpm with the default cutting load (kinetostatic level).")
+        },
+    ]
+}
+
+/// `documentation/` files (index.html first) and the icon.
+pub fn documentation() -> Result<(Vec<(String, Vec<u8>)>, Vec<u8>), String> {
+    let figs = figures();
+    let vars = variables_of::<GenevaKnifeDrive>();
+    let html = index_html(&ModelInfo::of::<GenevaKnifeDrive>(), &vars, INTRO, &figs);
+    let mut files = vec![("index.html".to_string(), html.into_bytes())];
+    for f in &figs {
+        files.push((f.file.clone(), render_png(f)?));
+    }
+    Ok((files, icon_png("Geneva")?))
+}

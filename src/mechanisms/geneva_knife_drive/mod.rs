@@ -1,0 +1,10 @@
+//! GenevaKnifeDrive: knife drive of a three-knife trimmer on a 4-slot Geneva mechanism
+//! (paper 003, spec page `geneva-knife-drive.md`): driver → Geneva cross → gear pair → crank →
+//! rod → knife slider. [`physics`] is the pure mechanics; [`model`] the FMU model.
+
+pub mod physics;
+pub mod model;
+#[cfg(feature = "tools")]
+pub mod docs;
+
+pub use model::GenevaKnifeDrive;

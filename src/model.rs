@@ -1,0 +1,630 @@
+//! The narrow interface every mechanism implements, and the variables it declares once.
+//!
+//! A model declares each of its variables exactly once, with [`model_variables!`]: name,
+//! causality, variability, initial, start, unit, bounds, description and, for outputs, their
+//! dependencies on the shaft inputs. From that one declaration
+//! - the runtime ([`crate::fmi2`]) knows value references, types and which calls may set what;
+//! - the exporter ([`crate::md`]) writes `modelDescription.xml` and derives the GUID;
+//! - the model's own code reads and writes values by the generated enum (`values[V::knife_s]`).
+//!
+//! The shaft connector and the drive/fidelity parameters common to every mechanism
+//! (`../shared/spec/interface.md`) are prepended by the macro, so every model has them at the
+//! same value references ([`shaft`]).
+//!
+//! Nothing here knows FFI: a model is plain Rust and is tested as such.
+
+use std::marker::PhantomData;
+use std::ops::{Index, IndexMut};
+
+/// `causality` of an FMI 2.0 ScalarVariable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Causality {
+    Parameter,
+    CalculatedParameter,
+    Input,
+    Output,
+    Local,
+}
+
+/// `variability` of an FMI 2.0 ScalarVariable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variability {
+    Constant,
+    Fixed,
+    Tunable,
+    Discrete,
+    Continuous,
+}
+
+/// `initial` of an FMI 2.0 ScalarVariable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Initial {
+    Exact,
+    Approx,
+    Calculated,
+}
+
+/// An enumeration type: written to `TypeDefinitions`, referenced by `declaredType`.
+#[derive(Debug, PartialEq)]
+pub struct EnumType {
+    pub name: &'static str,
+    pub description: &'static str,
+    /// `(item name, description)`; item values are 1, 2, ... in this order.
+    pub items: &'static [(&'static str, &'static str)],
+}
+
+impl EnumType {
+    /// The item with this value, if any.
+    pub fn item(&self, value: i32) -> Option<&'static str> {
+        usize::try_from(value - 1).ok().and_then(|i| self.items.get(i)).map(|it| it.0)
+    }
+}
+
+/// The FMI base type of a variable.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum VarType {
+    Real,
+    Integer,
+    Boolean,
+    Enumeration(&'static EnumType),
+}
+
+impl VarType {
+    /// Integer-valued types are read and written with `fmi2Get/SetInteger`.
+    pub fn is_integer_like(self) -> bool {
+        matches!(self, VarType::Integer | VarType::Enumeration(_))
+    }
+}
+
+/// One declared variable. Built with the constructors below and refined with the builder
+/// methods, e.g. `Var::parameter("crank.r", 0.07, "m", "...").min(0.0)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Var {
+    pub name: &'static str,
+    pub ty: VarType,
+    pub causality: Causality,
+    pub variability: Variability,
+    pub initial: Option<Initial>,
+    /// Start value (Integer, Boolean and Enumeration values are stored as exact `f64`).
+    pub start: Option<f64>,
+    pub unit: Option<&'static str>,
+    pub display_unit: Option<&'static str>,
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    pub description: &'static str,
+    /// For outputs: value references of the inputs the output depends on.
+    pub depends: &'static [u32],
+}
+
+/// Units and their FMI display units (`interface.md`: deg for rad, mm for m, rpm for rad/s,
+/// MPa for Pa).
+pub fn default_display_unit(unit: &str) -> Option<&'static str> {
+    match unit {
+        "rad" => Some("deg"),
+        "m" => Some("mm"),
+        "rad/s" => Some("rpm"),
+        "Pa" => Some("MPa"),
+        _ => None,
+    }
+}
+
+impl Var {
+    fn base(name: &'static str, ty: VarType, causality: Causality, variability: Variability) -> Self {
+        Var {
+            name,
+            ty,
+            causality,
+            variability,
+            initial: None,
+            start: None,
+            unit: None,
+            display_unit: None,
+            min: None,
+            max: None,
+            description: "",
+            depends: &[],
+        }
+    }
+
+    fn with_unit(mut self, unit: &'static str) -> Self {
+        if !unit.is_empty() {
+            self.unit = Some(unit);
+            self.display_unit = default_display_unit(unit);
+        }
+        self
+    }
+
+    /// A fixed Real parameter with its default; `desc` says where the value comes from
+    /// (a paper, or "assumption").
+    pub fn parameter(name: &'static str, start: f64, unit: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(name, VarType::Real, Causality::Parameter, Variability::Fixed).with_unit(unit);
+        v.start = Some(start);
+        v.description = desc;
+        v
+    }
+
+    /// A fixed Integer parameter.
+    pub fn int_parameter(name: &'static str, start: i32, desc: &'static str) -> Self {
+        let mut v = Self::base(name, VarType::Integer, Causality::Parameter, Variability::Fixed);
+        v.start = Some(start as f64);
+        v.description = desc;
+        v
+    }
+
+    /// A fixed Boolean parameter.
+    pub fn bool_parameter(name: &'static str, start: bool, desc: &'static str) -> Self {
+        let mut v = Self::base(name, VarType::Boolean, Causality::Parameter, Variability::Fixed);
+        v.start = Some(start as i32 as f64);
+        v.description = desc;
+        v
+    }
+
+    /// A fixed Enumeration parameter; `start` is the item's name.
+    pub fn enum_parameter(name: &'static str, ty: &'static EnumType, start: &str, desc: &'static str) -> Self {
+        let mut v = Self::base(name, VarType::Enumeration(ty), Causality::Parameter, Variability::Fixed);
+        let pos = ty.items.iter().position(|it| it.0 == start).expect("start item of an enumeration");
+        v.start = Some((pos + 1) as f64);
+        v.description = desc;
+        v
+    }
+
+    /// A Real calculated parameter (a derived quantity the paper computes).
+    pub fn calculated(name: &'static str, unit: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(name, VarType::Real, Causality::CalculatedParameter, Variability::Fixed).with_unit(unit);
+        v.initial = Some(Initial::Calculated);
+        v.description = desc;
+        v
+    }
+
+    /// A continuous Real input with its start value.
+    pub fn input(name: &'static str, start: f64, unit: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(name, VarType::Real, Causality::Input, Variability::Continuous).with_unit(unit);
+        v.start = Some(start);
+        v.description = desc;
+        v
+    }
+
+    /// A continuous Real output.
+    pub fn output(name: &'static str, unit: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(name, VarType::Real, Causality::Output, Variability::Continuous).with_unit(unit);
+        v.initial = Some(Initial::Calculated);
+        v.description = desc;
+        v
+    }
+
+    /// A discrete Boolean output (a flag).
+    pub fn bool_output(name: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(name, VarType::Boolean, Causality::Output, Variability::Discrete);
+        v.initial = Some(Initial::Calculated);
+        v.description = desc;
+        v
+    }
+
+    /// A discrete Integer output.
+    pub fn int_output(name: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(name, VarType::Integer, Causality::Output, Variability::Discrete);
+        v.initial = Some(Initial::Calculated);
+        v.description = desc;
+        v
+    }
+
+    /// Lower bound (physics, not taste).
+    pub fn min(mut self, min: f64) -> Self {
+        self.min = Some(min);
+        self
+    }
+
+    /// Upper bound.
+    pub fn max(mut self, max: f64) -> Self {
+        self.max = Some(max);
+        self
+    }
+
+    /// Overrides the display unit.
+    pub fn display(mut self, unit: &'static str) -> Self {
+        self.display_unit = Some(unit);
+        self
+    }
+
+    /// An output's dependencies on inputs (value references; see [`shaft::PHI`] etc.).
+    pub fn depends(mut self, inputs: &'static [u32]) -> Self {
+        self.depends = inputs;
+        self
+    }
+
+    /// Is this variable one a host may set in the given phase?
+    pub fn settable(&self, phase: SetPhase) -> bool {
+        match phase {
+            SetPhase::Instantiated => {
+                self.variability != Variability::Constant
+                    && (self.causality == Causality::Input
+                        || matches!(self.initial, None | Some(Initial::Exact) | Some(Initial::Approx))
+                            && matches!(self.causality, Causality::Parameter | Causality::Input))
+            }
+            SetPhase::Initialization => {
+                matches!(self.causality, Causality::Parameter | Causality::Input)
+                    && self.variability != Variability::Constant
+            }
+            SetPhase::Running => {
+                self.causality == Causality::Input
+                    || (self.causality == Causality::Parameter && self.variability == Variability::Tunable)
+            }
+        }
+    }
+}
+
+/// When a host tries to set a variable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SetPhase {
+    Instantiated,
+    Initialization,
+    Running,
+}
+
+/// The enum generated by [`model_variables!`]: one variant per variable; its discriminant is
+/// the value reference.
+pub trait VarSet: Copy + 'static {
+    /// Every declaration, in value-reference order.
+    fn table() -> &'static [Var];
+    /// Value reference of this variable.
+    fn vr(self) -> u32;
+}
+
+/// The current values of a model's variables, indexed by its [`VarSet`].
+/// Integer, Boolean and Enumeration values are held as exact `f64`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Values<V: VarSet> {
+    data: Vec<f64>,
+    _v: PhantomData<V>,
+}
+
+impl<V: VarSet> Default for Values<V> {
+    fn default() -> Self {
+        Self::start()
+    }
+}
+
+impl<V: VarSet> Values<V> {
+    /// Every variable at its declared start value (0 where there is none).
+    pub fn start() -> Self {
+        Values { data: V::table().iter().map(|v| v.start.unwrap_or(0.0)).collect(), _v: PhantomData }
+    }
+    /// An Integer or Enumeration value.
+    pub fn int(&self, v: V) -> i32 {
+        self.data[v.vr() as usize] as i32
+    }
+    /// A Boolean value.
+    pub fn flag(&self, v: V) -> bool {
+        self.data[v.vr() as usize] != 0.0
+    }
+    /// Sets a Boolean value.
+    pub fn set_flag(&mut self, v: V, b: bool) {
+        self.data[v.vr() as usize] = if b { 1.0 } else { 0.0 };
+    }
+    /// All values by value reference (for the runtime and state serialization).
+    pub fn raw(&self) -> &[f64] {
+        &self.data
+    }
+    /// All values by value reference, mutable.
+    pub fn raw_mut(&mut self) -> &mut [f64] {
+        &mut self.data
+    }
+}
+
+impl<V: VarSet> Index<V> for Values<V> {
+    type Output = f64;
+    fn index(&self, v: V) -> &f64 {
+        &self.data[v.vr() as usize]
+    }
+}
+
+impl<V: VarSet> IndexMut<V> for Values<V> {
+    fn index_mut(&mut self, v: V) -> &mut f64 {
+        &mut self.data[v.vr() as usize]
+    }
+}
+
+/// `DefaultExperiment` of the model description.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Experiment {
+    pub start: f64,
+    pub stop: f64,
+    pub step: f64,
+    pub tolerance: Option<f64>,
+}
+
+/// A parameter set the mechanism cannot work with (defined with the shared mechanics).
+pub use crate::mechanics::ParamError;
+
+/// Checks every parameter against its declared `min`/`max` (and an Enumeration against its
+/// items): the first violation, named.
+pub fn check_bounds<V: VarSet>(values: &Values<V>) -> Result<(), ParamError> {
+    for (v, &x) in V::table().iter().zip(values.raw()) {
+        if v.causality != Causality::Parameter {
+            continue;
+        }
+        let fail = |condition: String| Err(ParamError { param: v.name, value: x, condition });
+        if !x.is_finite() {
+            return fail("must be finite".into());
+        }
+        if let Some(lo) = v.min
+            && x < lo
+        {
+            return fail(format!("must be at least {lo}"));
+        }
+        if let Some(hi) = v.max
+            && x > hi
+        {
+            return fail(format!("must be at most {hi}"));
+        }
+        if let VarType::Enumeration(t) = v.ty
+            && t.item(x as i32).is_none()
+        {
+            return fail(format!("is not an item of {} (1..={})", t.name, t.items.len()));
+        }
+    }
+    Ok(())
+}
+
+/// Severity of a message a model emits while it runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Severity {
+    Info,
+    Warning,
+}
+
+/// Where a model sends messages (events, warnings such as a roller lifting off).
+pub trait Log {
+    fn log(&mut self, severity: Severity, message: &str);
+}
+
+/// A sink that drops every message (for plain-Rust use of a model).
+pub struct NoLog;
+impl Log for NoLog {
+    fn log(&mut self, _: Severity, _: &str) {}
+}
+
+/// The narrow interface a mechanism implements to become an FMU.
+///
+/// The runtime calls [`Model::prepare`] once parameters are final (exit of initialization
+/// mode, or lazily during it) and [`Model::evaluate`] whenever an output is read after an
+/// input, the time or a parameter changed (lazy outputs).
+pub trait Model: Sized + Send + 'static {
+    /// The variable enum generated by [`model_variables!`].
+    type Var: VarSet;
+    /// `modelIdentifier`, also the binary's name.
+    const IDENTIFIER: &'static str;
+    /// `modelName` attribute.
+    const MODEL_NAME: &'static str;
+    /// `description` attribute: one sentence on what the mechanism is, and its paper.
+    const DESCRIPTION: &'static str;
+    /// `DefaultExperiment`.
+    const EXPERIMENT: Experiment;
+
+    /// Checks the parameters and derives what stays fixed during a run.
+    fn prepare(values: &Values<Self::Var>) -> Result<Self, ParamError>;
+
+    /// Computes calculated parameters and every output at time `time` from the inputs.
+    fn evaluate(&mut self, values: &mut Values<Self::Var>, time: f64, log: &mut dyn Log);
+
+    /// Advances internal state (if any) from `time` over `h`; algebraic models need nothing.
+    fn do_step(&mut self, _values: &mut Values<Self::Var>, _time: f64, _h: f64, _log: &mut dyn Log) -> Result<(), String> {
+        Ok(())
+    }
+
+    /// Internal state beyond the variables, for `fmi2GetFMUstate` and serialization.
+    fn save_state(&self) -> Vec<f64> {
+        Vec::new()
+    }
+
+    /// Restores what [`Model::save_state`] returned.
+    fn restore_state(&mut self, _state: &[f64]) -> Result<(), String> {
+        Ok(())
+    }
+}
+
+/// Which common variable is which: the shaft connector and the drive and fidelity parameters
+/// that [`model_variables!`] puts first in every model (`interface.md`).
+pub mod shaft {
+    use super::{EnumType, Values, Var, VarSet};
+    use std::f64::consts::PI;
+
+    /// Value reference of `shaft.phi`.
+    pub const PHI: u32 = 0;
+    /// Value reference of `shaft.w`.
+    pub const W: u32 = 1;
+    /// Value reference of `shaft.a`.
+    pub const A: u32 = 2;
+    /// Value reference of `shaft.tau`.
+    pub const TAU: u32 = 3;
+    /// Value reference of `shaft.P`.
+    pub const P: u32 = 4;
+    /// Value reference of `drive.mode`.
+    pub const MODE: u32 = 5;
+    /// Value reference of `drive.n`.
+    pub const N: u32 = 6;
+    /// Value reference of `drive.phi0`.
+    pub const PHI0: u32 = 7;
+    /// Value reference of `model.fidelity`.
+    pub const FIDELITY: u32 = 8;
+    /// How many common variables precede a model's own.
+    pub const COUNT: usize = 9;
+
+    /// Dependencies of a position: the angle only.
+    pub const ON_PHI: &[u32] = &[PHI];
+    /// Dependencies of a velocity.
+    pub const ON_PHI_W: &[u32] = &[PHI, W];
+    /// Dependencies of an acceleration, force or torque.
+    pub const ON_ALL: &[u32] = &[PHI, W, A];
+
+    /// `drive.mode`.
+    pub static DRIVE_MODE: EnumType = EnumType {
+        name: "DriveMode",
+        description: "What drives the mechanism's shaft",
+        items: &[
+            ("input", "the inputs shaft.phi, shaft.w, shaft.a"),
+            ("constant_speed", "the FMU itself, at drive.n from drive.phi0; the inputs are ignored"),
+        ],
+    };
+
+    /// `model.fidelity`.
+    pub static FIDELITY_LEVEL: EnumType = EnumType {
+        name: "Fidelity",
+        description: "Level of physics computed (interface.md)",
+        items: &[
+            ("kinematic", "positions, velocities, accelerations: closed form, exact"),
+            ("kinetostatic", "as kinematic, plus forces and torques from Newton-Euler on rigid links"),
+        ],
+    };
+
+    /// The fidelity levels, as `model.fidelity` values.
+    #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+    pub enum Fidelity {
+        Kinematic = 1,
+        Kinetostatic = 2,
+    }
+
+    /// The common declarations; `nominal_rpm` is the machine's nominal speed.
+    pub fn declarations(nominal_rpm: f64) -> Vec<Var> {
+        let w0 = PI * (nominal_rpm / 30.0);
+        vec![
+            Var::input("shaft.phi", 0.0, "rad", "Angle of the mechanism's driving shaft (2*pi-periodic)"),
+            Var::input("shaft.w", w0, "rad/s", "Angular velocity of the driving shaft (start: nominal speed)"),
+            Var::input("shaft.a", 0.0, "rad/s2", "Angular acceleration of the driving shaft"),
+            Var::output("shaft.tau", "N.m", "Torque the mechanism requires at its shaft").depends(ON_ALL),
+            Var::output("shaft.P", "W", "Power drawn at the shaft, shaft.tau*shaft.w").depends(ON_ALL),
+            Var::enum_parameter("drive.mode", &DRIVE_MODE, "input", "input: driven by the shaft inputs; constant_speed: runs alone at drive.n"),
+            Var::parameter("drive.n", w0, "rad/s", "Speed in constant_speed mode (assumption: nominal speed of the machine)").min(-1e4).max(1e4),
+            Var::parameter("drive.phi0", 0.0, "rad", "Shaft angle at time 0 in constant_speed mode"),
+            Var::enum_parameter("model.fidelity", &FIDELITY_LEVEL, "kinetostatic", "Level of physics: kinematic or kinetostatic"),
+        ]
+    }
+
+    /// The shaft's state at an instant: angle, speed, acceleration.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct ShaftState {
+        pub phi: f64,
+        pub w: f64,
+        pub a: f64,
+    }
+
+    /// The shaft state at `time`: the inputs, or the constant-speed drive.
+    pub fn state<V: VarSet>(values: &Values<V>, time: f64) -> ShaftState {
+        let raw = values.raw();
+        if raw[MODE as usize] == 2.0 {
+            let w = raw[N as usize];
+            ShaftState { phi: raw[PHI0 as usize] + w * time, w, a: 0.0 }
+        } else {
+            ShaftState { phi: raw[PHI as usize], w: raw[W as usize], a: raw[A as usize] }
+        }
+    }
+
+    /// The chosen fidelity level.
+    pub fn fidelity<V: VarSet>(values: &Values<V>) -> Fidelity {
+        if values.raw()[FIDELITY as usize] == 1.0 { Fidelity::Kinematic } else { Fidelity::Kinetostatic }
+    }
+
+    /// Writes the shaft outputs.
+    pub fn set_outputs<V: VarSet>(values: &mut Values<V>, tau: f64, w: f64) {
+        let raw = values.raw_mut();
+        raw[TAU as usize] = tau;
+        raw[P as usize] = tau * w;
+    }
+}
+
+/// Declares a model's variables once: an enum whose variants are the variables (discriminant =
+/// value reference) and the table of their declarations. The shaft connector and the common
+/// parameters ([`shaft`]) come first.
+///
+/// ```ignore
+/// model_variables! {
+///     pub enum V (nominal_rpm = 30.0) {
+///         crank_r = Var::parameter("crank.r", 0.07, "m", "crank radius r2 (assumption)").min(0.0),
+///         knife_s = Var::output("knife.s", "m", "knife displacement from the top").depends(shaft::ON_PHI),
+///     }
+/// }
+/// ```
+#[macro_export]
+macro_rules! model_variables {
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+        #[allow(non_camel_case_types)]
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        #[repr(u32)]
+        $vis enum $name {
+            shaft_phi, shaft_w, shaft_a, shaft_tau, shaft_P, drive_mode, drive_n, drive_phi0, model_fidelity,
+            $( $id ),*
+        }
+        impl $crate::model::VarSet for $name {
+            fn table() -> &'static [$crate::model::Var] {
+                static TABLE: ::std::sync::OnceLock<Vec<$crate::model::Var>> = ::std::sync::OnceLock::new();
+                TABLE.get_or_init(|| {
+                    #[allow(unused_imports)]
+                    use $crate::model::{Var, shaft};
+                    let mut t = shaft::declarations($rpm);
+                    t.extend([$( $decl ),*]);
+                    t
+                })
+            }
+            #[inline]
+            fn vr(self) -> u32 {
+                self as u32
+            }
+        }
+    };
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    crate::model_variables! {
+        enum T (nominal_rpm = 60.0) {
+            p = Var::parameter("a.p", 2.0, "m", "p").min(0.0),
+            c = Var::calculated("a.c", "m", "c"),
+            y = Var::output("a.y", "m", "y").depends(shaft::ON_PHI),
+            f = Var::bool_output("a.f", "f"),
+        }
+    }
+
+    #[test]
+    fn common_variables_come_first_and_vrs_follow_the_enum() {
+        let t = T::table();
+        assert_eq!(t.len(), shaft::COUNT + 4);
+        assert_eq!(t[shaft::PHI as usize].name, "shaft.phi");
+        assert_eq!(t[shaft::FIDELITY as usize].name, "model.fidelity");
+        assert_eq!(t[T::p.vr() as usize].name, "a.p");
+        assert_eq!(T::shaft_phi.vr(), shaft::PHI);
+        assert_eq!(T::model_fidelity.vr(), shaft::FIDELITY);
+        // start of the speed input is the nominal speed
+        let v = Values::<T>::start();
+        assert!((v[T::shaft_w] - 2.0 * std::f64::consts::PI).abs() < 1e-15);
+        assert_eq!(v[T::p], 2.0);
+        assert_eq!(v.int(T::drive_mode), 1);
+        assert_eq!(shaft::fidelity(&v), shaft::Fidelity::Kinetostatic);
+    }
+
+    #[test]
+    fn constant_speed_drive_ignores_inputs() {
+        let mut v = Values::<T>::start();
+        v[T::shaft_phi] = 5.0;
+        v[T::drive_mode] = 2.0;
+        v[T::drive_phi0] = 1.0;
+        let s = shaft::state(&v, 0.5);
+        assert_eq!(s.phi, 1.0 + 0.5 * v[T::drive_n]);
+        assert_eq!(s.a, 0.0);
+    }
+
+    #[test]
+    fn settable_rules_follow_fmi2() {
+        let t = T::table();
+        let p = &t[T::p.vr() as usize];
+        let c = &t[T::c.vr() as usize];
+        let y = &t[T::y.vr() as usize];
+        let phi = &t[T::shaft_phi.vr() as usize];
+        assert!(p.settable(SetPhase::Instantiated) && p.settable(SetPhase::Initialization));
+        assert!(!p.settable(SetPhase::Running), "fixed parameter after initialization");
+        assert!(!c.settable(SetPhase::Instantiated) && !c.settable(SetPhase::Initialization));
+        assert!(!y.settable(SetPhase::Running));
+        assert!(phi.settable(SetPhase::Instantiated) && phi.settable(SetPhase::Running));
+    }
+}
