@@ -7,6 +7,8 @@
 
 use super::Figure;
 use plotters::coord::Shift;
+use plotters::coord::ranged1d::Ranged;
+use plotters::coord::types::RangedCoordf64;
 use plotters::prelude::*;
 use plotters::style::text_anchor::{HPos, Pos, VPos};
 use plotters::style::{FontStyle, register_font};
@@ -16,6 +18,10 @@ use std::sync::OnceLock;
 pub const FIGURE_SIZE: (u32, u32) = (800, 500);
 /// Width and height of the icon, pixels.
 pub const ICON_SIZE: u32 = 128;
+
+/// Most labelled ticks on the x and y axes.
+const X_TICKS: usize = 10;
+const Y_TICKS: usize = 8;
 
 /// Font family the embedded DejaVu Sans is registered under (private, so that another
 /// registration of e.g. `sans-serif` cannot change these images).
@@ -61,15 +67,20 @@ fn fit<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, text: &str, width: u32
     Ok(size)
 }
 
-/// Tick labels with as many decimals as the axis span needs, scientific beyond 1e6 and
-/// below 1e-4; never "-0".
-fn tick_format(lo: f64, hi: f64) -> impl Fn(&f64) -> String {
-    let span = (hi - lo).abs().max(f64::MIN_POSITIVE);
+/// Tick labels at the `n` key points plotters puts on `[lo, hi]` (steps 1, 2 or 5 × 10^k):
+/// as many decimals as the step needs, scientific beyond 1e6 and below 1e-4; never "-0".
+fn tick_format(lo: f64, hi: f64, n: usize) -> impl Fn(&f64) -> String {
+    let keys = RangedCoordf64::from(lo..hi).key_points(n);
+    let step = match keys.as_slice() {
+        [a, b, ..] => b - a,
+        _ => (hi - lo).abs(),
+    }
+    .max(f64::MIN_POSITIVE);
     let big = lo.abs().max(hi.abs());
-    let scientific = big >= 1e6 || span < 1e-4;
-    let decimals = (1.0 - span.log10().floor()).clamp(0.0, 10.0) as usize;
+    let scientific = big >= 1e6 || step < 1e-4;
+    let decimals = (-(step.log10() + 1e-9).floor()).clamp(0.0, 12.0) as usize;
     move |&x| {
-        let x = if (x / span).abs() < 1e-9 { 0.0 } else { x };
+        let x = if (x / step).abs() < 1e-9 { 0.0 } else { x };
         let s = if scientific { format!("{x:.2e}") } else { format!("{x:.decimals$}") };
         match s.strip_prefix('-') {
             Some(rest) if rest.chars().all(|c| matches!(c, '0' | '.')) => rest.to_string(),
@@ -180,15 +191,15 @@ fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
             yr = widen(yr, ph);
         }
         let mut chart = builder().build_cartesian_2d(xr.0..xr.1, yr.0..yr.1).map_err(err)?;
-        let fx = tick_format(xr.0, xr.1);
-        let fy = tick_format(yr.0, yr.1);
+        let fx = tick_format(xr.0, xr.1, X_TICKS);
+        let fy = tick_format(yr.0, yr.1, Y_TICKS);
         chart
             .configure_mesh()
             .bold_line_style(RGBColor(218, 218, 218))
             .light_line_style(RGBColor(242, 242, 242))
             .axis_style(RGBColor(90, 90, 90))
-            .x_labels(10)
-            .y_labels(8)
+            .x_labels(X_TICKS)
+            .y_labels(Y_TICKS)
             .x_label_formatter(&fx)
             .y_label_formatter(&fy)
             .label_style(font(14.0, FontStyle::Normal))
@@ -731,12 +742,15 @@ mod tests {
 
     #[test]
     fn tick_labels() {
-        let f = tick_format(0.0, 360.0);
+        let f = tick_format(0.0, 360.0, 10);
         assert_eq!(f(&90.0), "90");
-        let f = tick_format(-0.5, 0.5);
-        assert_eq!(f(&-0.0), "0.00");
-        assert_eq!(f(&0.25), "0.25");
-        let f = tick_format(0.0, 2e9);
+        let f = tick_format(-0.5, 0.5, 8);
+        assert_eq!(f(&-0.0), "0.0");
+        assert_eq!(f(&-1e-17), "0.0");
+        assert_eq!(f(&0.2), "0.2");
+        let f = tick_format(0.0, 0.25, 10);
+        assert_eq!(f(&0.05), "0.05");
+        let f = tick_format(0.0, 2e9, 10);
         assert_eq!(f(&1.5e9), "1.50e9");
     }
 }

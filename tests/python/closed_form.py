@@ -118,7 +118,7 @@ def evaluate(phi, w, eps, p: Params = Params()) -> dict:
     m_s = p.m_s
     ramp = np.clip((s - p.s_start) / (p.s_full - p.s_start), 0.0, 1.0)
     F_cut = np.where((v > 0) & (s >= p.s_start) & (s <= p.s_end), p.F_max * ramp, 0.0)
-    F_inertia = m_s * a
+    F_inertia = -m_s * a
     rhs = m_s * a - m_s * G + F_cut
     P = rhs / (np.cos(nu) - p.mu * np.abs(np.sin(nu)) * np.sign(v) * np.sign(rhs))
     N = P * np.sin(nu)
@@ -159,3 +159,45 @@ def wrap_to_index(delta, Z: int = 4):
     """A cross-angle difference folded into (-pi/Z, pi/Z]: the cross looks the same after 2*pi/Z."""
     step = 2.0 * math.pi / Z
     return delta - step * np.round(delta / step)
+
+
+ANGLE_PERIODS = {"cross.gamma": lambda p: 2.0 * math.pi / p.Z, "crank.theta": lambda p: 2.0 * math.pi}
+
+
+def mismatches(result, p: Params = Params(), names=None, rtol: float = 1e-9, inputs=None) -> list[str]:
+    """Compares a simulation result (structured array that also holds the three shaft inputs the
+    FMU held, see harness.py) with `evaluate` at those inputs. Returns one message per output
+    that differs by more than rtol times the output's largest magnitude in the run;
+    angles (cross.gamma, crank.theta) are compared modulo their period. Empty list: agreement.
+    `inputs` = (phi, w, a) arrays replace the recorded shaft inputs (for drive.mode = constant_speed,
+    where the FMU drives itself and ignores them)."""
+    phi, w, a = inputs if inputs is not None else (result["shaft.phi"], result["shaft.w"], result["shaft.a"])
+    phi, w, a = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (phi, w, a)))
+    expected = evaluate(phi, w, a, p)
+    names = [n for n in (names or expected) if n in result.dtype.names]
+    problems = []
+    for name in names:
+        got = np.asarray(result[name])
+        want = expected[name]
+        if want.dtype == bool:
+            bad = np.flatnonzero(got.astype(bool) != want)
+            if bad.size:
+                k = bad[0]
+                problems.append(f"{name}: {bad.size} samples differ, first at t={float(result['time'][k])!r} "
+                                f"(phi={float(phi[k])!r}): got {bool(got[k])}, "
+                                f"expected {bool(want[k])}")
+            continue
+        diff = got - want
+        if name in ANGLE_PERIODS:
+            period = ANGLE_PERIODS[name](p)
+            diff = diff - period * np.round(diff / period)
+        scale = max(float(np.max(np.abs(want))), 1e-300)
+        tol = rtol * scale
+        bad = np.flatnonzero(~(np.abs(diff) <= tol))
+        if bad.size:
+            k = bad[np.argmax(np.abs(diff[bad]))]
+            problems.append(f"{name}: {bad.size} of {got.size} samples off by more than rtol={rtol:g} "
+                            f"(scale {scale:.6g}); worst at t={float(result['time'][k])!r} "
+                            f"(phi={float(phi[k])!r}, w={float(w[k])!r}, a={float(a[k])!r}): got {float(got[k])!r}, "
+                            f"expected {float(want[k])!r}")
+    return problems

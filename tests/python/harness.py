@@ -1,0 +1,210 @@
+"""Shared helpers of the FMPy tests and of make_reference.py: where things are, simulating an
+FMU with FMPy, evaluating it point by point, and the FMI cross-check files.
+
+A note on timing, which every input-driven comparison here relies on: FMPy's co-simulation loop
+(`fmpy.simulation.simulateCS`) sets the inputs interpolated at t_k, calls
+fmi2DoStep(t_k, h) and then records the outputs at t_k + h. The outputs recorded at t_k + h
+therefore belong to the inputs of t_k (one communication step behind) - except the first row,
+which is recorded after initialization with the inputs of t_0. The tests record the three shaft
+inputs alongside the outputs and compare every row with the closed form at the inputs that the
+FMU actually held; `check_input_lag` asserts that this is the one-step lag described here.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import tempfile
+from pathlib import Path
+
+import numpy as np
+
+import fmpy
+from fmpy.fmi2 import FMU2Slave
+from fmpy.model_description import read_model_description
+from fmpy.util import read_csv, read_ref_opt_file
+
+ROOT = Path(__file__).resolve().parents[2]
+FMU_DIR = ROOT / "out" / "fmus"
+MD_DIR = ROOT / "modelDescription"
+CROSS_CHECK_DIR = ROOT / "fmus"
+
+SHAFT_INPUTS = ["shaft.phi", "shaft.w", "shaft.a"]
+
+
+def fmu_paths() -> list[Path]:
+    """Every FMU the build wrote, sorted."""
+    return sorted(FMU_DIR.glob("*.fmu"))
+
+
+def model_id(fmu: Path) -> str:
+    return fmu.stem
+
+
+class Extracted:
+    """An FMU extracted once (simulate_fmu accepts the folder: no unzip per simulation)."""
+
+    _cache: dict[Path, "Extracted"] = {}
+
+    def __init__(self, fmu: Path):
+        self.fmu = Path(fmu)
+        self.dir = fmpy.extract(str(self.fmu), tempfile.mkdtemp(prefix=f"{self.fmu.stem}-"))
+        self.md = read_model_description(self.dir)
+        self.vars = {v.name: v for v in self.md.modelVariables}
+
+    @classmethod
+    def of(cls, fmu: Path) -> "Extracted":
+        key = Path(fmu).resolve()
+        if key not in cls._cache:
+            cls._cache[key] = cls(key)
+        return cls._cache[key]
+
+    @classmethod
+    def cleanup(cls):
+        for e in cls._cache.values():
+            shutil.rmtree(e.dir, ignore_errors=True)
+        cls._cache.clear()
+
+    def outputs(self, types=("Real",)) -> list[str]:
+        return [v.name for v in self.md.modelVariables if v.causality == "output" and v.type in types]
+
+    def simulate(self, **kwargs):
+        """fmpy.simulate_fmu on the extracted folder (same keywords)."""
+        kwargs.setdefault("model_description", self.md)
+        return fmpy.simulate_fmu(self.dir, **kwargs)
+
+    def probe(self, points, outputs, start_values=None, logger=None):
+        """The FMU as a function: for each (phi, w, a) set the shaft inputs, do one step of 1e-3 s,
+        read `outputs`. Returns {name: array}. Uses FMU2Slave directly, no interpolation."""
+        vr = {n: self.vars[n].valueReference for n in SHAFT_INPUTS}
+        fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=self.dir,
+                        modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="probe")
+        callbacks = None
+        if logger is not None:
+            from fmpy.fmi2 import fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, \
+                fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE
+            from fmpy import calloc, free
+            from fmpy.logging import addLoggerProxy
+            from ctypes import byref
+            callbacks = fmi2CallbackFunctions()
+            callbacks.logger = fmi2CallbackLoggerTYPE(logger)
+            callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+            callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+            addLoggerProxy(byref(callbacks))
+        fmu.instantiate(callbacks=callbacks)
+        try:
+            fmu.setupExperiment(startTime=0.0)
+            self._set(fmu, start_values or {})
+            fmu.enterInitializationMode()
+            fmu.exitInitializationMode()
+            out = {n: [] for n in outputs}
+            t, h = 0.0, 1e-3
+            for phi, w, a in points:
+                fmu.setReal([vr["shaft.phi"], vr["shaft.w"], vr["shaft.a"]], [phi, w, a])
+                fmu.doStep(currentCommunicationPoint=t, communicationStepSize=h)
+                t += h
+                for n in outputs:
+                    v = self.vars[n]
+                    if v.type == "Real":
+                        out[n].append(fmu.getReal([v.valueReference])[0])
+                    elif v.type == "Boolean":
+                        out[n].append(fmu.getBoolean([v.valueReference])[0])
+                    else:
+                        out[n].append(fmu.getInteger([v.valueReference])[0])
+            fmu.terminate()
+            return {n: np.array(x) for n, x in out.items()}
+        finally:
+            fmu.freeInstance()
+
+    def get_after_init(self, names, start_values=None):
+        """Values of `names` (Real) right after initialization, e.g. calculated parameters."""
+        fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=self.dir,
+                        modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="init")
+        fmu.instantiate()
+        try:
+            fmu.setupExperiment(startTime=0.0)
+            self._set(fmu, start_values or {})
+            fmu.enterInitializationMode()
+            fmu.exitInitializationMode()
+            values = fmu.getReal([self.vars[n].valueReference for n in names])
+            fmu.terminate()
+            return dict(zip(names, values))
+        finally:
+            fmu.freeInstance()
+
+    def _set(self, fmu, start_values):
+        for name, value in start_values.items():
+            v = self.vars[name]
+            if v.type == "Real":
+                fmu.setReal([v.valueReference], [float(value)])
+            elif v.type == "Boolean":
+                fmu.setBoolean([v.valueReference], [bool(value)])
+            else:  # Integer, Enumeration
+                fmu.setInteger([v.valueReference], [int(value)])
+
+
+def shaft_input(t, phi, w, a) -> np.ndarray:
+    """A structured input array for simulate_fmu (the FMI cross-check CSV layout)."""
+    t = np.asarray(t, dtype=float)
+    sig = np.zeros(t.shape, dtype=[("time", np.float64)] + [(n, np.float64) for n in SHAFT_INPUTS])
+    sig["time"] = t
+    sig["shaft.phi"] = phi
+    sig["shaft.w"] = w
+    sig["shaft.a"] = a
+    return sig
+
+
+def constant_speed_input(stop_time: float, speed: float, n: int = 2) -> np.ndarray:
+    """phi = speed*t, w = speed, a = 0 on [0, stop_time]: linear, so FMPy's interpolation is exact."""
+    t = np.linspace(0.0, stop_time, n)
+    return shaft_input(t, speed * t, np.full_like(t, speed), np.zeros_like(t))
+
+
+def check_input_lag(result, phi_of_t, rtol=1e-12, atol=1e-12):
+    """Asserts that the recorded shaft.phi is phi_of_t of the previous communication point (row 0:
+    of t_0): FMPy's co-simulation timing, see the module docstring."""
+    t = result["time"]
+    expected = phi_of_t(np.concatenate(([t[0]], t[:-1])))
+    np.testing.assert_allclose(result["shaft.phi"], expected, rtol=rtol, atol=atol,
+                               err_msg="recorded shaft.phi is not the input of the previous step")
+
+
+def columns_close(actual, expected, rtol=1e-9, name=""):
+    """Every value within rtol, relative to the larger of the value and the column's magnitude
+    (so a column crossing zero is compared on its own scale)."""
+    actual = np.asarray(actual, dtype=float)
+    expected = np.asarray(expected, dtype=float)
+    scale = max(float(np.max(np.abs(expected))) if expected.size else 0.0, 1e-300)
+    np.testing.assert_allclose(actual, expected, rtol=rtol, atol=rtol * scale, err_msg=name)
+
+
+# --- FMI cross-check files ----------------------------------------------------------------------
+
+def cross_check_paths(mid: str) -> dict[str, Path]:
+    d = CROSS_CHECK_DIR / mid
+    return {"in": d / f"{mid}_in.csv", "ref": d / f"{mid}_ref.csv", "opt": d / f"{mid}_ref.opt"}
+
+
+def simulate_cross_check(ex: Extracted, paths: dict[str, Path], outputs: list[str], extra=()):
+    """Simulate as the FMI cross-check rules say: inputs from _in.csv, times from _ref.opt."""
+    opt = read_ref_opt_file(str(paths["opt"]))
+    signals = read_csv(str(paths["in"]))
+    return ex.simulate(start_time=opt["StartTime"], stop_time=opt["StopTime"],
+                       output_interval=opt["StepSize"], relative_tolerance=opt["RelTol"],
+                       fmi_type="CoSimulation", input=signals, output=list(outputs) + list(extra))
+
+
+def write_ref_opt(path: Path, start: float, stop: float, step: float, rel_tol: float):
+    path.write_text(f"StartTime, {start!r}\nStopTime, {stop!r}\nStepSize, {step!r}\nRelTol, {rel_tol!r}\n")
+
+
+def write_csv(path: Path, table: np.ndarray, columns: list[str]):
+    """CSV as the cross-check rules want it: quoted header, `time` first, full precision."""
+    with open(path, "w", newline="\n") as f:
+        f.write(",".join(f'"{c}"' for c in ["time"] + columns) + "\n")
+        for row in table:
+            f.write(",".join(repr(float(row[c])) for c in ["time"] + columns) + "\n")
+
+
+TWO_PI = 2.0 * math.pi

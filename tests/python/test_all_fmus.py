@@ -1,0 +1,236 @@
+"""Checks every FMU in out/fmus/ gets, whatever its mechanism (shared/spec/interface.md).
+
+Each test runs once per FMU; a new mechanism gets them by being built.
+"""
+
+from __future__ import annotations
+
+import ctypes
+import math
+import re
+import shutil
+import struct
+import subprocess
+import sys
+import zipfile
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy.util import read_csv
+from fmpy.validation import validate_fmu
+
+from harness import (MD_DIR, SHAFT_INPUTS, Extracted, columns_close, cross_check_paths,
+                     simulate_cross_check)
+
+FMUTOOL = shutil.which("fmutool", path=str(Path(sys.executable).parent)) or shutil.which("fmutool")
+
+FMI2_COMMON = """fmi2GetTypesPlatform fmi2GetVersion fmi2SetDebugLogging fmi2Instantiate fmi2FreeInstance
+    fmi2SetupExperiment fmi2EnterInitializationMode fmi2ExitInitializationMode fmi2Terminate fmi2Reset
+    fmi2GetReal fmi2GetInteger fmi2GetBoolean fmi2GetString fmi2SetReal fmi2SetInteger fmi2SetBoolean
+    fmi2SetString fmi2GetFMUstate fmi2SetFMUstate fmi2FreeFMUstate fmi2SerializedFMUstateSize
+    fmi2SerializeFMUstate fmi2DeSerializeFMUstate fmi2GetDirectionalDerivative""".split()
+FMI2_CS = """fmi2SetRealInputDerivatives fmi2GetRealOutputDerivatives fmi2DoStep fmi2CancelStep
+    fmi2GetStatus fmi2GetRealStatus fmi2GetIntegerStatus fmi2GetBooleanStatus
+    fmi2GetStringStatus""".split()
+
+# The C library, libm and the loader (interface.md). libgcc_s.so.1 is the GCC unwinder a Rust
+# cdylib built with panic = "unwind" needs to catch panics before the C boundary; glibc itself
+# loads it (pthread_cancel), so it is on every machine that has glibc.
+ALLOWED_NEEDED = {"libc.so.6", "libm.so.6", "ld-linux-x86-64.so.2", "libgcc_s.so.1"}
+
+
+def run_fmutool_check(path: Path) -> subprocess.CompletedProcess:
+    assert FMUTOOL, "fmutool (fmu-manipulation-toolbox) is not installed"
+    return subprocess.run([FMUTOOL, "-input", str(path), "-check"], capture_output=True, text=True,
+                          timeout=120)
+
+
+def check_errors(proc: subprocess.CompletedProcess) -> list[str]:
+    return [line for line in (proc.stdout + proc.stderr).splitlines() if line.startswith(("ERROR", "CRITICAL"))]
+
+
+# --- the archive ---------------------------------------------------------------------------------
+
+def test_fmpy_validate_fmu(extracted):
+    assert validate_fmu(str(extracted.fmu)) == []
+
+
+def test_fmutool_check(extracted):
+    proc = run_fmutool_check(extracted.fmu)
+    out = proc.stdout + proc.stderr
+    assert proc.returncode == 0 and not check_errors(proc), out
+    assert "compliant with FMI-2.0" in out, out
+    assert "No semantic error" in out, out
+
+
+def _corrupt(md: str, kind: str) -> str:
+    if kind == "schema":  # an attribute value the XSD does not allow
+        return md.replace('causality="input"', 'causality="inptu"', 1)
+    if kind == "duplicate-name":
+        return md.replace('name="shaft.w"', 'name="shaft.phi"', 1)
+    if kind == "unlisted-output":  # drop the first <Outputs> entry
+        head, tail = md.split("<Outputs>", 1)
+        return head + "<Outputs>" + re.sub(r"<Unknown [^>]*/>", "", tail, count=1)
+    raise ValueError(kind)
+
+
+@pytest.mark.parametrize("kind", ["schema", "duplicate-name", "unlisted-output"])
+def test_checkers_reject_a_broken_copy(extracted, kind, tmp_path):
+    """The two checkers above do check: on a copy with a corrupted modelDescription.xml they fail."""
+    broken = tmp_path / extracted.fmu.name
+    with zipfile.ZipFile(extracted.fmu) as src, zipfile.ZipFile(broken, "w") as dst:
+        for info in src.infolist():
+            data = src.read(info)
+            if info.filename == "modelDescription.xml":
+                new = _corrupt(data.decode("utf-8"), kind)
+                assert new != data.decode("utf-8"), f"corruption {kind} did not apply"
+                data = new.encode("utf-8")
+            dst.writestr(info, data)
+    proc = run_fmutool_check(broken)
+    assert proc.returncode != 0, proc.stdout + proc.stderr
+    assert check_errors(proc), proc.stdout + proc.stderr
+    assert validate_fmu(str(broken)) != []
+
+
+def test_archive_layout(extracted):
+    mid = extracted.md.coSimulation.modelIdentifier
+    with zipfile.ZipFile(extracted.fmu) as z:
+        names = set(z.namelist())
+    for required in ["modelDescription.xml", f"binaries/linux64/{mid}.so", "documentation/index.html",
+                     "model.png"]:
+        assert required in names, f"{required} missing from {extracted.fmu.name}: {sorted(names)}"
+    assert not any("\\" in n for n in names)
+
+
+def test_model_identifier_is_the_file_name(extracted):
+    assert extracted.md.fmiVersion == "2.0"
+    assert extracted.md.coSimulation is not None, "no CoSimulation element"
+    assert extracted.md.coSimulation.modelIdentifier == extracted.fmu.stem
+
+
+def test_committed_model_description_is_current(extracted):
+    committed = MD_DIR / f"{extracted.fmu.stem}.xml"
+    assert committed.is_file(), f"{committed} missing (cargo run --release -- describe)"
+    with zipfile.ZipFile(extracted.fmu) as z:
+        inside = z.read("modelDescription.xml")
+    assert committed.read_bytes() == inside, \
+        f"{committed} differs from the FMU's modelDescription.xml (run `cargo run --release -- describe`)"
+
+
+def _elf_needed(path: Path) -> list[str]:
+    """DT_NEEDED entries of an ELF64 little-endian shared object (no binutils needed)."""
+    data = path.read_bytes()
+    assert data[:4] == b"\x7fELF" and data[4] == 2 and data[5] == 1, "not an ELF64 LE file"
+    e_phoff, = struct.unpack_from("<Q", data, 0x20)
+    e_phentsize, e_phnum = struct.unpack_from("<HH", data, 0x36)
+    loads, dynamic = [], None
+    for k in range(e_phnum):
+        p_type, _, p_offset, p_vaddr, _, p_filesz, _, _ = struct.unpack_from("<IIQQQQQQ", data, e_phoff + k * e_phentsize)
+        if p_type == 1:
+            loads.append((p_vaddr, p_offset, p_filesz))
+        elif p_type == 2:
+            dynamic = (p_offset, p_filesz)
+    assert dynamic, "no dynamic section"
+    entries = [struct.unpack_from("<qQ", data, dynamic[0] + 16 * k) for k in range(dynamic[1] // 16)]
+    strtab = next(v for t, v in entries if t == 5)
+    off = next(o + strtab - va for va, o, sz in loads if va <= strtab < va + sz)
+    return [data[off + v:data.index(b"\0", off + v)].decode() for t, v in entries if t == 1]
+
+
+def test_binary_exports_fmi2_and_links_only_libc(extracted):
+    so = Path(extracted.dir) / "binaries" / "linux64" / f"{extracted.fmu.stem}.so"
+    lib = ctypes.CDLL(str(so))
+    missing = [f for f in FMI2_COMMON + FMI2_CS if not hasattr(lib, f)]
+    assert not missing, f"not exported: {missing}"
+    needed = _elf_needed(so)
+    assert set(needed) <= ALLOWED_NEEDED, f"links {sorted(set(needed) - ALLOWED_NEEDED)}"
+
+
+# --- the interface every mechanism shares (interface.md) ----------------------------------------
+
+def test_shaft_connector_and_common_parameters(extracted):
+    md, v = extracted.md, extracted.vars
+    assert md.variableNamingConvention == "structured"
+    for name, unit in zip(SHAFT_INPUTS, ["rad", "rad/s", "rad/s2"]):
+        assert name in v and v[name].causality == "input" and v[name].type == "Real", name
+        assert v[name].unit == unit, (name, v[name].unit)
+        assert v[name].start is not None, f"input {name} needs a start value"
+    for name, unit in [("shaft.tau", "N.m"), ("shaft.P", "W")]:
+        assert name in v and v[name].causality == "output" and v[name].unit == unit, name
+    mode, fidelity = v["drive.mode"], v["model.fidelity"]
+    assert mode.causality == "parameter" and mode.type == "Enumeration"
+    assert {i.name: int(i.value) for i in mode.declaredType.items} == {"input": 1, "constant_speed": 2}
+    assert int(mode.start) == 1
+    assert fidelity.causality == "parameter" and fidelity.type == "Enumeration"
+    items = {i.name: int(i.value) for i in fidelity.declaredType.items}
+    assert items.get("kinematic") == 1 and items.get("kinetostatic") == 2, items
+    assert int(fidelity.start) == 2, "kinetostatic is the default"
+    assert v["drive.n"].unit == "rad/s" and v["drive.n"].causality == "parameter"
+    assert "drive.phi0" in v
+    assert md.defaultExperiment is not None
+
+
+def test_every_output_and_parameter_is_documented(extracted):
+    undocumented = [x.name for x in extracted.md.modelVariables
+                    if x.causality in ("output", "parameter", "calculatedParameter", "input")
+                    and not (x.description or "").strip()]
+    assert not undocumented, f"no description: {undocumented}"
+    no_unit = [x.name for x in extracted.md.modelVariables
+               if x.causality == "output" and x.type == "Real" and not x.unit]
+    assert not no_unit, f"Real outputs without a unit: {no_unit}"
+
+
+def test_display_units(extracted):
+    """rad shows in deg, m in mm, rad/s in rpm, Pa in MPa (interface.md, Units)."""
+    units = {u.name: {d.name for d in u.displayUnits} for u in extracted.md.unitDefinitions}
+    for unit, display in [("rad", "deg"), ("m", "mm"), ("rad/s", "rpm"), ("Pa", "MPa")]:
+        if unit in units:
+            assert display in units[unit], f"unit {unit} has no display unit {display}"
+
+
+# --- simulation -------------------------------------------------------------------------------
+
+def _assert_finite(result, names):
+    bad = [n for n in names if not np.all(np.isfinite(result[n]))]
+    assert not bad, f"non-finite values in {bad}"
+
+
+def test_simulate_with_defaults(extracted):
+    result = extracted.simulate()
+    assert len(result) > 1
+    exp = extracted.md.defaultExperiment
+    assert result["time"][0] == pytest.approx(float(exp.startTime or 0.0))
+    assert result["time"][-1] == pytest.approx(float(exp.stopTime))
+    _assert_finite(result, extracted.outputs())
+
+
+def test_constant_speed_runs_alone(extracted):
+    names = extracted.outputs()
+    result = extracted.simulate(fmi_type="CoSimulation", start_values={"drive.mode": 2},
+                                output=names, output_interval=1e-2)
+    _assert_finite(result, names)
+    # it moves: some output changes over the default experiment
+    assert any(np.ptp(result[n]) > 0 for n in names), "nothing moves at constant speed"
+
+
+# --- FMI cross-check files (fmus/<id>/<id>_in.csv, _ref.csv, _ref.opt) ----------------------------
+
+def test_cross_check_files_exist(extracted):
+    paths = cross_check_paths(extracted.fmu.stem)
+    missing = [str(p) for p in paths.values() if not p.is_file()]
+    assert not missing, f"missing {missing}: python tests/python/make_reference.py {extracted.fmu.stem}"
+
+
+def test_cross_check_reproduces_reference(extracted):
+    paths = cross_check_paths(extracted.fmu.stem)
+    if not all(p.is_file() for p in paths.values()):
+        pytest.fail("no cross-check files (see test_cross_check_files_exist)")
+    ref = read_csv(str(paths["ref"]))
+    columns = [n for n in ref.dtype.names if n != "time"]
+    assert columns, "the reference has no output column"
+    result = simulate_cross_check(extracted, paths, columns)
+    assert len(result) == len(ref), f"{len(result)} rows simulated, {len(ref)} in the reference"
+    np.testing.assert_allclose(result["time"], ref["time"], rtol=0, atol=1e-12)
+    for name in columns:
+        columns_close(result[name], ref[name], rtol=1e-9, name=name)
