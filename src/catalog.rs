@@ -5,6 +5,9 @@
 use crate::md::ModelInfo;
 use crate::model::{Model, Var, VarSet};
 
+/// An FMU's `documentation/` files (index.html first, then figures) and its `model.png` icon.
+pub type Documentation = (Vec<(String, Vec<u8>)>, Vec<u8>);
+
 /// One FMU of the catalog.
 pub struct Entry {
     /// `modelIdentifier`, also the folder `fmus/<identifier>/`.
@@ -18,12 +21,16 @@ pub struct Entry {
     /// Every variable, by value reference.
     pub variables: fn() -> Vec<(u32, &'static Var)>,
     /// `documentation/` files (index.html and figures) and the `model.png` icon.
-    pub documentation: fn() -> Result<(Vec<(String, Vec<u8>)>, Vec<u8>), String>,
+    pub documentation: fn() -> Result<Documentation, String>,
 }
 
 /// The variables of a model type, by value reference.
 pub fn variables_of<M: Model>() -> Vec<(u32, &'static Var)> {
-    <M::Var as VarSet>::table().iter().enumerate().map(|(i, v)| (i as u32, v)).collect()
+    <M::Var as VarSet>::table()
+        .iter()
+        .enumerate()
+        .map(|(i, v)| (i as u32, v))
+        .collect()
 }
 
 /// Every FMU, in the order they are built.

@@ -56,7 +56,10 @@ pub struct EnumType {
 impl EnumType {
     /// The item with this value, if any.
     pub fn item(&self, value: i32) -> Option<&'static str> {
-        usize::try_from(value - 1).ok().and_then(|i| self.items.get(i)).map(|it| it.0)
+        usize::try_from(value - 1)
+            .ok()
+            .and_then(|i| self.items.get(i))
+            .map(|it| it.0)
     }
 }
 
@@ -109,7 +112,12 @@ pub fn default_display_unit(unit: &str) -> Option<&'static str> {
 }
 
 impl Var {
-    fn base(name: &'static str, ty: VarType, causality: Causality, variability: Variability) -> Self {
+    fn base(
+        name: &'static str,
+        ty: VarType,
+        causality: Causality,
+        variability: Variability,
+    ) -> Self {
         Var {
             name,
             ty,
@@ -136,8 +144,19 @@ impl Var {
 
     /// A fixed Real parameter with its default; `desc` says where the value comes from
     /// (a paper, or "assumption").
-    pub fn parameter(name: &'static str, start: f64, unit: &'static str, desc: &'static str) -> Self {
-        let mut v = Self::base(name, VarType::Real, Causality::Parameter, Variability::Fixed).with_unit(unit);
+    pub fn parameter(
+        name: &'static str,
+        start: f64,
+        unit: &'static str,
+        desc: &'static str,
+    ) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Real,
+            Causality::Parameter,
+            Variability::Fixed,
+        )
+        .with_unit(unit);
         v.start = Some(start);
         v.description = desc;
         v
@@ -145,7 +164,12 @@ impl Var {
 
     /// A fixed Integer parameter.
     pub fn int_parameter(name: &'static str, start: i32, desc: &'static str) -> Self {
-        let mut v = Self::base(name, VarType::Integer, Causality::Parameter, Variability::Fixed);
+        let mut v = Self::base(
+            name,
+            VarType::Integer,
+            Causality::Parameter,
+            Variability::Fixed,
+        );
         v.start = Some(start as f64);
         v.description = desc;
         v
@@ -153,16 +177,35 @@ impl Var {
 
     /// A fixed Boolean parameter.
     pub fn bool_parameter(name: &'static str, start: bool, desc: &'static str) -> Self {
-        let mut v = Self::base(name, VarType::Boolean, Causality::Parameter, Variability::Fixed);
+        let mut v = Self::base(
+            name,
+            VarType::Boolean,
+            Causality::Parameter,
+            Variability::Fixed,
+        );
         v.start = Some(start as i32 as f64);
         v.description = desc;
         v
     }
 
     /// A fixed Enumeration parameter; `start` is the item's name.
-    pub fn enum_parameter(name: &'static str, ty: &'static EnumType, start: &str, desc: &'static str) -> Self {
-        let mut v = Self::base(name, VarType::Enumeration(ty), Causality::Parameter, Variability::Fixed);
-        let pos = ty.items.iter().position(|it| it.0 == start).expect("start item of an enumeration");
+    pub fn enum_parameter(
+        name: &'static str,
+        ty: &'static EnumType,
+        start: &str,
+        desc: &'static str,
+    ) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Enumeration(ty),
+            Causality::Parameter,
+            Variability::Fixed,
+        );
+        let pos = ty
+            .items
+            .iter()
+            .position(|it| it.0 == start)
+            .expect("start item of an enumeration");
         v.start = Some((pos + 1) as f64);
         v.description = desc;
         v
@@ -170,7 +213,13 @@ impl Var {
 
     /// A Real calculated parameter (a derived quantity the paper computes).
     pub fn calculated(name: &'static str, unit: &'static str, desc: &'static str) -> Self {
-        let mut v = Self::base(name, VarType::Real, Causality::CalculatedParameter, Variability::Fixed).with_unit(unit);
+        let mut v = Self::base(
+            name,
+            VarType::Real,
+            Causality::CalculatedParameter,
+            Variability::Fixed,
+        )
+        .with_unit(unit);
         v.initial = Some(Initial::Calculated);
         v.description = desc;
         v
@@ -178,7 +227,13 @@ impl Var {
 
     /// A continuous Real input with its start value.
     pub fn input(name: &'static str, start: f64, unit: &'static str, desc: &'static str) -> Self {
-        let mut v = Self::base(name, VarType::Real, Causality::Input, Variability::Continuous).with_unit(unit);
+        let mut v = Self::base(
+            name,
+            VarType::Real,
+            Causality::Input,
+            Variability::Continuous,
+        )
+        .with_unit(unit);
         v.start = Some(start);
         v.description = desc;
         v
@@ -186,7 +241,13 @@ impl Var {
 
     /// A continuous Real output.
     pub fn output(name: &'static str, unit: &'static str, desc: &'static str) -> Self {
-        let mut v = Self::base(name, VarType::Real, Causality::Output, Variability::Continuous).with_unit(unit);
+        let mut v = Self::base(
+            name,
+            VarType::Real,
+            Causality::Output,
+            Variability::Continuous,
+        )
+        .with_unit(unit);
         v.initial = Some(Initial::Calculated);
         v.description = desc;
         v
@@ -194,7 +255,12 @@ impl Var {
 
     /// A discrete Boolean output (a flag).
     pub fn bool_output(name: &'static str, desc: &'static str) -> Self {
-        let mut v = Self::base(name, VarType::Boolean, Causality::Output, Variability::Discrete);
+        let mut v = Self::base(
+            name,
+            VarType::Boolean,
+            Causality::Output,
+            Variability::Discrete,
+        );
         v.initial = Some(Initial::Calculated);
         v.description = desc;
         v
@@ -202,7 +268,12 @@ impl Var {
 
     /// A discrete Integer output.
     pub fn int_output(name: &'static str, desc: &'static str) -> Self {
-        let mut v = Self::base(name, VarType::Integer, Causality::Output, Variability::Discrete);
+        let mut v = Self::base(
+            name,
+            VarType::Integer,
+            Causality::Output,
+            Variability::Discrete,
+        );
         v.initial = Some(Initial::Calculated);
         v.description = desc;
         v
@@ -238,8 +309,10 @@ impl Var {
             SetPhase::Instantiated => {
                 self.variability != Variability::Constant
                     && (self.causality == Causality::Input
-                        || matches!(self.initial, None | Some(Initial::Exact) | Some(Initial::Approx))
-                            && matches!(self.causality, Causality::Parameter | Causality::Input))
+                        || matches!(
+                            self.initial,
+                            None | Some(Initial::Exact) | Some(Initial::Approx)
+                        ) && matches!(self.causality, Causality::Parameter | Causality::Input))
             }
             SetPhase::Initialization => {
                 matches!(self.causality, Causality::Parameter | Causality::Input)
@@ -247,7 +320,8 @@ impl Var {
             }
             SetPhase::Running => {
                 self.causality == Causality::Input
-                    || (self.causality == Causality::Parameter && self.variability == Variability::Tunable)
+                    || (self.causality == Causality::Parameter
+                        && self.variability == Variability::Tunable)
             }
         }
     }
@@ -287,7 +361,10 @@ impl<V: VarSet> Default for Values<V> {
 impl<V: VarSet> Values<V> {
     /// Every variable at its declared start value (0 where there is none).
     pub fn start() -> Self {
-        Values { data: V::table().iter().map(|v| v.start.unwrap_or(0.0)).collect(), _v: PhantomData }
+        Values {
+            data: V::table().iter().map(|v| v.start.unwrap_or(0.0)).collect(),
+            _v: PhantomData,
+        }
     }
     /// An Integer or Enumeration value.
     pub fn int(&self, v: V) -> i32 {
@@ -343,7 +420,13 @@ pub fn check_bounds<V: VarSet>(values: &Values<V>) -> Result<(), ParamError> {
         if v.causality != Causality::Parameter {
             continue;
         }
-        let fail = |condition: String| Err(ParamError { param: v.name, value: x, condition });
+        let fail = |condition: String| {
+            Err(ParamError {
+                param: v.name,
+                value: x,
+                condition,
+            })
+        };
         if !x.is_finite() {
             return fail("must be finite".into());
         }
@@ -360,7 +443,11 @@ pub fn check_bounds<V: VarSet>(values: &Values<V>) -> Result<(), ParamError> {
         if let VarType::Enumeration(t) = v.ty
             && t.item(x as i32).is_none()
         {
-            return fail(format!("is not an item of {} (1..={})", t.name, t.items.len()));
+            return fail(format!(
+                "is not an item of {} (1..={})",
+                t.name,
+                t.items.len()
+            ));
         }
     }
     Ok(())
@@ -408,7 +495,13 @@ pub trait Model: Sized + Send + 'static {
     fn evaluate(&mut self, values: &mut Values<Self::Var>, time: f64, log: &mut dyn Log);
 
     /// Advances internal state (if any) from `time` over `h`; algebraic models need nothing.
-    fn do_step(&mut self, _values: &mut Values<Self::Var>, _time: f64, _h: f64, _log: &mut dyn Log) -> Result<(), String> {
+    fn do_step(
+        &mut self,
+        _values: &mut Values<Self::Var>,
+        _time: f64,
+        _h: f64,
+        _log: &mut dyn Log,
+    ) -> Result<(), String> {
         Ok(())
     }
 
@@ -463,7 +556,10 @@ pub mod shaft {
         description: "What drives the mechanism's shaft",
         items: &[
             ("input", "the inputs shaft.phi, shaft.w, shaft.a"),
-            ("constant_speed", "the FMU itself, at drive.n from drive.phi0; the inputs are ignored"),
+            (
+                "constant_speed",
+                "the FMU itself, at drive.n from drive.phi0; the inputs are ignored",
+            ),
         ],
     };
 
@@ -472,8 +568,14 @@ pub mod shaft {
         name: "Fidelity",
         description: "Level of physics computed (interface.md)",
         items: &[
-            ("kinematic", "positions, velocities, accelerations: closed form, exact"),
-            ("kinetostatic", "as kinematic, plus forces and torques from Newton-Euler on rigid links"),
+            (
+                "kinematic",
+                "positions, velocities, accelerations: closed form, exact",
+            ),
+            (
+                "kinetostatic",
+                "as kinematic, plus forces and torques from Newton-Euler on rigid links",
+            ),
         ],
     };
 
@@ -488,15 +590,62 @@ pub mod shaft {
     pub fn declarations(nominal_rpm: f64) -> Vec<Var> {
         let w0 = PI * (nominal_rpm / 30.0);
         vec![
-            Var::input("shaft.phi", 0.0, "rad", "Angle of the mechanism's driving shaft (2*pi-periodic)"),
-            Var::input("shaft.w", w0, "rad/s", "Angular velocity of the driving shaft (start: nominal speed)"),
-            Var::input("shaft.a", 0.0, "rad/s2", "Angular acceleration of the driving shaft"),
-            Var::output("shaft.tau", "N.m", "Torque the mechanism requires at its shaft").depends(ON_ALL),
-            Var::output("shaft.P", "W", "Power drawn at the shaft, shaft.tau*shaft.w").depends(ON_ALL),
-            Var::enum_parameter("drive.mode", &DRIVE_MODE, "input", "input: driven by the shaft inputs; constant_speed: runs alone at drive.n"),
-            Var::parameter("drive.n", w0, "rad/s", "Speed in constant_speed mode (assumption: nominal speed of the machine)").min(-1e4).max(1e4),
-            Var::parameter("drive.phi0", 0.0, "rad", "Shaft angle at time 0 in constant_speed mode"),
-            Var::enum_parameter("model.fidelity", &FIDELITY_LEVEL, "kinetostatic", "Level of physics: kinematic or kinetostatic"),
+            Var::input(
+                "shaft.phi",
+                0.0,
+                "rad",
+                "Angle of the mechanism's driving shaft (2*pi-periodic)",
+            ),
+            Var::input(
+                "shaft.w",
+                w0,
+                "rad/s",
+                "Angular velocity of the driving shaft (start: nominal speed)",
+            ),
+            Var::input(
+                "shaft.a",
+                0.0,
+                "rad/s2",
+                "Angular acceleration of the driving shaft",
+            ),
+            Var::output(
+                "shaft.tau",
+                "N.m",
+                "Torque the mechanism requires at its shaft",
+            )
+            .depends(ON_ALL),
+            Var::output(
+                "shaft.P",
+                "W",
+                "Power drawn at the shaft, shaft.tau*shaft.w",
+            )
+            .depends(ON_ALL),
+            Var::enum_parameter(
+                "drive.mode",
+                &DRIVE_MODE,
+                "input",
+                "input: driven by the shaft inputs; constant_speed: runs alone at drive.n",
+            ),
+            Var::parameter(
+                "drive.n",
+                w0,
+                "rad/s",
+                "Speed in constant_speed mode (assumption: nominal speed of the machine)",
+            )
+            .min(-1e4)
+            .max(1e4),
+            Var::parameter(
+                "drive.phi0",
+                0.0,
+                "rad",
+                "Shaft angle at time 0 in constant_speed mode",
+            ),
+            Var::enum_parameter(
+                "model.fidelity",
+                &FIDELITY_LEVEL,
+                "kinetostatic",
+                "Level of physics: kinematic or kinetostatic",
+            ),
         ]
     }
 
@@ -513,15 +662,27 @@ pub mod shaft {
         let raw = values.raw();
         if raw[MODE as usize] == 2.0 {
             let w = raw[N as usize];
-            ShaftState { phi: raw[PHI0 as usize] + w * time, w, a: 0.0 }
+            ShaftState {
+                phi: raw[PHI0 as usize] + w * time,
+                w,
+                a: 0.0,
+            }
         } else {
-            ShaftState { phi: raw[PHI as usize], w: raw[W as usize], a: raw[A as usize] }
+            ShaftState {
+                phi: raw[PHI as usize],
+                w: raw[W as usize],
+                a: raw[A as usize],
+            }
         }
     }
 
     /// The chosen fidelity level.
     pub fn fidelity<V: VarSet>(values: &Values<V>) -> Fidelity {
-        if values.raw()[FIDELITY as usize] == 1.0 { Fidelity::Kinematic } else { Fidelity::Kinetostatic }
+        if values.raw()[FIDELITY as usize] == 1.0 {
+            Fidelity::Kinematic
+        } else {
+            Fidelity::Kinetostatic
+        }
     }
 
     /// Writes the shaft outputs.
@@ -547,7 +708,7 @@ pub mod shaft {
 #[macro_export]
 macro_rules! model_variables {
     ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
-        #[allow(non_camel_case_types)]
+        #[allow(non_camel_case_types, dead_code)]
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         #[repr(u32)]
         $vis enum $name {
@@ -622,7 +783,10 @@ mod tests {
         let y = &t[T::y.vr() as usize];
         let phi = &t[T::shaft_phi.vr() as usize];
         assert!(p.settable(SetPhase::Instantiated) && p.settable(SetPhase::Initialization));
-        assert!(!p.settable(SetPhase::Running), "fixed parameter after initialization");
+        assert!(
+            !p.settable(SetPhase::Running),
+            "fixed parameter after initialization"
+        );
         assert!(!c.settable(SetPhase::Instantiated) && !c.settable(SetPhase::Initialization));
         assert!(!y.settable(SetPhase::Running));
         assert!(phi.settable(SetPhase::Instantiated) && phi.settable(SetPhase::Running));

@@ -6,11 +6,11 @@ mod common;
 use bindery_fmu::fmi2::types::*;
 use bindery_fmu::md;
 use bindery_fmu::mechanisms::geneva_knife_drive::model::{GenevaKnifeDrive, V};
-use bindery_fmu::model::{NoLog, Values, VarSet};
 use bindery_fmu::model::Model;
+use bindery_fmu::model::{NoLog, Values, VarSet};
 use common::*;
-use std::ffi::CString;
 use std::f64::consts::PI;
+use std::ffi::CString;
 
 fn fmu() -> Fmu {
     Fmu::load("GenevaKnifeDrive", &md::describe::<GenevaKnifeDrive>().1)
@@ -20,14 +20,24 @@ fn vr(v: V) -> u32 {
     v.vr()
 }
 
-const OUTPUTS: [V; 6] = [V::knife_s, V::knife_v, V::knife_a, V::cross_gamma, V::rod_F, V::shaft_tau];
+const OUTPUTS: [V; 6] = [
+    V::knife_s,
+    V::knife_v,
+    V::knife_a,
+    V::cross_gamma,
+    V::rod_F,
+    V::shaft_tau,
+];
 
 #[test]
 fn exports_every_fmi2_cs_function() {
     let f = fmu();
     for name in FMI2_CS_FUNCTIONS {
         // SAFETY: only looks the symbol up.
-        assert!(unsafe { f.lib.get::<*const ()>(name.as_bytes()) }.is_ok(), "{name} missing");
+        assert!(
+            unsafe { f.lib.get::<*const ()>(name.as_bytes()) }.is_ok(),
+            "{name} missing"
+        );
     }
     assert_eq!(FMI2_CS_FUNCTIONS.len(), 34);
 }
@@ -40,25 +50,77 @@ fn instantiate_refuses_with_a_reason() {
     let good = CString::new(f.guid.clone()).unwrap();
     let bad = CString::new("{%s%n-not-the-guid}").unwrap();
     // wrong GUID: NULL, logged, and the '%' of the host's string is escaped
-    let c = f.instantiate_raw(name.as_ptr(), FmuType::CoSimulation, bad.as_ptr(), std::ptr::null(), &cb);
+    let c = f.instantiate_raw(
+        name.as_ptr(),
+        FmuType::CoSimulation,
+        bad.as_ptr(),
+        std::ptr::null(),
+        &cb,
+    );
     assert!(c.is_null());
     let log = logs_of(900_001);
     let last = &log.last().expect("a log line").2;
     assert!(last.contains("GUID") && last.contains("%%s%%n"), "{last}");
     // wrong fmuType
-    assert!(f.instantiate_raw(name.as_ptr(), FmuType::ModelExchange, good.as_ptr(), std::ptr::null(), &cb).is_null());
+    assert!(
+        f.instantiate_raw(
+            name.as_ptr(),
+            FmuType::ModelExchange,
+            good.as_ptr(),
+            std::ptr::null(),
+            &cb
+        )
+        .is_null()
+    );
     assert!(logs_of(900_001).last().unwrap().2.contains("fmuType"));
     // empty name
     let empty = CString::new("").unwrap();
-    assert!(f.instantiate_raw(empty.as_ptr(), FmuType::CoSimulation, good.as_ptr(), std::ptr::null(), &cb).is_null());
+    assert!(
+        f.instantiate_raw(
+            empty.as_ptr(),
+            FmuType::CoSimulation,
+            good.as_ptr(),
+            std::ptr::null(),
+            &cb
+        )
+        .is_null()
+    );
     assert!(logs_of(900_001).last().unwrap().2.contains("instanceName"));
-    assert!(f.instantiate_raw(std::ptr::null(), FmuType::CoSimulation, good.as_ptr(), std::ptr::null(), &cb).is_null());
+    assert!(
+        f.instantiate_raw(
+            std::ptr::null(),
+            FmuType::CoSimulation,
+            good.as_ptr(),
+            std::ptr::null(),
+            &cb
+        )
+        .is_null()
+    );
     // NULL callbacks
-    assert!(f.instantiate_raw(name.as_ptr(), FmuType::CoSimulation, good.as_ptr(), std::ptr::null(), std::ptr::null()).is_null());
+    assert!(
+        f.instantiate_raw(
+            name.as_ptr(),
+            FmuType::CoSimulation,
+            good.as_ptr(),
+            std::ptr::null(),
+            std::ptr::null()
+        )
+        .is_null()
+    );
     // resource locations of every usual form are accepted
-    for res in ["file:///tmp/with%20space/resources", "file:/tmp/r", "file://localhost/tmp/r"] {
+    for res in [
+        "file:///tmp/with%20space/resources",
+        "file:/tmp/r",
+        "file://localhost/tmp/r",
+    ] {
         let r = CString::new(res).unwrap();
-        let c = f.instantiate_raw(name.as_ptr(), FmuType::CoSimulation, good.as_ptr(), r.as_ptr(), &cb);
+        let c = f.instantiate_raw(
+            name.as_ptr(),
+            FmuType::CoSimulation,
+            good.as_ptr(),
+            r.as_ptr(),
+            &cb,
+        );
         assert!(!c.is_null(), "{res}");
         let free: libloading::Symbol<unsafe extern "C" fn(Component)> = f.sym("fmi2FreeInstance");
         unsafe { free(c) };
@@ -72,10 +134,20 @@ fn instance_name_is_copied() {
     let guid = CString::new(f.guid.clone()).unwrap();
     let c = {
         let name = CString::new("temporary-name").unwrap();
-        f.instantiate_raw(name.as_ptr(), FmuType::CoSimulation, guid.as_ptr(), std::ptr::null(), &cb)
+        f.instantiate_raw(
+            name.as_ptr(),
+            FmuType::CoSimulation,
+            guid.as_ptr(),
+            std::ptr::null(),
+            &cb,
+        )
     }; // the host's string is gone
     assert!(!c.is_null());
-    let s = Slave { fmu: &f, c, env: 900_002 };
+    let s = Slave {
+        fmu: &f,
+        c,
+        env: 900_002,
+    };
     // an illegal call logs; the logger got the copied name (checked by not crashing and by the message)
     assert_eq!(s.do_step(0.0, 0.1), Status::Error);
     assert!(s.last_error().contains("not allowed"), "{:?}", s.logs());
@@ -85,13 +157,21 @@ fn instance_name_is_copied() {
 fn state_machine_is_enforced() {
     let f = fmu();
     let s = f.slave("sm");
-    assert_eq!(s.get_real(&[vr(V::knife_s)]).0, Status::Error, "GetReal before initialization");
+    assert_eq!(
+        s.get_real(&[vr(V::knife_s)]).0,
+        Status::Error,
+        "GetReal before initialization"
+    );
     assert!(s.last_error().contains("not allowed in state Instantiated"));
     assert_eq!(s.do_step(0.0, 1e-3), Status::Error);
     assert_eq!(s.call0("fmi2ExitInitializationMode"), Status::Error);
     assert_eq!(s.setup(0.0, Some(4.0)), Status::Ok);
     assert_eq!(s.call0("fmi2EnterInitializationMode"), Status::Ok);
-    assert_eq!(s.setup(0.0, Some(4.0)), Status::Error, "SetupExperiment in initialization mode");
+    assert_eq!(
+        s.setup(0.0, Some(4.0)),
+        Status::Error,
+        "SetupExperiment in initialization mode"
+    );
     assert_eq!(s.call0("fmi2ExitInitializationMode"), Status::Ok);
     assert_eq!(s.call0("fmi2EnterInitializationMode"), Status::Error);
     // a fixed parameter cannot change after initialization; an input can
@@ -116,23 +196,43 @@ fn bad_calls_are_refused_and_lose_nothing() {
     let before = s.get_real(&[vr(V::knife_s)]).1[0];
     // non-finite input: refused, previous value kept, instance continues
     for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
-        assert_eq!(s.set_real(&[vr(V::shaft_w), vr(V::shaft_phi)], &[1.0, bad]), Status::Error);
+        assert_eq!(
+            s.set_real(&[vr(V::shaft_w), vr(V::shaft_phi)], &[1.0, bad]),
+            Status::Error
+        );
         assert!(s.last_error().contains("shaft.phi") && s.last_error().contains("kept"));
     }
-    assert_eq!(s.get_real(&[vr(V::shaft_phi), vr(V::shaft_w)]).1, vec![0.3, PI], "nothing of a refused call applied");
+    assert_eq!(
+        s.get_real(&[vr(V::shaft_phi), vr(V::shaft_w)]).1,
+        vec![0.3, PI],
+        "nothing of a refused call applied"
+    );
     assert_eq!(s.get_real(&[vr(V::knife_s)]).1[0], before);
     // unknown value reference, wrong type, NULL arrays
     assert_eq!(s.get_real(&[100_000]).0, Status::Error);
     assert!(s.last_error().contains("unknown value reference 100000"));
     assert_eq!(s.get_real(&[vr(V::geneva_Z)]).0, Status::Error);
     assert_eq!(s.get_integer(&[vr(V::geneva_Z)]).1, vec![4]);
-    let get: libloading::Symbol<unsafe extern "C" fn(Component, *const u32, usize, *mut Real) -> Status> = f.sym("fmi2GetReal");
-    assert_eq!(unsafe { get(s.c, std::ptr::null(), 2, std::ptr::null_mut()) }, Status::Error);
+    let get: libloading::Symbol<
+        unsafe extern "C" fn(Component, *const u32, usize, *mut Real) -> Status,
+    > = f.sym("fmi2GetReal");
+    assert_eq!(
+        unsafe { get(s.c, std::ptr::null(), 2, std::ptr::null_mut()) },
+        Status::Error
+    );
     assert!(s.last_error().contains("NULL"));
-    assert_eq!(unsafe { get(s.c, std::ptr::null(), 0, std::ptr::null_mut()) }, Status::Ok, "nvr = 0 needs no arrays");
+    assert_eq!(
+        unsafe { get(s.c, std::ptr::null(), 0, std::ptr::null_mut()) },
+        Status::Ok,
+        "nvr = 0 needs no arrays"
+    );
     // doStep checks
     assert_eq!(s.do_step(0.5, 0.1), Status::Error);
-    assert!(s.last_error().contains("currentCommunicationPoint"), "{}", s.last_error());
+    assert!(
+        s.last_error().contains("currentCommunicationPoint"),
+        "{}",
+        s.last_error()
+    );
     assert_eq!(s.do_step(0.0, 0.0), Status::Error);
     assert_eq!(s.do_step(0.0, -0.1), Status::Error);
     assert_eq!(s.do_step(0.0, f64::NAN), Status::Error);
@@ -145,9 +245,31 @@ fn bad_calls_are_refused_and_lose_nothing() {
     // unsupported functions log and return fmi2Error
     assert_eq!(s.call0("fmi2CancelStep"), Status::Error);
     assert!(s.last_error().contains("not"));
-    let dd: libloading::Symbol<unsafe extern "C" fn(Component, *const u32, usize, *const u32, usize, *const Real, *mut Real) -> Status> =
-        f.sym("fmi2GetDirectionalDerivative");
-    assert_eq!(unsafe { dd(s.c, std::ptr::null(), 0, std::ptr::null(), 0, std::ptr::null(), std::ptr::null_mut()) }, Status::Error);
+    let dd: libloading::Symbol<
+        unsafe extern "C" fn(
+            Component,
+            *const u32,
+            usize,
+            *const u32,
+            usize,
+            *const Real,
+            *mut Real,
+        ) -> Status,
+    > = f.sym("fmi2GetDirectionalDerivative");
+    assert_eq!(
+        unsafe {
+            dd(
+                s.c,
+                std::ptr::null(),
+                0,
+                std::ptr::null(),
+                0,
+                std::ptr::null(),
+                std::ptr::null_mut(),
+            )
+        },
+        Status::Error
+    );
     assert!(s.last_error().contains("providesDirectionalDerivative"));
 }
 
@@ -182,7 +304,10 @@ fn run(s: &Slave, t0: f64, n: usize, h: f64) -> Vec<Vec<f64>> {
     let mut rows = Vec::new();
     let mut t = t0;
     for _ in 0..n {
-        assert_eq!(s.set_real(&[vr(V::shaft_phi), vr(V::shaft_w)], &[PI * t, PI]), Status::Ok);
+        assert_eq!(
+            s.set_real(&[vr(V::shaft_phi), vr(V::shaft_w)], &[PI * t, PI]),
+            Status::Ok
+        );
         let (st, y) = s.get_real(&vrs);
         assert_eq!(st, Status::Ok);
         rows.push(y);
@@ -206,7 +331,14 @@ fn outputs_match_the_model_computed_in_rust() {
         v[V::shaft_phi] = PI * t;
         m.evaluate(&mut v, t, &mut NoLog);
         for (j, &o) in OUTPUTS.iter().enumerate() {
-            assert_eq!(row[j].to_bits(), v[o].to_bits(), "t = {t}, {:?}: {} vs {}", o, row[j], v[o]);
+            assert_eq!(
+                row[j].to_bits(),
+                v[o].to_bits(),
+                "t = {t}, {:?}: {} vs {}",
+                o,
+                row[j],
+                v[o]
+            );
         }
         t += 0.01;
     }
@@ -262,7 +394,10 @@ fn fmu_state_round_trips_bit_identically() {
     assert_eq!(bits(&after), bits(&third));
     // corrupt or truncated bytes are refused, nothing crashes
     let mut st3: FMUstate = std::ptr::null_mut();
-    assert_eq!(other.deserialize(&bytes[..bytes.len() / 2], &mut st3), Status::Error);
+    assert_eq!(
+        other.deserialize(&bytes[..bytes.len() / 2], &mut st3),
+        Status::Error
+    );
     let mut junk = bytes.clone();
     junk[0] ^= 0xff;
     assert_eq!(other.deserialize(&junk, &mut st3), Status::Error);

@@ -8,8 +8,11 @@ use std::path::Path;
 #[test]
 fn committed_model_descriptions_are_current() {
     for e in catalog::all() {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("modelDescription").join(format!("{}.xml", e.identifier));
-        let committed = std::fs::read_to_string(&path).unwrap_or_else(|err| panic!("{}: {err}", path.display()));
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("modelDescription")
+            .join(format!("{}.xml", e.identifier));
+        let committed = std::fs::read_to_string(&path)
+            .unwrap_or_else(|err| panic!("{}: {err}", path.display()));
         let (generated, guid) = (e.describe)();
         assert!(
             committed == generated,
@@ -23,7 +26,10 @@ fn committed_model_descriptions_are_current() {
 #[test]
 fn declarations_are_valid_fmi2() {
     for e in catalog::all() {
-        let vars: Vec<_> = (e.variables)().into_iter().map(|(_, v)| v.clone()).collect();
+        let vars: Vec<_> = (e.variables)()
+            .into_iter()
+            .map(|(_, v)| v.clone())
+            .collect();
         md::check(&vars).unwrap_or_else(|err| panic!("{}: {err}", e.identifier));
     }
 }

@@ -11,7 +11,10 @@ use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
 #[derive(Parser)]
-#[command(name = "bindery", about = "Bookbinding mechanisms as FMI 2.0 co-simulation FMUs")]
+#[command(
+    name = "bindery",
+    about = "Bookbinding mechanisms as FMI 2.0 co-simulation FMUs"
+)]
 struct Cli {
     #[command(subcommand)]
     command: Cmd,
@@ -27,6 +30,13 @@ enum Cmd {
         #[arg(long, default_value = "out/fmus")]
         out: PathBuf,
     },
+    /// Write each FMU's documentation/ folder (index.html and figures) unpacked, to read or to
+    /// pick a figure from
+    Docs {
+        /// Output folder; one subfolder per FMU
+        #[arg(long, default_value = "out/docs")]
+        out: PathBuf,
+    },
     /// Write modelDescription/<id>.xml for every FMU
     Describe {
         /// Do not write; fail if a committed file differs from the generated one
@@ -40,23 +50,35 @@ fn root() -> PathBuf {
 }
 
 fn target_dir() -> PathBuf {
-    std::env::var_os("CARGO_TARGET_DIR").map(PathBuf::from).unwrap_or_else(|| root().join("target"))
+    std::env::var_os("CARGO_TARGET_DIR")
+        .map(PathBuf::from)
+        .unwrap_or_else(|| root().join("target"))
 }
 
 fn selected(models: &[String]) -> Result<Vec<Entry>, String> {
     let all = catalog::all();
-    if let Some(bad) = models.iter().find(|m| !all.iter().any(|e| e.identifier == m.as_str())) {
+    if let Some(bad) = models
+        .iter()
+        .find(|m| !all.iter().any(|e| e.identifier == m.as_str()))
+    {
         let known: Vec<_> = all.iter().map(|e| e.identifier).collect();
-        return Err(format!("unknown model {bad:?}; known: {}", known.join(", ")));
+        return Err(format!(
+            "unknown model {bad:?}; known: {}",
+            known.join(", ")
+        ));
     }
-    Ok(all.into_iter().filter(|e| models.is_empty() || models.iter().any(|m| m == e.identifier)).collect())
+    Ok(all
+        .into_iter()
+        .filter(|e| models.is_empty() || models.iter().any(|m| m == e.identifier))
+        .collect())
 }
 
 fn build(models: &[String], out: &Path) -> Result<(), String> {
     let entries = selected(models)?;
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut cmd = Command::new(cargo);
-    cmd.current_dir(root()).args(["build", "--release", "--lib"]);
+    cmd.current_dir(root())
+        .args(["build", "--release", "--lib"]);
     for e in &entries {
         cmd.args(["-p", e.package]);
     }
@@ -65,17 +87,32 @@ fn build(models: &[String], out: &Path) -> Result<(), String> {
     if !status.success() {
         return Err("cargo build of the FMU binaries failed".into());
     }
-    let out = if out.is_absolute() { out.to_path_buf() } else { root().join(out) };
+    let out = if out.is_absolute() {
+        out.to_path_buf()
+    } else {
+        root().join(out)
+    };
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let bar = ProgressBar::new(entries.len() as u64);
-    bar.set_style(ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?);
+    bar.set_style(
+        ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?,
+    );
     for e in &entries {
         bar.set_message(e.identifier);
-        let so = target_dir().join("release").join(format!("lib{}.so", e.identifier));
+        let so = target_dir()
+            .join("release")
+            .join(format!("lib{}.so", e.identifier));
         let binary = std::fs::read(&so).map_err(|err| format!("{}: {err}", so.display()))?;
         let (model_description, _guid) = (e.describe)();
         let (documentation, icon) = (e.documentation)()?;
-        let fmu = FmuContents { identifier: e.identifier.into(), model_description, binary, documentation, icon, resources: vec![] };
+        let fmu = FmuContents {
+            identifier: e.identifier.into(),
+            model_description,
+            binary,
+            documentation,
+            icon,
+            resources: vec![],
+        };
         let path = out.join(format!("{}.fmu", e.identifier));
         std::fs::write(&path, fmu.to_zip()?).map_err(|err| format!("{}: {err}", path.display()))?;
         bar.inc(1);
@@ -83,7 +120,30 @@ fn build(models: &[String], out: &Path) -> Result<(), String> {
     }
     bar.finish_and_clear();
     if let Err(stale) = check_descriptions(&entries, true) {
-        eprintln!("warning: {stale}; run `cargo run --release -- describe` and commit modelDescription/");
+        eprintln!(
+            "warning: {stale}; run `cargo run --release -- describe` and commit modelDescription/"
+        );
+    }
+    Ok(())
+}
+
+fn docs(out: &Path) -> Result<(), String> {
+    let out = if out.is_absolute() {
+        out.to_path_buf()
+    } else {
+        root().join(out)
+    };
+    for e in catalog::all() {
+        let dir = out.join(e.identifier);
+        std::fs::create_dir_all(&dir).map_err(|err| format!("{}: {err}", dir.display()))?;
+        let (files, icon) = (e.documentation)()?;
+        for (name, bytes) in files
+            .iter()
+            .chain(std::iter::once(&("model.png".to_string(), icon)))
+        {
+            std::fs::write(dir.join(name), bytes).map_err(|err| format!("{name}: {err}"))?;
+        }
+        eprintln!("wrote {}", dir.display());
     }
     Ok(())
 }
@@ -92,7 +152,9 @@ fn build(models: &[String], out: &Path) -> Result<(), String> {
 fn check_descriptions(entries: &[Entry], check: bool) -> Result<(), String> {
     let mut stale = Vec::new();
     for e in entries {
-        let path = root().join("modelDescription").join(format!("{}.xml", e.identifier));
+        let path = root()
+            .join("modelDescription")
+            .join(format!("{}.xml", e.identifier));
         let (xml, _) = (e.describe)();
         if check {
             if std::fs::read_to_string(&path).ok().as_deref() != Some(xml.as_str()) {
@@ -104,13 +166,18 @@ fn check_descriptions(entries: &[Entry], check: bool) -> Result<(), String> {
             eprintln!("wrote {}", path.display());
         }
     }
-    if stale.is_empty() { Ok(()) } else { Err(format!("stale model description(s): {}", stale.join(", "))) }
+    if stale.is_empty() {
+        Ok(())
+    } else {
+        Err(format!("stale model description(s): {}", stale.join(", ")))
+    }
 }
 
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Cmd::Build { models, out } => build(&models, &out),
+        Cmd::Docs { out } => docs(&out),
         Cmd::Describe { check } => check_descriptions(&catalog::all(), check),
     };
     match result {

@@ -27,7 +27,10 @@ pub struct Series {
 
 impl Series {
     pub fn new(label: impl Into<String>, points: Vec<(f64, f64)>) -> Self {
-        Series { label: label.into(), points }
+        Series {
+            label: label.into(),
+            points,
+        }
     }
 }
 
@@ -51,15 +54,29 @@ pub struct Figure {
 /// Every file of `documentation/`, in order: `index.html`, then each figure's PNG.
 /// Fails on a figure that cannot be drawn or a file name that is not a plain, unique
 /// `*.png` name.
-pub fn documentation(info: &ModelInfo, vars: &[(u32, &Var)], intro_html: &str, figures: &[Figure]) -> Result<Vec<(String, Vec<u8>)>, String> {
-    let mut files = vec![("index.html".to_string(), index_html(info, vars, intro_html, figures).into_bytes())];
+pub fn documentation(
+    info: &ModelInfo,
+    vars: &[(u32, &Var)],
+    intro_html: &str,
+    figures: &[Figure],
+) -> Result<Vec<(String, Vec<u8>)>, String> {
+    let mut files = vec![(
+        "index.html".to_string(),
+        index_html(info, vars, intro_html, figures).into_bytes(),
+    )];
     for fig in figures {
         let plain = fig.file.len() > 4
             && fig.file.ends_with(".png")
             && !fig.file.starts_with('.')
-            && fig.file.chars().all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'));
+            && fig
+                .file
+                .chars()
+                .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.'));
         if !plain {
-            return Err(format!("figure file name {:?}: want a plain name like fig1_motion.png", fig.file));
+            return Err(format!(
+                "figure file name {:?}: want a plain name like fig1_motion.png",
+                fig.file
+            ));
         }
         if files.iter().any(|(f, _)| *f == fig.file) {
             return Err(format!("figure file name {:?} used twice", fig.file));
@@ -80,11 +97,26 @@ mod tests {
             identifier: "t",
             model_name: "T",
             description: "d",
-            experiment: Experiment { start: 0.0, stop: 1.0, step: 1e-3, tolerance: None },
+            experiment: Experiment {
+                start: 0.0,
+                stop: 1.0,
+                step: 1e-3,
+                tolerance: None,
+            },
         };
         let v = Var::output("y", "m", "out");
-        let fig = |f: &str| Figure { file: f.into(), series: vec![Series::new("a", vec![(0.0, 0.0), (1.0, 1.0)])], ..Default::default() };
-        let files = documentation(&info, &[(0, &v)], "", &[fig("fig1_a.png"), fig("fig2_b.png")]).unwrap();
+        let fig = |f: &str| Figure {
+            file: f.into(),
+            series: vec![Series::new("a", vec![(0.0, 0.0), (1.0, 1.0)])],
+            ..Default::default()
+        };
+        let files = documentation(
+            &info,
+            &[(0, &v)],
+            "",
+            &[fig("fig1_a.png"), fig("fig2_b.png")],
+        )
+        .unwrap();
         let names: Vec<&str> = files.iter().map(|(n, _)| n.as_str()).collect();
         assert_eq!(names, ["index.html", "fig1_a.png", "fig2_b.png"]);
         for bad in ["../x.png", "x.svg", "index.html", "a b.png", ".png"] {

@@ -44,14 +44,17 @@ const COLORS: [RGBColor; 10] = [
 fn fonts() -> Result<(), String> {
     static DONE: OnceLock<Result<(), String>> = OnceLock::new();
     DONE.get_or_init(|| {
-        register_font(FAMILY, FontStyle::Normal, dejavu::sans::regular()).map_err(|_| "DejaVu Sans: invalid font".to_string())?;
-        register_font(FAMILY, FontStyle::Bold, dejavu::sans::bold()).map_err(|_| "DejaVu Sans Bold: invalid font".to_string())
+        register_font(FAMILY, FontStyle::Normal, dejavu::sans::regular())
+            .map_err(|_| "DejaVu Sans: invalid font".to_string())?;
+        register_font(FAMILY, FontStyle::Bold, dejavu::sans::bold())
+            .map_err(|_| "DejaVu Sans Bold: invalid font".to_string())
     })
     .clone()
 }
 
 fn font(size: f64, style: FontStyle) -> TextStyle<'static> {
-    TextStyle::from(FontDesc::new(FontFamily::Name(FAMILY), size, style)).color(&RGBColor(30, 30, 30))
+    TextStyle::from(FontDesc::new(FontFamily::Name(FAMILY), size, style))
+        .color(&RGBColor(30, 30, 30))
 }
 
 fn err<E: std::fmt::Display>(e: E) -> String {
@@ -59,16 +62,30 @@ fn err<E: std::fmt::Display>(e: E) -> String {
 }
 
 /// Largest font size from `max` down to `min` at which `text` is at most `width` pixels wide.
-fn fit<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, text: &str, width: u32, max: f64, min: f64, style: FontStyle) -> Result<f64, String> {
+fn fit<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    text: &str,
+    width: u32,
+    max: f64,
+    min: f64,
+    style: FontStyle,
+) -> Result<f64, String> {
     let mut size = max;
-    while size > min && area.estimate_text_size(text, &font(size, style)).map_err(err)?.0 > width {
+    while size > min
+        && area
+            .estimate_text_size(text, &font(size, style))
+            .map_err(err)?
+            .0
+            > width
+    {
         size -= 1.0;
     }
     Ok(size)
 }
 
 /// Tick labels at the `n` key points plotters puts on `[lo, hi]` (steps 1, 2 or 5 × 10^k):
-/// as many decimals as the step needs, scientific beyond 1e6 and below 1e-4; never "-0".
+/// as many decimals as the step needs; scientific (`2.5e6`) from 1e6 up and for steps
+/// below 1e-4; never "-0".
 fn tick_format(lo: f64, hi: f64, n: usize) -> impl Fn(&f64) -> String {
     let keys = RangedCoordf64::from(lo..hi).key_points(n);
     let step = match keys.as_slice() {
@@ -76,15 +93,18 @@ fn tick_format(lo: f64, hi: f64, n: usize) -> impl Fn(&f64) -> String {
         _ => (hi - lo).abs(),
     }
     .max(f64::MIN_POSITIVE);
-    let big = lo.abs().max(hi.abs());
-    let scientific = big >= 1e6 || step < 1e-4;
-    let decimals = (-(step.log10() + 1e-9).floor()).clamp(0.0, 12.0) as usize;
+    let step_exp = (step.log10() + 1e-9).floor();
+    let scientific = lo.abs().max(hi.abs()) >= 1e6 || step < 1e-4;
+    let decimals = (-step_exp).clamp(0.0, 12.0) as usize;
     move |&x| {
-        let x = if (x / step).abs() < 1e-9 { 0.0 } else { x };
-        let s = if scientific { format!("{x:.2e}") } else { format!("{x:.decimals$}") };
-        match s.strip_prefix('-') {
-            Some(rest) if rest.chars().all(|c| matches!(c, '0' | '.')) => rest.to_string(),
-            _ => s,
+        if (x / step).abs() < 1e-9 {
+            return if scientific { "0".into() } else { format!("{:.decimals$}", 0.0) };
+        }
+        if scientific {
+            let digits = ((x.abs().log10() + 1e-9).floor() - step_exp).clamp(0.0, 12.0) as usize;
+            format!("{x:.digits$e}")
+        } else {
+            format!("{x:.decimals$}")
         }
     }
 }
@@ -109,41 +129,54 @@ fn segments(points: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
         .collect()
 }
 
-/// The corner where the legend covers the fewest points (ties: upper right, upper left,
-/// lower right, lower left).
-fn legend_corner(fig: &Figure, x: (f64, f64), y: (f64, f64)) -> SeriesLabelPosition {
-    let w = 0.42;
-    let h = (0.06 * fig.series.len() as f64 + 0.04).min(0.9);
-    let corners = [
-        (SeriesLabelPosition::UpperRight, true, true),
-        (SeriesLabelPosition::UpperLeft, false, true),
-        (SeriesLabelPosition::LowerRight, true, false),
-        (SeriesLabelPosition::LowerLeft, false, false),
-    ];
-    let covered = |right: bool, upper: bool| {
-        fig.series
-            .iter()
-            .flat_map(|s| &s.points)
-            .filter(|(px, py)| {
-                let u = (px - x.0) / (x.1 - x.0);
-                let v = (py - y.0) / (y.1 - y.0);
-                (if right { u >= 1.0 - w } else { u <= w }) && (if upper { v >= 1.0 - h } else { v <= h })
-            })
-            .count()
-    };
-    let mut best = (usize::MAX, SeriesLabelPosition::UpperRight);
-    for (pos, right, upper) in corners {
-        let n = covered(right, upper);
-        if n < best.0 {
-            best = (n, pos);
+/// Does the segment `a`–`b` touch the rectangle `[x0, x1] × [y0, y1]`? (Liang–Barsky)
+fn segment_hits(a: (f64, f64), b: (f64, f64), (x0, x1, y0, y1): (f64, f64, f64, f64)) -> bool {
+    let (dx, dy) = (b.0 - a.0, b.1 - a.1);
+    let (mut t0, mut t1) = (0.0f64, 1.0f64);
+    for (p, q) in [(-dx, a.0 - x0), (dx, x1 - a.0), (-dy, a.1 - y0), (dy, y1 - a.1)] {
+        if p == 0.0 {
+            if q < 0.0 {
+                return false;
+            }
+        } else {
+            let t = q / p;
+            if p < 0.0 {
+                t0 = t0.max(t);
+            } else {
+                t1 = t1.min(t);
+            }
         }
     }
-    best.1
+    t0 <= t1
 }
 
+/// Where the legend goes: the first of the upper right, upper left, lower right and lower
+/// left corners where a box of `(lw, lh)` (fractions of the plot) meets no line, if any.
+fn free_corner(fig: &Figure, x: (f64, f64), y: (f64, f64), (lw, lh): (f64, f64)) -> Option<SeriesLabelPosition> {
+    let corners = [
+        (SeriesLabelPosition::UpperRight, (1.0 - lw, 1.0, 1.0 - lh, 1.0)),
+        (SeriesLabelPosition::UpperLeft, (0.0, lw, 1.0 - lh, 1.0)),
+        (SeriesLabelPosition::LowerRight, (1.0 - lw, 1.0, 0.0, lh)),
+        (SeriesLabelPosition::LowerLeft, (0.0, lw, 0.0, lh)),
+    ];
+    let unit = |p: &(f64, f64)| ((p.0 - x.0) / (x.1 - x.0), (p.1 - y.0) / (y.1 - y.0));
+    let hits = |rect| {
+        fig.series.iter().flat_map(|s| segments(&s.points)).any(|seg| match seg.as_slice() {
+            [p] => segment_hits(unit(p), unit(p), rect),
+            pts => pts.windows(2).any(|w| segment_hits(unit(&w[0]), unit(&w[1]), rect)),
+        })
+    };
+    corners.into_iter().find(|(_, rect)| !hits(*rect)).map(|(pos, _)| pos)
+}
+
+/// Supersampling of figures: drawn at this multiple of [`FIGURE_SIZE`] and averaged down,
+/// so lines are anti-aliased.
+const SS: u32 = 2;
+
 /// An 800×500 PNG line plot of `fig`: title, light grid, axis labels, one color per series
-/// and a legend when there is more than one. Non-finite points break a line. With
-/// `equal_axes` one unit is as long on both axes. Deterministic: same figure, same bytes.
+/// and a legend when there is more than one (in a corner it leaves the lines visible, else
+/// above them in extra headroom). Non-finite points break a line. With `equal_axes` one
+/// unit is as long on both axes. Deterministic: same figure, same bytes.
 pub fn render_png(fig: &Figure) -> Result<Vec<u8>, String> {
     Ok(png::encode_rgb(FIGURE_SIZE.0, FIGURE_SIZE.1, &draw_figure(fig)?))
 }
@@ -158,30 +191,28 @@ fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
     let min_max = |f: fn(&(f64, f64)) -> f64| finite().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
     let (x_lo, x_hi) = min_max(|p| p.0);
     let (y_lo, y_hi) = min_max(|p| p.1);
-    let (mut xr, mut yr) = if fig.equal_axes {
-        (padded(x_lo, x_hi, 0.05), padded(y_lo, y_hi, 0.05))
-    } else {
-        (padded(x_lo, x_hi, 0.0), padded(y_lo, y_hi, 0.05))
-    };
+    let (mut xr, mut yr) = (padded(x_lo, x_hi, if fig.equal_axes { 0.05 } else { 0.0 }), padded(y_lo, y_hi, 0.05));
 
-    let (w, h) = FIGURE_SIZE;
+    let s = |v: u32| v * SS;
+    let sf = |v: f64| v * f64::from(SS);
+    let (w, h) = (s(FIGURE_SIZE.0), s(FIGURE_SIZE.1));
     let mut buf = vec![0u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
-        let title_size = fit(&root, &fig.title, w - 40, 20.0, 11.0, FontStyle::Bold)?;
-        let area = root.titled(&fig.title, font(title_size, FontStyle::Bold)).map_err(err)?;
+        let root_m = root.margin(s(6), 0, 0, 0);
+        let title_size = fit(&root_m, &fig.title, w - s(40), sf(20.0), sf(11.0), FontStyle::Bold)?;
+        let area = root_m.titled(&fig.title, font(title_size, FontStyle::Bold)).map_err(err)?;
         let builder = || {
             let mut b = ChartBuilder::on(&area);
-            b.margin_left(12).margin_right(28).margin_top(6).margin_bottom(10).x_label_area_size(52).y_label_area_size(84);
+            b.margin_left(s(12)).margin_right(s(28)).margin_top(s(4)).margin_bottom(s(10)).x_label_area_size(s(52)).y_label_area_size(s(84));
             b
         };
+        let (pw, ph) = builder().build_cartesian_2d(xr.0..xr.1, yr.0..yr.1).map_err(err)?.plotting_area().dim_in_pixel();
+        let (pw, ph) = (f64::from(pw.max(1)), f64::from(ph.max(1)));
         if fig.equal_axes {
             // Same data units per pixel on both axes: widen the range that has more pixels
             // per unit, about its center.
-            let probe = builder().build_cartesian_2d(xr.0..xr.1, yr.0..yr.1).map_err(err)?;
-            let (pw, ph) = probe.plotting_area().dim_in_pixel();
-            let (pw, ph) = (f64::from(pw.max(1)), f64::from(ph.max(1)));
             let upp = ((xr.1 - xr.0) / pw).max((yr.1 - yr.0) / ph);
             let widen = |r: (f64, f64), px: f64| {
                 let c = 0.5 * (r.0 + r.1);
@@ -190,49 +221,84 @@ fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
             xr = widen(xr, pw);
             yr = widen(yr, ph);
         }
+
+        let legend_font = font(sf(14.0), FontStyle::Normal);
+        let (lmargin, lsym) = (s(8), s(34));
+        let legend = if fig.series.len() > 1 {
+            let mut text = MultiLineText::<(i32, i32), &str>::new((0, 0), &legend_font);
+            for sr in &fig.series {
+                text.push_line(sr.label.as_str());
+            }
+            let (tw, th) = text.estimate_dimension().map_err(err)?;
+            // Box plus its 5 px offset from the plot's edge plus clearance, as fractions.
+            let (lw, lh) = (f64::from(tw) + f64::from(lsym + 2 * lmargin) + sf(12.0), f64::from(th) + f64::from(2 * lmargin) + sf(12.0));
+            let (fw, fh) = ((lw / pw).min(0.9), (lh / ph).min(0.9));
+            Some(match free_corner(fig, xr, yr, (fw, fh)) {
+                Some(pos) => pos,
+                None => {
+                    // Headroom above the data for the legend; keeps equal axes equal.
+                    let grow = 1.0 / (1.0 - fh);
+                    yr.1 = yr.0 + (yr.1 - yr.0) * grow;
+                    if fig.equal_axes {
+                        let (c, half) = (0.5 * (xr.0 + xr.1), 0.5 * (xr.1 - xr.0) * grow);
+                        xr = (c - half, c + half);
+                    }
+                    SeriesLabelPosition::UpperRight
+                }
+            })
+        } else {
+            None
+        };
+
         let mut chart = builder().build_cartesian_2d(xr.0..xr.1, yr.0..yr.1).map_err(err)?;
         let fx = tick_format(xr.0, xr.1, X_TICKS);
         let fy = tick_format(yr.0, yr.1, Y_TICKS);
         chart
             .configure_mesh()
-            .bold_line_style(RGBColor(218, 218, 218))
-            .light_line_style(RGBColor(242, 242, 242))
-            .axis_style(RGBColor(90, 90, 90))
+            .bold_line_style(RGBColor(222, 222, 222).stroke_width(s(1)))
+            .light_line_style(RGBColor(244, 244, 244).stroke_width(s(1)))
+            .max_light_lines(4)
+            .axis_style(RGBColor(90, 90, 90).stroke_width(s(1)))
+            .set_all_tick_mark_size(s(5))
             .x_labels(X_TICKS)
             .y_labels(Y_TICKS)
             .x_label_formatter(&fx)
             .y_label_formatter(&fy)
-            .label_style(font(14.0, FontStyle::Normal))
-            .axis_desc_style(font(16.0, FontStyle::Normal))
+            .label_style(font(sf(14.0), FontStyle::Normal))
+            .axis_desc_style(font(sf(16.0), FontStyle::Normal))
             .x_desc(fig.x_label.as_str())
             .y_desc(fig.y_label.as_str())
             .draw()
             .map_err(err)?;
-        for (i, s) in fig.series.iter().enumerate() {
+        for (i, sr) in fig.series.iter().enumerate() {
             let color = COLORS[i % COLORS.len()];
-            let style = color.stroke_width(2);
-            for (k, seg) in segments(&s.points).into_iter().enumerate() {
-                let drawn = chart.draw_series(LineSeries::new(seg, style)).map_err(err)?;
-                if k == 0 && fig.series.len() > 1 {
-                    drawn.label(s.label.as_str()).legend(move |(x, y)| PathElement::new(vec![(x, y), (x + 24, y)], color.stroke_width(3)));
+            for (k, seg) in segments(&sr.points).into_iter().enumerate() {
+                let drawn = if seg.len() == 1 {
+                    chart.draw_series(seg.into_iter().map(|p| Circle::new(p, s(3), color.filled()))).map_err(err)?
+                } else {
+                    chart.draw_series(LineSeries::new(seg, color.stroke_width(s(2)))).map_err(err)?
+                };
+                if k == 0 && legend.is_some() {
+                    let len = (lsym - s(10)) as i32;
+                    drawn.label(sr.label.as_str()).legend(move |(x, y)| PathElement::new(vec![(x, y), (x + len, y)], color.stroke_width(s(3))));
                 }
             }
         }
-        if fig.series.len() > 1 {
+        if let Some(pos) = legend {
             chart
                 .configure_series_labels()
-                .position(legend_corner(fig, xr, yr))
-                .margin(10)
-                .legend_area_size(30)
+                .position(pos)
+                .margin(lmargin)
+                .legend_area_size(lsym)
                 .background_style(WHITE.mix(0.9))
-                .border_style(RGBColor(160, 160, 160))
-                .label_font(font(14.0, FontStyle::Normal))
+                .border_style(RGBColor(170, 170, 170).stroke_width(s(1)))
+                .label_font(legend_font.clone())
                 .draw()
                 .map_err(err)?;
         }
         root.present().map_err(err)?;
     }
-    Ok(buf)
+    Ok(downsample(&buf, FIGURE_SIZE.0 as usize, FIGURE_SIZE.1 as usize, SS as usize))
 }
 
 /// A 128×128 PNG icon (`model.png`): a Geneva wheel with its drive pin above `title`
@@ -255,40 +321,69 @@ fn draw_icon(title: &str) -> Result<Vec<u8>, String> {
         let steel = RGBColor(52, 101, 164);
         let dark = RGBColor(36, 48, 66);
         root.fill(&RGBColor(120, 132, 150)).map_err(err)?;
-        root.draw(&Rectangle::new([(px(2.0), px(2.0)), (px(126.0), px(126.0))], paper.filled())).map_err(err)?;
+        root.draw(&Rectangle::new(
+            [(px(2.0), px(2.0)), (px(126.0), px(126.0))],
+            paper.filled(),
+        ))
+        .map_err(err)?;
 
         let (cx, cy, r) = (64.0, 52.0, 38.0);
-        let disk = |x: f64, y: f64, rad: f64, c: RGBColor| Circle::new((px(x), px(y)), px(rad), c.filled());
+        let disk = |x: f64, y: f64, rad: f64, c: RGBColor| {
+            Circle::new((px(x), px(y)), px(rad), c.filled())
+        };
         root.draw(&disk(cx, cy, r, steel)).map_err(err)?;
         // Four radial slots (axis-aligned) and four concave locking arcs between them.
         let (sw, s0) = (0.11 * r, 0.42 * r);
         for (dx, dy) in [(1.0, 0.0), (0.0, 1.0), (-1.0, 0.0), (0.0, -1.0)] {
-            let (a, b) = ((cx + dx * s0 - dy * sw, cy + dy * s0 - dx * sw), (cx + dx * (r + 1.0) + dy * sw, cy + dy * (r + 1.0) + dx * sw));
-            root.draw(&Rectangle::new([(px(a.0), px(a.1)), (px(b.0), px(b.1))], paper.filled())).map_err(err)?;
+            let (a, b) = (
+                (cx + dx * s0 - dy * sw, cy + dy * s0 - dx * sw),
+                (cx + dx * (r + 1.0) + dy * sw, cy + dy * (r + 1.0) + dx * sw),
+            );
+            root.draw(&Rectangle::new(
+                [(px(a.0), px(a.1)), (px(b.0), px(b.1))],
+                paper.filled(),
+            ))
+            .map_err(err)?;
             // Round slot bottom.
-            root.draw(&disk(cx + dx * s0, cy + dy * s0, sw, paper)).map_err(err)?;
+            root.draw(&disk(cx + dx * s0, cy + dy * s0, sw, paper))
+                .map_err(err)?;
         }
         let d = std::f64::consts::FRAC_1_SQRT_2 * 1.04 * r;
         for (sx, sy) in [(1.0, 1.0), (-1.0, 1.0), (-1.0, -1.0), (1.0, -1.0)] {
-            root.draw(&disk(cx + sx * d, cy + sy * d, 0.40 * r, paper)).map_err(err)?;
+            root.draw(&disk(cx + sx * d, cy + sy * d, 0.40 * r, paper))
+                .map_err(err)?;
         }
         // Hub, and the drive pin engaged in the right slot.
         root.draw(&disk(cx, cy, 0.2 * r, dark)).map_err(err)?;
         root.draw(&disk(cx, cy, 0.08 * r, paper)).map_err(err)?;
-        root.draw(&disk(cx + 0.72 * r, cy, 0.095 * r, RGBColor(230, 126, 34))).map_err(err)?;
+        root.draw(&disk(cx + 0.72 * r, cy, 0.095 * r, RGBColor(230, 126, 34)))
+            .map_err(err)?;
 
         let text = fit_title(&root, title, px(118.0) as u32)?;
-        let style = font(f64::from(px(text.1)), FontStyle::Bold).color(&dark).pos(Pos::new(HPos::Center, VPos::Center));
-        root.draw_text(&text.0, &style, (px(64.0), px(111.0))).map_err(err)?;
+        let style = font(f64::from(px(text.1)), FontStyle::Bold)
+            .color(&dark)
+            .pos(Pos::new(HPos::Center, VPos::Center));
+        root.draw_text(&text.0, &style, (px(64.0), px(111.0)))
+            .map_err(err)?;
         root.present().map_err(err)?;
     }
-    Ok(downsample(&buf, ICON_SIZE as usize, S as usize))
+    Ok(downsample(&buf, ICON_SIZE as usize, ICON_SIZE as usize, S as usize))
 }
 
 /// `title` at a size (icon pixels) from 15 down to 9 that fits `width` (drawing pixels),
 /// cut with an ellipsis if even the smallest does not.
-fn fit_title<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, title: &str, width: u32) -> Result<(String, f64), String> {
-    let wide = |t: &str, size: f64| -> Result<bool, String> { Ok(area.estimate_text_size(t, &font(4.0 * size, FontStyle::Bold)).map_err(err)?.0 > width) };
+fn fit_title<DB: DrawingBackend>(
+    area: &DrawingArea<DB, Shift>,
+    title: &str,
+    width: u32,
+) -> Result<(String, f64), String> {
+    let wide = |t: &str, size: f64| -> Result<bool, String> {
+        Ok(area
+            .estimate_text_size(t, &font(4.0 * size, FontStyle::Bold))
+            .map_err(err)?
+            .0
+            > width)
+    };
     let mut size = 15.0;
     while size > 9.0 && wide(title, size)? {
         size -= 1.0;
@@ -302,12 +397,12 @@ fn fit_title<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, title: &str, wid
     Ok((text, size))
 }
 
-/// Averages `s`×`s` blocks of an RGB image `n*s` pixels wide and high into one pixel each.
-fn downsample(buf: &[u8], n: usize, s: usize) -> Vec<u8> {
-    let big = n * s;
-    let mut out = Vec::with_capacity(n * n * 3);
-    for y in 0..n {
-        for x in 0..n {
+/// Averages `s`×`s` blocks of an RGB image `w*s` by `h*s` pixels into one pixel each.
+fn downsample(buf: &[u8], w: usize, h: usize, s: usize) -> Vec<u8> {
+    let big = w * s;
+    let mut out = Vec::with_capacity(w * h * 3);
+    for y in 0..h {
+        for x in 0..w {
             for c in 0..3 {
                 let mut sum = 0usize;
                 for dy in 0..s {
@@ -357,7 +452,11 @@ pub(crate) mod png {
         let mut out = Vec::with_capacity(rgb.len() + rgb.len() / stride.max(1));
         let mut cand: [Vec<u8>; 5] = Default::default();
         for (r, row) in rgb.chunks_exact(stride).enumerate() {
-            let up = if r == 0 { &zero[..] } else { &rgb[(r - 1) * stride..r * stride] };
+            let up = if r == 0 {
+                &zero[..]
+            } else {
+                &rgb[(r - 1) * stride..r * stride]
+            };
             for c in cand.iter_mut() {
                 c.clear();
             }
@@ -372,8 +471,17 @@ pub(crate) mod png {
                 cand[3].push(x.wrapping_sub(((a as u16 + b as u16) / 2) as u8));
                 cand[4].push(x.wrapping_sub(paeth(a, b, c)));
             }
-            let cost = |v: &Vec<u8>| v.iter().map(|&b| (b as i8).unsigned_abs() as u64).sum::<u64>();
-            let (best, _) = cand.iter().enumerate().map(|(k, v)| (k, cost(v))).min_by_key(|&(k, c)| (c, k)).expect("five filters");
+            let cost = |v: &Vec<u8>| {
+                v.iter()
+                    .map(|&b| (b as i8).unsigned_abs() as u64)
+                    .sum::<u64>()
+            };
+            let (best, _) = cand
+                .iter()
+                .enumerate()
+                .map(|(k, v)| (k, cost(v)))
+                .min_by_key(|&(k, c)| (c, k))
+                .expect("five filters");
             out.push(best as u8);
             out.extend_from_slice(&cand[best]);
         }
@@ -382,7 +490,11 @@ pub(crate) mod png {
 
     fn paeth(a: u8, b: u8, c: u8) -> u8 {
         let p = a as i16 + b as i16 - c as i16;
-        let (pa, pb, pc) = ((p - a as i16).abs(), (p - b as i16).abs(), (p - c as i16).abs());
+        let (pa, pb, pc) = (
+            (p - a as i16).abs(),
+            (p - b as i16).abs(),
+            (p - c as i16).abs(),
+        );
         if pa <= pb && pa <= pc {
             a
         } else if pb <= pc {
@@ -420,7 +532,11 @@ pub(crate) mod png {
             let mut c = n as u32;
             let mut k = 0;
             while k < 8 {
-                c = if c & 1 != 0 { 0xedb8_8320 ^ (c >> 1) } else { c >> 1 };
+                c = if c & 1 != 0 {
+                    0xedb8_8320 ^ (c >> 1)
+                } else {
+                    c >> 1
+                };
                 k += 1;
             }
             t[n] = c;
@@ -431,15 +547,26 @@ pub(crate) mod png {
 
     /// CRC-32 (ISO 3309, as in PNG and zip).
     pub(crate) fn crc32(data: &[u8]) -> u32 {
-        !data.iter().fold(!0u32, |c, &b| CRC_TABLE[((c ^ b as u32) & 0xff) as usize] ^ (c >> 8))
+        !data.iter().fold(!0u32, |c, &b| {
+            CRC_TABLE[((c ^ b as u32) & 0xff) as usize] ^ (c >> 8)
+        })
     }
 
-    const LEN_BASE: [u16; 29] = [3, 4, 5, 6, 7, 8, 9, 10, 11, 13, 15, 17, 19, 23, 27, 31, 35, 43, 51, 59, 67, 83, 99, 115, 131, 163, 195, 227, 258];
-    const LEN_EXTRA: [u8; 29] = [0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0];
-    const DIST_BASE: [u16; 30] = [
-        1, 2, 3, 4, 5, 7, 9, 13, 17, 25, 33, 49, 65, 97, 129, 193, 257, 385, 513, 769, 1025, 1537, 2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577,
+    const LEN_BASE: [u16; 29] = [
+        3, 4, 5, 6, 7, 8, 9, 10, 11, 13, 15, 17, 19, 23, 27, 31, 35, 43, 51, 59, 67, 83, 99, 115,
+        131, 163, 195, 227, 258,
     ];
-    const DIST_EXTRA: [u8; 30] = [0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12, 13, 13];
+    const LEN_EXTRA: [u8; 29] = [
+        0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0,
+    ];
+    const DIST_BASE: [u16; 30] = [
+        1, 2, 3, 4, 5, 7, 9, 13, 17, 25, 33, 49, 65, 97, 129, 193, 257, 385, 513, 769, 1025, 1537,
+        2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577,
+    ];
+    const DIST_EXTRA: [u8; 30] = [
+        0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12,
+        13, 13,
+    ];
 
     const WINDOW: usize = 32768;
     const MAX_MATCH: usize = 258;
@@ -478,10 +605,16 @@ pub(crate) mod png {
             }
         }
         fn matched(&mut self, len: usize, dist: usize) {
-            let i = LEN_BASE.iter().rposition(|&b| b as usize <= len).expect("length >= 3");
+            let i = LEN_BASE
+                .iter()
+                .rposition(|&b| b as usize <= len)
+                .expect("length >= 3");
             self.sym(257 + i as u32);
             self.put((len - LEN_BASE[i] as usize) as u32, LEN_EXTRA[i] as u32);
-            let j = DIST_BASE.iter().rposition(|&b| b as usize <= dist).expect("distance >= 1");
+            let j = DIST_BASE
+                .iter()
+                .rposition(|&b| b as usize <= dist)
+                .expect("distance >= 1");
             self.code(j as u32, 5);
             self.put((dist - DIST_BASE[j] as usize) as u32, DIST_EXTRA[j] as u32);
         }
@@ -496,7 +629,11 @@ pub(crate) mod png {
     /// A raw deflate stream (RFC 1951) of `data`: one final block, fixed Huffman codes.
     pub(crate) fn deflate(data: &[u8]) -> Vec<u8> {
         let n = data.len();
-        let mut bits = Bits { out: Vec::with_capacity(n / 8 + 16), acc: 0, n: 0 };
+        let mut bits = Bits {
+            out: Vec::with_capacity(n / 8 + 16),
+            acc: 0,
+            n: 0,
+        };
         bits.put(1, 1); // BFINAL
         bits.put(1, 2); // BTYPE = fixed Huffman
         let mut head = vec![NONE; 1 << HASH_BITS];
@@ -525,7 +662,11 @@ pub(crate) mod png {
                         break;
                     }
                     if data[c + best_len.min(max - 1)] == data[i + best_len.min(max - 1)] {
-                        let l = data[c..c + max].iter().zip(&data[i..i + max]).take_while(|(a, b)| a == b).count();
+                        let l = data[c..c + max]
+                            .iter()
+                            .zip(&data[i..i + max])
+                            .take_while(|(a, b)| a == b)
+                            .count();
                         if l > best_len {
                             (best_len, best_dist) = (l, i - c);
                             if l == max {
@@ -602,7 +743,11 @@ mod tests {
         u16le(&mut z, 0);
         let mut archive = zip::ZipArchive::new(Cursor::new(z)).expect("archive");
         let mut out = Vec::new();
-        archive.by_index(0).expect("entry").read_to_end(&mut out).expect("inflates with a good CRC");
+        archive
+            .by_index(0)
+            .expect("entry")
+            .read_to_end(&mut out)
+            .expect("inflates with a good CRC");
         out
     }
 
@@ -632,12 +777,20 @@ mod tests {
             at += 12 + len;
         }
         assert_eq!(at + 12, png.len(), "nothing after IEND");
-        assert_eq!((idat[0] as u16 * 256 + idat[1] as u16) % 31, 0, "zlib header");
+        assert_eq!(
+            (idat[0] as u16 * 256 + idat[1] as u16) % 31,
+            0,
+            "zlib header"
+        );
         let stride = w as usize * 3;
         assert_eq!(expected.len(), stride * h as usize);
         let want = png::filter(stride, expected);
         let filtered = inflate(&idat[2..idat.len() - 4], want.len(), crc32(&want));
-        assert_eq!(png::adler32(&filtered), u32::from_be_bytes(idat[idat.len() - 4..].try_into().unwrap()), "adler32");
+        assert_eq!(
+            png::adler32(&filtered),
+            u32::from_be_bytes(idat[idat.len() - 4..].try_into().unwrap()),
+            "adler32"
+        );
         let mut rgb = vec![0u8; stride * h as usize];
         for r in 0..h as usize {
             let f = filtered[r * (stride + 1)];
@@ -645,7 +798,11 @@ mod tests {
                 let x = filtered[r * (stride + 1) + 1 + i];
                 let a = if i >= 3 { rgb[r * stride + i - 3] } else { 0 };
                 let b = if r > 0 { rgb[(r - 1) * stride + i] } else { 0 };
-                let c = if r > 0 && i >= 3 { rgb[(r - 1) * stride + i - 3] } else { 0 };
+                let c = if r > 0 && i >= 3 {
+                    rgb[(r - 1) * stride + i - 3]
+                } else {
+                    0
+                };
                 let p = a as i16 + b as i16 - c as i16;
                 let pred = match f {
                     0 => 0,
@@ -653,7 +810,11 @@ mod tests {
                     2 => b,
                     3 => ((a as u16 + b as u16) / 2) as u8,
                     4 => {
-                        let (pa, pb, pc) = ((p - a as i16).abs(), (p - b as i16).abs(), (p - c as i16).abs());
+                        let (pa, pb, pc) = (
+                            (p - a as i16).abs(),
+                            (p - b as i16).abs(),
+                            (p - c as i16).abs(),
+                        );
                         if pa <= pb && pa <= pc {
                             a
                         } else if pb <= pc {
@@ -687,13 +848,20 @@ mod tests {
     }
 
     fn sample() -> Figure {
-        let pts = |f: fn(f64) -> f64| (0..=360).map(|i| (f64::from(i), f(f64::from(i).to_radians()))).collect();
+        let pts = |f: fn(f64) -> f64| {
+            (0..=360)
+                .map(|i| (f64::from(i), f(f64::from(i).to_radians())))
+                .collect()
+        };
         Figure {
             file: "fig1_test.png".into(),
             title: "Knife motion over one shaft turn".into(),
             x_label: "shaft angle φ [deg]".into(),
             y_label: "knife stroke s [mm]".into(),
-            series: vec![Series::new("s", pts(|a| 40.0 * (1.0 - a.cos()))), Series::new("v·10", pts(|a| 30.0 * a.sin()))],
+            series: vec![
+                Series::new("s", pts(|a| 40.0 * (1.0 - a.cos()))),
+                Series::new("v·10", pts(|a| 30.0 * a.sin())),
+            ],
             caption: "A test figure.".into(),
             equal_axes: false,
         }
@@ -710,21 +878,46 @@ mod tests {
         assert!(a.len() < 150_000, "{} bytes", a.len());
         // Both series colors are drawn.
         for c in [COLORS[0], COLORS[1]] {
-            assert!(rgb.chunks_exact(3).any(|p| p == [c.0, c.1, c.2]), "color {c:?} missing");
+            assert!(
+                rgb.chunks_exact(3).any(|p| p == [c.0, c.1, c.2]),
+                "color {c:?} missing"
+            );
         }
         // Text is drawn (anti-aliased grey pixels exist).
-        assert!(rgb.chunks_exact(3).any(|p| p[0] == p[1] && p[1] == p[2] && p[0] > 40 && p[0] < 200));
+        assert!(
+            rgb.chunks_exact(3)
+                .any(|p| p[0] == p[1] && p[1] == p[2] && p[0] > 40 && p[0] < 200)
+        );
     }
 
     #[test]
     fn equal_axes_and_degenerate_figures_render() {
-        let circle: Vec<(f64, f64)> = (0..=100).map(|i| f64::from(i) * std::f64::consts::TAU / 100.0).map(|a| (3.0 * a.cos(), a.sin())).collect();
-        let mut fig = Figure { file: "p.png".into(), title: "Path".into(), x_label: "x [mm]".into(), y_label: "y [mm]".into(), equal_axes: true, ..Default::default() };
+        let circle: Vec<(f64, f64)> = (0..=100)
+            .map(|i| f64::from(i) * std::f64::consts::TAU / 100.0)
+            .map(|a| (3.0 * a.cos(), a.sin()))
+            .collect();
+        let mut fig = Figure {
+            file: "p.png".into(),
+            title: "Path".into(),
+            x_label: "x [mm]".into(),
+            y_label: "y [mm]".into(),
+            equal_axes: true,
+            ..Default::default()
+        };
         fig.series.push(Series::new("path", circle));
-        assert_eq!(decode(&render_png(&fig).unwrap(), &draw_figure(&fig).unwrap()), FIGURE_SIZE);
+        assert_eq!(
+            decode(&render_png(&fig).unwrap(), &draw_figure(&fig).unwrap()),
+            FIGURE_SIZE
+        );
         // A constant, a single point, gaps.
         fig.equal_axes = false;
-        fig.series = vec![Series::new("c", vec![(0.0, 2.0), (1.0, 2.0), (f64::NAN, 0.0), (2.0, 2.0)]), Series::new("one", vec![(0.5, 2.0)])];
+        fig.series = vec![
+            Series::new(
+                "c",
+                vec![(0.0, 2.0), (1.0, 2.0), (f64::NAN, 0.0), (2.0, 2.0)],
+            ),
+            Series::new("one", vec![(0.5, 2.0)]),
+        ];
         render_png(&fig).unwrap();
         fig.series = vec![Series::new("none", vec![(f64::NAN, 1.0)])];
         assert!(render_png(&fig).is_err());
@@ -732,10 +925,17 @@ mod tests {
 
     #[test]
     fn icon_decodes_and_is_deterministic() {
-        for title in ["Geneva knife drive", "A very long mechanism name that cannot possibly fit", ""] {
+        for title in [
+            "Geneva knife drive",
+            "A very long mechanism name that cannot possibly fit",
+            "",
+        ] {
             let a = icon_png(title).unwrap();
             assert!(a == icon_png(title).unwrap(), "same title, same bytes");
-            assert_eq!(decode(&a, &draw_icon(title).unwrap()), (ICON_SIZE, ICON_SIZE));
+            assert_eq!(
+                decode(&a, &draw_icon(title).unwrap()),
+                (ICON_SIZE, ICON_SIZE)
+            );
             assert!(a.len() < 30_000, "{} bytes", a.len());
         }
     }
@@ -751,6 +951,10 @@ mod tests {
         let f = tick_format(0.0, 0.25, 10);
         assert_eq!(f(&0.05), "0.05");
         let f = tick_format(0.0, 2e9, 10);
-        assert_eq!(f(&1.5e9), "1.50e9");
+        assert_eq!(f(&1.6e9), "1.6e9");
+        assert_eq!(f(&2e9), "2.0e9");
+        assert_eq!(f(&8e8), "8e8");
+        assert_eq!(f(&0.0), "0");
+        assert_eq!(f(&-4e8), "-4e8");
     }
 }

@@ -27,7 +27,12 @@ macro_rules! export_fmu {
                 VERSION.as_ptr()
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetDebugLogging(c: Component, on: Boolean, n: usize, cats: *const FmiString) -> Status {
+            pub unsafe extern "C" fn fmi2SetDebugLogging(
+                c: Component,
+                on: Boolean,
+                n: usize,
+                cats: *const FmiString,
+            ) -> Status {
                 unsafe { rt::set_debug_logging::<M>(c, on, n, cats) }
             }
             #[unsafe(no_mangle)]
@@ -40,14 +45,23 @@ macro_rules! export_fmu {
                 visible: Boolean,
                 logging_on: Boolean,
             ) -> Component {
-                unsafe { rt::instantiate::<M>(name, ty, guid, resources, functions, visible, logging_on) }
+                unsafe {
+                    rt::instantiate::<M>(name, ty, guid, resources, functions, visible, logging_on)
+                }
             }
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2FreeInstance(c: Component) {
                 unsafe { rt::free_instance::<M>(c) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetupExperiment(c: Component, tol_defined: Boolean, tol: Real, start: Real, stop_defined: Boolean, stop: Real) -> Status {
+            pub unsafe extern "C" fn fmi2SetupExperiment(
+                c: Component,
+                tol_defined: Boolean,
+                tol: Real,
+                start: Real,
+                stop_defined: Boolean,
+                stop: Real,
+            ) -> Status {
                 unsafe { rt::setup_experiment::<M>(c, tol_defined, tol, start, stop_defined, stop) }
             }
             #[unsafe(no_mangle)]
@@ -67,35 +81,75 @@ macro_rules! export_fmu {
                 unsafe { rt::reset::<M>(c) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetReal(c: Component, vr: *const ValueReference, n: usize, v: *mut Real) -> Status {
+            pub unsafe extern "C" fn fmi2GetReal(
+                c: Component,
+                vr: *const ValueReference,
+                n: usize,
+                v: *mut Real,
+            ) -> Status {
                 unsafe { rt::get_real::<M>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetInteger(c: Component, vr: *const ValueReference, n: usize, v: *mut Integer) -> Status {
+            pub unsafe extern "C" fn fmi2GetInteger(
+                c: Component,
+                vr: *const ValueReference,
+                n: usize,
+                v: *mut Integer,
+            ) -> Status {
                 unsafe { rt::get_integer::<M>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetBoolean(c: Component, vr: *const ValueReference, n: usize, v: *mut Boolean) -> Status {
+            pub unsafe extern "C" fn fmi2GetBoolean(
+                c: Component,
+                vr: *const ValueReference,
+                n: usize,
+                v: *mut Boolean,
+            ) -> Status {
                 unsafe { rt::get_boolean::<M>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetString(c: Component, vr: *const ValueReference, n: usize, v: *mut FmiString) -> Status {
+            pub unsafe extern "C" fn fmi2GetString(
+                c: Component,
+                vr: *const ValueReference,
+                n: usize,
+                v: *mut FmiString,
+            ) -> Status {
                 unsafe { rt::get_string::<M>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetReal(c: Component, vr: *const ValueReference, n: usize, v: *const Real) -> Status {
+            pub unsafe extern "C" fn fmi2SetReal(
+                c: Component,
+                vr: *const ValueReference,
+                n: usize,
+                v: *const Real,
+            ) -> Status {
                 unsafe { rt::set_real::<M>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetInteger(c: Component, vr: *const ValueReference, n: usize, v: *const Integer) -> Status {
+            pub unsafe extern "C" fn fmi2SetInteger(
+                c: Component,
+                vr: *const ValueReference,
+                n: usize,
+                v: *const Integer,
+            ) -> Status {
                 unsafe { rt::set_integer::<M>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetBoolean(c: Component, vr: *const ValueReference, n: usize, v: *const Boolean) -> Status {
+            pub unsafe extern "C" fn fmi2SetBoolean(
+                c: Component,
+                vr: *const ValueReference,
+                n: usize,
+                v: *const Boolean,
+            ) -> Status {
                 unsafe { rt::set_boolean::<M>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetString(c: Component, vr: *const ValueReference, n: usize, v: *const FmiString) -> Status {
+            pub unsafe extern "C" fn fmi2SetString(
+                c: Component,
+                vr: *const ValueReference,
+                n: usize,
+                v: *const FmiString,
+            ) -> Status {
                 unsafe { rt::set_string::<M>(c, vr, n, v) }
             }
             #[unsafe(no_mangle)]
@@ -111,15 +165,29 @@ macro_rules! export_fmu {
                 unsafe { rt::free_fmu_state::<M>(c, s) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SerializedFMUstateSize(c: Component, s: FMUstate, size: *mut usize) -> Status {
+            pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
+                c: Component,
+                s: FMUstate,
+                size: *mut usize,
+            ) -> Status {
                 unsafe { rt::serialized_fmu_state_size::<M>(c, s, size) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SerializeFMUstate(c: Component, s: FMUstate, bytes: *mut Byte, size: usize) -> Status {
+            pub unsafe extern "C" fn fmi2SerializeFMUstate(
+                c: Component,
+                s: FMUstate,
+                bytes: *mut Byte,
+                size: usize,
+            ) -> Status {
                 unsafe { rt::serialize_fmu_state::<M>(c, s, bytes, size) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2DeSerializeFMUstate(c: Component, bytes: *const Byte, size: usize, s: *mut FMUstate) -> Status {
+            pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
+                c: Component,
+                bytes: *const Byte,
+                size: usize,
+                s: *mut FMUstate,
+            ) -> Status {
                 unsafe { rt::deserialize_fmu_state::<M>(c, bytes, size, s) }
             }
             #[unsafe(no_mangle)]
@@ -132,43 +200,114 @@ macro_rules! export_fmu {
                 _dv_known: *const Real,
                 _dv_unknown: *mut Real,
             ) -> Status {
-                unsafe { rt::unsupported::<M>(c, Call::GetDirectionalDerivative, "providesDirectionalDerivative is false") }
+                unsafe {
+                    rt::unsupported::<M>(
+                        c,
+                        Call::GetDirectionalDerivative,
+                        "providesDirectionalDerivative is false",
+                    )
+                }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetRealInputDerivatives(c: Component, _vr: *const ValueReference, _n: usize, _order: *const Integer, _v: *const Real) -> Status {
-                unsafe { rt::unsupported::<M>(c, Call::SetRealInputDerivatives, "canInterpolateInputs is false") }
+            pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
+                c: Component,
+                _vr: *const ValueReference,
+                _n: usize,
+                _order: *const Integer,
+                _v: *const Real,
+            ) -> Status {
+                unsafe {
+                    rt::unsupported::<M>(
+                        c,
+                        Call::SetRealInputDerivatives,
+                        "canInterpolateInputs is false",
+                    )
+                }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(c: Component, _vr: *const ValueReference, _n: usize, _order: *const Integer, _v: *mut Real) -> Status {
-                unsafe { rt::unsupported::<M>(c, Call::GetRealOutputDerivatives, "maxOutputDerivativeOrder is 0") }
+            pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
+                c: Component,
+                _vr: *const ValueReference,
+                _n: usize,
+                _order: *const Integer,
+                _v: *mut Real,
+            ) -> Status {
+                unsafe {
+                    rt::unsupported::<M>(
+                        c,
+                        Call::GetRealOutputDerivatives,
+                        "maxOutputDerivativeOrder is 0",
+                    )
+                }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2DoStep(c: Component, t: Real, h: Real, no_prior: Boolean) -> Status {
+            pub unsafe extern "C" fn fmi2DoStep(
+                c: Component,
+                t: Real,
+                h: Real,
+                no_prior: Boolean,
+            ) -> Status {
                 unsafe { rt::do_step::<M>(c, t, h, no_prior) }
             }
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2CancelStep(c: Component) -> Status {
-                unsafe { rt::unsupported::<M>(c, Call::CancelStep, "canRunAsynchronuously is false") }
+                unsafe {
+                    rt::unsupported::<M>(c, Call::CancelStep, "canRunAsynchronuously is false")
+                }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetStatus(c: Component, _kind: StatusKind, _v: *mut Status) -> Status {
-                unsafe { rt::unsupported::<M>(c, Call::GetStatus, "steps are synchronous; no status is pending") }
+            pub unsafe extern "C" fn fmi2GetStatus(
+                c: Component,
+                _kind: StatusKind,
+                _v: *mut Status,
+            ) -> Status {
+                unsafe {
+                    rt::unsupported::<M>(
+                        c,
+                        Call::GetStatus,
+                        "steps are synchronous; no status is pending",
+                    )
+                }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetRealStatus(c: Component, kind: StatusKind, v: *mut Real) -> Status {
+            pub unsafe extern "C" fn fmi2GetRealStatus(
+                c: Component,
+                kind: StatusKind,
+                v: *mut Real,
+            ) -> Status {
                 unsafe { rt::get_real_status::<M>(c, kind, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetIntegerStatus(c: Component, _kind: StatusKind, _v: *mut Integer) -> Status {
-                unsafe { rt::unsupported::<M>(c, Call::GetIntegerStatus, "no integer status is defined in FMI 2.0") }
+            pub unsafe extern "C" fn fmi2GetIntegerStatus(
+                c: Component,
+                _kind: StatusKind,
+                _v: *mut Integer,
+            ) -> Status {
+                unsafe {
+                    rt::unsupported::<M>(
+                        c,
+                        Call::GetIntegerStatus,
+                        "no integer status is defined in FMI 2.0",
+                    )
+                }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetBooleanStatus(c: Component, kind: StatusKind, v: *mut Boolean) -> Status {
+            pub unsafe extern "C" fn fmi2GetBooleanStatus(
+                c: Component,
+                kind: StatusKind,
+                v: *mut Boolean,
+            ) -> Status {
                 unsafe { rt::get_boolean_status::<M>(c, kind, v) }
             }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetStringStatus(c: Component, _kind: StatusKind, _v: *mut FmiString) -> Status {
-                unsafe { rt::unsupported::<M>(c, Call::GetStringStatus, "no status message is pending") }
+            pub unsafe extern "C" fn fmi2GetStringStatus(
+                c: Component,
+                _kind: StatusKind,
+                _v: *mut FmiString,
+            ) -> Status {
+                unsafe {
+                    rt::unsupported::<M>(c, Call::GetStringStatus, "no status message is pending")
+                }
             }
         }
     };

@@ -19,7 +19,10 @@ const STATE_MAGIC: &[u8; 8] = b"BNDRYST1";
 
 /// Log categories as bits (see [`md::LOG_CATEGORIES`]).
 fn category_bit(name: &str) -> Option<u32> {
-    md::LOG_CATEGORIES.iter().position(|(n, _)| *n == name).map(|i| 1 << i)
+    md::LOG_CATEGORIES
+        .iter()
+        .position(|(n, _)| *n == name)
+        .map(|i| 1 << i)
 }
 
 /// The host's logger, with the instance name and the enabled categories.
@@ -34,15 +37,31 @@ pub struct Logger {
 impl Logger {
     /// Sends one message; `%` is escaped because hosts treat the message as a printf format.
     pub fn emit(&self, status: Status, category: &str, message: &str) {
-        let debug = matches!(status, Status::Ok | Status::Pending);
-        if debug && !(self.on && category_bit(category).is_some_and(|b| self.categories & b != 0)) {
+        if !self.enabled(status, category) {
             return;
         }
         let Some(cb) = self.callback else { return };
         let msg = CString::new(message.replace('%', "%%").replace('\0', " ")).unwrap_or_default();
         let cat = CString::new(category).unwrap_or_default();
         // SAFETY: the host gave us this logger for this environment; all strings are valid C strings.
-        unsafe { cb(self.env, self.name.as_ptr(), status, cat.as_ptr(), msg.as_ptr()) };
+        unsafe {
+            cb(
+                self.env,
+                self.name.as_ptr(),
+                status,
+                cat.as_ptr(),
+                msg.as_ptr(),
+            )
+        };
+    }
+}
+
+impl Logger {
+    /// Would a message of this status and category reach the host? Warnings and errors always
+    /// do; debug messages when logging is on for their category.
+    pub fn enabled(&self, status: Status, category: &str) -> bool {
+        let debug = matches!(status, Status::Ok | Status::Pending);
+        !debug || (self.on && category_bit(category).is_some_and(|b| self.categories & b != 0))
     }
 }
 
@@ -72,7 +91,11 @@ impl Snapshot {
         b.extend_from_slice(STATE_MAGIC);
         b.extend_from_slice(&guid_hash.to_le_bytes());
         b.extend_from_slice(&self.state.code().to_le_bytes());
-        for x in [self.time, self.start_time, self.stop_time.unwrap_or(f64::NAN)] {
+        for x in [
+            self.time,
+            self.start_time,
+            self.stop_time.unwrap_or(f64::NAN),
+        ] {
             b.extend_from_slice(&x.to_bits().to_le_bytes());
         }
         b.push(self.stop_time.is_some() as u8);
@@ -101,13 +124,27 @@ impl Snapshot {
         let stop_defined = r.take(1)?[0] == 1;
         let values = r.vec()?;
         if values.len() != n_values {
-            return Err(format!("serialized state has {} values, this FMU {}", values.len(), n_values));
+            return Err(format!(
+                "serialized state has {} values, this FMU {}",
+                values.len(),
+                n_values
+            ));
         }
         let model_state = r.vec()?;
         if r.at != bytes.len() {
-            return Err(format!("{} trailing bytes in serialized state", bytes.len() - r.at));
+            return Err(format!(
+                "{} trailing bytes in serialized state",
+                bytes.len() - r.at
+            ));
         }
-        Ok(Snapshot { state, time, start_time, stop_time: stop_defined.then_some(stop), values, model_state })
+        Ok(Snapshot {
+            state,
+            time,
+            start_time,
+            stop_time: stop_defined.then_some(stop),
+            values,
+            model_state,
+        })
     }
 }
 
@@ -118,13 +155,19 @@ struct Reader<'a> {
 
 impl<'a> Reader<'a> {
     fn take(&mut self, n: usize) -> Result<&'a [u8], String> {
-        let end = self.at.checked_add(n).filter(|&e| e <= self.b.len()).ok_or("serialized state is truncated")?;
+        let end = self
+            .at
+            .checked_add(n)
+            .filter(|&e| e <= self.b.len())
+            .ok_or("serialized state is truncated")?;
         let s = &self.b[self.at..end];
         self.at = end;
         Ok(s)
     }
     fn f64(&mut self) -> Result<f64, String> {
-        Ok(f64::from_bits(u64::from_le_bytes(self.take(8)?.try_into().unwrap())))
+        Ok(f64::from_bits(u64::from_le_bytes(
+            self.take(8)?.try_into().unwrap(),
+        )))
     }
     fn vec(&mut self) -> Result<Vec<f64>, String> {
         let n = u64::from_le_bytes(self.take(8)?.try_into().unwrap()) as usize;
@@ -182,17 +225,25 @@ impl<M: Model> Instance<M> {
     }
 
     fn var(vr: ValueReference) -> Result<&'static Var, String> {
-        Self::table().get(vr as usize).ok_or_else(|| format!("unknown value reference {vr}"))
+        Self::table()
+            .get(vr as usize)
+            .ok_or_else(|| format!("unknown value reference {vr}"))
     }
 
-    /// Makes sure the outputs are current (lazy outputs).
-    fn refresh(&mut self) -> Result<(), String> {
+    /// Makes sure the model is prepared for the current parameters.
+    fn prepared(&mut self) -> Result<&mut M, String> {
         if self.params_changed || self.model.is_none() {
             check_bounds(&self.values).map_err(|e| e.to_string())?;
             self.model = Some(M::prepare(&self.values).map_err(|e| e.to_string())?);
             self.params_changed = false;
             self.dirty = true;
         }
+        Ok(self.model.as_mut().expect("prepared above"))
+    }
+
+    /// Makes sure the outputs are current (lazy outputs).
+    fn refresh(&mut self) -> Result<(), String> {
+        self.prepared()?;
         if self.dirty {
             let model = self.model.as_mut().expect("prepared above");
             model.evaluate(&mut self.values, self.time, &mut self.logger);
@@ -210,7 +261,13 @@ impl<M: Model> Instance<M> {
     }
 
     /// Validates every (vr, value) first, then applies them all: a refused call changes nothing.
-    fn set_values(&mut self, vrs: &[ValueReference], vals: &[f64], kind: &str, type_ok: fn(VarType) -> bool) -> Outcome {
+    fn set_values(
+        &mut self,
+        vrs: &[ValueReference],
+        vals: &[f64],
+        kind: &str,
+        type_ok: fn(VarType) -> bool,
+    ) -> Outcome {
         let phase = self.set_phase();
         for (&vr, &x) in vrs.iter().zip(vals) {
             let v = Self::var(vr)?;
@@ -218,18 +275,32 @@ impl<M: Model> Instance<M> {
                 return Err(format!("{} (vr {vr}) is not of type {kind}", v.name));
             }
             if !v.settable(phase) {
-                return Err(format!("{} cannot be set {}", v.name, match phase {
-                    SetPhase::Running => "after initialization (it is not an input or tunable parameter)",
-                    _ => "(it is not a parameter or an input)",
-                }));
+                return Err(format!(
+                    "{} cannot be set {}",
+                    v.name,
+                    match phase {
+                        SetPhase::Running =>
+                            "after initialization (it is not an input or tunable parameter)",
+                        _ => "(it is not a parameter or an input)",
+                    }
+                ));
             }
             if !x.is_finite() {
-                return Err(format!("{} = {x} refused: not a finite number; the previous value {} is kept", v.name, self.values.raw()[vr as usize]));
+                return Err(format!(
+                    "{} = {x} refused: not a finite number; the previous value {} is kept",
+                    v.name,
+                    self.values.raw()[vr as usize]
+                ));
             }
             if let VarType::Enumeration(t) = v.ty
                 && t.item(x as i32).is_none()
             {
-                return Err(format!("{} = {x} refused: not an item of {} (1..={})", v.name, t.name, t.items.len()));
+                return Err(format!(
+                    "{} = {x} refused: not an item of {} (1..={})",
+                    v.name,
+                    t.name,
+                    t.items.len()
+                ));
             }
         }
         for (&vr, &x) in vrs.iter().zip(vals) {
@@ -246,7 +317,13 @@ impl<M: Model> Instance<M> {
         Ok(Status::Ok)
     }
 
-    fn get_values(&mut self, vrs: &[ValueReference], kind: &str, type_ok: fn(VarType) -> bool, mut out: impl FnMut(usize, f64)) -> Outcome {
+    fn get_values(
+        &mut self,
+        vrs: &[ValueReference],
+        kind: &str,
+        type_ok: fn(VarType) -> bool,
+        mut out: impl FnMut(usize, f64),
+    ) -> Outcome {
         for &vr in vrs {
             let v = Self::var(vr)?;
             if !type_ok(v.ty) {
@@ -326,7 +403,10 @@ impl<M: Model> Drop for Instance<M> {
 }
 
 fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
-    p.downcast_ref::<&str>().map(|s| s.to_string()).or_else(|| p.downcast_ref::<String>().cloned()).unwrap_or_else(|| "unknown panic".into())
+    p.downcast_ref::<&str>()
+        .map(|s| s.to_string())
+        .or_else(|| p.downcast_ref::<String>().cloned())
+        .unwrap_or_else(|| "unknown panic".into())
 }
 
 /// The one entry wrapper: checks the component pointer, the state machine, runs `f` with panics
@@ -334,7 +414,11 @@ fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
 ///
 /// # Safety
 /// `c` must be NULL or a pointer returned by [`instantiate`] for the same model and not freed.
-pub unsafe fn entry<M: Model>(c: Component, call: Call, f: impl FnOnce(&mut Instance<M>) -> Outcome) -> Status {
+pub unsafe fn entry<M: Model>(
+    c: Component,
+    call: Call,
+    f: impl FnOnce(&mut Instance<M>) -> Outcome,
+) -> Status {
     if c.is_null() {
         return Status::Error;
     }
@@ -348,15 +432,25 @@ pub unsafe fn entry<M: Model>(c: Component, call: Call, f: impl FnOnce(&mut Inst
         inst.logger.emit(Status::Error, "logStatusError", &msg);
         return Status::Error;
     }
-    inst.logger.emit(Status::Ok, "logAll", &format!("fmi2{call:?}"));
+    if inst.logger.enabled(Status::Ok, "logAll") {
+        inst.logger
+            .emit(Status::Ok, "logAll", &format!("fmi2{call:?}"));
+    }
     match catch_unwind(AssertUnwindSafe(|| f(inst))) {
         Ok(Ok(status)) => status,
         Ok(Err(msg)) => {
-            inst.logger.emit(Status::Error, "logStatusError", &format!("fmi2{call:?}: {msg}"));
+            inst.logger.emit(
+                Status::Error,
+                "logStatusError",
+                &format!("fmi2{call:?}: {msg}"),
+            );
             Status::Error
         }
         Err(p) => {
-            let msg = format!("fmi2{call:?}: internal error (panic caught at the FMI boundary): {}", panic_text(&*p));
+            let msg = format!(
+                "fmi2{call:?}: internal error (panic caught at the FMI boundary): {}",
+                panic_text(&*p)
+            );
             inst.state = State::Error;
             inst.logger.emit(Status::Error, "logStatusError", &msg);
             Status::Error
@@ -398,30 +492,39 @@ unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T
 /// `s` must be NULL or a valid C string.
 unsafe fn c_str<'a>(s: FmiString) -> Option<&'a str> {
     // SAFETY: per the contract above.
-    (!s.is_null()).then(|| unsafe { CStr::from_ptr(s) }.to_str().ok()).flatten()
+    (!s.is_null())
+        .then(|| unsafe { CStr::from_ptr(s) }.to_str().ok())
+        .flatten()
 }
 
 /// Turns an FMI resource location (`file:/...`, `file:///...`, percent-encoded) into a path.
 pub fn resource_path(uri: &str) -> Option<PathBuf> {
-    let rest = uri.strip_prefix("file://").or_else(|| uri.strip_prefix("file:"))?;
+    let rest = uri
+        .strip_prefix("file://")
+        .or_else(|| uri.strip_prefix("file:"))?;
     // file://localhost/path or file:///path or file:/path
     let rest = rest.strip_prefix("localhost").unwrap_or(rest);
     let bytes = rest.as_bytes();
     let mut out = Vec::with_capacity(bytes.len());
     let mut i = 0;
     while i < bytes.len() {
-        if bytes[i] == b'%' && i + 2 < bytes.len() {
-            if let Ok(b) = u8::from_str_radix(std::str::from_utf8(&bytes[i + 1..i + 3]).ok()?, 16) {
-                out.push(b);
-                i += 3;
-                continue;
-            }
+        if bytes[i] == b'%'
+            && i + 2 < bytes.len()
+            && let Ok(b) = u8::from_str_radix(std::str::from_utf8(&bytes[i + 1..i + 3]).ok()?, 16)
+        {
+            out.push(b);
+            i += 3;
+            continue;
         }
         out.push(bytes[i]);
         i += 1;
     }
     let s = String::from_utf8(out).ok()?;
-    let s = if s.starts_with('/') { s } else { format!("/{s}") };
+    let s = if s.starts_with('/') {
+        s
+    } else {
+        format!("/{s}")
+    };
     Some(PathBuf::from(s))
 }
 
@@ -442,7 +545,10 @@ pub unsafe fn instantiate<M: Model>(
 ) -> Component {
     let result = catch_unwind(AssertUnwindSafe(|| {
         if functions.is_null() {
-            eprintln!("{}: fmi2Instantiate: callback functions are NULL; refused", M::IDENTIFIER);
+            eprintln!(
+                "{}: fmi2Instantiate: callback functions are NULL; refused",
+                M::IDENTIFIER
+            );
             return std::ptr::null_mut();
         }
         // SAFETY: non-NULL, per the standard a valid struct.
@@ -452,29 +558,45 @@ pub unsafe fn instantiate<M: Model>(
         let logger = Logger {
             callback: f.logger,
             env: f.component_environment,
-            name: CString::new(if name.is_empty() { M::IDENTIFIER } else { name }).unwrap_or_default(),
+            name: CString::new(if name.is_empty() { M::IDENTIFIER } else { name })
+                .unwrap_or_default(),
             on: logging_on != FALSE,
             categories: u32::MAX,
         };
         let refuse = |why: String| {
-            logger.emit(Status::Error, "logStatusError", &format!("fmi2Instantiate: {why}; refused"));
+            logger.emit(
+                Status::Error,
+                "logStatusError",
+                &format!("fmi2Instantiate: {why}; refused"),
+            );
             std::ptr::null_mut()
         };
         if f.logger.is_none() {
-            eprintln!("{}: fmi2Instantiate: the logger callback is NULL; refused", M::IDENTIFIER);
+            eprintln!(
+                "{}: fmi2Instantiate: the logger callback is NULL; refused",
+                M::IDENTIFIER
+            );
             return std::ptr::null_mut();
         }
         if name.is_empty() {
             return refuse("instanceName is NULL or empty".into());
         }
         if fmu_type as i32 != FmuType::CoSimulation as i32 {
-            return refuse(format!("fmuType {} requested; this FMU provides Co-Simulation (1) only", fmu_type as i32));
+            return refuse(format!(
+                "fmuType {} requested; this FMU provides Co-Simulation (1) only",
+                fmu_type as i32
+            ));
         }
         let (_, our_guid) = md::describe::<M>();
         // SAFETY: NULL or valid C string.
         match unsafe { c_str(guid) } {
             Some(g) if g == our_guid => {}
-            g => return refuse(format!("GUID {:?} does not match this binary's {our_guid}", g.unwrap_or("NULL"))),
+            g => {
+                return refuse(format!(
+                    "GUID {:?} does not match this binary's {our_guid}",
+                    g.unwrap_or("NULL")
+                ));
+            }
         }
         // SAFETY: NULL or valid C string.
         let resources = unsafe { c_str(resource_location) }.and_then(resource_path);
@@ -482,7 +604,11 @@ pub unsafe fn instantiate<M: Model>(
         Box::into_raw(inst) as Component
     }));
     result.unwrap_or_else(|p| {
-        eprintln!("{}: fmi2Instantiate: internal error: {}", M::IDENTIFIER, panic_text(&*p));
+        eprintln!(
+            "{}: fmi2Instantiate: internal error: {}",
+            M::IDENTIFIER,
+            panic_text(&*p)
+        );
         std::ptr::null_mut()
     })
 }
@@ -504,7 +630,12 @@ pub unsafe fn free_instance<M: Model>(c: Component) {
 ///
 /// # Safety
 /// As [`entry`]; `categories` holds `n` C strings.
-pub unsafe fn set_debug_logging<M: Model>(c: Component, on: Boolean, n: usize, categories: *const FmiString) -> Status {
+pub unsafe fn set_debug_logging<M: Model>(
+    c: Component,
+    on: Boolean,
+    n: usize,
+    categories: *const FmiString,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::SetDebugLogging, |inst| {
@@ -512,7 +643,8 @@ pub unsafe fn set_debug_logging<M: Model>(c: Component, on: Boolean, n: usize, c
             let mut bits = 0;
             for &p in cats {
                 let name = c_str(p).ok_or("a category is NULL")?;
-                bits |= category_bit(name).ok_or_else(|| format!("unknown log category {name:?}"))?;
+                bits |=
+                    category_bit(name).ok_or_else(|| format!("unknown log category {name:?}"))?;
             }
             // No list: everything on or off. A list: exactly those on, or those off.
             match (n, on != FALSE) {
@@ -529,7 +661,14 @@ pub unsafe fn set_debug_logging<M: Model>(c: Component, on: Boolean, n: usize, c
 ///
 /// # Safety
 /// As [`entry`].
-pub unsafe fn setup_experiment<M: Model>(c: Component, _tol_defined: Boolean, _tol: f64, start: f64, stop_defined: Boolean, stop: f64) -> Status {
+pub unsafe fn setup_experiment<M: Model>(
+    c: Component,
+    _tol_defined: Boolean,
+    _tol: f64,
+    start: f64,
+    stop_defined: Boolean,
+    stop: f64,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::SetupExperiment, |inst| {
@@ -537,7 +676,9 @@ pub unsafe fn setup_experiment<M: Model>(c: Component, _tol_defined: Boolean, _t
                 return Err(format!("startTime = {start} is not finite"));
             }
             if stop_defined != FALSE && !(stop.is_finite() && stop >= start) {
-                return Err(format!("stopTime = {stop} must be finite and not before startTime = {start}"));
+                return Err(format!(
+                    "stopTime = {stop} must be finite and not before startTime = {start}"
+                ));
             }
             inst.start_time = start;
             inst.time = start;
@@ -574,7 +715,8 @@ pub unsafe fn exit_initialization_mode<M: Model>(c: Component) -> Status {
     unsafe {
         entry::<M>(c, Call::ExitInitializationMode, |inst| {
             inst.params_changed = true;
-            inst.refresh().map_err(|e| format!("parameters refused: {e}"))?;
+            inst.refresh()
+                .map_err(|e| format!("parameters refused: {e}"))?;
             inst.state = State::StepComplete;
             inst.logger.emit(Status::Ok, "logEvents", "initialized");
             Ok(Status::Ok)
@@ -634,7 +776,12 @@ fn is_none(_: VarType) -> bool {
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn get_real<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *mut Real) -> Status {
+pub unsafe fn get_real<M: Model>(
+    c: Component,
+    vr: *const ValueReference,
+    n: usize,
+    value: *mut Real,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::GetReal, |inst| {
@@ -649,7 +796,12 @@ pub unsafe fn get_real<M: Model>(c: Component, vr: *const ValueReference, n: usi
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn get_integer<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *mut Integer) -> Status {
+pub unsafe fn get_integer<M: Model>(
+    c: Component,
+    vr: *const ValueReference,
+    n: usize,
+    value: *mut Integer,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::GetInteger, |inst| {
@@ -664,13 +816,20 @@ pub unsafe fn get_integer<M: Model>(c: Component, vr: *const ValueReference, n: 
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn get_boolean<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *mut Boolean) -> Status {
+pub unsafe fn get_boolean<M: Model>(
+    c: Component,
+    vr: *const ValueReference,
+    n: usize,
+    value: *mut Boolean,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::GetBoolean, |inst| {
             let vrs = slice(vr, n, "vr")?;
             let out = slice_mut(value, n, "value")?;
-            inst.get_values(vrs, "Boolean", is_bool, |i, x| out[i] = if x != 0.0 { TRUE } else { FALSE })
+            inst.get_values(vrs, "Boolean", is_bool, |i, x| {
+                out[i] = if x != 0.0 { TRUE } else { FALSE }
+            })
         })
     }
 }
@@ -679,7 +838,12 @@ pub unsafe fn get_boolean<M: Model>(c: Component, vr: *const ValueReference, n: 
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn get_string<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *mut FmiString) -> Status {
+pub unsafe fn get_string<M: Model>(
+    c: Component,
+    vr: *const ValueReference,
+    n: usize,
+    value: *mut FmiString,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::GetString, |inst| {
@@ -694,7 +858,12 @@ pub unsafe fn get_string<M: Model>(c: Component, vr: *const ValueReference, n: u
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn set_real<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *const Real) -> Status {
+pub unsafe fn set_real<M: Model>(
+    c: Component,
+    vr: *const ValueReference,
+    n: usize,
+    value: *const Real,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::SetReal, |inst| {
@@ -709,12 +878,20 @@ pub unsafe fn set_real<M: Model>(c: Component, vr: *const ValueReference, n: usi
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn set_integer<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *const Integer) -> Status {
+pub unsafe fn set_integer<M: Model>(
+    c: Component,
+    vr: *const ValueReference,
+    n: usize,
+    value: *const Integer,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::SetInteger, |inst| {
             let vrs = slice(vr, n, "vr")?;
-            let vals: Vec<f64> = slice(value, n, "value")?.iter().map(|&x| x as f64).collect();
+            let vals: Vec<f64> = slice(value, n, "value")?
+                .iter()
+                .map(|&x| x as f64)
+                .collect();
             inst.set_values(vrs, &vals, "Integer", is_int)
         })
     }
@@ -724,12 +901,20 @@ pub unsafe fn set_integer<M: Model>(c: Component, vr: *const ValueReference, n: 
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn set_boolean<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *const Boolean) -> Status {
+pub unsafe fn set_boolean<M: Model>(
+    c: Component,
+    vr: *const ValueReference,
+    n: usize,
+    value: *const Boolean,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::SetBoolean, |inst| {
             let vrs = slice(vr, n, "vr")?;
-            let vals: Vec<f64> = slice(value, n, "value")?.iter().map(|&x| if x != FALSE { 1.0 } else { 0.0 }).collect();
+            let vals: Vec<f64> = slice(value, n, "value")?
+                .iter()
+                .map(|&x| if x != FALSE { 1.0 } else { 0.0 })
+                .collect();
             inst.set_values(vrs, &vals, "Boolean", is_bool)
         })
     }
@@ -739,7 +924,12 @@ pub unsafe fn set_boolean<M: Model>(c: Component, vr: *const ValueReference, n: 
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn set_string<M: Model>(c: Component, vr: *const ValueReference, n: usize, value: *const FmiString) -> Status {
+pub unsafe fn set_string<M: Model>(
+    c: Component,
+    vr: *const ValueReference,
+    n: usize,
+    value: *const FmiString,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::SetString, |inst| {
@@ -761,25 +951,34 @@ pub unsafe fn do_step<M: Model>(c: Component, t: f64, h: f64, _no_prior: Boolean
     unsafe {
         entry::<M>(c, Call::DoStep, |inst| {
             if !(t.is_finite() && h.is_finite()) {
-                return Err(format!("currentCommunicationPoint = {t}, communicationStepSize = {h}: not finite"));
+                return Err(format!(
+                    "currentCommunicationPoint = {t}, communicationStepSize = {h}: not finite"
+                ));
             }
             if h <= 0.0 {
                 return Err(format!("communicationStepSize = {h} must be > 0"));
             }
             let tol = 1e-9 * inst.time.abs().max(1.0);
             if (t - inst.time).abs() > tol {
-                return Err(format!("currentCommunicationPoint = {t} differs from the FMU's time {}", inst.time));
+                return Err(format!(
+                    "currentCommunicationPoint = {t} differs from the FMU's time {}",
+                    inst.time
+                ));
             }
             if let Some(stop) = inst.stop_time
                 && t + h > stop + 1e-9 * stop.abs().max(1.0)
             {
                 return Err(format!("step to {} passes the stop time {stop}", t + h));
             }
-            inst.refresh()?;
-            let model = inst.model.as_mut().expect("refreshed");
+            inst.prepared()?;
+            let model = inst.model.as_mut().expect("prepared");
             if let Err(why) = model.do_step(&mut inst.values, t, h, &mut inst.logger) {
                 inst.state = State::StepFailed;
-                inst.logger.emit(Status::Discard, "logStatusDiscard", &format!("fmi2DoStep from t = {t}: {why}"));
+                inst.logger.emit(
+                    Status::Discard,
+                    "logStatusDiscard",
+                    &format!("fmi2DoStep from t = {t}: {why}"),
+                );
                 return Ok(Status::Discard);
             }
             inst.time = t + h;
@@ -853,7 +1052,11 @@ pub unsafe fn free_fmu_state<M: Model>(c: Component, state: *mut FMUstate) -> St
 ///
 /// # Safety
 /// As [`entry`].
-pub unsafe fn serialized_fmu_state_size<M: Model>(c: Component, state: FMUstate, size: *mut usize) -> Status {
+pub unsafe fn serialized_fmu_state_size<M: Model>(
+    c: Component,
+    state: FMUstate,
+    size: *mut usize,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::SerializedFMUstateSize, |inst| {
@@ -871,14 +1074,22 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(c: Component, state: FMUstate,
 ///
 /// # Safety
 /// As [`entry`]; `bytes` holds `size` bytes.
-pub unsafe fn serialize_fmu_state<M: Model>(c: Component, state: FMUstate, bytes: *mut Byte, size: usize) -> Status {
+pub unsafe fn serialize_fmu_state<M: Model>(
+    c: Component,
+    state: FMUstate,
+    bytes: *mut Byte,
+    size: usize,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::SerializeFMUstate, |inst| {
             let p = inst.own_snapshot(state)?;
             let data = (*p).to_bytes(inst.guid_hash);
             if size < data.len() {
-                return Err(format!("buffer of {size} bytes is too small for {} bytes", data.len()));
+                return Err(format!(
+                    "buffer of {size} bytes is too small for {} bytes",
+                    data.len()
+                ));
             }
             let out = slice_mut(bytes as *mut u8, data.len(), "serializedState")?;
             out.copy_from_slice(&data);
@@ -891,7 +1102,12 @@ pub unsafe fn serialize_fmu_state<M: Model>(c: Component, state: FMUstate, bytes
 ///
 /// # Safety
 /// As [`entry`]; `bytes` holds `size` bytes; `state` points to an `fmi2FMUstate`.
-pub unsafe fn deserialize_fmu_state<M: Model>(c: Component, bytes: *const Byte, size: usize, state: *mut FMUstate) -> Status {
+pub unsafe fn deserialize_fmu_state<M: Model>(
+    c: Component,
+    bytes: *const Byte,
+    size: usize,
+    state: *mut FMUstate,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::DeSerializeFMUstate, |inst| {
@@ -926,7 +1142,11 @@ pub unsafe fn unsupported<M: Model>(c: Component, call: Call, why: &str) -> Stat
 ///
 /// # Safety
 /// As [`entry`]; `value` points to one element.
-pub unsafe fn get_real_status<M: Model>(c: Component, kind: StatusKind, value: *mut Real) -> Status {
+pub unsafe fn get_real_status<M: Model>(
+    c: Component,
+    kind: StatusKind,
+    value: *mut Real,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::GetRealStatus, |inst| {
@@ -934,7 +1154,10 @@ pub unsafe fn get_real_status<M: Model>(c: Component, kind: StatusKind, value: *
                 return Err("value is NULL".into());
             }
             if kind as i32 != StatusKind::LastSuccessfulTime as i32 {
-                return Err(format!("fmi2GetRealStatus answers fmi2LastSuccessfulTime (2) only, not {}", kind as i32));
+                return Err(format!(
+                    "fmi2GetRealStatus answers fmi2LastSuccessfulTime (2) only, not {}",
+                    kind as i32
+                ));
             }
             *value = inst.time;
             Ok(Status::Ok)
@@ -946,7 +1169,11 @@ pub unsafe fn get_real_status<M: Model>(c: Component, kind: StatusKind, value: *
 ///
 /// # Safety
 /// As [`entry`]; `value` points to one element.
-pub unsafe fn get_boolean_status<M: Model>(c: Component, kind: StatusKind, value: *mut Boolean) -> Status {
+pub unsafe fn get_boolean_status<M: Model>(
+    c: Component,
+    kind: StatusKind,
+    value: *mut Boolean,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::GetBooleanStatus, |_| {
@@ -954,7 +1181,10 @@ pub unsafe fn get_boolean_status<M: Model>(c: Component, kind: StatusKind, value
                 return Err("value is NULL".into());
             }
             if kind as i32 != StatusKind::Terminated as i32 {
-                return Err(format!("fmi2GetBooleanStatus answers fmi2Terminated (3) only, not {}", kind as i32));
+                return Err(format!(
+                    "fmi2GetBooleanStatus answers fmi2Terminated (3) only, not {}",
+                    kind as i32
+                ));
             }
             *value = FALSE;
             Ok(Status::Ok)
@@ -968,9 +1198,15 @@ mod tests {
 
     #[test]
     fn resource_locations() {
-        assert_eq!(resource_path("file:///tmp/a%20b/resources"), Some(PathBuf::from("/tmp/a b/resources")));
+        assert_eq!(
+            resource_path("file:///tmp/a%20b/resources"),
+            Some(PathBuf::from("/tmp/a b/resources"))
+        );
         assert_eq!(resource_path("file:/tmp/x"), Some(PathBuf::from("/tmp/x")));
-        assert_eq!(resource_path("file://localhost/tmp/x"), Some(PathBuf::from("/tmp/x")));
+        assert_eq!(
+            resource_path("file://localhost/tmp/x"),
+            Some(PathBuf::from("/tmp/x"))
+        );
         assert_eq!(resource_path("http://example/x"), None);
     }
 
@@ -988,11 +1224,23 @@ mod tests {
         let back = Snapshot::from_bytes(&b, 42, 4).unwrap();
         assert_eq!(back.to_bytes(42), b);
         assert_eq!(back.values[1].to_bits(), (-0.0f64).to_bits());
-        assert!(Snapshot::from_bytes(&b, 43, 4).unwrap_err().contains("GUID"));
-        assert!(Snapshot::from_bytes(&b[..b.len() - 1], 42, 4).unwrap_err().contains("truncated"));
+        assert!(
+            Snapshot::from_bytes(&b, 43, 4)
+                .unwrap_err()
+                .contains("GUID")
+        );
+        assert!(
+            Snapshot::from_bytes(&b[..b.len() - 1], 42, 4)
+                .unwrap_err()
+                .contains("truncated")
+        );
         assert!(Snapshot::from_bytes(&b, 42, 5).is_err());
         let mut longer = b.clone();
         longer.push(0);
-        assert!(Snapshot::from_bytes(&longer, 42, 4).unwrap_err().contains("trailing"));
+        assert!(
+            Snapshot::from_bytes(&longer, 42, 4)
+                .unwrap_err()
+                .contains("trailing")
+        );
     }
 }

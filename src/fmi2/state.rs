@@ -50,8 +50,23 @@ const fn mask(states: &[State]) -> u16 {
 }
 
 /// Every state an instance can be in (for calls legal anywhere but Fatal).
-const ANY: u16 = mask(&[Instantiated, InitializationMode, StepComplete, StepFailed, StepCanceled, Terminated, Error]);
-const AFTER_INIT_STARTED: u16 = mask(&[InitializationMode, StepComplete, StepFailed, StepCanceled, Terminated, Error]);
+const ANY: u16 = mask(&[
+    Instantiated,
+    InitializationMode,
+    StepComplete,
+    StepFailed,
+    StepCanceled,
+    Terminated,
+    Error,
+]);
+const AFTER_INIT_STARTED: u16 = mask(&[
+    InitializationMode,
+    StepComplete,
+    StepFailed,
+    StepCanceled,
+    Terminated,
+    Error,
+]);
 
 /// Every FMI 2.0 common and co-simulation function.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -102,10 +117,22 @@ pub const LEGAL: &[(Call, u16)] = &[
     (Call::GetInteger, AFTER_INIT_STARTED),
     (Call::GetBoolean, AFTER_INIT_STARTED),
     (Call::GetString, AFTER_INIT_STARTED),
-    (Call::SetReal, mask(&[Instantiated, InitializationMode, StepComplete])),
-    (Call::SetInteger, mask(&[Instantiated, InitializationMode, StepComplete])),
-    (Call::SetBoolean, mask(&[Instantiated, InitializationMode, StepComplete])),
-    (Call::SetString, mask(&[Instantiated, InitializationMode, StepComplete])),
+    (
+        Call::SetReal,
+        mask(&[Instantiated, InitializationMode, StepComplete]),
+    ),
+    (
+        Call::SetInteger,
+        mask(&[Instantiated, InitializationMode, StepComplete]),
+    ),
+    (
+        Call::SetBoolean,
+        mask(&[Instantiated, InitializationMode, StepComplete]),
+    ),
+    (
+        Call::SetString,
+        mask(&[Instantiated, InitializationMode, StepComplete]),
+    ),
     (Call::GetFMUstate, ANY),
     (Call::SetFMUstate, ANY),
     (Call::FreeFMUstate, ANY),
@@ -113,20 +140,44 @@ pub const LEGAL: &[(Call, u16)] = &[
     (Call::SerializeFMUstate, ANY),
     (Call::DeSerializeFMUstate, ANY),
     (Call::GetDirectionalDerivative, AFTER_INIT_STARTED),
-    (Call::SetRealInputDerivatives, mask(&[Instantiated, InitializationMode, StepComplete])),
-    (Call::GetRealOutputDerivatives, mask(&[StepComplete, StepFailed, StepCanceled, Terminated, Error])),
+    (
+        Call::SetRealInputDerivatives,
+        mask(&[Instantiated, InitializationMode, StepComplete]),
+    ),
+    (
+        Call::GetRealOutputDerivatives,
+        mask(&[StepComplete, StepFailed, StepCanceled, Terminated, Error]),
+    ),
     (Call::DoStep, mask(&[StepComplete])),
     (Call::CancelStep, 0),
-    (Call::GetStatus, mask(&[StepComplete, StepFailed, StepCanceled, Terminated])),
-    (Call::GetRealStatus, mask(&[StepComplete, StepFailed, StepCanceled, Terminated])),
-    (Call::GetIntegerStatus, mask(&[StepComplete, StepFailed, StepCanceled, Terminated])),
-    (Call::GetBooleanStatus, mask(&[StepComplete, StepFailed, StepCanceled, Terminated])),
-    (Call::GetStringStatus, mask(&[StepComplete, StepFailed, StepCanceled, Terminated])),
+    (
+        Call::GetStatus,
+        mask(&[StepComplete, StepFailed, StepCanceled, Terminated]),
+    ),
+    (
+        Call::GetRealStatus,
+        mask(&[StepComplete, StepFailed, StepCanceled, Terminated]),
+    ),
+    (
+        Call::GetIntegerStatus,
+        mask(&[StepComplete, StepFailed, StepCanceled, Terminated]),
+    ),
+    (
+        Call::GetBooleanStatus,
+        mask(&[StepComplete, StepFailed, StepCanceled, Terminated]),
+    ),
+    (
+        Call::GetStringStatus,
+        mask(&[StepComplete, StepFailed, StepCanceled, Terminated]),
+    ),
 ];
 
 /// Is `call` legal in `state`?
 pub fn allowed(call: Call, state: State) -> bool {
-    LEGAL.iter().find(|(c, _)| *c == call).is_some_and(|(_, m)| m & state as u16 != 0)
+    LEGAL
+        .iter()
+        .find(|(c, _)| *c == call)
+        .is_some_and(|(_, m)| m & state as u16 != 0)
 }
 
 #[cfg(test)]
@@ -136,7 +187,11 @@ mod tests {
     #[test]
     fn every_call_has_one_entry() {
         for (i, (c, _)) in LEGAL.iter().enumerate() {
-            assert_eq!(LEGAL.iter().filter(|(d, _)| d == c).count(), 1, "{c:?} at {i}");
+            assert_eq!(
+                LEGAL.iter().filter(|(d, _)| d == c).count(),
+                1,
+                "{c:?} at {i}"
+            );
         }
         assert_eq!(LEGAL.len(), 31);
     }

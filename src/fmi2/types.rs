@@ -47,8 +47,9 @@ pub enum StatusKind {
 }
 
 /// `fmi2CallbackLogger`: variadic; the message is a printf format, so `%` is escaped.
-pub type CallbackLogger =
-    Option<unsafe extern "C" fn(ComponentEnvironment, FmiString, Status, FmiString, FmiString, ...)>;
+pub type CallbackLogger = Option<
+    unsafe extern "C" fn(ComponentEnvironment, FmiString, Status, FmiString, FmiString, ...),
+>;
 pub type CallbackAllocateMemory = Option<unsafe extern "C" fn(usize, usize) -> *mut c_void>;
 pub type CallbackFreeMemory = Option<unsafe extern "C" fn(*mut c_void)>;
 pub type StepFinished = Option<unsafe extern "C" fn(ComponentEnvironment, Status)>;

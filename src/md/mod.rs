@@ -6,15 +6,23 @@
 //! ModelStructure. Nothing time- or machine-dependent goes in, so the file (and the GUID) is
 //! reproducible.
 
-use crate::model::{Causality, EnumType, Experiment, Initial, Model, Var, VarSet, VarType, Variability};
+use crate::model::{
+    Causality, EnumType, Experiment, Initial, Model, Var, VarSet, VarType, Variability,
+};
 use serde::Serialize;
 
 /// Log categories the runtime knows (`fmi2SetDebugLogging`), with their descriptions.
 pub const LOG_CATEGORIES: &[(&str, &str)] = &[
-    ("logEvents", "Events of the mechanism: phase changes, roller lift-off, initialization"),
+    (
+        "logEvents",
+        "Events of the mechanism: phase changes, roller lift-off, initialization",
+    ),
     ("logStatusWarning", "Calls that return fmi2Warning"),
     ("logStatusDiscard", "Calls that return fmi2Discard"),
-    ("logStatusError", "Calls that return fmi2Error, with the reason"),
+    (
+        "logStatusError",
+        "Calls that return fmi2Error, with the reason",
+    ),
     ("logStatusFatal", "Calls that return fmi2Fatal"),
     ("logAll", "Every message, including each FMI call"),
 ];
@@ -54,22 +62,86 @@ const RPM_PER_RAD_S: f64 = 30.0 / std::f64::consts::PI;
 /// Every unit the models may use. A variable with a unit not listed here is a programming
 /// error caught by the tests of every model.
 const UNITS: &[UnitDef] = &[
-    UnitDef { name: "m", base: [0, 1, 0, 0], display: &[("mm", 1000.0)] },
-    UnitDef { name: "m/s", base: [0, 1, -1, 0], display: &[("mm/s", 1000.0)] },
-    UnitDef { name: "m/s2", base: [0, 1, -2, 0], display: &[] },
-    UnitDef { name: "rad", base: [0, 0, 0, 1], display: &[("deg", DEG_PER_RAD)] },
-    UnitDef { name: "rad/s", base: [0, 0, -1, 1], display: &[("rpm", RPM_PER_RAD_S), ("deg/s", DEG_PER_RAD)] },
-    UnitDef { name: "rad/s2", base: [0, 0, -2, 1], display: &[("deg/s2", DEG_PER_RAD)] },
-    UnitDef { name: "s", base: [0, 0, 1, 0], display: &[] },
-    UnitDef { name: "kg", base: [1, 0, 0, 0], display: &[] },
-    UnitDef { name: "kg.m2", base: [1, 2, 0, 0], display: &[] },
-    UnitDef { name: "N", base: [1, 1, -2, 0], display: &[("kN", 1e-3)] },
-    UnitDef { name: "N/m", base: [1, 0, -2, 0], display: &[] },
-    UnitDef { name: "N.s/m", base: [1, 0, -1, 0], display: &[] },
-    UnitDef { name: "N.m", base: [1, 2, -2, 0], display: &[] },
-    UnitDef { name: "N.m/rad", base: [1, 2, -2, -1], display: &[] },
-    UnitDef { name: "W", base: [1, 2, -3, 0], display: &[] },
-    UnitDef { name: "Pa", base: [1, -1, -2, 0], display: &[("MPa", 1e-6)] },
+    UnitDef {
+        name: "m",
+        base: [0, 1, 0, 0],
+        display: &[("mm", 1000.0)],
+    },
+    UnitDef {
+        name: "m/s",
+        base: [0, 1, -1, 0],
+        display: &[("mm/s", 1000.0)],
+    },
+    UnitDef {
+        name: "m/s2",
+        base: [0, 1, -2, 0],
+        display: &[],
+    },
+    UnitDef {
+        name: "rad",
+        base: [0, 0, 0, 1],
+        display: &[("deg", DEG_PER_RAD)],
+    },
+    UnitDef {
+        name: "rad/s",
+        base: [0, 0, -1, 1],
+        display: &[("rpm", RPM_PER_RAD_S), ("deg/s", DEG_PER_RAD)],
+    },
+    UnitDef {
+        name: "rad/s2",
+        base: [0, 0, -2, 1],
+        display: &[("deg/s2", DEG_PER_RAD)],
+    },
+    UnitDef {
+        name: "s",
+        base: [0, 0, 1, 0],
+        display: &[],
+    },
+    UnitDef {
+        name: "kg",
+        base: [1, 0, 0, 0],
+        display: &[],
+    },
+    UnitDef {
+        name: "kg.m2",
+        base: [1, 2, 0, 0],
+        display: &[],
+    },
+    UnitDef {
+        name: "N",
+        base: [1, 1, -2, 0],
+        display: &[("kN", 1e-3)],
+    },
+    UnitDef {
+        name: "N/m",
+        base: [1, 0, -2, 0],
+        display: &[],
+    },
+    UnitDef {
+        name: "N.s/m",
+        base: [1, 0, -1, 0],
+        display: &[],
+    },
+    UnitDef {
+        name: "N.m",
+        base: [1, 2, -2, 0],
+        display: &[],
+    },
+    UnitDef {
+        name: "N.m/rad",
+        base: [1, 2, -2, -1],
+        display: &[],
+    },
+    UnitDef {
+        name: "W",
+        base: [1, 2, -3, 0],
+        display: &[],
+    },
+    UnitDef {
+        name: "Pa",
+        base: [1, -1, -2, 0],
+        display: &[("MPa", 1e-6)],
+    },
 ];
 
 fn unit_def(name: &str) -> Option<&'static UnitDef> {
@@ -398,7 +470,12 @@ pub fn check(vars: &[Var]) -> Result<(), String> {
         {
             return e("start above max");
         }
-        if v.causality == Causality::Output && v.depends.iter().any(|&d| vars.get(d as usize).is_none_or(|x| x.causality != Causality::Input)) {
+        if v.causality == Causality::Output
+            && v.depends.iter().any(|&d| {
+                vars.get(d as usize)
+                    .is_none_or(|x| x.causality != Causality::Input)
+            })
+        {
             return e("an output may depend only on inputs");
         }
         if v.ty != VarType::Real && v.variability == Variability::Continuous {
@@ -434,8 +511,13 @@ fn scalar_variable(vr: u32, v: &Var) -> ScalarVariable {
             max: v.max.map(|x| x as i64),
             start: v.start.map(|x| x as i64),
         }),
-        VarType::Boolean => TypeElement::Boolean(BoolAttrs { start: v.start.map(|x| x != 0.0) }),
-        VarType::Enumeration(t) => TypeElement::Enumeration(EnumAttrs { declared_type: t.name, start: v.start.map(|x| x as i64) }),
+        VarType::Boolean => TypeElement::Boolean(BoolAttrs {
+            start: v.start.map(|x| x != 0.0),
+        }),
+        VarType::Enumeration(t) => TypeElement::Enumeration(EnumAttrs {
+            declared_type: t.name,
+            start: v.start.map(|x| x as i64),
+        }),
     };
     ScalarVariable {
         name: v.name,
@@ -451,7 +533,10 @@ fn scalar_variable(vr: u32, v: &Var) -> ScalarVariable {
 fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
     // Value reference -> 1-based index in ModelVariables.
     let index_of = |vr: u32| vars.iter().position(|(r, _)| *r == vr).map(|p| p + 1);
-    let mut used_units: Vec<&'static UnitDef> = vars.iter().filter_map(|(_, v)| v.unit.and_then(unit_def)).collect();
+    let mut used_units: Vec<&'static UnitDef> = vars
+        .iter()
+        .filter_map(|(_, v)| v.unit.and_then(unit_def))
+        .collect();
     used_units.sort_by_key(|u| u.name);
     used_units.dedup_by_key(|u| u.name);
     let units = used_units
@@ -460,8 +545,20 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             let nz = |x: i8| (x != 0).then_some(x);
             Unit {
                 name: u.name,
-                base: BaseUnit { kg: nz(u.base[0]), m: nz(u.base[1]), s: nz(u.base[2]), rad: nz(u.base[3]) },
-                display: u.display.iter().map(|(n, f)| DisplayUnit { name: n, factor: fmt_real(*f) }).collect(),
+                base: BaseUnit {
+                    kg: nz(u.base[0]),
+                    m: nz(u.base[1]),
+                    s: nz(u.base[2]),
+                    rad: nz(u.base[3]),
+                },
+                display: u
+                    .display
+                    .iter()
+                    .map(|(n, f)| DisplayUnit {
+                        name: n,
+                        factor: fmt_real(*f),
+                    })
+                    .collect(),
             }
         })
         .collect();
@@ -472,7 +569,16 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             name: t.name,
             description: t.description,
             enumeration: EnumItems {
-                item: t.items.iter().enumerate().map(|(i, (n, d))| Item { name: n, value: i as i32 + 1, description: d }).collect(),
+                item: t
+                    .items
+                    .iter()
+                    .enumerate()
+                    .map(|(i, (n, d))| Item {
+                        name: n,
+                        value: i as i32 + 1,
+                        description: d,
+                    })
+                    .collect(),
             },
         })
         .collect();
@@ -481,18 +587,30 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
         .enumerate()
         .filter(|(_, (_, v))| v.causality == Causality::Output)
         .map(|(i, (_, v))| {
-            let deps: Vec<String> = v.depends.iter().filter_map(|&d| index_of(d)).map(|k| k.to_string()).collect();
-            Unknown { index: i + 1, dependencies: Some(deps.join(" ")) }
+            let deps: Vec<String> = v
+                .depends
+                .iter()
+                .filter_map(|&d| index_of(d))
+                .map(|k| k.to_string())
+                .collect();
+            Unknown {
+                index: i + 1,
+                dependencies: Some(deps.join(" ")),
+            }
         })
         .collect();
     let initial = vars
         .iter()
         .enumerate()
         .filter(|(_, (_, v))| {
-            (v.causality == Causality::Output && matches!(v.initial, Some(Initial::Approx | Initial::Calculated)))
+            (v.causality == Causality::Output
+                && matches!(v.initial, Some(Initial::Approx | Initial::Calculated)))
                 || (v.causality == Causality::CalculatedParameter)
         })
-        .map(|(i, _)| Unknown { index: i + 1, dependencies: None })
+        .map(|(i, _)| Unknown {
+            index: i + 1,
+            dependencies: None,
+        })
         .collect();
     let e = info.experiment;
     Fmd {
@@ -518,15 +636,28 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
         },
         units: Units { unit: units },
         types: Types { simple: types },
-        log_categories: LogCats { category: LOG_CATEGORIES.iter().map(|(n, d)| Category { name: n, description: d }).collect() },
+        log_categories: LogCats {
+            category: LOG_CATEGORIES
+                .iter()
+                .map(|(n, d)| Category {
+                    name: n,
+                    description: d,
+                })
+                .collect(),
+        },
         experiment: DefaultExperiment {
             start: fmt_real(e.start),
             stop: fmt_real(e.stop),
             tolerance: e.tolerance.map(fmt_real),
             step: fmt_real(e.step),
         },
-        variables: ModelVariables { vars: vars.iter().map(|(vr, v)| scalar_variable(*vr, v)).collect() },
-        structure: ModelStructure { outputs: Unknowns { unknown: outputs }, initial: Unknowns { unknown: initial } },
+        variables: ModelVariables {
+            vars: vars.iter().map(|(vr, v)| scalar_variable(*vr, v)).collect(),
+        },
+        structure: ModelStructure {
+            outputs: Unknowns { unknown: outputs },
+            initial: Unknowns { unknown: initial },
+        },
     }
 }
 
@@ -551,7 +682,14 @@ pub fn fnv1a_128(bytes: &[u8]) -> u128 {
 /// Formats a 128-bit hash as a GUID `{xxxxxxxx-xxxx-xxxx-xxxx-xxxxxxxxxxxx}`.
 pub fn format_guid(h: u128) -> String {
     let s = format!("{h:032x}");
-    format!("{{{}-{}-{}-{}-{}}}", &s[0..8], &s[8..12], &s[12..16], &s[16..20], &s[20..32])
+    format!(
+        "{{{}-{}-{}-{}-{}}}",
+        &s[0..8],
+        &s[8..12],
+        &s[12..16],
+        &s[16..20],
+        &s[20..32]
+    )
 }
 
 /// The model description of the given variables (by value reference) and its GUID, which is
@@ -564,7 +702,11 @@ pub fn describe_vars(info: &ModelInfo, vars: &[(u32, &Var)]) -> (String, String)
 
 /// The full model description of a model type, and its GUID.
 pub fn describe<M: Model>() -> (String, String) {
-    let vars: Vec<(u32, &Var)> = <M::Var as VarSet>::table().iter().enumerate().map(|(i, v)| (i as u32, v)).collect();
+    let vars: Vec<(u32, &Var)> = <M::Var as VarSet>::table()
+        .iter()
+        .enumerate()
+        .map(|(i, v)| (i as u32, v))
+        .collect();
     describe_vars(&ModelInfo::of::<M>(), &vars)
 }
 
@@ -582,7 +724,17 @@ mod tests {
 
     #[test]
     fn reals_are_written_round_trip() {
-        for x in [0.0, 1.0, -2.0, 0.07, 1e-3, 2.1e11, 57.29577951308232, 1e-12, 12345.678] {
+        for x in [
+            0.0,
+            1.0,
+            -2.0,
+            0.07,
+            1e-3,
+            2.1e11,
+            57.29577951308232,
+            1e-12,
+            12345.678,
+        ] {
             assert_eq!(fmt_real(x).parse::<f64>().unwrap(), x, "{x}");
         }
     }

@@ -45,6 +45,10 @@ pub struct Pose {
     pub dds: f64,
     /// Rod angle ν, `sin ν = (r·sin θ − e)/l`, rad.
     pub nu: f64,
+    /// `sin ν = (r·sin θ − e)/l` (exact, without a round trip through ν).
+    pub sin_nu: f64,
+    /// `cos ν = √(l² − (r·sin θ − e)²)/l`.
+    pub cos_nu: f64,
     /// `dν/dθ`.
     pub dnu: f64,
     /// `d²ν/dθ²`, 1/rad.
@@ -147,6 +151,8 @@ impl SliderCrank {
             ds: -dx,
             dds: -ddx,
             nu: y.atan2(w),
+            sin_nu: y / l,
+            cos_nu: w / l,
             dnu: dy * inv_w,
             ddnu: ddy * inv_w + dy * dy * y * inv_w3,
         }
@@ -351,6 +357,8 @@ mod tests {
                 assert_abs_diff_eq!(sc.velocity_ratio(th), identity, epsilon = 1e-15);
                 assert_abs_diff_eq!(sc.torque_arm(th), sc.r * (th + nu).sin(), epsilon = 1e-15);
                 assert_abs_diff_eq!(sc.torque_arm(th), p.ds * p.nu.cos(), epsilon = 1e-15);
+                assert_abs_diff_eq!(p.sin_nu, p.nu.sin(), epsilon = 1e-15);
+                assert_abs_diff_eq!(p.cos_nu, p.nu.cos(), epsilon = 1e-15);
             }
         }
     }

@@ -10,13 +10,40 @@ use std::sync::Mutex;
 
 /// Every FMI 2.0 common and co-simulation function.
 pub const FMI2_CS_FUNCTIONS: &[&str] = &[
-    "fmi2GetTypesPlatform", "fmi2GetVersion", "fmi2SetDebugLogging", "fmi2Instantiate", "fmi2FreeInstance",
-    "fmi2SetupExperiment", "fmi2EnterInitializationMode", "fmi2ExitInitializationMode", "fmi2Terminate", "fmi2Reset",
-    "fmi2GetReal", "fmi2GetInteger", "fmi2GetBoolean", "fmi2GetString", "fmi2SetReal", "fmi2SetInteger",
-    "fmi2SetBoolean", "fmi2SetString", "fmi2GetFMUstate", "fmi2SetFMUstate", "fmi2FreeFMUstate",
-    "fmi2SerializedFMUstateSize", "fmi2SerializeFMUstate", "fmi2DeSerializeFMUstate", "fmi2GetDirectionalDerivative",
-    "fmi2SetRealInputDerivatives", "fmi2GetRealOutputDerivatives", "fmi2DoStep", "fmi2CancelStep", "fmi2GetStatus",
-    "fmi2GetRealStatus", "fmi2GetIntegerStatus", "fmi2GetBooleanStatus", "fmi2GetStringStatus",
+    "fmi2GetTypesPlatform",
+    "fmi2GetVersion",
+    "fmi2SetDebugLogging",
+    "fmi2Instantiate",
+    "fmi2FreeInstance",
+    "fmi2SetupExperiment",
+    "fmi2EnterInitializationMode",
+    "fmi2ExitInitializationMode",
+    "fmi2Terminate",
+    "fmi2Reset",
+    "fmi2GetReal",
+    "fmi2GetInteger",
+    "fmi2GetBoolean",
+    "fmi2GetString",
+    "fmi2SetReal",
+    "fmi2SetInteger",
+    "fmi2SetBoolean",
+    "fmi2SetString",
+    "fmi2GetFMUstate",
+    "fmi2SetFMUstate",
+    "fmi2FreeFMUstate",
+    "fmi2SerializedFMUstateSize",
+    "fmi2SerializeFMUstate",
+    "fmi2DeSerializeFMUstate",
+    "fmi2GetDirectionalDerivative",
+    "fmi2SetRealInputDerivatives",
+    "fmi2GetRealOutputDerivatives",
+    "fmi2DoStep",
+    "fmi2CancelStep",
+    "fmi2GetStatus",
+    "fmi2GetRealStatus",
+    "fmi2GetIntegerStatus",
+    "fmi2GetBooleanStatus",
+    "fmi2GetStringStatus",
 ];
 
 /// Path of a built FMU binary: `target/{release,debug}/lib<id>.so`, newest first.
@@ -25,7 +52,11 @@ pub fn binary_path(id: &str) -> PathBuf {
     let target = std::env::var_os("CARGO_TARGET_DIR")
         .map(PathBuf::from)
         .unwrap_or_else(|| PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target"));
-    let candidates: Vec<PathBuf> = ["release", "debug"].iter().map(|p| target.join(p).join(format!("lib{id}.so"))).filter(|p| p.exists()).collect();
+    let candidates: Vec<PathBuf> = ["release", "debug"]
+        .iter()
+        .map(|p| target.join(p).join(format!("lib{id}.so")))
+        .filter(|p| p.exists())
+        .collect();
     candidates
         .into_iter()
         .max_by_key(|p| std::fs::metadata(p).and_then(|m| m.modified()).ok())
@@ -40,9 +71,23 @@ static LOGS: Mutex<Vec<(usize, LogLine)>> = Mutex::new(Vec::new());
 /// The logger the tests hand to the FMU. FMI's logger is C-variadic; a Rust function cannot be
 /// defined variadic on stable, and on x86-64 / aarch64 a non-variadic callee reading only the
 /// fixed arguments is called correctly through a variadic pointer.
-unsafe extern "C" fn record(env: ComponentEnvironment, _name: FmiString, status: Status, cat: FmiString, msg: FmiString) {
-    let s = |p: FmiString| if p.is_null() { String::new() } else { unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned() };
-    LOGS.lock().unwrap().push((env as usize, (status, s(cat), s(msg))));
+unsafe extern "C" fn record(
+    env: ComponentEnvironment,
+    _name: FmiString,
+    status: Status,
+    cat: FmiString,
+    msg: FmiString,
+) {
+    let s = |p: FmiString| {
+        if p.is_null() {
+            String::new()
+        } else {
+            unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
+        }
+    };
+    LOGS.lock()
+        .unwrap()
+        .push((env as usize, (status, s(cat), s(msg))));
 }
 
 pub fn logger() -> CallbackLogger {
@@ -50,7 +95,14 @@ pub fn logger() -> CallbackLogger {
     Some(unsafe {
         std::mem::transmute::<
             unsafe extern "C" fn(ComponentEnvironment, FmiString, Status, FmiString, FmiString),
-            unsafe extern "C" fn(ComponentEnvironment, FmiString, Status, FmiString, FmiString, ...),
+            unsafe extern "C" fn(
+                ComponentEnvironment,
+                FmiString,
+                Status,
+                FmiString,
+                FmiString,
+                ...
+            ),
         >(record)
     })
 }
@@ -67,7 +119,10 @@ impl Fmu {
     pub fn load(id: &str, guid: &str) -> Fmu {
         // SAFETY: loading our own FMU binary, which has no library constructors.
         let lib = unsafe { Library::new(binary_path(id)) }.expect("load FMU binary");
-        Fmu { lib, guid: guid.into() }
+        Fmu {
+            lib,
+            guid: guid.into(),
+        }
     }
 
     /// A function of the binary.
@@ -77,13 +132,35 @@ impl Fmu {
     }
 
     pub fn callbacks(&self, env: usize) -> CallbackFunctions {
-        CallbackFunctions { logger: logger(), allocate_memory: None, free_memory: None, step_finished: None, component_environment: env as *mut c_void }
+        CallbackFunctions {
+            logger: logger(),
+            allocate_memory: None,
+            free_memory: None,
+            step_finished: None,
+            component_environment: env as *mut c_void,
+        }
     }
 
     /// Raw fmi2Instantiate.
-    pub fn instantiate_raw(&self, name: *const c_char, ty: FmuType, guid: *const c_char, res: *const c_char, f: *const CallbackFunctions) -> Component {
-        let inst: Symbol<unsafe extern "C" fn(FmiString, FmuType, FmiString, FmiString, *const CallbackFunctions, Boolean, Boolean) -> Component> =
-            self.sym("fmi2Instantiate");
+    pub fn instantiate_raw(
+        &self,
+        name: *const c_char,
+        ty: FmuType,
+        guid: *const c_char,
+        res: *const c_char,
+        f: *const CallbackFunctions,
+    ) -> Component {
+        let inst: Symbol<
+            unsafe extern "C" fn(
+                FmiString,
+                FmuType,
+                FmiString,
+                FmiString,
+                *const CallbackFunctions,
+                Boolean,
+                Boolean,
+            ) -> Component,
+        > = self.sym("fmi2Instantiate");
         unsafe { inst(name, ty, guid, res, f, FALSE, FALSE) }
     }
 
@@ -93,7 +170,13 @@ impl Fmu {
         let f = self.callbacks(env);
         let n = CString::new(name).unwrap();
         let g = CString::new(self.guid.clone()).unwrap();
-        let c = self.instantiate_raw(n.as_ptr(), FmuType::CoSimulation, g.as_ptr(), std::ptr::null(), &f);
+        let c = self.instantiate_raw(
+            n.as_ptr(),
+            FmuType::CoSimulation,
+            g.as_ptr(),
+            std::ptr::null(),
+            &f,
+        );
         assert!(!c.is_null(), "instantiate failed: {:?}", logs_of(env));
         Slave { fmu: self, c, env }
     }
@@ -101,7 +184,12 @@ impl Fmu {
 
 /// Messages logged for one environment.
 pub fn logs_of(env: usize) -> Vec<LogLine> {
-    LOGS.lock().unwrap().iter().filter(|(e, _)| *e == env).map(|(_, l)| l.clone()).collect()
+    LOGS.lock()
+        .unwrap()
+        .iter()
+        .filter(|(e, _)| *e == env)
+        .map(|(_, l)| l.clone())
+        .collect()
 }
 
 /// An instance.
@@ -116,64 +204,93 @@ impl Slave<'_> {
         logs_of(self.env)
     }
     pub fn last_error(&self) -> String {
-        self.logs().iter().rev().find(|l| l.0 == Status::Error).map(|l| l.2.clone()).unwrap_or_default()
+        self.logs()
+            .iter()
+            .rev()
+            .find(|l| l.0 == Status::Error)
+            .map(|l| l.2.clone())
+            .unwrap_or_default()
     }
     pub fn call0(&self, name: &str) -> Status {
         let f: Symbol<unsafe extern "C" fn(Component) -> Status> = self.fmu.sym(name);
         unsafe { f(self.c) }
     }
     pub fn setup(&self, start: f64, stop: Option<f64>) -> Status {
-        let f: Symbol<unsafe extern "C" fn(Component, Boolean, Real, Real, Boolean, Real) -> Status> = self.fmu.sym("fmi2SetupExperiment");
-        unsafe { f(self.c, FALSE, 0.0, start, stop.is_some() as Boolean, stop.unwrap_or(0.0)) }
+        let f: Symbol<
+            unsafe extern "C" fn(Component, Boolean, Real, Real, Boolean, Real) -> Status,
+        > = self.fmu.sym("fmi2SetupExperiment");
+        unsafe {
+            f(
+                self.c,
+                FALSE,
+                0.0,
+                start,
+                stop.is_some() as Boolean,
+                stop.unwrap_or(0.0),
+            )
+        }
     }
     pub fn init(&self) -> Status {
-        self.call0("fmi2EnterInitializationMode").max(self.call0("fmi2ExitInitializationMode"))
+        self.call0("fmi2EnterInitializationMode")
+            .max(self.call0("fmi2ExitInitializationMode"))
     }
     pub fn get_real(&self, vrs: &[u32]) -> (Status, Vec<f64>) {
-        let f: Symbol<unsafe extern "C" fn(Component, *const u32, usize, *mut Real) -> Status> = self.fmu.sym("fmi2GetReal");
+        let f: Symbol<unsafe extern "C" fn(Component, *const u32, usize, *mut Real) -> Status> =
+            self.fmu.sym("fmi2GetReal");
         let mut out = vec![f64::NAN; vrs.len()];
         let s = unsafe { f(self.c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr()) };
         (s, out)
     }
     pub fn set_real(&self, vrs: &[u32], vals: &[f64]) -> Status {
-        let f: Symbol<unsafe extern "C" fn(Component, *const u32, usize, *const Real) -> Status> = self.fmu.sym("fmi2SetReal");
+        let f: Symbol<unsafe extern "C" fn(Component, *const u32, usize, *const Real) -> Status> =
+            self.fmu.sym("fmi2SetReal");
         unsafe { f(self.c, vrs.as_ptr(), vrs.len(), vals.as_ptr()) }
     }
     pub fn get_integer(&self, vrs: &[u32]) -> (Status, Vec<i32>) {
-        let f: Symbol<unsafe extern "C" fn(Component, *const u32, usize, *mut Integer) -> Status> = self.fmu.sym("fmi2GetInteger");
+        let f: Symbol<unsafe extern "C" fn(Component, *const u32, usize, *mut Integer) -> Status> =
+            self.fmu.sym("fmi2GetInteger");
         let mut out = vec![0; vrs.len()];
         let s = unsafe { f(self.c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr()) };
         (s, out)
     }
     pub fn set_integer(&self, vrs: &[u32], vals: &[i32]) -> Status {
-        let f: Symbol<unsafe extern "C" fn(Component, *const u32, usize, *const Integer) -> Status> = self.fmu.sym("fmi2SetInteger");
+        let f: Symbol<
+            unsafe extern "C" fn(Component, *const u32, usize, *const Integer) -> Status,
+        > = self.fmu.sym("fmi2SetInteger");
         unsafe { f(self.c, vrs.as_ptr(), vrs.len(), vals.as_ptr()) }
     }
     pub fn get_boolean(&self, vrs: &[u32]) -> (Status, Vec<bool>) {
-        let f: Symbol<unsafe extern "C" fn(Component, *const u32, usize, *mut Boolean) -> Status> = self.fmu.sym("fmi2GetBoolean");
+        let f: Symbol<unsafe extern "C" fn(Component, *const u32, usize, *mut Boolean) -> Status> =
+            self.fmu.sym("fmi2GetBoolean");
         let mut out = vec![0; vrs.len()];
         let s = unsafe { f(self.c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr()) };
         (s, out.into_iter().map(|b| b != 0).collect())
     }
     pub fn do_step(&self, t: f64, h: f64) -> Status {
-        let f: Symbol<unsafe extern "C" fn(Component, Real, Real, Boolean) -> Status> = self.fmu.sym("fmi2DoStep");
+        let f: Symbol<unsafe extern "C" fn(Component, Real, Real, Boolean) -> Status> =
+            self.fmu.sym("fmi2DoStep");
         unsafe { f(self.c, t, h, TRUE) }
     }
     pub fn get_state(&self, s: &mut FMUstate) -> Status {
-        let f: Symbol<unsafe extern "C" fn(Component, *mut FMUstate) -> Status> = self.fmu.sym("fmi2GetFMUstate");
+        let f: Symbol<unsafe extern "C" fn(Component, *mut FMUstate) -> Status> =
+            self.fmu.sym("fmi2GetFMUstate");
         unsafe { f(self.c, s) }
     }
     pub fn set_state(&self, s: FMUstate) -> Status {
-        let f: Symbol<unsafe extern "C" fn(Component, FMUstate) -> Status> = self.fmu.sym("fmi2SetFMUstate");
+        let f: Symbol<unsafe extern "C" fn(Component, FMUstate) -> Status> =
+            self.fmu.sym("fmi2SetFMUstate");
         unsafe { f(self.c, s) }
     }
     pub fn free_state(&self, s: &mut FMUstate) -> Status {
-        let f: Symbol<unsafe extern "C" fn(Component, *mut FMUstate) -> Status> = self.fmu.sym("fmi2FreeFMUstate");
+        let f: Symbol<unsafe extern "C" fn(Component, *mut FMUstate) -> Status> =
+            self.fmu.sym("fmi2FreeFMUstate");
         unsafe { f(self.c, s) }
     }
     pub fn serialize(&self, s: FMUstate) -> (Status, Vec<u8>) {
-        let size_f: Symbol<unsafe extern "C" fn(Component, FMUstate, *mut usize) -> Status> = self.fmu.sym("fmi2SerializedFMUstateSize");
-        let ser: Symbol<unsafe extern "C" fn(Component, FMUstate, *mut Byte, usize) -> Status> = self.fmu.sym("fmi2SerializeFMUstate");
+        let size_f: Symbol<unsafe extern "C" fn(Component, FMUstate, *mut usize) -> Status> =
+            self.fmu.sym("fmi2SerializedFMUstateSize");
+        let ser: Symbol<unsafe extern "C" fn(Component, FMUstate, *mut Byte, usize) -> Status> =
+            self.fmu.sym("fmi2SerializeFMUstate");
         let mut n = 0usize;
         let st = unsafe { size_f(self.c, s, &mut n) };
         if st != Status::Ok {
@@ -184,7 +301,9 @@ impl Slave<'_> {
         (st, buf)
     }
     pub fn deserialize(&self, bytes: &[u8], s: &mut FMUstate) -> Status {
-        let f: Symbol<unsafe extern "C" fn(Component, *const Byte, usize, *mut FMUstate) -> Status> = self.fmu.sym("fmi2DeSerializeFMUstate");
+        let f: Symbol<
+            unsafe extern "C" fn(Component, *const Byte, usize, *mut FMUstate) -> Status,
+        > = self.fmu.sym("fmi2DeSerializeFMUstate");
         unsafe { f(self.c, bytes.as_ptr() as *const Byte, bytes.len(), s) }
     }
 }

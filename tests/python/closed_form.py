@@ -93,6 +93,11 @@ def geneva(phi, p: Params = Params()):
 
 def evaluate(phi, w, eps, p: Params = Params()) -> dict:
     """Every output of the spec, as NumPy arrays, at shaft angle/speed/acceleration (phi, w, eps)."""
+    return evaluate_with_alternatives(phi, w, eps, p)[0]
+
+
+def evaluate_with_alternatives(phi, w, eps, p: Params = Params()) -> tuple[dict, dict]:
+    """`evaluate`, and the values some outputs may equally take where the spec leaves a tie open."""
     phi, w, eps = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (phi, w, eps)))
     gamma, gd, gdd, engaged, rho = geneva(phi, p)
     lam2 = p.l / p.r2
@@ -127,6 +132,11 @@ def evaluate(phi, w, eps, p: Params = Params()) -> dict:
     to_crank = tau_crank * theta_w > 0
     tau_cross = np.where(to_crank, p.i * tau_crank / p.eta, p.i * tau_crank * p.eta) + p.J_cross * gamma_a
     F_geneva = tau_cross / rho
+    # Where the crank stands still (entry and exit of the roller, theta_dot = 0 up to round-off) no
+    # power flows through the mesh and the spec does not say which efficiency branch applies:
+    # either is accepted there (see `mismatches`).
+    tie = np.abs(theta_w) <= 1e-9 * p.i * np.abs(w)
+    tau_cross_alt = np.where(to_crank, p.i * tau_crank * p.eta, p.i * tau_crank / p.eta) + p.J_cross * gamma_a
     tau = np.where(engaged, tau_cross * gd, 0.0) + p.J_driver * eps
 
     return {
@@ -138,6 +148,9 @@ def evaluate(phi, w, eps, p: Params = Params()) -> dict:
         "rod.F": P, "guide.N": N,
         "crank.tau": tau_crank, "cross.tau": tau_cross, "geneva.F": F_geneva,
         "shaft.tau": tau, "shaft.P": tau * w,
+    }, {
+        "cross.tau": np.where(tie, tau_cross_alt, tau_cross),
+        "geneva.F": np.where(tie, tau_cross_alt / rho, F_geneva),
     }
 
 
@@ -155,12 +168,6 @@ def kinetic_energy(out: dict, p: Params = Params(), w=None) -> np.ndarray:
     return ke
 
 
-def wrap_to_index(delta, Z: int = 4):
-    """A cross-angle difference folded into (-pi/Z, pi/Z]: the cross looks the same after 2*pi/Z."""
-    step = 2.0 * math.pi / Z
-    return delta - step * np.round(delta / step)
-
-
 ANGLE_PERIODS = {"cross.gamma": lambda p: 2.0 * math.pi / p.Z, "crank.theta": lambda p: 2.0 * math.pi}
 
 
@@ -173,7 +180,7 @@ def mismatches(result, p: Params = Params(), names=None, rtol: float = 1e-9, inp
     where the FMU drives itself and ignores them)."""
     phi, w, a = inputs if inputs is not None else (result["shaft.phi"], result["shaft.w"], result["shaft.a"])
     phi, w, a = np.broadcast_arrays(*(np.asarray(x, dtype=float) for x in (phi, w, a)))
-    expected = evaluate(phi, w, a, p)
+    expected, alternatives = evaluate_with_alternatives(phi, w, a, p)
     names = [n for n in (names or expected) if n in result.dtype.names]
     problems = []
     for name in names:
@@ -188,6 +195,9 @@ def mismatches(result, p: Params = Params(), names=None, rtol: float = 1e-9, inp
                                 f"expected {bool(want[k])}")
             continue
         diff = got - want
+        if name in alternatives:
+            diff_alt = got - alternatives[name]
+            diff = np.where(np.abs(diff_alt) < np.abs(diff), diff_alt, diff)
         if name in ANGLE_PERIODS:
             period = ANGLE_PERIODS[name](p)
             diff = diff - period * np.round(diff / period)

@@ -16,6 +16,7 @@ import math
 import os
 import shutil
 import tempfile
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -31,6 +32,70 @@ MD_DIR = ROOT / "modelDescription"
 CROSS_CHECK_DIR = ROOT / "fmus"
 
 SHAFT_INPUTS = ["shaft.phi", "shaft.w", "shaft.a"]
+
+
+# --- FMU log messages -----------------------------------------------------------------------------
+# FMPy formats the FMU's printf-style messages in a native proxy (fmpy/logging) that keeps ONE
+# global Python logger, replaced by every custom logger (also simulate_fmu(logger=...)). Instances
+# made later with FMPy's default callbacks then call that last logger; if it has been garbage
+# collected the process segfaults. So every logger made here is kept alive for the whole process,
+# and after each use the global proxy is pointed back at FMPy's printing logger.
+
+_ALIVE: list = []
+_PRINTING_LOGGER = None
+
+
+def restore_default_logger():
+    """Points FMPy's global logger proxy back at printing (fmpy.fmi1.printLogMessage)."""
+    global _PRINTING_LOGGER
+    from ctypes import byref
+    from fmpy.fmi1 import printLogMessage
+    from fmpy.fmi2 import fmi2CallbackFunctions, fmi2CallbackLoggerTYPE
+    from fmpy.logging import addLoggerProxy
+    if _PRINTING_LOGGER is None:
+        _PRINTING_LOGGER = fmi2CallbackLoggerTYPE(printLogMessage)
+    functions = fmi2CallbackFunctions()
+    functions.logger = _PRINTING_LOGGER
+    addLoggerProxy(byref(functions))
+    _ALIVE.append(functions)
+
+
+class LogCapture(list):
+    """An FMI 2.0 logger callback that records (status, category, message) with str fields."""
+
+    def __call__(self, env, instance, status, category, message):
+        self.append((status, (category or b"").decode(errors="replace"), (message or b"").decode(errors="replace")))
+
+    def errors(self) -> list[str]:
+        return [m for status, _, m in self if status >= 3]
+
+
+@contextmanager
+def captured_log():
+    """A LogCapture to pass as simulate_fmu(logger=...) or to callbacks_with(); kept alive, and
+    FMPy's logger proxy restored afterwards."""
+    log = LogCapture()
+    _ALIVE.append(log)
+    try:
+        yield log
+    finally:
+        restore_default_logger()
+
+
+def callbacks_with(logger):
+    """fmi2CallbackFunctions whose logger is `logger` (formatted by FMPy's proxy), kept alive."""
+    from ctypes import byref
+    from fmpy import calloc, free
+    from fmpy.fmi2 import (fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE,
+                           fmi2CallbackFunctions, fmi2CallbackLoggerTYPE)
+    from fmpy.logging import addLoggerProxy
+    callbacks = fmi2CallbackFunctions()
+    callbacks.logger = fmi2CallbackLoggerTYPE(logger)
+    callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
+    callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
+    addLoggerProxy(byref(callbacks))
+    _ALIVE.append((logger, callbacks))
+    return callbacks
 
 
 def fmu_paths() -> list[Path]:
@@ -80,19 +145,7 @@ class Extracted:
         vr = {n: self.vars[n].valueReference for n in SHAFT_INPUTS}
         fmu = FMU2Slave(guid=self.md.guid, unzipDirectory=self.dir,
                         modelIdentifier=self.md.coSimulation.modelIdentifier, instanceName="probe")
-        callbacks = None
-        if logger is not None:
-            from fmpy.fmi2 import fmi2CallbackFunctions, fmi2CallbackLoggerTYPE, \
-                fmi2CallbackAllocateMemoryTYPE, fmi2CallbackFreeMemoryTYPE
-            from fmpy import calloc, free
-            from fmpy.logging import addLoggerProxy
-            from ctypes import byref
-            callbacks = fmi2CallbackFunctions()
-            callbacks.logger = fmi2CallbackLoggerTYPE(logger)
-            callbacks.allocateMemory = fmi2CallbackAllocateMemoryTYPE(calloc)
-            callbacks.freeMemory = fmi2CallbackFreeMemoryTYPE(free)
-            addLoggerProxy(byref(callbacks))
-        fmu.instantiate(callbacks=callbacks)
+        fmu.instantiate(callbacks=None if logger is None else callbacks_with(logger))
         try:
             fmu.setupExperiment(startTime=0.0)
             self._set(fmu, start_values or {})
@@ -116,6 +169,8 @@ class Extracted:
             return {n: np.array(x) for n, x in out.items()}
         finally:
             fmu.freeInstance()
+            if logger is not None:
+                restore_default_logger()
 
     def get_after_init(self, names, start_values=None):
         """Values of `names` (Real) right after initialization, e.g. calculated parameters."""

@@ -17,11 +17,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from fmpy.fmi1 import FMICallException
+from fmpy.fmi2 import FMU2Slave
 from fmpy.util import read_csv
 from fmpy.validation import validate_fmu
 
-from harness import (MD_DIR, SHAFT_INPUTS, Extracted, columns_close, cross_check_paths,
-                     simulate_cross_check)
+from harness import (MD_DIR, SHAFT_INPUTS, Extracted, callbacks_with, captured_log, columns_close,
+                     cross_check_paths, simulate_cross_check)
 
 FMUTOOL = shutil.which("fmutool", path=str(Path(sys.executable).parent)) or shutil.which("fmutool")
 
@@ -234,3 +236,136 @@ def test_cross_check_reproduces_reference(extracted):
     np.testing.assert_allclose(result["time"], ref["time"], rtol=0, atol=1e-12)
     for name in columns:
         columns_close(result[name], ref[name], rtol=1e-9, name=name)
+
+
+# --- bad calls get fmi2Error, never a crash (interface.md) ------------------------------------------
+
+def _instance(extracted, start_values=None, name="robustness", log=None):
+    """An instantiated FMU2Slave (setupExperiment done), start values set; `log`: a LogCapture."""
+    fmu = FMU2Slave(guid=extracted.md.guid, unzipDirectory=extracted.dir,
+                    modelIdentifier=extracted.md.coSimulation.modelIdentifier, instanceName=name)
+    fmu.instantiate(callbacks=None if log is None else callbacks_with(log))
+    fmu.setupExperiment(startTime=0.0)
+    for n, v in (start_values or {}).items():
+        if extracted.vars[n].type in ("Integer", "Enumeration"):
+            fmu.setInteger([extracted.vars[n].valueReference], [v])
+        else:
+            fmu.setReal([extracted.vars[n].valueReference], [v])
+    return fmu
+
+
+def _status(call):
+    try:
+        call()
+        return 0
+    except FMICallException as e:
+        return e.status
+
+
+def test_non_finite_input_is_refused_and_the_old_value_kept(extracted):
+    with captured_log() as log:
+        _non_finite_input(extracted, log)
+
+
+def _non_finite_input(extracted, log):
+    fmu = _instance(extracted, log=log)
+    try:
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        vr = extracted.vars["shaft.phi"].valueReference
+        outs = [extracted.vars[n].valueReference for n in extracted.outputs()]
+        fmu.setReal([vr], [0.3])
+        fmu.doStep(0.0, 1e-3)
+        before = fmu.getReal(outs)
+        for bad in (math.nan, math.inf, -math.inf):
+            assert _status(lambda: fmu.setReal([vr], [bad])) == 3, f"fmi2SetReal(shaft.phi = {bad}) accepted"
+            assert fmu.getReal([vr]) == [0.3], "the previous input value was not kept"
+        assert log.errors(), "no error logged"
+        fmu.doStep(1e-3, 1e-3)  # the instance can go on
+        assert fmu.getReal(outs) == pytest.approx(before, rel=1e-12, abs=1e-12)
+        fmu.terminate()
+    finally:
+        fmu.freeInstance()
+
+
+def test_wrong_calls_return_error(extracted):
+    fmu = _instance(extracted)
+    try:
+        assert _status(lambda: fmu.doStep(0.0, 1e-3)) == 3, "fmi2DoStep before initialization accepted"
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        assert _status(lambda: fmu.getReal([10 ** 6])) == 3, "unknown value reference accepted"
+        assert _status(lambda: fmu.setReal([extracted.vars["drive.n"].valueReference], [1.0])) == 3, \
+            "a fixed parameter was set after initialization"
+        fmu.doStep(0.0, 1e-3)
+        fmu.terminate()
+    finally:
+        fmu.freeInstance()
+
+
+NULL_ARRAY_PROBE = r"""
+import ctypes, sys
+from fmpy.fmi2 import FMU2Slave
+from fmpy.model_description import read_model_description
+d = sys.argv[1]
+md = read_model_description(d)
+fmu = FMU2Slave(guid=md.guid, unzipDirectory=d, modelIdentifier=md.coSimulation.modelIdentifier)
+fmu.instantiate()
+fmu.setupExperiment(startTime=0.0)
+fmu.enterInitializationMode()
+fmu.exitInitializationMode()
+values = (ctypes.c_double * 1)()
+vr = (ctypes.c_uint32 * 1)(0)
+raw = fmu._functions  # the ctypes functions themselves: FMPy's wrappers raise on fmi2Error
+codes = [raw["fmi2GetReal"](fmu.component, None, 1, values),
+         raw["fmi2GetReal"](fmu.component, vr, 1, None),
+         raw["fmi2SetReal"](fmu.component, None, 1, values)]
+print(codes)
+sys.exit(0 if all(c == 3 for c in codes) else 1)
+"""
+
+
+def test_null_arrays_return_error_not_a_crash(extracted):
+    proc = subprocess.run([sys.executable, "-c", NULL_ARRAY_PROBE, extracted.dir], capture_output=True,
+                          text=True, timeout=60)
+    assert proc.returncode == 0, f"exit {proc.returncode} (negative: killed by a signal)\n{proc.stdout}{proc.stderr}"
+
+
+def test_fmu_state_round_trip(extracted):
+    """get/set and (de)serialize the FMU state: stepping on from a restored state repeats itself."""
+    if not extracted.md.coSimulation.canGetAndSetFMUstate:
+        pytest.skip("canGetAndSetFMUstate is false")
+    fmu = _instance(extracted, {"drive.mode": 2})
+    try:
+        fmu.enterInitializationMode()
+        fmu.exitInitializationMode()
+        outs = [extracted.vars[n].valueReference for n in extracted.outputs()]
+        h, t = 1e-2, 0.0
+        for _ in range(30):
+            fmu.doStep(t, h)
+            t += h
+        state = fmu.getFMUstate()
+        serialized = fmu.serializeFMUstate(state) if extracted.md.coSimulation.canSerializeFMUstate else None
+        first = []
+        for k in range(20):
+            fmu.doStep(t + k * h, h)
+            first.append(fmu.getReal(outs))
+        fmu.setFMUstate(state)
+        again = []
+        for k in range(20):
+            fmu.doStep(t + k * h, h)
+            again.append(fmu.getReal(outs))
+        assert again == first
+        if serialized is not None:
+            restored = fmu.deSerializeFMUstate(serialized)
+            fmu.setFMUstate(restored)
+            fmu.freeFMUstate(restored)
+            third = []
+            for k in range(20):
+                fmu.doStep(t + k * h, h)
+                third.append(fmu.getReal(outs))
+            assert third == first
+        fmu.freeFMUstate(state)
+        fmu.terminate()
+    finally:
+        fmu.freeInstance()

@@ -3,8 +3,8 @@
 
 use super::model::GenevaKnifeDrive;
 use super::physics::Params;
-use crate::catalog::variables_of;
-use crate::docs::{Figure, Series, icon_png, index_html, render_png};
+use crate::catalog::{Documentation, variables_of};
+use crate::docs::{Figure, Series, icon_png};
 use crate::md::ModelInfo;
 use std::f64::consts::PI;
 
@@ -27,20 +27,31 @@ slider velocity leaves out the gear ratio (&theta;' = i&gamma;').</p>"#;
 
 /// Samples `f` over one driver turn.
 fn turn(n: usize, f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
-    (0..=n).map(|k| {
-        let phi = 2.0 * PI * k as f64 / n as f64;
-        (phi.to_degrees(), f(phi))
-    })
-    .collect()
+    (0..=n)
+        .map(|k| {
+            let phi = 2.0 * PI * k as f64 / n as f64;
+            (phi.to_degrees(), f(phi))
+        })
+        .collect()
 }
 
-fn figure(file: &str, title: &str, y: &str, label: &str, points: Vec<(f64, f64)>, caption: &str) -> Figure {
+fn figure(
+    file: &str,
+    title: &str,
+    y: &str,
+    label: &str,
+    points: Vec<(f64, f64)>,
+    caption: &str,
+) -> Figure {
     Figure {
         file: file.into(),
         title: title.into(),
         x_label: "driver angle phi, deg".into(),
         y_label: y.into(),
-        series: vec![Series { label: label.into(), points }],
+        series: vec![Series {
+            label: label.into(),
+            points,
+        }],
         caption: caption.into(),
         equal_axes: false,
     }
@@ -52,28 +63,99 @@ pub fn figures() -> Vec<Figure> {
     let k = |phi: f64| p.kinematics(phi, 1.0, 0.0);
     let n = 720;
     vec![
-        figure("fig2_gamma.png", "Fig. 2: cross angle", "gamma, rad", "gamma(phi)", turn(n, |f| k(f).gamma), "Cross angle within its index over one driver turn (paper 003, Fig. 2)."),
-        figure("fig3_gamma_d.png", "Fig. 3: cross velocity invariant", "gamma' = dgamma/dphi", "gamma'(phi)", turn(n, |f| k(f).gamma_d), "Analogue of the cross's angular velocity; its maximum 1/(lambda-1) = 2.4142 at phi = 45 deg (paper 003, Fig. 3)."),
-        figure("fig4_gamma_dd.png", "Fig. 4: cross acceleration invariant", "gamma'' = d2gamma/dphi2", "gamma''(phi)", turn(n, |f| k(f).gamma_dd), "Analogue of the cross's angular acceleration; it jumps from 0 to 1.0 at entry and exit (paper 003, Fig. 4)."),
-        figure("fig5_s.png", "Fig. 5: knife displacement invariant", "s/r2", "s/r2", turn(n, |f| k(f).s / p.crank_r), "Knife displacement from the top over r2 = the paper's 6 - cos(4 gamma) - 5 cos(nu), 0..2 (paper 003, Fig. 5)."),
-        figure("fig6_v.png", "Fig. 6: knife velocity invariant", "(ds/dphi)/r2", "s'/r2", turn(n, |f| k(f).s_d / p.crank_r), "Knife velocity analogue ds/dphi over r2, with the gear ratio the paper leaves out (paper 003, Fig. 6)."),
-        figure("fig7_a.png", "Fig. 7: knife acceleration invariant", "(d2s/dphi2)/r2", "s''/r2", turn(n, |f| k(f).s_dd / p.crank_r), "Knife acceleration analogue d2s/dphi2 over r2 (paper 003, Fig. 7)."),
+        figure(
+            "fig2_gamma.png",
+            "Fig. 2: cross angle",
+            "gamma, rad",
+            "gamma(phi)",
+            turn(n, |f| k(f).gamma),
+            "Cross angle within its index over one driver turn (paper 003, Fig. 2).",
+        ),
+        figure(
+            "fig3_gamma_d.png",
+            "Fig. 3: cross velocity invariant",
+            "gamma' = dgamma/dphi",
+            "gamma'(phi)",
+            turn(n, |f| k(f).gamma_d),
+            "Analogue of the cross's angular velocity; its maximum 1/(lambda-1) = 2.4142 at phi = 45 deg (paper 003, Fig. 3).",
+        ),
+        figure(
+            "fig4_gamma_dd.png",
+            "Fig. 4: cross acceleration invariant",
+            "gamma'' = d2gamma/dphi2",
+            "gamma''(phi)",
+            turn(n, |f| k(f).gamma_dd),
+            "Analogue of the cross's angular acceleration; it jumps from 0 to 1.0 at entry and exit (paper 003, Fig. 4).",
+        ),
+        figure(
+            "fig5_s.png",
+            "Fig. 5: knife displacement invariant",
+            "s/r2",
+            "s/r2",
+            turn(n, |f| k(f).s / p.crank_r),
+            "Knife displacement from the top over r2 = the paper's 6 - cos(4 gamma) - 5 cos(nu), 0..2 (paper 003, Fig. 5).",
+        ),
+        figure(
+            "fig6_v.png",
+            "Fig. 6: knife velocity invariant",
+            "(ds/dphi)/r2",
+            "s'/r2",
+            turn(n, |f| k(f).s_d / p.crank_r),
+            "Knife velocity analogue ds/dphi over r2, with the gear ratio the paper leaves out (paper 003, Fig. 6).",
+        ),
+        figure(
+            "fig7_a.png",
+            "Fig. 7: knife acceleration invariant",
+            "(d2s/dphi2)/r2",
+            "s''/r2",
+            turn(n, |f| k(f).s_dd / p.crank_r),
+            "Knife acceleration analogue d2s/dphi2 over r2 (paper 003, Fig. 7).",
+        ),
         {
             let w = p.drive_n;
-            let f = |phi: f64| p.kinetostatics(&p.kinematics(phi, w, 0.0), w, 0.0).shaft_tau;
-            figure("shaft_tau.png", "Shaft torque at 30 rpm", "shaft.tau, N.m", "shaft.tau", turn(n, f), "Torque at the main shaft over one turn at the nominal 30 rpm with the default cutting load (kinetostatic level).")
+            let f = |phi: f64| {
+                p.kinetostatics(&p.kinematics(phi, w, 0.0), w, 0.0)
+                    .shaft_tau
+            };
+            figure(
+                "shaft_tau.png",
+                "Shaft torque at 30 rpm",
+                "shaft.tau, N.m",
+                "shaft.tau",
+                turn(n, f),
+                "Torque at the main shaft over one turn at the nominal 30 rpm with the default cutting load (kinetostatic level).",
+            )
+        },
+        {
+            // The DefaultExperiment: two driver turns at the nominal 30 rpm.
+            let w = p.drive_n;
+            let points = (0..=2000).map(|k| {
+                let t = 4.0 * k as f64 / 2000.0;
+                (t, 1000.0 * p.kinematics(w * t, w, 0.0).s)
+            });
+            Figure {
+                x_label: "time, s".into(),
+                ..figure(
+                    "knife_two_turns.png",
+                    "Knife position over two driver turns (30 rpm)",
+                    "knife.s, mm",
+                    "knife.s",
+                    points.collect(),
+                    "Knife displacement from the top, down positive, over two driver turns at 30 rpm: a working and an idle stroke while the cross moves, then a dwell at the top for 3/4 of the turn.",
+                )
+            }
         },
     ]
 }
 
 /// `documentation/` files (index.html first) and the icon.
-pub fn documentation() -> Result<(Vec<(String, Vec<u8>)>, Vec<u8>), String> {
-    let figs = figures();
+pub fn documentation() -> Result<Documentation, String> {
     let vars = variables_of::<GenevaKnifeDrive>();
-    let html = index_html(&ModelInfo::of::<GenevaKnifeDrive>(), &vars, INTRO, &figs);
-    let mut files = vec![("index.html".to_string(), html.into_bytes())];
-    for f in &figs {
-        files.push((f.file.clone(), render_png(f)?));
-    }
+    let files = crate::docs::documentation(
+        &ModelInfo::of::<GenevaKnifeDrive>(),
+        &vars,
+        INTRO,
+        &figures(),
+    )?;
     Ok((files, icon_png("Geneva")?))
 }

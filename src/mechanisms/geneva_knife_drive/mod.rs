@@ -2,9 +2,9 @@
 //! (paper 003, spec page `geneva-knife-drive.md`): driver → Geneva cross → gear pair → crank →
 //! rod → knife slider. [`physics`] is the pure mechanics; [`model`] the FMU model.
 
-pub mod physics;
-pub mod model;
 #[cfg(feature = "tools")]
 pub mod docs;
+pub mod model;
+pub mod physics;
 
 pub use model::GenevaKnifeDrive;

@@ -119,6 +119,10 @@ pub struct Kinematics {
     pub crank_a: f64,
     /// `rod.nu`: rod angle, `sin ν = sin θ/λ2`, rad.
     pub nu: f64,
+    /// `sin ν`.
+    pub sin_nu: f64,
+    /// `cos ν`.
+    pub cos_nu: f64,
     /// Rod angular velocity ν̇, rad/s.
     pub nu_w: f64,
     /// Rod angular acceleration ν̈, rad/s².
@@ -226,7 +230,14 @@ impl Params {
             );
         }
         let i = self.gear_i;
-        if i == 0 || !i.is_multiple_of(z) {
+        if i == 0 {
+            return err(
+                "gear.i",
+                0.0,
+                format!("must be a positive whole multiple of geneva.Z = {z}"),
+            );
+        }
+        if !i.is_multiple_of(z) {
             return err(
                 "gear.i",
                 f64::from(i),
@@ -368,6 +379,8 @@ impl Params {
             crank_w,
             crank_a,
             nu: p.nu,
+            sin_nu: p.sin_nu,
+            cos_nu: p.cos_nu,
             nu_w: m.nu_w,
             nu_a: m.nu_a,
             s: p.s,
@@ -408,7 +421,7 @@ impl Params {
     #[inline]
     pub fn kinetostatics(&self, k: &Kinematics, w: f64, eps: f64) -> Forces {
         let m_s = self.slider_mass();
-        let (sin_nu, cos_nu) = k.nu.sin_cos();
+        let (sin_nu, cos_nu) = (k.sin_nu, k.cos_nu);
         let f_cut = self.cut_force(k.s, k.v);
         let rhs = m_s * (k.a - STANDARD_GRAVITY) + f_cut;
         let sgn_v = if k.v > 0.0 {
