@@ -98,7 +98,11 @@ fn tick_format(lo: f64, hi: f64, n: usize) -> impl Fn(&f64) -> String {
     let decimals = (-step_exp).clamp(0.0, 12.0) as usize;
     move |&x| {
         if (x / step).abs() < 1e-9 {
-            return if scientific { "0".into() } else { format!("{:.decimals$}", 0.0) };
+            return if scientific {
+                "0".into()
+            } else {
+                format!("{:.decimals$}", 0.0)
+            };
         }
         if scientific {
             let digits = ((x.abs().log10() + 1e-9).floor() - step_exp).clamp(0.0, 12.0) as usize;
@@ -133,7 +137,12 @@ fn segments(points: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
 fn segment_hits(a: (f64, f64), b: (f64, f64), (x0, x1, y0, y1): (f64, f64, f64, f64)) -> bool {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
     let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    for (p, q) in [(-dx, a.0 - x0), (dx, x1 - a.0), (-dy, a.1 - y0), (dy, y1 - a.1)] {
+    for (p, q) in [
+        (-dx, a.0 - x0),
+        (dx, x1 - a.0),
+        (-dy, a.1 - y0),
+        (dy, y1 - a.1),
+    ] {
         if p == 0.0 {
             if q < 0.0 {
                 return false;
@@ -152,21 +161,37 @@ fn segment_hits(a: (f64, f64), b: (f64, f64), (x0, x1, y0, y1): (f64, f64, f64, 
 
 /// Where the legend goes: the first of the upper right, upper left, lower right and lower
 /// left corners where a box of `(lw, lh)` (fractions of the plot) meets no line, if any.
-fn free_corner(fig: &Figure, x: (f64, f64), y: (f64, f64), (lw, lh): (f64, f64)) -> Option<SeriesLabelPosition> {
+fn free_corner(
+    fig: &Figure,
+    x: (f64, f64),
+    y: (f64, f64),
+    (lw, lh): (f64, f64),
+) -> Option<SeriesLabelPosition> {
     let corners = [
-        (SeriesLabelPosition::UpperRight, (1.0 - lw, 1.0, 1.0 - lh, 1.0)),
+        (
+            SeriesLabelPosition::UpperRight,
+            (1.0 - lw, 1.0, 1.0 - lh, 1.0),
+        ),
         (SeriesLabelPosition::UpperLeft, (0.0, lw, 1.0 - lh, 1.0)),
         (SeriesLabelPosition::LowerRight, (1.0 - lw, 1.0, 0.0, lh)),
         (SeriesLabelPosition::LowerLeft, (0.0, lw, 0.0, lh)),
     ];
     let unit = |p: &(f64, f64)| ((p.0 - x.0) / (x.1 - x.0), (p.1 - y.0) / (y.1 - y.0));
     let hits = |rect| {
-        fig.series.iter().flat_map(|s| segments(&s.points)).any(|seg| match seg.as_slice() {
-            [p] => segment_hits(unit(p), unit(p), rect),
-            pts => pts.windows(2).any(|w| segment_hits(unit(&w[0]), unit(&w[1]), rect)),
-        })
+        fig.series
+            .iter()
+            .flat_map(|s| segments(&s.points))
+            .any(|seg| match seg.as_slice() {
+                [p] => segment_hits(unit(p), unit(p), rect),
+                pts => pts
+                    .windows(2)
+                    .any(|w| segment_hits(unit(&w[0]), unit(&w[1]), rect)),
+            })
     };
-    corners.into_iter().find(|(_, rect)| !hits(*rect)).map(|(pos, _)| pos)
+    corners
+        .into_iter()
+        .find(|(_, rect)| !hits(*rect))
+        .map(|(pos, _)| pos)
 }
 
 /// Supersampling of figures: drawn at this multiple of [`FIGURE_SIZE`] and averaged down,
@@ -178,20 +203,38 @@ const SS: u32 = 2;
 /// above them in extra headroom). Non-finite points break a line. With `equal_axes` one
 /// unit is as long on both axes. Deterministic: same figure, same bytes.
 pub fn render_png(fig: &Figure) -> Result<Vec<u8>, String> {
-    Ok(png::encode_rgb(FIGURE_SIZE.0, FIGURE_SIZE.1, &draw_figure(fig)?))
+    Ok(png::encode_rgb(
+        FIGURE_SIZE.0,
+        FIGURE_SIZE.1,
+        &draw_figure(fig)?,
+    ))
 }
 
 /// The pixels of [`render_png`]: RGB rows, top to bottom.
 fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
     fonts()?;
-    let finite = || fig.series.iter().flat_map(|s| &s.points).filter(|(x, y)| x.is_finite() && y.is_finite());
+    let finite = || {
+        fig.series
+            .iter()
+            .flat_map(|s| &s.points)
+            .filter(|(x, y)| x.is_finite() && y.is_finite())
+    };
     if finite().next().is_none() {
         return Err(format!("figure {}: no finite point to plot", fig.file));
     }
-    let min_max = |f: fn(&(f64, f64)) -> f64| finite().map(f).fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| (lo.min(v), hi.max(v)));
+    let min_max = |f: fn(&(f64, f64)) -> f64| {
+        finite()
+            .map(f)
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), v| {
+                (lo.min(v), hi.max(v))
+            })
+    };
     let (x_lo, x_hi) = min_max(|p| p.0);
     let (y_lo, y_hi) = min_max(|p| p.1);
-    let (mut xr, mut yr) = (padded(x_lo, x_hi, if fig.equal_axes { 0.05 } else { 0.0 }), padded(y_lo, y_hi, 0.05));
+    let (mut xr, mut yr) = (
+        padded(x_lo, x_hi, if fig.equal_axes { 0.05 } else { 0.0 }),
+        padded(y_lo, y_hi, 0.05),
+    );
 
     let s = |v: u32| v * SS;
     let sf = |v: f64| v * f64::from(SS);
@@ -201,14 +244,32 @@ fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
         root.fill(&WHITE).map_err(err)?;
         let root_m = root.margin(s(6), 0, 0, 0);
-        let title_size = fit(&root_m, &fig.title, w - s(40), sf(20.0), sf(11.0), FontStyle::Bold)?;
-        let area = root_m.titled(&fig.title, font(title_size, FontStyle::Bold)).map_err(err)?;
+        let title_size = fit(
+            &root_m,
+            &fig.title,
+            w - s(40),
+            sf(20.0),
+            sf(11.0),
+            FontStyle::Bold,
+        )?;
+        let area = root_m
+            .titled(&fig.title, font(title_size, FontStyle::Bold))
+            .map_err(err)?;
         let builder = || {
             let mut b = ChartBuilder::on(&area);
-            b.margin_left(s(12)).margin_right(s(28)).margin_top(s(4)).margin_bottom(s(10)).x_label_area_size(s(52)).y_label_area_size(s(84));
+            b.margin_left(s(12))
+                .margin_right(s(28))
+                .margin_top(s(4))
+                .margin_bottom(s(10))
+                .x_label_area_size(s(52))
+                .y_label_area_size(s(84));
             b
         };
-        let (pw, ph) = builder().build_cartesian_2d(xr.0..xr.1, yr.0..yr.1).map_err(err)?.plotting_area().dim_in_pixel();
+        let (pw, ph) = builder()
+            .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+            .map_err(err)?
+            .plotting_area()
+            .dim_in_pixel();
         let (pw, ph) = (f64::from(pw.max(1)), f64::from(ph.max(1)));
         if fig.equal_axes {
             // Same data units per pixel on both axes: widen the range that has more pixels
@@ -231,7 +292,10 @@ fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
             }
             let (tw, th) = text.estimate_dimension().map_err(err)?;
             // Box plus its 5 px offset from the plot's edge plus clearance, as fractions.
-            let (lw, lh) = (f64::from(tw) + f64::from(lsym + 2 * lmargin) + sf(12.0), f64::from(th) + f64::from(2 * lmargin) + sf(12.0));
+            let (lw, lh) = (
+                f64::from(tw) + f64::from(lsym + 2 * lmargin) + sf(12.0),
+                f64::from(th) + f64::from(2 * lmargin) + sf(12.0),
+            );
             let (fw, fh) = ((lw / pw).min(0.9), (lh / ph).min(0.9));
             Some(match free_corner(fig, xr, yr, (fw, fh)) {
                 Some(pos) => pos,
@@ -250,7 +314,9 @@ fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
             None
         };
 
-        let mut chart = builder().build_cartesian_2d(xr.0..xr.1, yr.0..yr.1).map_err(err)?;
+        let mut chart = builder()
+            .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+            .map_err(err)?;
         let fx = tick_format(xr.0, xr.1, X_TICKS);
         let fy = tick_format(yr.0, yr.1, Y_TICKS);
         chart
@@ -274,13 +340,22 @@ fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
             let color = COLORS[i % COLORS.len()];
             for (k, seg) in segments(&sr.points).into_iter().enumerate() {
                 let drawn = if seg.len() == 1 {
-                    chart.draw_series(seg.into_iter().map(|p| Circle::new(p, s(3), color.filled()))).map_err(err)?
+                    chart
+                        .draw_series(
+                            seg.into_iter()
+                                .map(|p| Circle::new(p, s(3), color.filled())),
+                        )
+                        .map_err(err)?
                 } else {
-                    chart.draw_series(LineSeries::new(seg, color.stroke_width(s(2)))).map_err(err)?
+                    chart
+                        .draw_series(LineSeries::new(seg, color.stroke_width(s(2))))
+                        .map_err(err)?
                 };
                 if k == 0 && legend.is_some() {
                     let len = (lsym - s(10)) as i32;
-                    drawn.label(sr.label.as_str()).legend(move |(x, y)| PathElement::new(vec![(x, y), (x + len, y)], color.stroke_width(s(3))));
+                    drawn.label(sr.label.as_str()).legend(move |(x, y)| {
+                        PathElement::new(vec![(x, y), (x + len, y)], color.stroke_width(s(3)))
+                    });
                 }
             }
         }
@@ -298,7 +373,12 @@ fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
         }
         root.present().map_err(err)?;
     }
-    Ok(downsample(&buf, FIGURE_SIZE.0 as usize, FIGURE_SIZE.1 as usize, SS as usize))
+    Ok(downsample(
+        &buf,
+        FIGURE_SIZE.0 as usize,
+        FIGURE_SIZE.1 as usize,
+        SS as usize,
+    ))
 }
 
 /// A 128×128 PNG icon (`model.png`): a Geneva wheel with its drive pin above `title`
@@ -367,7 +447,12 @@ fn draw_icon(title: &str) -> Result<Vec<u8>, String> {
             .map_err(err)?;
         root.present().map_err(err)?;
     }
-    Ok(downsample(&buf, ICON_SIZE as usize, ICON_SIZE as usize, S as usize))
+    Ok(downsample(
+        &buf,
+        ICON_SIZE as usize,
+        ICON_SIZE as usize,
+        S as usize,
+    ))
 }
 
 /// `title` at a size (icon pixels) from 15 down to 9 that fits `width` (drawing pixels),
@@ -399,20 +484,22 @@ fn fit_title<DB: DrawingBackend>(
 
 /// Averages `s`×`s` blocks of an RGB image `w*s` by `h*s` pixels into one pixel each.
 fn downsample(buf: &[u8], w: usize, h: usize, s: usize) -> Vec<u8> {
-    let big = w * s;
+    let row = w * s * 3;
+    let n = (s * s) as u32;
+    let mut acc = vec![0u32; w * 3];
     let mut out = Vec::with_capacity(w * h * 3);
-    for y in 0..h {
-        for x in 0..w {
-            for c in 0..3 {
-                let mut sum = 0usize;
-                for dy in 0..s {
-                    for dx in 0..s {
-                        sum += buf[((y * s + dy) * big + x * s + dx) * 3 + c] as usize;
-                    }
+    for band in buf.chunks_exact(row * s) {
+        acc.fill(0);
+        for r in band.chunks_exact(row) {
+            for (a, block) in acc.chunks_exact_mut(3).zip(r.chunks_exact(3 * s)) {
+                for p in block.chunks_exact(3) {
+                    a[0] += u32::from(p[0]);
+                    a[1] += u32::from(p[1]);
+                    a[2] += u32::from(p[2]);
                 }
-                out.push(((sum + s * s / 2) / (s * s)) as u8);
             }
         }
+        out.extend(acc.iter().map(|&v| ((v + n / 2) / n) as u8));
     }
     out
 }
@@ -450,40 +537,28 @@ pub(crate) mod png {
         const BPP: usize = 3;
         let zero = vec![0u8; stride];
         let mut out = Vec::with_capacity(rgb.len() + rgb.len() / stride.max(1));
-        let mut cand: [Vec<u8>; 5] = Default::default();
-        for (r, row) in rgb.chunks_exact(stride).enumerate() {
-            let up = if r == 0 {
-                &zero[..]
-            } else {
-                &rgb[(r - 1) * stride..r * stride]
-            };
-            for c in cand.iter_mut() {
-                c.clear();
-            }
-            for i in 0..stride {
-                let x = row[i];
+        let mut up = &zero[..];
+        for row in rgb.chunks_exact(stride) {
+            let predict = |f: u8, i: usize| -> u8 {
                 let a = if i >= BPP { row[i - BPP] } else { 0 };
-                let b = up[i];
-                let c = if i >= BPP { up[i - BPP] } else { 0 };
-                cand[0].push(x);
-                cand[1].push(x.wrapping_sub(a));
-                cand[2].push(x.wrapping_sub(b));
-                cand[3].push(x.wrapping_sub(((a as u16 + b as u16) / 2) as u8));
-                cand[4].push(x.wrapping_sub(paeth(a, b, c)));
-            }
-            let cost = |v: &Vec<u8>| {
-                v.iter()
-                    .map(|&b| (b as i8).unsigned_abs() as u64)
-                    .sum::<u64>()
+                match f {
+                    0 => 0,
+                    1 => a,
+                    2 => up[i],
+                    3 => ((u16::from(a) + u16::from(up[i])) / 2) as u8,
+                    _ => paeth(a, up[i], if i >= BPP { up[i - BPP] } else { 0 }),
+                }
             };
-            let (best, _) = cand
-                .iter()
-                .enumerate()
-                .map(|(k, v)| (k, cost(v)))
-                .min_by_key(|&(k, c)| (c, k))
-                .expect("five filters");
-            out.push(best as u8);
-            out.extend_from_slice(&cand[best]);
+            let mut cost = [0u64; 5];
+            for (i, &x) in row.iter().enumerate() {
+                for (f, c) in cost.iter_mut().enumerate() {
+                    *c += u64::from((x.wrapping_sub(predict(f as u8, i)) as i8).unsigned_abs());
+                }
+            }
+            let best = (0..5u8).min_by_key(|&f| (cost[f as usize], f)).expect("five filters");
+            out.push(best);
+            out.extend(row.iter().enumerate().map(|(i, &x)| x.wrapping_sub(predict(best, i))));
+            up = row;
         }
         out
     }

@@ -1243,4 +1243,162 @@ mod tests {
                 .contains("trailing")
         );
     }
+
+    // ---- the runtime over a tiny model, called as a host would, without a cdylib ----------
+
+    use crate::model::{Experiment, ParamError, Var};
+    use std::sync::Mutex;
+
+    crate::model_variables! {
+        enum TV (nominal_rpm = 60.0) {
+            boom = Var::bool_parameter("test.boom", false, "panic in evaluate"),
+            y = Var::output("test.y", "rad", "shaft angle").depends(crate::model::shaft::ON_PHI),
+        }
+    }
+
+    struct Tiny;
+    impl Model for Tiny {
+        type Var = TV;
+        const IDENTIFIER: &'static str = "Tiny";
+        const MODEL_NAME: &'static str = "Tiny";
+        const DESCRIPTION: &'static str = "test model";
+        const EXPERIMENT: Experiment = Experiment {
+            start: 0.0,
+            stop: 1.0,
+            step: 0.1,
+            tolerance: None,
+        };
+        fn prepare(_: &Values<TV>) -> Result<Self, ParamError> {
+            Ok(Tiny)
+        }
+        fn evaluate(&mut self, v: &mut Values<TV>, time: f64, _: &mut dyn Log) {
+            if v.flag(TV::boom) {
+                panic!("model failure at t = {time}");
+            }
+            v[TV::y] = crate::model::shaft::state(v, time).phi;
+        }
+    }
+
+    static LOG: Mutex<Vec<(Status, String)>> = Mutex::new(Vec::new());
+    unsafe extern "C" fn record(
+        _: ComponentEnvironment,
+        _: FmiString,
+        status: Status,
+        _: FmiString,
+        msg: FmiString,
+    ) {
+        let m = unsafe { CStr::from_ptr(msg) }
+            .to_string_lossy()
+            .into_owned();
+        LOG.lock().unwrap().push((status, m));
+    }
+
+    fn tiny() -> Component {
+        let f = CallbackFunctions {
+            // SAFETY: a non-variadic callee reading only the fixed arguments (see tests/common).
+            logger: Some(unsafe {
+                std::mem::transmute::<
+                    unsafe extern "C" fn(
+                        ComponentEnvironment,
+                        FmiString,
+                        Status,
+                        FmiString,
+                        FmiString,
+                    ),
+                    unsafe extern "C" fn(
+                        ComponentEnvironment,
+                        FmiString,
+                        Status,
+                        FmiString,
+                        FmiString,
+                        ...
+                    ),
+                >(record)
+            }),
+            allocate_memory: None,
+            free_memory: None,
+            step_finished: None,
+            component_environment: std::ptr::null_mut(),
+        };
+        let guid = CString::new(md::describe::<Tiny>().1).unwrap();
+        let c = unsafe {
+            instantiate::<Tiny>(
+                c"tiny".as_ptr(),
+                FmuType::CoSimulation,
+                guid.as_ptr(),
+                std::ptr::null(),
+                &f,
+                FALSE,
+                FALSE,
+            )
+        };
+        assert!(!c.is_null());
+        c
+    }
+
+    #[test]
+    fn a_panic_in_the_model_is_caught_at_the_boundary() {
+        let c = tiny();
+        unsafe {
+            assert_eq!(enter_initialization_mode::<Tiny>(c), Status::Ok);
+            assert_eq!(exit_initialization_mode::<Tiny>(c), Status::Ok);
+            let mut y = 0.0;
+            let vr = [TV::y.vr()];
+            assert_eq!(
+                set_real::<Tiny>(c, [TV::shaft_phi.vr()].as_ptr(), 1, &0.5),
+                Status::Ok
+            );
+            assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Ok);
+            assert_eq!(y, 0.5);
+            // make the model panic: set the flag through the back door, as a model bug would
+            let inst = &mut *(c as *mut Instance<Tiny>);
+            inst.values.set_flag(TV::boom, true);
+            inst.dirty = true;
+            assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Error);
+            assert_eq!(inst.state, State::Error);
+            let last = LOG.lock().unwrap().last().cloned().unwrap();
+            assert!(
+                last.1.contains("panic caught") && last.1.contains("model failure at t = 0"),
+                "{last:?}"
+            );
+            // in the error state only what FMI 2.0 allows works; reset brings it back
+            assert_eq!(do_step::<Tiny>(c, 0.0, 0.1, FALSE), Status::Error);
+            assert_eq!(reset::<Tiny>(c), Status::Ok);
+            assert_eq!(enter_initialization_mode::<Tiny>(c), Status::Ok);
+            assert_eq!(exit_initialization_mode::<Tiny>(c), Status::Ok);
+            assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Ok);
+            assert_eq!(y, 0.0, "reset restored the start values");
+            free_instance::<Tiny>(c);
+        }
+    }
+
+    #[test]
+    fn debug_logging_categories() {
+        let c = tiny();
+        unsafe {
+            let cats = [c"logEvents".as_ptr()];
+            assert_eq!(
+                set_debug_logging::<Tiny>(c, TRUE, 1, cats.as_ptr()),
+                Status::Ok
+            );
+            let inst = &mut *(c as *mut Instance<Tiny>);
+            assert!(inst.logger.enabled(Status::Ok, "logEvents"));
+            assert!(!inst.logger.enabled(Status::Ok, "logAll"));
+            assert!(
+                inst.logger.enabled(Status::Error, "logStatusError"),
+                "errors always reach the host"
+            );
+            let bad = [c"noSuchCategory".as_ptr()];
+            assert_eq!(
+                set_debug_logging::<Tiny>(c, TRUE, 1, bad.as_ptr()),
+                Status::Error
+            );
+            assert_eq!(
+                set_debug_logging::<Tiny>(c, FALSE, 0, std::ptr::null()),
+                Status::Ok
+            );
+            assert!(!inst.logger.enabled(Status::Ok, "logEvents"));
+            free_instance::<Tiny>(c);
+        }
+    }
 }

@@ -43,7 +43,7 @@ crate::model_variables! {
         knife_dwell = Var::bool_output("knife.dwell", "True while the roller is out of the slots: cross locked, knife stopped at the top").depends(ON_PHI),
         knife_F_cut = Var::output("knife.F_cut", "N", "Cutting resistance on the knife, >= 0, only while descending through the stack (kinetostatic level; 0 at kinematic)").depends(ON_PHI_W),
         knife_F_inertia = Var::output("knife.F_inertia", "N", "Inertia force of the slider mass m_s = knife.m + rod.m/2, -m_s*a, down positive (kinetostatic level)").depends(ON_ALL),
-        rod_F = Var::output("rod.F", "N", "Rod force P, compression positive (kinetostatic level)").depends(ON_ALL),
+        rod_F = Var::output("rod.F", "N", "Rod force P along the rod, positive when it pulls the knife down towards the crank (tension: with s = r2 + l - x_C the crank lies below the knife, so the spec's P*cos(nu) along +s is a pull) (kinetostatic level)").depends(ON_ALL),
         guide_N = Var::output("guide.N", "N", "Normal force of the guides on the slider, P*sin(nu) (kinetostatic level)").depends(ON_ALL),
         crank_tau = Var::output("crank.tau", "N.m", "Torque on the crank shaft (gear 4) (kinetostatic level)").depends(ON_ALL),
         cross_tau = Var::output("cross.tau", "N.m", "Torque on the cross shaft (gear 3), with mesh losses and cross inertia (kinetostatic level)").depends(ON_ALL),
