@@ -439,7 +439,7 @@ fn draw_icon(title: &str) -> Result<Vec<u8>, String> {
         root.draw(&disk(cx + 0.72 * r, cy, 0.095 * r, RGBColor(230, 126, 34)))
             .map_err(err)?;
 
-        let text = fit_title(&root, title, px(118.0) as u32)?;
+        let text = fit_title(&root, title, px(118.0) as u32, f64::from(S))?;
         let style = font(f64::from(px(text.1)), FontStyle::Bold)
             .color(&dark)
             .pos(Pos::new(HPos::Center, VPos::Center));
@@ -455,16 +455,17 @@ fn draw_icon(title: &str) -> Result<Vec<u8>, String> {
     ))
 }
 
-/// `title` at a size (icon pixels) from 15 down to 9 that fits `width` (drawing pixels),
-/// cut with an ellipsis if even the smallest does not.
+/// `title` at a size (icon pixels) from 15 down to 9 that fits `width` (drawing pixels,
+/// `scale` per icon pixel), cut with an ellipsis if even the smallest does not.
 fn fit_title<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     title: &str,
     width: u32,
+    scale: f64,
 ) -> Result<(String, f64), String> {
     let wide = |t: &str, size: f64| -> Result<bool, String> {
         Ok(area
-            .estimate_text_size(t, &font(4.0 * size, FontStyle::Bold))
+            .estimate_text_size(t, &font(scale * size, FontStyle::Bold))
             .map_err(err)?
             .0
             > width)
@@ -555,9 +556,15 @@ pub(crate) mod png {
                     *c += u64::from((x.wrapping_sub(predict(f as u8, i)) as i8).unsigned_abs());
                 }
             }
-            let best = (0..5u8).min_by_key(|&f| (cost[f as usize], f)).expect("five filters");
+            let best = (0..5u8)
+                .min_by_key(|&f| (cost[f as usize], f))
+                .expect("five filters");
             out.push(best);
-            out.extend(row.iter().enumerate().map(|(i, &x)| x.wrapping_sub(predict(best, i))));
+            out.extend(
+                row.iter()
+                    .enumerate()
+                    .map(|(i, &x)| x.wrapping_sub(predict(best, i))),
+            );
             up = row;
         }
         out
@@ -1013,6 +1020,36 @@ mod tests {
             );
             assert!(a.len() < 30_000, "{} bytes", a.len());
         }
+    }
+
+    #[test]
+    fn legend_corner() {
+        let r = (0.6, 1.0, 0.8, 1.0);
+        assert!(segment_hits((0.0, 0.9), (1.0, 0.9), r));
+        assert!(!segment_hits((0.0, 0.5), (1.0, 0.5), r));
+        assert!(
+            segment_hits((0.7, 0.0), (0.7, 1.0), r),
+            "crosses without a point inside"
+        );
+        assert!(!segment_hits((0.0, 0.0), (0.5, 1.0), r));
+        let fig = |pts: Vec<(f64, f64)>| Figure {
+            series: vec![Series::new("a", pts)],
+            ..Default::default()
+        };
+        let rising = fig(vec![(0.0, 0.0), (1.0, 1.0)]);
+        let size = (0.3, 0.2);
+        assert!(matches!(
+            free_corner(&rising, (0.0, 1.0), (0.0, 1.0), size),
+            Some(SeriesLabelPosition::UpperLeft)
+        ));
+        let full = fig(vec![
+            (0.0, 0.0),
+            (1.0, 0.0),
+            (1.0, 1.0),
+            (0.0, 1.0),
+            (0.0, 0.0),
+        ]);
+        assert!(free_corner(&full, (0.0, 1.0), (0.0, 1.0), size).is_none());
     }
 
     #[test]

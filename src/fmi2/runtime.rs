@@ -1246,7 +1246,7 @@ mod tests {
 
     // ---- the runtime over a tiny model, called as a host would, without a cdylib ----------
 
-    use crate::model::{Experiment, ParamError, Var};
+    use crate::model::{Experiment, ParamError};
     use std::sync::Mutex;
 
     crate::model_variables! {
