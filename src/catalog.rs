@@ -36,12 +36,38 @@ pub fn variables_of<M: Model>() -> Vec<(u32, &'static Var)> {
 /// Every FMU, in the order they are built.
 pub fn all() -> Vec<Entry> {
     use crate::mechanisms::geneva_knife_drive as geneva;
-    vec![Entry {
-        identifier: "GenevaKnifeDrive",
-        package: "geneva-knife-drive-fmu",
-        describe: crate::md::describe::<geneva::GenevaKnifeDrive>,
-        info: ModelInfo::of::<geneva::GenevaKnifeDrive>,
-        variables: variables_of::<geneva::GenevaKnifeDrive>,
-        documentation: geneva::docs::documentation,
-    }]
+    vec![
+        Entry {
+            identifier: "GenevaKnifeDrive",
+            package: "geneva-knife-drive-fmu",
+            describe: crate::md::describe::<geneva::GenevaKnifeDrive>,
+            info: ModelInfo::of::<geneva::GenevaKnifeDrive>,
+            variables: variables_of::<geneva::GenevaKnifeDrive>,
+            documentation: geneva::docs::documentation,
+        },
+        Entry {
+            identifier: "SewingTable",
+            package: "sewing-table-fmu",
+            describe: crate::md::describe::<crate::mechanisms::sewing_table::SewingTable>,
+            info: ModelInfo::of::<crate::mechanisms::sewing_table::SewingTable>,
+            variables: variables_of::<crate::mechanisms::sewing_table::SewingTable>,
+            documentation: crate::mechanisms::sewing_table::docs::documentation,
+        },
+        Entry {
+            identifier: "Perforators",
+            package: "perforators-fmu",
+            describe: crate::md::describe::<crate::mechanisms::perforators::Perforators>,
+            info: ModelInfo::of::<crate::mechanisms::perforators::Perforators>,
+            variables: variables_of::<crate::mechanisms::perforators::Perforators>,
+            documentation: crate::mechanisms::perforators::docs::documentation,
+        },
+        Entry {
+            identifier: "DiscKnifeDrive",
+            package: "disc-knife-drive-fmu",
+            describe: crate::md::describe::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
+            info: ModelInfo::of::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
+            variables: variables_of::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
+            documentation: crate::mechanisms::disc_knife_drive::docs::documentation,
+        },
+    ]
 }

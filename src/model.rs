@@ -708,6 +708,13 @@ pub mod shaft {
 #[macro_export]
 macro_rules! model_variables {
     ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+        $crate::model_variables! {
+            $vis enum $name (nominal_rpm = $rpm, torque_depends = $crate::model::shaft::ON_ALL) { $( $id = $decl ),* }
+        }
+    };
+    // `torque_depends`: the inputs `shaft.tau` and `shaft.P` depend on, when a model has inputs
+    // besides the shaft connector (e.g. an external force on a member).
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_depends = $dep:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
         #[allow(non_camel_case_types, dead_code)]
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         #[repr(u32)]
@@ -723,6 +730,8 @@ macro_rules! model_variables {
                     use $crate::model::{Var, shaft};
                     let mut t = shaft::declarations($rpm);
                     t.extend([$( $decl ),*]);
+                    t[shaft::TAU as usize].depends = $dep;
+                    t[shaft::P as usize].depends = $dep;
                     t
                 })
             }

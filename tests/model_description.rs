@@ -41,7 +41,7 @@ fn guid_is_the_hash_of_the_content() {
         let unsigned = xml.replace(&format!("guid=\"{guid}\""), "guid=\"\"");
         assert_eq!(md::format_guid(md::fnv1a_128(unsigned.as_bytes())), guid);
         // any change of content changes the GUID
-        let changed = unsigned.replace("knife", "kNife");
+        let changed = unsigned.replace("shaft.phi", "shaft.Phi"); // in every FMU
         assert_ne!(md::format_guid(md::fnv1a_128(changed.as_bytes())), guid);
     }
 }

@@ -37,6 +37,22 @@ enum Cmd {
         #[arg(long, default_value = "out/docs")]
         out: PathBuf,
     },
+    /// The lowest main-shaft speed at which the Perforators' spring lets the roller lift off
+    /// the ramp (default parameters, bisection on the speed with the Rust model)
+    Liftoff {
+        /// Search from this speed, rpm (no lift-off there)
+        #[arg(long, default_value_t = 100.0)]
+        from: f64,
+        /// Up to this speed, rpm
+        #[arg(long, default_value_t = 2000.0)]
+        to: f64,
+        /// Spring moment spring.M0 in the lowest position, N.m
+        #[arg(long, default_value_t = 6.0)]
+        m0: f64,
+        /// Spring rate spring.kt, N.m/rad
+        #[arg(long, default_value_t = 20.0)]
+        kt: f64,
+    },
     /// Write modelDescription/<id>.xml for every FMU
     Describe {
         /// Do not write; fail if a committed file differs from the generated one
@@ -173,12 +189,44 @@ fn check_descriptions(entries: &[Entry], check: bool) -> Result<(), String> {
     }
 }
 
+/// Samples per shaft turn of the lift-off search.
+const LIFTOFF_SAMPLES: usize = 7200;
+
+fn liftoff(from: f64, to: f64, m0: f64, kt: f64) -> Result<(), String> {
+    use bindery_fmu::mechanisms::perforators::physics::Params;
+    let rad = std::f64::consts::PI / 30.0;
+    let p = Params {
+        spring_m0: m0,
+        spring_kt: kt,
+        ..Params::default()
+    };
+    let d = p.drive().map_err(|e| e.to_string())?;
+    match d.liftoff_speed(from * rad, to * rad, 1e-6, LIFTOFF_SAMPLES) {
+        Some(w) => {
+            let (f, phi) = d.min_contact_force(w, LIFTOFF_SAMPLES);
+            let (f_below, _) = d.min_contact_force(w - 1e-4, LIFTOFF_SAMPLES);
+            println!(
+                "spring.M0 = {m0} N.m, spring.kt = {kt} N.m/rad: the roller lifts off the ramp above {:.2} rpm \
+                 (first at shaft angle {:.2} deg, phase {:?}; smallest contact force {f:.4} N there, {f_below:.4} N just below)",
+                w / rad,
+                phi.to_degrees(),
+                d.cyc.at(phi).phase
+            );
+            Ok(())
+        }
+        None => Err(format!(
+            "no lift-off threshold between {from} and {to} rpm (it lifts off already at {from}, or not even at {to})"
+        )),
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let result = match cli.command {
         Cmd::Build { models, out } => build(&models, &out),
         Cmd::Docs { out } => docs(&out),
         Cmd::Describe { check } => check_descriptions(&catalog::all(), check),
+        Cmd::Liftoff { from, to, m0, kt } => liftoff(from, to, m0, kt),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -22,6 +22,26 @@ pub fn pitch_curvature_radius(r0: f64, x: f64, dx: f64, ddx: f64) -> f64 {
     polar_curvature_radius(r0 + x, dx, ddx)
 }
 
+/// Signed pitch-curve curvature radius of a radial cam with a translating roller follower offset
+/// by `e` from the cam axis, for any `e` with `|e| < R0` (extends `sewing-table.md`'s `e = 0`
+/// formula, to which it reduces).
+///
+/// In the follower's frame the roller centre is `Q = (e, y)`, `y = √(R0² − e²) + x(φ)`; in the
+/// cam's frame it is `P = Rot(−φ)·Q`, so `P' = Rot(−φ)(Q' − K·Q)`,
+/// `P'' = Rot(−φ)(Q'' − 2K·Q' − Q)` (`K` the quarter turn), and
+/// `ρ = −|P'|³/(P' × P'')`: positive where convex (seen from the cam axis), as
+/// [`polar_curvature_radius`].
+#[inline]
+pub fn offset_pitch_curvature_radius(r0: f64, e: f64, x: f64, dx: f64, ddx: f64) -> f64 {
+    let y = (r0 * r0 - e * e).sqrt() + x;
+    // V1 = Q' − K·Q with Q = (e, y), Q' = (0, dx), K·Q = (−y, e)
+    let v1 = (y, dx - e);
+    // V2 = Q'' − 2K·Q' − Q with Q'' = (0, ddx), K·Q' = (−dx, 0)
+    let v2 = (2.0 * dx - e, ddx - y);
+    let n = v1.0 * v1.0 + v1.1 * v1.1;
+    -(n * n.sqrt()) / (v1.0 * v2.1 - v1.1 * v2.0)
+}
+
 /// Pressure angle of a translating roller follower with offset `e` on a cam of base (pitch)
 /// radius `R0` (`sewing-table.md`): `θp = atan((dx/dφ − e)/(√(R0² − e²) + x))`, rad.
 /// Needs `|e| < R0`.
@@ -99,6 +119,47 @@ mod tests {
         for phi in [0.0, 1.0, 2.5] {
             let th = pressure_angle(r0, 0.0, c * phi, c);
             assert_abs_diff_eq!(th.tan(), c / (r0 + c * phi), epsilon = 1e-15);
+        }
+    }
+
+    #[test]
+    fn offset_curvature_reduces_to_the_polar_formula() {
+        let (r0, h, span) = (0.1, 0.03, PI / 2.0);
+        let law = MotionLaw::Cycloidal;
+        for k in 0..=50 {
+            let (x, dx, ddx) = law.rise(h, span, span * k as f64 / 50.0);
+            let a = offset_pitch_curvature_radius(r0, 0.0, x, dx, ddx);
+            let b = pitch_curvature_radius(r0, x, dx, ddx);
+            assert!((a - b).abs() <= 1e-12 * b.abs().max(1.0), "{a} vs {b}");
+        }
+        // an offset follower on a dwell: the circle sqrt(R0^2 - e^2 + ...) about the axis
+        let (e, x) = (0.03, 0.02);
+        let y = (r0 * r0 - e * e).sqrt() + x;
+        assert_abs_diff_eq!(
+            offset_pitch_curvature_radius(r0, e, x, 0.0, 0.0),
+            (e * e + y * y).sqrt(),
+            epsilon = 1e-14
+        );
+        // against the curvature of the roller-centre path built in the cam frame, by differences
+        let path = |p: f64| {
+            let (x, _, _) = law.rise(h, span, p);
+            let y = (r0 * r0 - e * e).sqrt() + x;
+            let (s, c) = (-p).sin_cos();
+            (c * e - s * y, s * e + c * y)
+        };
+        for p in [0.3, 0.8, 1.2] {
+            let d = 1e-4;
+            let (a, b, c) = (path(p - d), path(p), path(p + d));
+            let v = ((c.0 - a.0) / (2.0 * d), (c.1 - a.1) / (2.0 * d));
+            let w = (
+                (c.0 - 2.0 * b.0 + a.0) / (d * d),
+                (c.1 - 2.0 * b.1 + a.1) / (d * d),
+            );
+            let n = v.0 * v.0 + v.1 * v.1;
+            let rho_fd = -(n * n.sqrt()) / (v.0 * w.1 - v.1 * w.0);
+            let (x, dx, ddx) = law.rise(h, span, p);
+            let rho = offset_pitch_curvature_radius(r0, e, x, dx, ddx);
+            assert_abs_diff_eq!(rho, rho_fd, epsilon = 1e-5 * rho.abs());
         }
     }
 

@@ -10,12 +10,16 @@
 //! - [`geneva`]: external Geneva pair (driver with roller, cross with Z slots).
 //! - [`hertz`]: Hertz line-contact stress.
 //! - [`cam`]: pitch-curve curvature and pressure angle of a radial cam.
+//! - [`cyclogram`]: forward / dwell / return / dwell over one shaft turn (paper 000, Fig. 2).
+//! - [`slider_line`]: a link from a joint to a slider on a line (the perforators' rod, paper 000 Fig. 4).
 
 pub mod cam;
+pub mod cyclogram;
 pub mod geneva;
 pub mod hertz;
 pub mod motion_laws;
 pub mod slider_crank;
+pub mod slider_line;
 
 use std::f64::consts::TAU;
 use std::fmt;

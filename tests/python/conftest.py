@@ -6,8 +6,6 @@ first). Without any, every test that needs one fails and says how to build them.
 
 from __future__ import annotations
 
-from pathlib import Path
-
 import pytest
 
 from harness import FMU_DIR, Extracted, fmu_paths

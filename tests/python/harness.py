@@ -12,8 +12,6 @@ FMU actually held; `check_input_lag` asserts that this is the one-step lag descr
 
 from __future__ import annotations
 
-import math
-import os
 import shutil
 import tempfile
 from contextlib import contextmanager
@@ -262,4 +260,3 @@ def write_csv(path: Path, table: np.ndarray, columns: list[str]):
             f.write(",".join(repr(float(row[c])) for c in ["time"] + columns) + "\n")
 
 
-TWO_PI = 2.0 * math.pi

@@ -38,6 +38,8 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import closed_form  # noqa: E402
+import closed_form_sewing  # noqa: E402
+import disc_knife_closed_form  # noqa: E402
 from harness import (FMU_DIR, SHAFT_INPUTS, Extracted, check_input_lag, cross_check_paths,  # noqa: E402
                      shaft_input, simulate_cross_check, write_csv, write_ref_opt)
 
@@ -59,6 +61,30 @@ MODELS = {
         start=0.0, stop=4.0, step=0.01, rel_tol=1e-6,
         speed=math.pi,  # 30 rpm, drive.n's default: two driver turns in 4 s
         check=lambda result: closed_form.mismatches(result, closed_form.Params(), rtol=1e-9),
+    ),
+    "DiscKnifeDrive": Reference(
+        outputs=["slider.x", "holder.beta", "knife.x", "knife.y", "knife.vx", "knife.vy", "support.x",
+                 "support.y", "rod.F", "shaft.tau"],
+        start=0.0, stop=0.4, step=1e-3, rel_tol=1e-6,
+        speed=10.0 * math.pi,  # 300 rpm, drive.n's default: two crank turns in 0.4 s
+        # S, D, C and beta against the NumPy geometry (circle-line intersection, not eq. 5)
+        check=lambda result: disc_knife_closed_form.mismatches(result, disc_knife_closed_form.Params(),
+                                                               rtol=1e-9),
+    ),
+    "SewingTable": Reference(
+        outputs=["table.x", "table.v", "table.a", "cam.theta", "cam.F", "cam.sigma_H", "shaft.tau"],
+        start=0.0, stop=1.2, step=0.002, rel_tol=1e-6,
+        speed=100 * math.pi / 30,  # 100 rpm, the nominal speed: two turns in 1.2 s
+        # table x, v, a against the NumPy cyclogram of sewing-table.md
+        check=lambda result: closed_form_sewing.mismatches_table(result, rtol=1e-9),
+    ),
+    "Perforators": Reference(
+        outputs=["table.x", "perforators.s", "perforators.v", "lever.gamma", "roller.F", "table.F",
+                 "shaft.tau"],
+        start=0.0, stop=1.2, step=0.002, rel_tol=1e-6,
+        speed=100 * math.pi / 30,
+        # table.x, perforators.s (the needle law of x_t) and shaft.tau = -table.F*dx_t/dphi
+        check=lambda result: closed_form_sewing.mismatches_perforators(result, rtol=1e-9),
     ),
 }
 

@@ -22,7 +22,7 @@ from fmpy.fmi2 import FMU2Slave
 from fmpy.util import read_csv
 from fmpy.validation import validate_fmu
 
-from harness import (MD_DIR, SHAFT_INPUTS, Extracted, callbacks_with, captured_log, columns_close,
+from harness import (MD_DIR, SHAFT_INPUTS, callbacks_with, captured_log, columns_close,
                      cross_check_paths, simulate_cross_check)
 
 FMUTOOL = shutil.which("fmutool", path=str(Path(sys.executable).parent)) or shutil.which("fmutool")

@@ -1,0 +1,292 @@
+//! The DiscKnifeDrive FMU: its variables, declared once, and the glue from them to
+//! [`super::physics`] (`../shared/spec/disc-knife-drive.md`).
+
+use super::physics::{Forces, Kinematics, Params};
+use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
+use crate::model::{Experiment, Log, Model, ParamError, Severity, Values};
+
+crate::model_variables! {
+    pub enum V (nominal_rpm = 300.0) {
+        // ---- parameters (paper 004 where it gives them, else documented assumptions)
+        crank_l1 = Var::parameter("crank.l1", 0.019, "m", "Crank length l1 (assumption: paper 004 gives relative sizes only)").min(0.0),
+        rod_lambda2 = Var::parameter("rod.lambda2", 2.0, "", "lambda2 = l2/l1, rod over crank (paper 004: 2)").min(1.0),
+        crank_e = Var::parameter("crank.e", 0.0, "m", "Eccentricity e of the guide of slider 5 from the crank axis (paper 004: 0)"),
+        holder_l4 = Var::parameter("holder.l4", 0.022, "m", "Length l4 of knife holder CD (assumption)").min(0.0),
+        holder_lS = Var::parameter("holder.lS", 0.5, "", "Distance C to the knife point S as a fraction of l4 (paper 004's example: 0.5)").min(0.0).max(1.0),
+        support_alpha = Var::parameter("support.alpha", std::f64::consts::FRAC_PI_4, "rad", "Angle alpha of the support line EQ from the vertical (paper 004 studies 45..70 deg)").min(-std::f64::consts::FRAC_PI_2).max(std::f64::consts::FRAC_PI_2),
+        support_xQ = Var::parameter("support.xQ", 0.060, "m", "x of point Q of the support line EQ (assumption)"),
+        support_yQ = Var::parameter("support.yQ", 0.010, "m", "y of point Q of the support line EQ (assumption)"),
+        assembly_branch = Var::int_parameter("assembly.branch", 1, "Which of the two holder positions: beta = -alpha + branch*acos(c), +1 or -1 (spec)").min(-1.0).max(1.0),
+        kinematics_series = Var::bool_parameter("kinematics.series", false, "true: slider C by paper 004's series form (1), x_C = l1*(lambda2 + cos(phi) - sin(phi)^2/(2*lambda2)), e = 0 only; false: exact"),
+        holder_m = Var::parameter("holder.m", 0.8, "kg", "Mass of the holder with its knives, at S (assumption)").min(0.0),
+        holder_J = Var::parameter("holder.J", 0.0, "kg.m2", "Moment of inertia of holder and knives about S (assumption: 0, the spec lumps the holder at S)").min(0.0),
+        slider5_m = Var::parameter("slider5.m", 0.3, "kg", "Mass of slider 5 at C (assumption)").min(0.0),
+        slider7_m = Var::parameter("slider7.m", 0.2, "kg", "Mass of slider 7 at D (assumption)").min(0.0),
+        rod_m = Var::parameter("rod.m", 0.15, "kg", "Rod mass, half lumped at the crank pin and half at C (assumption)").min(0.0),
+        crank_J = Var::parameter("crank.J", 2e-4, "kg.m2", "Moment of inertia of the crank about its axis A, centre of mass on A (assumption)").min(0.0),
+        guide_mu = Var::parameter("guide.mu", 0.1, "", "Coulomb friction coefficient of slider 5 in its guide (assumption)").min(0.0),
+        support_mu = Var::parameter("support.mu", 0.1, "", "Coulomb friction coefficient of slider 7 on EQ (assumption)").min(0.0),
+        cut_F = Var::parameter("cut.F", 150.0, "N", "Cutting force at S in the working stroke, against the velocity of S relative to the block (assumption)").min(0.0),
+        feed_V = Var::parameter("feed.V", 0.2, "m/s", "Feed speed of the book block, along -y (assumption)"),
+        gravity_g = Var::parameter("gravity.g", 0.0, "m/s2", "Gravity along -y (assumption: 0, the mechanism works in a horizontal plane; 9.80665 for a vertical one, y up)"),
+        // ---- calculated parameters
+        rod_l2 = Var::calculated("rod.l2", "m", "Rod length l2 = lambda2*l1 (paper 004)"),
+        slider_stroke = Var::calculated("slider.stroke", "m", "Stroke of slider 5 (2*l1 for e = 0)"),
+        // ---- outputs
+        slider_x = Var::output("slider.x", "m", "x_C: position of slider 5 (hinge C) from the crank axis (paper 004, eq. 1)").depends(ON_PHI),
+        slider_v = Var::output("slider.v", "m/s", "Velocity of slider 5 along x (eqs. 2-3)").depends(ON_PHI_W),
+        slider_a = Var::output("slider.a", "m/s2", "Acceleration of slider 5 along x (eq. 4)").depends(ON_ALL),
+        holder_beta = Var::output("holder.beta", "rad", "Angle beta of holder CD from +x (eq. 5)").depends(ON_PHI),
+        holder_w = Var::output("holder.w", "rad/s", "Angular velocity of the holder").depends(ON_PHI_W),
+        holder_eps = Var::output("holder.eps", "rad/s2", "Angular acceleration of the holder").depends(ON_ALL),
+        knife_x = Var::output("knife.x", "m", "x of the knife point S (eq. 8)").depends(ON_PHI),
+        knife_y = Var::output("knife.y", "m", "y of the knife point S (eq. 8)").depends(ON_PHI),
+        knife_vx = Var::output("knife.vx", "m/s", "Velocity of S, x").depends(ON_PHI_W),
+        knife_vy = Var::output("knife.vy", "m/s", "Velocity of S, y").depends(ON_PHI_W),
+        knife_ax = Var::output("knife.ax", "m/s2", "Acceleration of S, x").depends(ON_ALL),
+        knife_ay = Var::output("knife.ay", "m/s2", "Acceleration of S, y").depends(ON_ALL),
+        support_x = Var::output("support.x", "m", "x of hinge D, slider 7 on EQ (eq. 6)").depends(ON_PHI),
+        support_y = Var::output("support.y", "m", "y of hinge D, slider 7 on EQ (eq. 6)").depends(ON_PHI),
+        knife_working = Var::bool_output("knife.working", "True in the working stroke: slider C moves to +x").depends(ON_PHI_W),
+        cut_Fx = Var::output("cut.Fx", "N", "Cutting force on the holder at S, x: cut.F against the velocity of S relative to the block, working stroke only (kinetostatic level)").depends(ON_PHI_W),
+        cut_Fy = Var::output("cut.Fy", "N", "Cutting force on the holder at S, y (kinetostatic level)").depends(ON_PHI_W),
+        rod_F = Var::output("rod.F", "N", "Rod force P, compression positive (kinetostatic level)").depends(ON_ALL),
+        guide_N = Var::output("guide.N", "N", "Normal force of its guide on slider 5, along +y (kinetostatic level)").depends(ON_ALL),
+        support_N = Var::output("support.N", "N", "Normal force of EQ on slider 7, along (cos(alpha), -sin(alpha)) (kinetostatic level)").depends(ON_ALL),
+        pinC_F = Var::output("pinC.F", "N", "Magnitude of the hinge force at C, slider 5 - holder (kinetostatic level)").depends(ON_ALL),
+        pinD_F = Var::output("pinD.F", "N", "Magnitude of the hinge force at D, slider 7 - holder (kinetostatic level)").depends(ON_ALL),
+        sliders_locked = Var::bool_output("sliders.locked", "True where Coulomb friction self-locks a slider (no unique force solution; slider 7: |tan(beta + alpha)| < support.mu); forces are then computed without friction (kinetostatic level)").depends(ON_PHI_W),
+    }
+}
+
+/// The combined crank-slider drive of disc knives (paper 004) as an FMU model.
+pub struct DiscKnifeDrive {
+    params: Params,
+    /// Whether the previous evaluation was in a self-locking zone (one warning per entry).
+    was_locked: bool,
+}
+
+impl DiscKnifeDrive {
+    /// The physics parameters from the variables.
+    pub fn params(v: &Values<V>) -> Params {
+        Params {
+            crank_l1: v[V::crank_l1],
+            rod_lambda2: v[V::rod_lambda2],
+            crank_e: v[V::crank_e],
+            holder_l4: v[V::holder_l4],
+            holder_ls: v[V::holder_lS],
+            support_alpha: v[V::support_alpha],
+            support_xq: v[V::support_xQ],
+            support_yq: v[V::support_yQ],
+            branch: v.int(V::assembly_branch),
+            series: v.flag(V::kinematics_series),
+            holder_m: v[V::holder_m],
+            holder_j: v[V::holder_J],
+            slider5_m: v[V::slider5_m],
+            slider7_m: v[V::slider7_m],
+            rod_m: v[V::rod_m],
+            crank_j: v[V::crank_J],
+            guide_mu: v[V::guide_mu],
+            support_mu: v[V::support_mu],
+            cut_f: v[V::cut_F],
+            feed_v: v[V::feed_V],
+            gravity_g: v[V::gravity_g],
+            drive_n: v[V::drive_n],
+        }
+    }
+
+    fn write_kinematics(v: &mut Values<V>, k: &Kinematics) {
+        v[V::slider_x] = k.x_c;
+        v[V::slider_v] = k.v_c;
+        v[V::slider_a] = k.a_c;
+        v[V::holder_beta] = k.beta;
+        v[V::holder_w] = k.beta_w;
+        v[V::holder_eps] = k.beta_eps;
+        v[V::knife_x] = k.s.x;
+        v[V::knife_y] = k.s.y;
+        v[V::knife_vx] = k.v_s.x;
+        v[V::knife_vy] = k.v_s.y;
+        v[V::knife_ax] = k.a_s.x;
+        v[V::knife_ay] = k.a_s.y;
+        v[V::support_x] = k.d.x;
+        v[V::support_y] = k.d.y;
+        v.set_flag(V::knife_working, k.working);
+    }
+
+    fn write_forces(v: &mut Values<V>, f: &Forces) {
+        v[V::cut_Fx] = f.cut.x;
+        v[V::cut_Fy] = f.cut.y;
+        v[V::rod_F] = f.rod_f;
+        v[V::guide_N] = f.guide_n;
+        v[V::support_N] = f.support_n;
+        v[V::pinC_F] = f.pin_c.norm();
+        v[V::pinD_F] = f.pin_d.norm();
+        v.set_flag(V::sliders_locked, f.locked);
+    }
+}
+
+impl Model for DiscKnifeDrive {
+    type Var = V;
+    const IDENTIFIER: &'static str = "DiscKnifeDrive";
+    const MODEL_NAME: &'static str = "DiscKnifeDrive";
+    const DESCRIPTION: &'static str =
+        "Combined crank-slider drive of the disc knives that trim a book-block spine (paper 004)";
+    const EXPERIMENT: Experiment = Experiment {
+        start: 0.0,
+        stop: 0.4,
+        step: 1e-3,
+        tolerance: None,
+    };
+
+    fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
+        let params = Self::params(v);
+        params.validate()?;
+        Ok(DiscKnifeDrive {
+            params,
+            was_locked: false,
+        })
+    }
+
+    fn evaluate(&mut self, v: &mut Values<V>, time: f64, log: &mut dyn Log) {
+        let p = &self.params;
+        v[V::rod_l2] = p.rod_l2();
+        v[V::slider_stroke] = p.stroke();
+        let s = shaft::state(v, time);
+        let k = p.kinematics(s.phi, s.w, s.a);
+        Self::write_kinematics(v, &k);
+        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic {
+            let f = p.kinetostatics(&k);
+            Self::write_forces(v, &f);
+            if f.locked && !self.was_locked {
+                log.log(
+                    Severity::Warning,
+                    &format!(
+                        "t = {time}: friction self-locks a slider at crank angle {:.2} deg (|tan(beta + alpha)| = {:.4} < support.mu = {}): no unique force solution; forces computed without friction while sliders.locked",
+                        k.phi.to_degrees(),
+                        (k.beta + p.support_alpha).tan().abs(),
+                        p.support_mu
+                    ),
+                );
+            }
+            self.was_locked = f.locked;
+            f.shaft_tau
+        } else {
+            0.0
+        };
+        shaft::set_outputs(v, tau, s.w);
+    }
+
+    fn save_state(&self) -> Vec<f64> {
+        vec![f64::from(u8::from(self.was_locked))]
+    }
+
+    fn restore_state(&mut self, state: &[f64]) -> Result<(), String> {
+        match state {
+            [x] if *x == 0.0 || *x == 1.0 => {
+                self.was_locked = *x == 1.0;
+                Ok(())
+            }
+            _ => Err(format!(
+                "DiscKnifeDrive state: expected [0 or 1], got {state:?}"
+            )),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{NoLog, VarSet, check_bounds};
+
+    struct Recorder(Vec<(Severity, String)>);
+    impl Log for Recorder {
+        fn log(&mut self, s: Severity, m: &str) {
+            self.0.push((s, m.to_string()));
+        }
+    }
+
+    #[test]
+    fn defaults_are_the_physics_defaults() {
+        let v = Values::<V>::start();
+        assert_eq!(DiscKnifeDrive::params(&v), Params::default());
+        assert_eq!(check_bounds(&v), Ok(()));
+        assert!(DiscKnifeDrive::prepare(&v).is_ok());
+        // 300 rpm nominal speed.
+        assert!((v[V::shaft_w] - 10.0 * std::f64::consts::PI).abs() < 1e-12);
+    }
+
+    #[test]
+    fn outputs_are_the_physics() {
+        let mut v = Values::<V>::start();
+        let mut m = DiscKnifeDrive::prepare(&v).unwrap();
+        let p = Params::default();
+        for j in 0..100 {
+            let phi = 0.0731 * j as f64;
+            v[V::shaft_phi] = phi;
+            v[V::shaft_a] = 12.0;
+            m.evaluate(&mut v, 0.0, &mut NoLog);
+            let k = p.kinematics(phi, v[V::shaft_w], 12.0);
+            let f = p.kinetostatics(&k);
+            assert_eq!(v[V::knife_x], k.s.x);
+            assert_eq!(v[V::knife_ay], k.a_s.y);
+            assert_eq!(v[V::holder_beta], k.beta);
+            assert_eq!(v[V::shaft_tau], f.shaft_tau);
+            assert_eq!(v[V::shaft_P], f.shaft_tau * v[V::shaft_w]);
+            assert_eq!(v[V::pinD_F], f.pin_d.norm());
+            assert_eq!(v.flag(V::knife_working), k.working);
+            assert_eq!(v.flag(V::sliders_locked), f.locked);
+            assert_eq!(v[V::rod_l2], 0.038);
+        }
+    }
+
+    #[test]
+    fn kinematic_level_has_no_forces() {
+        let mut v = Values::<V>::start();
+        v[V::model_fidelity] = 1.0;
+        let mut m = DiscKnifeDrive::prepare(&v).unwrap();
+        v[V::shaft_phi] = 4.0;
+        m.evaluate(&mut v, 0.0, &mut NoLog);
+        assert_eq!(
+            (v[V::shaft_tau], v[V::rod_F], v[V::cut_Fx]),
+            (0.0, 0.0, 0.0)
+        );
+        assert!(v[V::knife_x] > 0.02);
+    }
+
+    #[test]
+    fn one_warning_per_locked_zone() {
+        let mut v = Values::<V>::start();
+        let mut m = DiscKnifeDrive::prepare(&v).unwrap();
+        let mut log = Recorder(vec![]);
+        for j in 0..=720 {
+            v[V::shaft_phi] = std::f64::consts::TAU * 2.0 * j as f64 / 720.0;
+            m.evaluate(&mut v, j as f64, &mut log);
+        }
+        // Two turns: the zone around 180 deg is entered twice.
+        assert_eq!(log.0.len(), 2, "{:?}", log.0);
+        assert!(
+            log.0
+                .iter()
+                .all(|(s, m)| *s == Severity::Warning && m.contains("self-locks"))
+        );
+        let st = m.save_state();
+        assert!(m.restore_state(&st).is_ok());
+        assert!(m.restore_state(&[0.5]).is_err());
+    }
+
+    #[test]
+    fn refuses_a_holder_that_cannot_assemble() {
+        let mut v = Values::<V>::start();
+        v[V::support_xQ] = 0.075;
+        let e = DiscKnifeDrive::prepare(&v).err().unwrap();
+        assert_eq!(e.param, "holder.l4");
+        assert!(e.to_string().contains("crank angles from"), "{e}");
+        v[V::support_xQ] = 0.060;
+        v[V::assembly_branch] = 0.0;
+        assert_eq!(
+            DiscKnifeDrive::prepare(&v).err().unwrap().param,
+            "assembly.branch"
+        );
+        assert!(V::table().iter().any(|x| x.name == "sliders.locked"));
+    }
+}

@@ -1,0 +1,160 @@
+//! The Perforators FMU's `documentation/`: the mechanism, every variable, and figures redrawn
+//! from [`super::physics`] (papers 000 and 002).
+
+use super::model::Perforators;
+use super::physics::{Mode, Params};
+use crate::catalog::{Documentation, variables_of};
+use crate::docs::{Figure, Series, icon_png};
+use crate::md::ModelInfo;
+use std::f64::consts::PI;
+
+const INTRO: &str = r#"<p>Before a signature is sewn, perforators (a bar of needles) pierce holes in its fold
+from inside the saddle. Paper 000 drives them from the translating table: fixed ramp 7, roller 8 on
+two-arm lever 9 pivoted on the table, rod 10, carriage 11 with perforators 12, tension spring 13. As the
+table travels from loading to sewing the roller climbs the ramp: over the first half of the travel the
+perforators rise (piercing on the way), over the second half they withdraw. The return passes the
+ramp again with an empty saddle.</p>
+<p>The linkage is synthesized by the paper's "reverse" method (eqs. 2-4: &nu; = 28.79&deg;,
+&gamma;<sub>&Sigma;</sub> = 28.93&deg;, S<sub>&Sigma;</sub> = 0.7023). Eq. (3) assumes the rod lies on the
+carriage line at the top; the exact linkage then moves the carriage 1.0228 units (+2.3 %,
+<code>synth.stroke_error</code>). <code>synth.mode</code> = <code>exact</code> (default) builds the ramp
+for the swing 28.27&deg; that gives exactly the 30 mm stroke. The ramp is synthesized from the needle
+motion law over the table position (<code>law.rise</code>, <code>law.fall</code>,
+<code>travel.rise_fraction</code>).</p>
+<p>Level <code>kinetostatic</code>: piercing load 22 kgf = 215.75 N (paper 002, 12 needles, 16-page
+signature), carriage inertia including the table's acceleration, guide and hinge friction, the spring,
+the ramp contact force, its Hertz stress, and <code>table.F</code>, the drive's force on the table, to
+wire into <code>SewingTable.table.F_ext</code>. <code>shaft.tau</code> is the perforators' share of the
+main shaft torque through the table cam. The ramp can only push: when the spring is too weak at a
+speed, <code>roller.lost_contact</code> turns true and a warning names the shaft angle;
+<code>roller.F_margin</code> is the smallest contact force over the last turn.</p>"#;
+
+fn fig(file: &str, title: &str, x: &str, y: &str, series: Vec<Series>, caption: &str) -> Figure {
+    Figure {
+        file: file.into(),
+        title: title.into(),
+        x_label: x.into(),
+        y_label: y.into(),
+        series,
+        caption: caption.into(),
+        equal_axes: false,
+    }
+}
+
+/// Figures with the default parameters at the nominal 100 rpm.
+pub fn figures() -> Vec<Figure> {
+    let d = Params::default().drive().expect("defaults assemble");
+    let paper = Params {
+        mode: Mode::Paper,
+        ..Params::default()
+    }
+    .drive()
+    .expect("defaults assemble");
+    let w = 100.0 * PI / 30.0;
+    let n = 720;
+    let turn = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> {
+        (0..=n)
+            .map(|k| {
+                let phi = 2.0 * PI * k as f64 / n as f64;
+                (phi.to_degrees(), f(phi))
+            })
+            .collect()
+    };
+    let travel = |f: &dyn Fn(f64) -> (f64, f64)| -> Vec<(f64, f64)> {
+        (0..=n).map(|k| f(d.cyc.h * k as f64 / n as f64)).collect()
+    };
+    let profile = |dd: &super::physics::Drive| -> Vec<(f64, f64)> {
+        (0..=n)
+            .map(|k| {
+                let x = dd.cyc.h * k as f64 / n as f64;
+                let (c, _, _) = dd.ramp(x);
+                let (nrm, _, _) = dd.ramp_geometry(x);
+                let r = dd.p.roller_r;
+                (1000.0 * (c.0 - r * nrm.0), 1000.0 * (c.1 - r * nrm.1))
+            })
+            .collect()
+    };
+    vec![
+        fig(
+            "cyclogram.png",
+            "Cyclogram: table and perforators",
+            "shaft angle phi, deg",
+            "displacement / stroke",
+            vec![
+                Series::new(
+                    "table.x / table.stroke",
+                    turn(&|f| d.kinematics(f, w, 0.0).x_t / d.cyc.h),
+                ),
+                Series::new(
+                    "perforators.s / stroke",
+                    turn(&|f| d.kinematics(f, w, 0.0).s / d.stroke),
+                ),
+            ],
+            "Paper 000, Fig. 2 c: the perforators reach the top at half the forward travel, 41 deg of shaft angle, pierce on the way and withdraw before the sewing position; the return travel lifts them again (idle stroke).",
+        ),
+        Figure {
+            equal_axes: true,
+            ..fig(
+                "ramp_profile.png",
+                "The synthesized ramp",
+                "x (lever frame at loading), mm",
+                "y, mm",
+                vec![
+                    Series::new(
+                        "pitch curve (roller centre)",
+                        travel(&|x| {
+                            let (c, _, _) = d.ramp(x);
+                            (1000.0 * c.0, 1000.0 * c.1)
+                        }),
+                    ),
+                    Series::new("profile, synth.mode = exact", profile(&d)),
+                    Series::new("profile, synth.mode = paper", profile(&paper)),
+                ],
+                "Ramp 7 in the frame of the lever pivot at the loading position: the roller centre's path and the profile (offset by roller.r) for both synthesis modes.",
+            )
+        },
+        fig(
+            "sigma_H.png",
+            "Hertz stress roller - ramp over the travel at 100 rpm",
+            "table position x_t, mm",
+            "roller.sigma_H, MPa",
+            vec![Series::new(
+                "forward travel",
+                (0..=n)
+                    .map(|k| {
+                        let phi = d.cyc.forward * k as f64 / n as f64;
+                        let kk = d.kinematics(phi, w, 0.0);
+                        (1000.0 * kk.x_t, 1e-6 * d.forces(&kk).sigma_h)
+                    })
+                    .collect(),
+            )],
+            "Hertz stress (paper 002, eq. 8) between roller and ramp on the forward travel, with the piercing load.",
+        ),
+        fig(
+            "forces.png",
+            "Contact force and table reaction at 100 rpm",
+            "shaft angle phi, deg",
+            "N",
+            vec![
+                Series::new(
+                    "roller.F",
+                    turn(&|f| d.forces(&d.kinematics(f, w, 0.0)).roller_f),
+                ),
+                Series::new(
+                    "table.F",
+                    turn(&|f| d.forces(&d.kinematics(f, w, 0.0)).table_f),
+                ),
+                Series::new("rod.F", turn(&|f| d.forces(&d.kinematics(f, w, 0.0)).rod_f)),
+            ],
+            "The ramp's contact force (must stay positive), the drive's force on the table and the rod force over one turn.",
+        ),
+    ]
+}
+
+/// `documentation/` files (index.html first) and the icon.
+pub fn documentation() -> Result<Documentation, String> {
+    let vars = variables_of::<Perforators>();
+    let files =
+        crate::docs::documentation(&ModelInfo::of::<Perforators>(), &vars, INTRO, &figures())?;
+    Ok((files, icon_png("Perforators")?))
+}

@@ -1,0 +1,107 @@
+use super::*;
+use crate::model::Severity;
+
+struct Rec(Vec<(Severity, String)>);
+impl Log for Rec {
+    fn log(&mut self, s: Severity, m: &str) {
+        self.0.push((s, m.to_string()));
+    }
+}
+
+/// Runs `turns` shaft turns at `rpm` in steps of `h`, returning the model, values and log.
+fn run(rpm: f64, m0: f64, turns: f64, h: f64) -> (Perforators, Values<V>, Rec) {
+    let mut v = Values::<V>::start();
+    v[V::spring_M0] = m0;
+    let mut m = Perforators::prepare(&v).unwrap();
+    let w = rpm * std::f64::consts::PI / 30.0;
+    let mut log = Rec(vec![]);
+    let n = (turns * TAU / w / h).round() as usize;
+    let mut t = 0.0;
+    for _ in 0..n {
+        v[V::shaft_phi] = w * t;
+        v[V::shaft_w] = w;
+        m.do_step(&mut v, t, h, &mut log).unwrap();
+        t += h;
+    }
+    v[V::shaft_phi] = w * t;
+    v[V::shaft_w] = w;
+    m.evaluate(&mut v, t, &mut log);
+    (m, v, log)
+}
+
+#[test]
+fn no_lift_off_at_the_nominal_speed() {
+    let (m, v, log) = run(100.0, 6.0, 2.5, 1e-3);
+    assert!(log.0.is_empty(), "{:?}", log.0);
+    assert!(!v.flag(V::roller_lost_contact));
+    // the margin is the smallest force of the last full turn, found independently
+    let (fmin, _) = m
+        .drive()
+        .min_contact_force(100.0 * std::f64::consts::PI / 30.0, 1440);
+    assert!(v[V::roller_F_margin] > 0.0);
+    assert!(
+        (v[V::roller_F_margin] - fmin).abs() < 0.01 * fmin.abs(),
+        "{} vs {fmin}",
+        v[V::roller_F_margin]
+    );
+}
+
+#[test]
+fn lift_off_is_flagged_and_logged_with_the_shaft_angle() {
+    // a weak spring at the nominal speed
+    let (m, v, log) = run(100.0, 0.5, 1.5, 1e-3);
+    let w = 100.0 * std::f64::consts::PI / 30.0;
+    let (fmin, phi_min) = m.drive().min_contact_force(w, 3600);
+    assert!(fmin < 0.0);
+    assert!(v[V::roller_F_margin] < 0.0);
+    let warnings: Vec<_> = log
+        .0
+        .iter()
+        .filter(|(s, _)| *s == Severity::Warning)
+        .collect();
+    assert!(!warnings.is_empty());
+    assert!(
+        warnings[0].1.contains("shaft angle") && warnings[0].1.contains("spring.M0"),
+        "{}",
+        warnings[0].1
+    );
+    // the logged angle lies where the contact force is negative
+    let deg: f64 = warnings[0]
+        .1
+        .split("shaft angle ")
+        .nth(1)
+        .unwrap()
+        .split(' ')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
+    let f = m
+        .drive()
+        .forces(&m.drive().kinematics(deg.to_radians(), w, 0.0))
+        .roller_f;
+    assert!(
+        f < 0.0 || (deg.to_radians() - phi_min).abs() < 0.05,
+        "{deg}: {f}"
+    );
+    // one warning per lift-off episode: at most a few per turn
+    assert!(warnings.len() <= 6, "{}", warnings.len());
+}
+
+#[test]
+fn state_round_trips() {
+    let (mut m, mut v, _) = run(100.0, 0.5, 0.7, 1e-3);
+    let saved = m.save_state();
+    let mut fresh = Perforators::prepare(&v).unwrap();
+    fresh.restore_state(&saved).unwrap();
+    assert_eq!(fresh.save_state(), saved);
+    let mut log = Rec(vec![]);
+    let (mut a, mut b) = (v.clone(), v.clone());
+    m.do_step(&mut a, 0.7, 1e-3, &mut log).unwrap();
+    fresh.do_step(&mut b, 0.7, 1e-3, &mut log).unwrap();
+    m.evaluate(&mut a, 0.701, &mut log);
+    fresh.evaluate(&mut b, 0.701, &mut log);
+    assert_eq!(a.raw(), b.raw());
+    assert!(fresh.restore_state(&[1.0]).is_err());
+    m.evaluate(&mut v, 0.7, &mut log);
+}

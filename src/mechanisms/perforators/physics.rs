@@ -1,0 +1,675 @@
+//! Pure mechanics of the perforator (needle) drive riding on the translating sewing table
+//! (papers 000 and 002, `perforators.md`).
+//!
+//! Fixed ramp 7 → roller 8 on two-arm lever 9 (pivot O1 on the table) → rod 10 → carriage 11 with
+//! the perforators 12, sliding on the table along a line at α from the vertical; tension spring 13
+//! keeps the roller on the ramp. Lever frame: origin O1, y up, relative sizes × `synth.unit`.
+//! Lever rotation Δγ ≥ 0 from the lowest position raises the perforators.
+//!
+//! The table moves along −x of the lever frame on its forward travel; `x_t` is its position
+//! (0 at loading, `table.stroke` at sewing) from [`crate::mechanics::cyclogram`]. The ramp is
+//! synthesized so that the perforators follow a motion law of `x_t` (rise over `ρ·h`, fall over
+//! the rest); the same function holds on the return travel.
+//!
+//! Forces (level `kinetostatic`), in the table frame with the table's inertial force: carriage
+//! along its line (rod force P, compression positive, weight, piercing load, guide friction μ,
+//! inertia of its own and of the table's acceleration), lever moment balance about O1 (rod, spring
+//! moment `−(M0 + kt·Δγ)`, ramp contact force along the ramp normal, lever inertia, hinge
+//! friction `f·r·|F|` of seed 002 in O1, A and B reduced to the lever by their relative rates).
+//! `table.F` is the force of the whole drive on the table along +x_t.
+
+// `!(x > 0.0)` is deliberate throughout: a NaN parameter fails the check too.
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use crate::mechanics::cyclogram::{CyclePoint, Cyclogram, Phase};
+use crate::mechanics::hertz::{Surface, line_contact_stress};
+use crate::mechanics::motion_laws::MotionLaw;
+use crate::mechanics::slider_line::SliderLine;
+use crate::mechanics::{ParamError, STANDARD_GRAVITY};
+use crate::mechanisms::sewing_table::physics::Params as TableParams;
+use std::f64::consts::{FRAC_PI_2, TAU};
+
+/// Which lever swing the ramp is built for (`synth.mode`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Mode {
+    /// The paper's γΣ of eq. (3).
+    Paper = 1,
+    /// The swing that gives exactly the stroke λS.
+    Exact = 2,
+}
+
+/// Parameters, SI units (angles rad); field docs name the FMI variable.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Params {
+    /// `synth.lambda_S` (1.0), `synth.lambda1` (1.07), `synth.lambda2` (2.0),
+    /// `synth.lambda3` (2.03), `synth.lambda4` (1.6): relative sizes (paper 000).
+    pub lambda_s: f64,
+    pub lambda1: f64,
+    pub lambda2: f64,
+    pub lambda3: f64,
+    pub lambda4: f64,
+    /// `synth.gamma0` (6°), `synth.gamma1` (47°), `synth.alpha` (37°) (paper 000).
+    pub gamma0: f64,
+    pub gamma1: f64,
+    pub alpha: f64,
+    /// `synth.unit`, m (0.030: λS = 30 mm).
+    pub unit: f64,
+    /// `synth.mode`.
+    pub mode: Mode,
+    /// The table: its synthesis (`synth.l1`, `synth.R`, `synth.alpha2`) and cyclogram.
+    pub table: TableParams,
+    /// `travel.rise_fraction` ρ (0.5, paper 000: top at half the travel).
+    pub rise_fraction: f64,
+    /// `law.rise`, `law.fall` of the needles over the table travel.
+    pub law_rise: MotionLaw,
+    pub law_fall: MotionLaw,
+    /// `pierce.Q` (215.75 N = 22 kgf, paper 002), `pierce.s_in` (0.55), `pierce.s_out` (0.75),
+    /// `pierce.k_f` (0.15).
+    pub pierce_q: f64,
+    pub pierce_s_in: f64,
+    pub pierce_s_out: f64,
+    pub pierce_k_f: f64,
+    /// `perf.m`: carriage and perforators, kg (0.6, assumption).
+    pub perf_m: f64,
+    /// `guide.mu`: carriage guide friction (0.1, assumption).
+    pub guide_mu: f64,
+    /// `lever.J` about O1, kg·m² (0.002, assumption).
+    pub lever_j: f64,
+    /// `spring.M0` N·m (6), `spring.kt` N·m/rad (20) (assumption).
+    pub spring_m0: f64,
+    pub spring_kt: f64,
+    /// `joint.f` (0.05), `joint.r` m (0.006) (seed 002's hinge friction).
+    pub joint_f: f64,
+    pub joint_r: f64,
+    /// `roller.r`, `roller.b` m (0.010, assumption), `ramp.E`, `roller.E` Pa (2.1e11).
+    pub roller_r: f64,
+    pub roller_b: f64,
+    pub ramp_e_mod: f64,
+    pub roller_e_mod: f64,
+}
+
+impl Default for Params {
+    fn default() -> Self {
+        Self {
+            lambda_s: 1.0,
+            lambda1: 1.07,
+            lambda2: 2.0,
+            lambda3: 2.03,
+            lambda4: 1.6,
+            gamma0: 6f64.to_radians(),
+            gamma1: 47f64.to_radians(),
+            alpha: 37f64.to_radians(),
+            unit: 0.030,
+            mode: Mode::Exact,
+            table: TableParams::default(),
+            rise_fraction: 0.5,
+            law_rise: MotionLaw::Cycloidal,
+            law_fall: MotionLaw::Cycloidal,
+            pierce_q: 22.0 * STANDARD_GRAVITY,
+            pierce_s_in: 0.55,
+            pierce_s_out: 0.75,
+            pierce_k_f: 0.15,
+            perf_m: 0.6,
+            guide_mu: 0.1,
+            lever_j: 0.002,
+            spring_m0: 6.0,
+            spring_kt: 20.0,
+            joint_f: 0.05,
+            joint_r: 0.006,
+            roller_r: 0.010,
+            roller_b: 0.010,
+            ramp_e_mod: 2.1e11,
+            roller_e_mod: 2.1e11,
+        }
+    }
+}
+
+/// The paper's synthesis, eqs. (2)-(4), relative units and rad.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Synthesis {
+    /// ν, eq. (2) (28.79°).
+    pub nu: f64,
+    /// γΣ, eq. (3) (28.93°).
+    pub gamma_sum: f64,
+    /// SΣ, eq. (4) (0.7023).
+    pub s_sum: f64,
+}
+
+/// Everything fixed for a run: geometry in metres, the swing, the stroke.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Drive {
+    pub p: Params,
+    pub line: SliderLine,
+    /// `s(0)`, m.
+    pub s0: f64,
+    /// Branch of the inverse (see [`SliderLine::joint_on_circle`]).
+    pub branch: f64,
+    /// The paper's swing γΣ and the exact swing, rad.
+    pub gamma_paper: f64,
+    pub gamma_exact: f64,
+    /// The swing the ramp is built for, rad.
+    pub gamma_sw: f64,
+    /// `perforators.stroke` S = s(γ_sw) − s(0), m.
+    pub stroke: f64,
+    /// Table stroke h, m, and cyclogram.
+    pub cyc: Cyclogram,
+}
+
+/// Kinematics at one shaft state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Kinematics {
+    pub phase: i32,
+    /// Table position x_t, `dx_t/dφ`, velocity, acceleration.
+    pub x_t: f64,
+    pub x_t_d: f64,
+    pub v_t: f64,
+    pub a_t: f64,
+    /// `perforators.s`, `.v`, `.a`.
+    pub s: f64,
+    pub v: f64,
+    pub a: f64,
+    /// `lever.gamma` Δγ, `lever.w`, `lever.a`; `dΔγ/dx_t`, `d²Δγ/dx_t²`.
+    pub gamma: f64,
+    pub gamma_w: f64,
+    pub gamma_a: f64,
+    pub gamma_x: f64,
+    pub gamma_xx: f64,
+    /// `rod.nu`, rad.
+    pub nu: f64,
+    /// `roller.rise`, m.
+    pub rise: f64,
+    /// Ramp: upward unit normal (ground frame), `ramp.theta`, `ramp.rho` (profile, + convex).
+    pub normal: (f64, f64),
+    pub theta: f64,
+    pub rho: f64,
+}
+
+/// Forces at one shaft state.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Forces {
+    /// `pierce.Q` (≥ 0, against the needles' motion).
+    pub pierce_q: f64,
+    /// `perforators.F_inertia`.
+    pub f_inertia: f64,
+    /// `rod.F`, compression positive.
+    pub rod_f: f64,
+    /// Carriage guide normal force (magnitude).
+    pub guide_n: f64,
+    /// `spring.M`.
+    pub spring_m: f64,
+    /// Hinge friction moment reduced to the lever.
+    pub joint_m: f64,
+    /// `roller.F`: contact force the ramp must push with (< 0: lift-off).
+    pub roller_f: f64,
+    /// `roller.sigma_H`.
+    pub sigma_h: f64,
+    /// `table.F`: force on the table along +x_t.
+    pub table_f: f64,
+    /// `shaft.tau`: the perforators' share at the main shaft, `−table.F·dx_t/dφ`.
+    pub tau: f64,
+}
+
+fn dot(a: (f64, f64), b: (f64, f64)) -> f64 {
+    a.0 * b.0 + a.1 * b.1
+}
+fn cross(a: (f64, f64), b: (f64, f64)) -> f64 {
+    a.0 * b.1 - a.1 * b.0
+}
+fn sgn(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+const SAMPLES: usize = 2000;
+
+impl Params {
+    /// Paper 000, eqs. (2)-(4).
+    pub fn synthesis(&self) -> Synthesis {
+        let nu = ((self.lambda2 - self.lambda3 * (self.alpha + self.gamma0).cos()) / self.lambda1)
+            .asin();
+        let gamma_sum = ((self.lambda_s * self.alpha.cos()
+            + self.lambda1 * (self.alpha - nu).cos()
+            - self.lambda3 * self.gamma0.sin()
+            - self.lambda1 * self.alpha.cos())
+            / self.lambda3)
+            .asin()
+            + self.gamma0;
+        let s_sum =
+            self.lambda4 * self.gamma1.cos() - self.lambda4 * (gamma_sum + self.gamma1).cos();
+        Synthesis {
+            nu,
+            gamma_sum,
+            s_sum,
+        }
+    }
+
+    fn slider_line(&self) -> SliderLine {
+        SliderLine {
+            l: self.lambda1 * self.unit,
+            e: self.lambda2 * self.unit,
+            alpha: self.alpha,
+        }
+    }
+
+    /// Rod joint A, `dA/dΔγ`, `d²A/dΔγ²`, m.
+    pub fn joint_a(&self, g: f64) -> ((f64, f64), (f64, f64), (f64, f64)) {
+        let r = self.lambda3 * self.unit;
+        let (s, c) = (g - self.gamma0).sin_cos();
+        ((r * c, r * s), (-r * s, r * c), (-r * c, -r * s))
+    }
+
+    /// Roller centre R, `dR/dΔγ`, `d²R/dΔγ²` in the lever frame, m.
+    pub fn roller(&self, g: f64) -> ((f64, f64), (f64, f64), (f64, f64)) {
+        let r = self.lambda4 * self.unit;
+        let (s, c) = (self.gamma1 + g).sin_cos();
+        ((r * s, -r * c), (r * c, r * s), (-r * s, r * c))
+    }
+
+    /// Carriage position `s(Δγ)` along `u` and its derivatives, m.
+    pub fn carriage(&self, g: f64) -> crate::mechanics::slider_line::SliderPose {
+        let (a, a1, a2) = self.joint_a(g);
+        self.slider_line().pose(a, a1, a2)
+    }
+
+    /// Checks the parameters and derives the run's constants.
+    pub fn drive(&self) -> Result<Drive, ParamError> {
+        self.table.validate()?;
+        let arg2 = (self.lambda2 - self.lambda3 * (self.alpha + self.gamma0).cos()) / self.lambda1;
+        if !(arg2.abs() <= 1.0) {
+            return Err(ParamError::new(
+                "synth.lambda1",
+                self.lambda1,
+                format!(
+                    "eq. (2): (lambda2 - lambda3*cos(alpha + gamma0))/lambda1 = {arg2:.4} is outside [-1, 1]"
+                ),
+            ));
+        }
+        let syn = self.synthesis();
+        if !syn.gamma_sum.is_finite() {
+            return Err(ParamError::new(
+                "synth.lambda_S",
+                self.lambda_s,
+                "eq. (3): the arcsine argument is outside [-1, 1]: the lever cannot swing far enough for this stroke",
+            ));
+        }
+        if !(self.rise_fraction > 0.0 && self.rise_fraction < 1.0) {
+            return Err(ParamError::new(
+                "travel.rise_fraction",
+                self.rise_fraction,
+                "must lie strictly between 0 and 1",
+            ));
+        }
+        if !(self.pierce_s_in < self.pierce_s_out && self.pierce_s_out <= 1.0) {
+            return Err(ParamError::new(
+                "pierce.s_out",
+                self.pierce_s_out,
+                format!("must lie in (pierce.s_in = {}, 1]", self.pierce_s_in),
+            ));
+        }
+        let line = self.slider_line();
+        let (a0, _, _) = self.joint_a(0.0);
+        let s0 = self.carriage(0.0).s;
+        let target = self.lambda_s * self.unit;
+        // exact swing: s rises monotonically from s(0) until it reaches s0 + λS
+        let (mut lo, mut hi) = (0.0, 0.0);
+        let step = 1e-3;
+        loop {
+            let g = hi + step;
+            let c = self.carriage(g);
+            if !(c.s.is_finite() && c.ds > 0.0) || g > FRAC_PI_2 {
+                return Err(ParamError::new(
+                    "synth.lambda_S",
+                    self.lambda_s,
+                    format!(
+                        "the linkage cannot raise the perforators that far (it reaches {:.4} before the rod or lever turns back)",
+                        (self.carriage(hi).s - s0) / self.unit
+                    ),
+                ));
+            }
+            if c.s - s0 >= target {
+                hi = g;
+                break;
+            }
+            lo = g;
+            hi = g;
+        }
+        for _ in 0..200 {
+            let mid = 0.5 * (lo + hi);
+            if self.carriage(mid).s - s0 < target {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        let gamma_exact = 0.5 * (lo + hi);
+        let gamma_paper = syn.gamma_sum;
+        let gamma_sw = match self.mode {
+            Mode::Paper => gamma_paper,
+            Mode::Exact => gamma_exact,
+        };
+        let mut g = 0.0;
+        while g < gamma_sw {
+            if !(self.carriage(g).ds > 0.0) {
+                return Err(ParamError::new(
+                    "synth.gamma0",
+                    self.gamma0,
+                    format!(
+                        "the perforators do not rise monotonically over the swing (at lever angle {:.2} deg)",
+                        g.to_degrees()
+                    ),
+                ));
+            }
+            g += 1e-3;
+        }
+        let stroke = self.carriage(gamma_sw).s - s0;
+        let d = Drive {
+            p: *self,
+            line,
+            s0,
+            branch: line.branch_of(a0),
+            gamma_paper,
+            gamma_exact,
+            gamma_sw,
+            stroke,
+            cyc: self.table.cyclogram(),
+        };
+        d.check_ramp()?;
+        Ok(d)
+    }
+}
+
+impl Drive {
+    /// `synth.stroke_error`: the paper's stroke over the exact one, minus 1.
+    pub fn stroke_error(&self) -> f64 {
+        (self.p.carriage(self.gamma_paper).s - self.s0) / (self.p.lambda_s * self.p.unit) - 1.0
+    }
+
+    /// Lever angle for a perforator displacement `s_p` (the inverse of `perforators.md`).
+    pub fn gamma_of(&self, s_p: f64) -> f64 {
+        let a = self
+            .line
+            .joint_on_circle(self.p.lambda3 * self.p.unit, self.s0 + s_p, self.branch)
+            .unwrap_or((f64::NAN, f64::NAN));
+        let g = a.1.atan2(a.0) + self.p.gamma0;
+        // keep Δγ continuous through ±π
+        if g > std::f64::consts::PI { g - TAU } else { g }
+    }
+
+    /// The needles' law over the table travel: `(s_p, ds_p/dx_t, d²s_p/dx_t²)`.
+    pub fn needle_law(&self, x_t: f64) -> (f64, f64, f64) {
+        let h = self.cyc.h;
+        let rh = self.p.rise_fraction * h;
+        if x_t <= rh {
+            self.p.law_rise.rise(self.stroke, rh, x_t)
+        } else {
+            self.p.law_fall.fall(self.stroke, h - rh, x_t - rh)
+        }
+    }
+
+    /// Lever angle as a function of the table position: `(Δγ, dΔγ/dx_t, d²Δγ/dx_t²)`.
+    pub fn gamma_of_x(&self, x_t: f64) -> (f64, f64, f64, f64, f64, f64) {
+        let (s, sx, sxx) = self.needle_law(x_t);
+        let g = self.gamma_of(s);
+        let c = self.p.carriage(g);
+        let gs = 1.0 / c.ds;
+        let gss = -c.dds * gs * gs * gs;
+        (g, gs * sx, gss * sx * sx + gs * sxx, s, sx, sxx)
+    }
+
+    /// Ramp pitch curve in the ground frame (lever frame at loading): `C(x_t) = (−x_t, 0) + R(Δγ)`,
+    /// with `C'`, `C''` in x_t.
+    pub fn ramp(&self, x_t: f64) -> ((f64, f64), (f64, f64), (f64, f64)) {
+        let (g, gx, gxx, ..) = self.gamma_of_x(x_t);
+        let (r, r1, r2) = self.p.roller(g);
+        (
+            (r.0 - x_t, r.1),
+            (r1.0 * gx - 1.0, r1.1 * gx),
+            (r2.0 * gx * gx + r1.0 * gxx, r2.1 * gx * gx + r1.1 * gxx),
+        )
+    }
+
+    /// Ramp at x_t: upward normal, signed profile curvature radius (+ convex hill, − concave
+    /// valley), and whether the profile is convex.
+    pub fn ramp_geometry(&self, x_t: f64) -> ((f64, f64), f64, bool) {
+        let (_, c1, c2) = self.ramp(x_t);
+        let len = dot(c1, c1).sqrt();
+        let t = (c1.0 / len, c1.1 / len);
+        let n = (t.1, -t.0);
+        let rho_pitch = len * len * len / cross(c1, c2).abs();
+        let valley = dot(c2, n) > 0.0;
+        if valley {
+            (n, -(rho_pitch + self.p.roller_r), false)
+        } else {
+            (n, rho_pitch - self.p.roller_r, true)
+        }
+    }
+
+    /// "A ramp the roller cannot follow" (`interface.md`): a pitch curve folding back, or an
+    /// undercut convex profile.
+    fn check_ramp(&self) -> Result<(), ParamError> {
+        for k in 0..=SAMPLES {
+            let x = self.cyc.h * k as f64 / SAMPLES as f64;
+            let (_, c1, _) = self.ramp(x);
+            if !(c1.0 < 0.0) {
+                return Err(ParamError::new(
+                    "synth.lambda4",
+                    self.p.lambda4,
+                    format!(
+                        "the ramp folds back at table position {:.2} mm: the roller cannot follow it",
+                        1000.0 * x
+                    ),
+                ));
+            }
+            let (_, rho, convex) = self.ramp_geometry(x);
+            if convex && !(rho > 0.0) {
+                return Err(ParamError::new(
+                    "roller.r",
+                    self.p.roller_r,
+                    format!(
+                        "the ramp profile is undercut at table position {:.2} mm (pitch curvature radius {:.4} m <= roller.r)",
+                        1000.0 * x,
+                        rho + self.p.roller_r
+                    ),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    /// Kinematics at shaft angle `phi`, speed `w`, acceleration `eps`.
+    pub fn kinematics(&self, phi: f64, w: f64, eps: f64) -> Kinematics {
+        let c: CyclePoint = self.cyc.at(phi);
+        let (v_t, a_t) = c.motion(w, eps);
+        let (g, gx, gxx, s, sx, sxx) = self.gamma_of_x(c.x);
+        let g_d = gx * c.dx;
+        let g_dd = gxx * c.dx * c.dx + gx * c.ddx;
+        let s_d = sx * c.dx;
+        let s_dd = sxx * c.dx * c.dx + sx * c.ddx;
+        let pose = self.p.carriage(g);
+        let (n, rho, _) = self.ramp_geometry(c.x);
+        let (_, r1, _) = self.p.roller(g);
+        let l4 = self.p.lambda4 * self.p.unit;
+        let tr = (r1.0 / l4, r1.1 / l4);
+        Kinematics {
+            phase: c.phase as i32,
+            x_t: c.x,
+            x_t_d: c.dx,
+            v_t,
+            a_t,
+            s,
+            v: s_d * w,
+            a: s_dd * w * w + s_d * eps,
+            gamma: g,
+            gamma_w: g_d * w,
+            gamma_a: g_dd * w * w + g_d * eps,
+            gamma_x: gx,
+            gamma_xx: gxx,
+            nu: pose.sin_nu.asin(),
+            rise: l4 * (self.p.gamma1.cos() - (self.p.gamma1 + g).cos()),
+            normal: n,
+            theta: cross(tr, n).atan2(dot(tr, n)),
+            rho,
+        }
+    }
+
+    /// Piercing load magnitude (`perforators.md`): forward travel only; rising: 0 below s_in,
+    /// linear to Q at the middle of [s_in, s_out], linear to k_f·Q at s_out, k_f·Q above; falling:
+    /// k_f·Q while above s_in.
+    pub fn pierce_load(&self, s: f64, v: f64, phase: i32) -> f64 {
+        if phase != Phase::Forward as i32 || self.stroke <= 0.0 {
+            return 0.0;
+        }
+        let p = &self.p;
+        let q = s / self.stroke;
+        let (si, so) = (p.pierce_s_in, p.pierce_s_out);
+        let mid = 0.5 * (si + so);
+        if v > 0.0 {
+            if q <= si {
+                0.0
+            } else if q <= mid {
+                p.pierce_q * (q - si) / (mid - si)
+            } else if q <= so {
+                p.pierce_q * (1.0 - (1.0 - p.pierce_k_f) * (q - mid) / (so - mid))
+            } else {
+                p.pierce_k_f * p.pierce_q
+            }
+        } else if v < 0.0 && q > si {
+            p.pierce_k_f * p.pierce_q
+        } else {
+            0.0
+        }
+    }
+
+    /// Forces (kinetostatic level) for kinematics `k`.
+    pub fn forces(&self, k: &Kinematics) -> Forces {
+        let p = &self.p;
+        let m = p.perf_m;
+        let g = STANDARD_GRAVITY;
+        let (sa, ca) = p.alpha.sin_cos();
+        let sv = sgn(k.v);
+        let qt = self.pierce_load(k.s, k.v, k.phase);
+        // carriage along u
+        let (a, a1, _) = p.joint_a(k.gamma);
+        let pose = p.carriage(k.gamma);
+        let b = self.line.b(pose.s);
+        let l1 = self.line.l;
+        let e = ((b.0 - a.0) / l1, (b.1 - a.1) / l1);
+        let (cu, cn) = (pose.cos_nu, pose.sin_nu);
+        let kk = -m * g * sa + m * k.a_t * ca;
+        let gg = m * k.a + m * g * ca + m * k.a_t * sa + qt * sv;
+        let mu = p.guide_mu;
+        let mut rod = (gg + mu * sv * kk) / (cu - mu * sv * cn);
+        if rod * cn + kk < 0.0 {
+            rod = (gg - mu * sv * kk) / (cu + mu * sv * cn);
+        }
+        let guide_n = (rod * cn + kk).abs();
+        // lever about O1
+        let (r, _, _) = p.roller(k.gamma);
+        let n = k.normal;
+        let m_rod = -rod * cross(a, e);
+        let spring_m = -(p.spring_m0 + p.spring_kt * k.gamma);
+        let arm = cross(r, n);
+        // rod angle rate per unit Δγ: e' = (B' − A')/l1, θ' = e × e'
+        let bu = self.line.u();
+        let e1 = ((pose.ds * bu.0 - a1.0) / l1, (pose.ds * bu.1 - a1.1) / l1);
+        let th = cross(e, e1);
+        let sw = sgn(k.gamma_w);
+        let mut joint_m = 0.0;
+        let mut fc = 0.0;
+        for _ in 0..4 {
+            fc = (p.lever_j * k.gamma_a - m_rod - spring_m - joint_m) / arm;
+            let fo = (rod * e.0 - fc * n.0, rod * e.1 - fc * n.1);
+            joint_m = -sw
+                * p.joint_f
+                * p.joint_r
+                * (dot(fo, fo).sqrt() + rod.abs() * ((1.0 - th).abs() + th.abs()));
+        }
+        let sigma_h = if fc > 0.0 {
+            let surface = if k.rho > 0.0 {
+                Surface::Convex
+            } else {
+                Surface::Concave
+            };
+            line_contact_stress(
+                fc,
+                p.roller_b,
+                p.ramp_e_mod,
+                p.roller_e_mod,
+                p.roller_r,
+                k.rho.abs(),
+                surface,
+            )
+            .unwrap_or(f64::NAN)
+        } else {
+            0.0
+        };
+        let table_f = -fc * n.0 - m * (k.a_t + k.a * sa);
+        Forces {
+            pierce_q: qt,
+            f_inertia: -m * (k.a + k.a_t * sa),
+            rod_f: rod,
+            guide_n,
+            spring_m,
+            joint_m,
+            roller_f: fc,
+            sigma_h,
+            table_f,
+            tau: -table_f * k.x_t_d,
+        }
+    }
+
+    /// Smallest contact force over one turn at constant speed `w` (and the shaft angle).
+    pub fn min_contact_force(&self, w: f64, samples: usize) -> (f64, f64) {
+        let mut worst = (f64::INFINITY, 0.0);
+        for i in 0..samples {
+            let phi = self.cyc.phi0 + TAU * i as f64 / samples as f64;
+            let f = self.forces(&self.kinematics(phi, w, 0.0)).roller_f;
+            if f < worst.0 {
+                worst = (f, phi);
+            }
+        }
+        worst
+    }
+
+    /// The lowest constant speed (rad/s) in `(lo, hi]` at which the roller lifts off somewhere in
+    /// the turn, by bisection to `tol`; `None` if it does not lift off at `hi` or already does at
+    /// `lo`.
+    pub fn liftoff_speed(&self, lo: f64, hi: f64, tol: f64, samples: usize) -> Option<f64> {
+        let lifts = |w: f64| self.min_contact_force(w, samples).0 < 0.0;
+        if lifts(lo) || !lifts(hi) {
+            return None;
+        }
+        let (mut lo, mut hi) = (lo, hi);
+        while hi - lo > tol {
+            let mid = 0.5 * (lo + hi);
+            if lifts(mid) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        Some(hi)
+    }
+
+    /// Mechanical energy of the drive (table frame plus table motion): carriage kinetic energy in
+    /// the ground frame, lever kinetic energy, spring and carriage potential energy.
+    pub fn energy(&self, k: &Kinematics) -> f64 {
+        let p = &self.p;
+        let u = self.line.u();
+        // carriage velocity in the ground frame: v_p·u − v_t·e_x
+        let vc = (k.v * u.0 - k.v_t, k.v * u.1);
+        0.5 * p.perf_m * dot(vc, vc)
+            + 0.5 * p.lever_j * k.gamma_w * k.gamma_w
+            + p.spring_m0 * k.gamma
+            + 0.5 * p.spring_kt * k.gamma * k.gamma
+            + p.perf_m * STANDARD_GRAVITY * k.s * p.alpha.cos()
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,277 @@
+//! The SewingTable FMU: its variables, declared once, and the glue from them to
+//! [`super::physics`] (`../shared/spec/sewing-table.md`).
+
+use super::physics::{Kind, Params};
+use crate::mechanics::motion_laws::MotionLaw;
+use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
+use crate::model::{EnumType, Experiment, Log, Model, ParamError, Values};
+
+/// `law.*` (`motion-laws.md`), shared by SewingTable and Perforators.
+pub static MOTION_LAW: EnumType = EnumType {
+    name: "MotionLaw",
+    description: "Normalized cam motion law (motion-laws.md)",
+    items: &[
+        ("cycloidal", "sine acceleration; paper 002's 'Co'"),
+        (
+            "harmonic",
+            "cosine acceleration; paper 002's 'K'; acceleration jumps at the ends",
+        ),
+        ("poly345", "3-4-5 polynomial"),
+    ],
+};
+
+/// The law of a `law.*` value (1-based item of [`MOTION_LAW`]).
+pub fn motion_law(item: i32) -> MotionLaw {
+    match item {
+        2 => MotionLaw::Harmonic,
+        3 => MotionLaw::Poly345,
+        _ => MotionLaw::Cycloidal,
+    }
+}
+
+/// `table.kind`.
+pub static TABLE_KIND: EnumType = EnumType {
+    name: "TableKind",
+    description: "Which sewing table (sewing-table.md)",
+    items: &[
+        ("translating", "paper 000's translating table on a slot cam"),
+        (
+            "rocking",
+            "the BNSh-6A's rocking table, same cyclogram, for comparison",
+        ),
+    ],
+};
+
+/// Dependencies of what the external force on the table acts on.
+const ON_ALL_F: &[u32] = &[shaft::PHI, shaft::W, shaft::A, V::table_F_ext as u32];
+
+crate::model_variables! {
+    pub enum V (nominal_rpm = 100.0, torque_depends = ON_ALL_F) {
+        // ---- synthesis (paper 000)
+        synth_l1 = Var::parameter("synth.l1", 1.0, "", "l1: rocking axis to the table top in the sewing position, relative (paper 000: 1.0)").min(0.0),
+        synth_R = Var::parameter("synth.R", 11.0, "", "R: diagonal OA from the rocking axis to the top, relative (paper 000: 11.0)").min(0.0),
+        synth_alpha2 = Var::parameter("synth.alpha2", 20f64.to_radians(), "rad", "alpha2: swing of the rocking table (paper 000: 20 deg)").min(0.0).max(std::f64::consts::FRAC_PI_2),
+        synth_unit = Var::parameter("synth.unit", 0.030, "m", "The relative unit (assumption: the perforators' lambda_S = 1 = 30 mm)").min(0.0),
+        // ---- cyclogram
+        cycle_forward = Var::parameter("cycle.forward", 82f64.to_radians(), "rad", "Shaft angle of the forward travel I -> III (paper 000: perforators rise over half of it, phi = 41 deg)").min(0.0),
+        cycle_dwell_sew = Var::parameter("cycle.dwell_sew", 110f64.to_radians(), "rad", "Dwell at the sewing position (assumption)").min(0.0),
+        cycle_return = Var::parameter("cycle.return", 90f64.to_radians(), "rad", "Shaft angle of the return travel (assumption)").min(0.0),
+        cycle_phi0 = Var::parameter("cycle.phi0", 0.0, "rad", "Shaft angle where the forward travel starts"),
+        law_forward = Var::enum_parameter("law.forward", &MOTION_LAW, "cycloidal", "Motion law of the forward travel (cycloidal: the smooth stop paper 000 asks for)"),
+        law_return = Var::enum_parameter("law.return", &MOTION_LAW, "cycloidal", "Motion law of the return travel"),
+        table_kind = Var::enum_parameter("table.kind", &TABLE_KIND, "translating", "translating (paper 000) or rocking (the table it replaces; drives table.x, forces and shaft.tau)"),
+        // ---- cam and forces
+        cam_R0 = Var::parameter("cam.R0", 0.10, "m", "Base (pitch) radius of the slot cam (assumption; tune against the pressure angle)").min(0.0),
+        cam_e = Var::parameter("cam.e", 0.0, "m", "Offset of the follower line from the cam axis (assumption)"),
+        roller_r = Var::parameter("roller.r", 0.015, "m", "Cam roller radius (assumption)").min(0.0),
+        roller_b = Var::parameter("roller.b", 0.015, "m", "Cam roller width (assumption)").min(0.0),
+        cam_E = Var::parameter("cam.E", 2.1e11, "Pa", "Young's modulus of the cam (assumption: steel)").min(0.0),
+        roller_E = Var::parameter("roller.E", 2.1e11, "Pa", "Young's modulus of the roller (assumption: steel)").min(0.0),
+        table_m = Var::parameter("table.m", 8.0, "kg", "Mass of table, saddle, signature and perforator assembly (assumption)").min(0.0),
+        guide_f = Var::parameter("guide.f", 0.005, "", "Rolling friction coefficient of the guide rollers on the load m*g + |Fn*sin(theta_p)| (assumption)").min(0.0),
+        cam_J = Var::parameter("cam.J", 0.02, "kg.m2", "Moment of inertia of the cam on the main shaft (assumption)").min(0.0),
+        rocking_J = Var::parameter("rocking.J", 0.8712, "kg.m2", "Rocking table's moment of inertia about its axis (assumption: table.m at the saddle radius R*unit = 0.33 m)").min(0.0),
+        // ---- input besides the shaft
+        table_F_ext = Var::input("table.F_ext", 0.0, "N", "Force on the table along +x (towards sewing) from outside, e.g. Perforators.table.F"),
+        // ---- calculated parameters (paper 000's synthesis)
+        synth_alpha1 = Var::calculated("synth.alpha1", "rad", "alpha1 = arcsin(l1/R) (paper 000: 5.22 deg)"),
+        synth_A1A2 = Var::calculated("synth.A1A2", "", "A1A2 = 2R*sin(alpha2/2) (paper 000: 3.82)"),
+        synth_k1 = Var::calculated("synth.k1", "", "k1 = R*cos(alpha2/2) (paper 000: 10.83)"),
+        synth_alpha3 = Var::calculated("synth.alpha3", "rad", "alpha3 = 90 deg - (alpha1 + alpha2) (paper 000: 64.78 deg)"),
+        synth_k2 = Var::calculated("synth.k2", "", "k2 = R*sin(alpha3) (paper 000: 9.95)"),
+        synth_k0 = Var::calculated("synth.k0", "", "k0 = k1 - k2, vertical offset of the rocking saddle, eq. (1) (paper 000: 0.88)"),
+        synth_l2 = Var::calculated("synth.l2", "", "l2 = sqrt(A1A2^2 - k0^2): travel of the translating table, relative (paper 000: 3.72)"),
+        table_stroke = Var::calculated("table.stroke", "m", "Table travel l2*unit (0.11152 m)"),
+        cycle_dwell_load = Var::calculated("cycle.dwell_load", "rad", "Dwell at loading: 360 deg minus the other phases"),
+        cam_R0_min = Var::calculated("cam.R0_min", "m", "Smallest base radius without an undercut slot flank, for these laws and roller"),
+        // ---- outputs
+        table_x = Var::output("table.x", "m", "Table position: 0 at loading, table.stroke at sewing (rocking: the saddle's horizontal displacement)").depends(ON_PHI),
+        table_v = Var::output("table.v", "m/s", "Table velocity").depends(ON_PHI_W),
+        table_a = Var::output("table.a", "m/s2", "Table acceleration").depends(ON_ALL),
+        table_phase = Var::int_output("table.phase", "0 forward travel, 1 dwell at sewing, 2 return, 3 dwell at loading").depends(ON_PHI),
+        table_F_inertia = Var::output("table.F_inertia", "N", "Inertia force -m*a of the translating table (kinetostatic level)").depends(ON_ALL),
+        table_F_friction = Var::output("table.F_friction", "N", "Guide friction on the table along +x, -f*N*sgn(v) (kinetostatic level; 0 for rocking)").depends(ON_ALL_F),
+        cam_theta = Var::output("cam.theta", "rad", "Pressure angle theta_p of the slot cam (translating table)").depends(ON_PHI),
+        cam_rho = Var::output("cam.rho", "m", "Curvature radius of the loaded slot flank, + convex, - concave (translating table; an inflection: 1000 m)").depends(ON_ALL_F),
+        cam_F = Var::output("cam.F", "N", "Normal contact force cam - roller, + when pushing towards sewing (kinetostatic level)").depends(ON_ALL_F),
+        cam_sigma_H = Var::output("cam.sigma_H", "Pa", "Hertz stress at the loaded flank, paper 002 eq. 8 (kinetostatic level)").depends(ON_ALL_F),
+        rocking_beta = Var::output("rocking.beta", "rad", "Rocking table for comparison: swing from loading, 0 .. alpha2").depends(ON_PHI),
+        rocking_x = Var::output("rocking.x", "m", "Rocking table's saddle: horizontal displacement from loading towards sewing").depends(ON_PHI),
+        rocking_y = Var::output("rocking.y", "m", "Rocking table's saddle: vertical displacement from loading, up positive").depends(ON_PHI),
+        rocking_M_inertia = Var::output("rocking.M_inertia", "N.m", "Rocking table's inertia torque -J*beta'' about its axis").depends(ON_ALL),
+    }
+}
+
+/// The translating sewing table of paper 000 as an FMU model.
+pub struct SewingTable {
+    params: Params,
+    r0_min: f64,
+}
+
+impl SewingTable {
+    /// The physics parameters from the variables.
+    pub fn params(v: &Values<V>) -> Params {
+        Params {
+            l1: v[V::synth_l1],
+            r: v[V::synth_R],
+            alpha2: v[V::synth_alpha2],
+            unit: v[V::synth_unit],
+            forward: v[V::cycle_forward],
+            dwell_sew: v[V::cycle_dwell_sew],
+            ret: v[V::cycle_return],
+            phi0: v[V::cycle_phi0],
+            law_forward: motion_law(v.int(V::law_forward)),
+            law_return: motion_law(v.int(V::law_return)),
+            kind: if v.int(V::table_kind) == 2 {
+                Kind::Rocking
+            } else {
+                Kind::Translating
+            },
+            cam_r0: v[V::cam_R0],
+            cam_e: v[V::cam_e],
+            roller_r: v[V::roller_r],
+            roller_b: v[V::roller_b],
+            cam_e_mod: v[V::cam_E],
+            roller_e_mod: v[V::roller_E],
+            table_m: v[V::table_m],
+            guide_f: v[V::guide_f],
+            cam_j: v[V::cam_J],
+            rocking_j: v[V::rocking_J],
+        }
+    }
+}
+
+impl Model for SewingTable {
+    type Var = V;
+    const IDENTIFIER: &'static str = "SewingTable";
+    const MODEL_NAME: &'static str = "SewingTable";
+    const DESCRIPTION: &'static str = "Cam-driven translating table of a thread-sewing machine, synthesized from the rocking table of the BNSh-6A (paper 000)";
+    const EXPERIMENT: Experiment = Experiment {
+        start: 0.0,
+        stop: 1.2,
+        step: 1e-3,
+        tolerance: None,
+    };
+
+    fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
+        let params = Self::params(v);
+        params.validate()?;
+        let r0_min = params.smallest_r0();
+        Ok(SewingTable { params, r0_min })
+    }
+
+    fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
+        let p = &self.params;
+        let s = p.synthesis();
+        v[V::synth_alpha1] = s.alpha1;
+        v[V::synth_A1A2] = s.a1a2;
+        v[V::synth_k1] = s.k1;
+        v[V::synth_alpha3] = s.alpha3;
+        v[V::synth_k2] = s.k2;
+        v[V::synth_k0] = s.k0;
+        v[V::synth_l2] = s.l2;
+        v[V::table_stroke] = p.stroke();
+        v[V::cycle_dwell_load] = p.cyclogram().dwell_near();
+        v[V::cam_R0_min] = self.r0_min;
+        let st = shaft::state(v, time);
+        let f_ext = v[V::table_F_ext];
+        let kinetostatic = shaft::fidelity(v) == Fidelity::Kinetostatic;
+        let k = p.kinematics(st.phi, st.w, st.a);
+        let r = p.rocking(st.phi, st.w, st.a);
+        v[V::table_phase] = f64::from(Params::phase_index(k.c.phase));
+        v[V::rocking_beta] = r.beta;
+        v[V::rocking_x] = r.x;
+        v[V::rocking_y] = r.y;
+        v[V::rocking_M_inertia] = if kinetostatic { r.m_inertia } else { 0.0 };
+        let tau = match p.kind {
+            Kind::Translating => {
+                v[V::table_x] = k.c.x;
+                v[V::table_v] = k.v;
+                v[V::table_a] = k.a;
+                v[V::cam_theta] = k.theta;
+                let f = p.forces(&k, st.a, f_ext);
+                // at an inflection of the pitch curve the radius is infinite: reported as 1000 m
+                v[V::cam_rho] = f.rho_flank.clamp(-1000.0, 1000.0);
+                if kinetostatic {
+                    v[V::table_F_inertia] = f.f_inertia;
+                    v[V::table_F_friction] = f.f_friction;
+                    v[V::cam_F] = f.cam_f;
+                    v[V::cam_sigma_H] = f.sigma_h;
+                    f.tau
+                } else {
+                    0.0
+                }
+            }
+            Kind::Rocking => {
+                v[V::table_x] = r.x;
+                v[V::table_v] = r.dx_dbeta * r.w;
+                // d²x/dt² = x''(β)·β̇² + x'(β)·β̈, x(β) = R·u·(sin ψ0 − sin(ψ0 − β))
+                let ddx = -(r.x - p.r * p.unit * (p.synthesis().alpha1 + p.alpha2).sin());
+                v[V::table_a] = ddx * r.w * r.w + r.dx_dbeta * r.a;
+                v[V::cam_theta] = 0.0;
+                v[V::cam_rho] = 0.0;
+                v[V::table_F_inertia] = if kinetostatic {
+                    -p.table_m * v[V::table_a]
+                } else {
+                    0.0
+                };
+                v[V::table_F_friction] = 0.0;
+                v[V::cam_F] = 0.0;
+                v[V::cam_sigma_H] = 0.0;
+                if kinetostatic {
+                    p.rocking_tau(&r, st.a, f_ext)
+                } else {
+                    0.0
+                }
+            }
+        };
+        shaft::set_outputs(v, tau, st.w);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::NoLog;
+
+    #[test]
+    fn outputs_from_the_variables() {
+        let mut v = Values::<V>::start();
+        let mut m = SewingTable::prepare(&v).unwrap();
+        v[V::shaft_phi] = 0.5;
+        m.evaluate(&mut v, 0.0, &mut NoLog);
+        assert!((v[V::table_x] - 0.024560).abs() < 5e-7);
+        assert!((v[V::table_v] - 1.29297).abs() < 5e-6);
+        assert_eq!(v.int(V::table_phase), 0);
+        assert!((v[V::table_stroke] - 0.11152).abs() < 5e-6);
+        assert!(v[V::cam_R0_min] > 0.0 && v[V::cam_R0_min] < 0.1);
+        // the external force enters the torque: -F_ext*dx/dphi
+        let tau0 = v[V::shaft_tau];
+        v[V::table_F_ext] = -100.0;
+        m.evaluate(&mut v, 0.0, &mut NoLog);
+        let k = m.params.kinematics(0.5, v[V::shaft_w], 0.0);
+        assert!(v[V::shaft_tau] - tau0 > 0.9 * 100.0 * k.c.dx);
+    }
+
+    #[test]
+    fn rocking_table_acceleration_by_differences() {
+        let mut v = Values::<V>::start();
+        v[V::table_kind] = 2.0;
+        let mut m = SewingTable::prepare(&v).unwrap();
+        let w = v[V::shaft_w];
+        let at = |m: &mut SewingTable, v: &mut Values<V>, phi: f64| {
+            v[V::shaft_phi] = phi;
+            m.evaluate(v, 0.0, &mut NoLog);
+            (v[V::table_x], v[V::table_v], v[V::table_a])
+        };
+        for k in 1..100 {
+            let phi = 0.05 * k as f64 + 0.013;
+            let h = 1e-6;
+            let (_, v0, a0) = at(&mut m, &mut v, phi);
+            let (xp, vp, _) = at(&mut m, &mut v, phi + h);
+            let (xm, vm, _) = at(&mut m, &mut v, phi - h);
+            assert!((v0 - (xp - xm) / (2.0 * h) * w).abs() < 1e-6);
+            assert!((a0 - (vp - vm) / (2.0 * h) * w).abs() < 1e-4, "{phi}: {a0}");
+        }
+    }
+}

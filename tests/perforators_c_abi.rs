@@ -1,0 +1,189 @@
+//! Drives the built Perforators binary through the FMI 2.0 C ABI: outputs equal the Rust model
+//! bit for bit (incl. the per-cycle state), bad parameters refused naming them, lift-off logged,
+//! FMU state round-trips including the model's internal state.
+
+mod common;
+
+use bindery_fmu::fmi2::types::*;
+use bindery_fmu::md;
+use bindery_fmu::mechanisms::perforators::model::{Perforators, V};
+use bindery_fmu::model::{Model, NoLog, Values, VarSet};
+use common::*;
+use std::f64::consts::PI;
+
+const W: f64 = 100.0 * PI / 30.0;
+const H: f64 = 0.002;
+
+fn fmu() -> Fmu {
+    Fmu::load("Perforators", &md::describe::<Perforators>().1)
+}
+
+const OUTPUTS: [V; 10] = [
+    V::perforators_s,
+    V::perforators_v,
+    V::perforators_a,
+    V::lever_gamma,
+    V::roller_F,
+    V::roller_F_margin,
+    V::roller_sigma_H,
+    V::table_F,
+    V::ramp_rho,
+    V::shaft_tau,
+];
+
+fn run(s: &Slave, t0: f64, n: usize) -> (Vec<Vec<f64>>, Vec<bool>) {
+    let vrs: Vec<u32> = OUTPUTS.iter().map(|v| v.vr()).collect();
+    let (mut rows, mut flags) = (Vec::new(), Vec::new());
+    let mut t = t0;
+    for _ in 0..n {
+        assert_eq!(
+            s.set_real(&[V::shaft_phi.vr(), V::shaft_w.vr()], &[W * t, W]),
+            Status::Ok
+        );
+        let (st, y) = s.get_real(&vrs);
+        assert_eq!(st, Status::Ok);
+        rows.push(y);
+        flags.push(s.get_boolean(&[V::roller_lost_contact.vr()]).1[0]);
+        assert_eq!(s.do_step(t, H), Status::Ok);
+        t += H;
+    }
+    (rows, flags)
+}
+
+fn bits(r: &[Vec<f64>]) -> Vec<u64> {
+    r.iter().flatten().map(|x| x.to_bits()).collect()
+}
+
+#[test]
+fn outputs_match_the_model_computed_in_rust() {
+    let f = fmu();
+    let s = f.slave("run");
+    assert_eq!(s.setup(0.0, None), Status::Ok);
+    assert_eq!(s.init(), Status::Ok);
+    let (rows, _) = run(&s, 0.0, 700);
+    let mut v = Values::<V>::start();
+    let mut m = Perforators::prepare(&v).unwrap();
+    let mut t = 0.0;
+    for row in &rows {
+        v[V::shaft_phi] = W * t;
+        v[V::shaft_w] = W;
+        m.evaluate(&mut v, t, &mut NoLog);
+        for (j, &o) in OUTPUTS.iter().enumerate() {
+            assert_eq!(
+                row[j].to_bits(),
+                v[o].to_bits(),
+                "t = {t}, {o:?}: {} vs {}",
+                row[j],
+                v[o]
+            );
+        }
+        m.do_step(&mut v, t, H, &mut NoLog).unwrap();
+        t += H;
+    }
+}
+
+#[test]
+fn calculated_parameters_are_the_papers() {
+    let f = fmu();
+    for (mode, gamma_sum) in [(1, 28.93), (2, 28.27)] {
+        let s = f.slave("synth");
+        assert_eq!(s.setup(0.0, None), Status::Ok);
+        assert_eq!(s.set_integer(&[V::synth_mode.vr()], &[mode]), Status::Ok);
+        assert_eq!(s.init(), Status::Ok);
+        let vrs = [
+            V::synth_nu,
+            V::synth_gamma_sum,
+            V::synth_S_sum,
+            V::synth_stroke_error,
+            V::synth_gamma_paper,
+        ];
+        let (_, y) = s.get_real(&vrs.iter().map(|v| v.vr()).collect::<Vec<_>>());
+        assert!(
+            (y[0].to_degrees() - 28.79).abs() <= 0.005,
+            "{}",
+            y[0].to_degrees()
+        );
+        assert!(
+            (y[1].to_degrees() - gamma_sum).abs() <= 0.005,
+            "{}",
+            y[1].to_degrees()
+        );
+        assert!((y[2] - 0.7023).abs() <= 0.00005);
+        assert!((100.0 * y[3] - 2.3).abs() <= 0.05);
+        assert!((y[4].to_degrees() - 28.93).abs() <= 0.005);
+    }
+}
+
+#[test]
+fn bad_parameters_are_refused_naming_them() {
+    let f = fmu();
+    for (v, bad, name) in [
+        (V::synth_lambda1, 0.3, "synth.lambda1"),
+        (V::pierce_s_out, 0.5, "pierce.s_out"),
+        (V::roller_r, 0.2, "roller.r"),
+    ] {
+        let s = f.slave("refuse");
+        assert_eq!(s.setup(0.0, None), Status::Ok);
+        assert_eq!(s.set_real(&[v.vr()], &[bad]), Status::Ok);
+        assert_eq!(s.call0("fmi2EnterInitializationMode"), Status::Ok);
+        assert_eq!(s.call0("fmi2ExitInitializationMode"), Status::Error);
+        let e = s.last_error();
+        assert!(e.contains(name) && e.contains(&bad.to_string()), "{e}");
+    }
+}
+
+#[test]
+fn lift_off_is_logged_as_a_warning_not_an_error() {
+    let f = fmu();
+    let s = f.slave("weak");
+    assert_eq!(s.setup(0.0, None), Status::Ok);
+    assert_eq!(s.set_real(&[V::spring_M0.vr()], &[0.5]), Status::Ok);
+    assert_eq!(s.init(), Status::Ok);
+    let (rows, flags) = run(&s, 0.0, 500);
+    assert!(flags.iter().any(|&b| b));
+    let warn: Vec<_> = s
+        .logs()
+        .into_iter()
+        .filter(|l| l.0 == Status::Warning)
+        .collect();
+    assert!(
+        !warn.is_empty() && warn[0].2.contains("shaft angle"),
+        "{warn:?}"
+    );
+    assert!(rows.last().unwrap()[5] < 0.0, "F_margin");
+}
+
+#[test]
+fn fmu_state_round_trips_with_the_cycle_state() {
+    let f = fmu();
+    let s = f.slave("state");
+    assert_eq!(s.setup(0.0, None), Status::Ok);
+    assert_eq!(s.set_real(&[V::spring_M0.vr()], &[0.5]), Status::Ok);
+    assert_eq!(s.init(), Status::Ok);
+    // past a full turn, so F_margin comes from the saved per-cycle state
+    let _ = run(&s, 0.0, 400);
+    let t1 = 400.0 * H;
+    let mut st: FMUstate = std::ptr::null_mut();
+    assert_eq!(s.get_state(&mut st), Status::Ok);
+    let (_, bytes) = s.serialize(st);
+    let after = run(&s, t1, 200);
+    assert_eq!(s.set_state(st), Status::Ok);
+    let again = run(&s, t1, 200);
+    assert_eq!(bits(&after.0), bits(&again.0));
+    assert_eq!(after.1, again.1);
+    let other = f.slave("other");
+    let mut st2: FMUstate = std::ptr::null_mut();
+    assert_eq!(other.deserialize(&bytes, &mut st2), Status::Ok);
+    assert_eq!(other.set_state(st2), Status::Ok);
+    let third = run(&other, t1, 200);
+    assert_eq!(bits(&after.0), bits(&third.0));
+    // a fresh instance at the same time without the cycle state differs in F_margin
+    let fresh = f.slave("fresh");
+    assert_eq!(fresh.setup(t1, None), Status::Ok);
+    assert_eq!(fresh.set_real(&[V::spring_M0.vr()], &[0.5]), Status::Ok);
+    assert_eq!(fresh.init(), Status::Ok);
+    let cold = run(&fresh, t1, 1);
+    assert_ne!(cold.0[0][5].to_bits(), after.0[0][5].to_bits());
+    assert_eq!(s.free_state(&mut st), Status::Ok);
+    assert_eq!(other.free_state(&mut st2), Status::Ok);
+}
