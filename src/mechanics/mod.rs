@@ -27,6 +27,19 @@ use std::fmt;
 /// Standard gravity g, m/s² (used by every mechanism's weights).
 pub const STANDARD_GRAVITY: f64 = 9.80665;
 
+/// Sign with `sgn(0) = 0`: the direction of Coulomb friction, which opposes a velocity and
+/// vanishes at rest (no static friction is modelled).
+#[inline]
+pub fn sgn(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
 /// The angle `phi` reduced to one turn, in `[0, 2π)`.
 ///
 /// Uses `rem_euclid`, so negative angles wrap forwards; rounding can make `rem_euclid` return

@@ -90,7 +90,7 @@
 //! `shaft.tau = τ` and `shaft.P = τ·ω`.
 
 use crate::mechanics::slider_crank::SliderCrank;
-use crate::mechanics::{ParamError, wrap_angle};
+use crate::mechanics::{ParamError, sgn, wrap_angle};
 use nalgebra::{SMatrix, SVector, Vector2};
 use num_dual::{Dual2_64, DualNum};
 use std::f64::consts::{PI, TAU};
@@ -284,17 +284,6 @@ pub struct AssemblyFailure {
     pub worst_at: f64,
 }
 
-/// Sign function with `sgn(0) = 0`.
-#[inline]
-fn sgn(x: f64) -> f64 {
-    if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
-}
 
 /// 2-D cross product (z component).
 #[inline]

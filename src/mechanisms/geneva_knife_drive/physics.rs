@@ -23,7 +23,7 @@
 
 use crate::mechanics::geneva::Geneva;
 use crate::mechanics::slider_crank::SliderCrank;
-use crate::mechanics::{ParamError, STANDARD_GRAVITY, wrap_angle};
+use crate::mechanics::{ParamError, STANDARD_GRAVITY, sgn, wrap_angle};
 use std::f64::consts::PI;
 
 /// Parameters of the Geneva knife drive, SI units (`geneva-knife-drive.md`, table "Geometry and
@@ -424,13 +424,7 @@ impl Params {
         let (sin_nu, cos_nu) = (k.sin_nu, k.cos_nu);
         let f_cut = self.cut_force(k.s, k.v);
         let rhs = m_s * (k.a - STANDARD_GRAVITY) + f_cut;
-        let sgn_v = if k.v > 0.0 {
-            1.0
-        } else if k.v < 0.0 {
-            -1.0
-        } else {
-            0.0
-        };
+        let sgn_v = sgn(k.v);
         let kf = self.guide_mu * sin_nu.abs() * sgn_v;
         let p = if rhs >= 0.0 {
             rhs / (cos_nu - kf)

@@ -25,7 +25,7 @@ use crate::mechanics::cyclogram::{CyclePoint, Cyclogram, Phase};
 use crate::mechanics::hertz::{Surface, line_contact_stress};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::slider_line::SliderLine;
-use crate::mechanics::{ParamError, STANDARD_GRAVITY};
+use crate::mechanics::{ParamError, STANDARD_GRAVITY, sgn};
 use crate::mechanisms::sewing_table::physics::Params as TableParams;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
@@ -214,15 +214,6 @@ fn dot(a: (f64, f64), b: (f64, f64)) -> f64 {
 }
 fn cross(a: (f64, f64), b: (f64, f64)) -> f64 {
     a.0 * b.1 - a.1 * b.0
-}
-fn sgn(x: f64) -> f64 {
-    if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
 }
 
 const SAMPLES: usize = 2000;

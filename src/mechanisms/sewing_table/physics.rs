@@ -16,7 +16,7 @@ use crate::mechanics::cam::{offset_pitch_curvature_radius, pressure_angle};
 use crate::mechanics::cyclogram::{CyclePoint, Cyclogram, Phase};
 use crate::mechanics::hertz::{Surface, line_contact_stress};
 use crate::mechanics::motion_laws::MotionLaw;
-use crate::mechanics::{ParamError, STANDARD_GRAVITY};
+use crate::mechanics::{ParamError, STANDARD_GRAVITY, sgn};
 use std::f64::consts::PI;
 
 /// Which table (`table.kind`).
@@ -182,15 +182,6 @@ pub struct Forces {
     pub tau: f64,
 }
 
-fn sgn(x: f64) -> f64 {
-    if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
-}
 
 /// Samples per travel phase in the initialization checks (undercut, self-locking).
 const SAMPLES: usize = 2000;
