@@ -5,6 +5,7 @@
 //! - [`mechanisms`]: one folder per mechanism: its physics (pure math) and its FMU model
 //!   (variables declared once, see [`model`]).
 //! - [`model`]: the narrow interface every mechanism implements, and the variable declarations.
+//! - [`solver`]: the integrators of the elastodynamic level (inside `fmi2DoStep`); know no mechanism.
 //! - [`md`]: the modelDescription.xml writer and GUID, generated from those declarations.
 //! - [`fmi2`]: the FMI 2.0 C ABI runtime; knows no mechanism.
 //! - `docs` (feature `tools`): the FMU's `documentation/` page, figures and icon; knows no mechanism.
@@ -19,3 +20,4 @@ pub mod mechanisms;
 pub mod model;
 #[cfg(feature = "tools")]
 pub mod package;
+pub mod solver;

@@ -97,6 +97,8 @@ pub struct Var {
     pub description: &'static str,
     /// For outputs: value references of the inputs the output depends on.
     pub depends: &'static [u32],
+    /// For a state derivative (Model Exchange): the value reference of its state.
+    pub derivative: Option<u32>,
 }
 
 /// Units and their FMI display units (`interface.md`: deg for rad, mm for m, rpm for rad/s,
@@ -131,6 +133,7 @@ impl Var {
             max: None,
             description: "",
             depends: &[],
+            derivative: None,
         }
     }
 
@@ -294,6 +297,26 @@ impl Var {
     /// Overrides the display unit.
     pub fn display(mut self, unit: &'static str) -> Self {
         self.display_unit = Some(unit);
+        self
+    }
+
+    /// A continuous Real local variable: a Model Exchange state or state derivative.
+    pub fn local(name: &'static str, unit: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Real,
+            Causality::Local,
+            Variability::Continuous,
+        )
+        .with_unit(unit);
+        v.initial = Some(Initial::Calculated);
+        v.description = desc;
+        v
+    }
+
+    /// Marks this variable as the derivative of the state with value reference `state`.
+    pub fn derivative_of(mut self, state: u32) -> Self {
+        self.derivative = Some(state);
         self
     }
 
@@ -494,6 +517,11 @@ pub trait Model: Sized + Send + 'static {
     /// Computes calculated parameters and every output at time `time` from the inputs.
     fn evaluate(&mut self, values: &mut Values<Self::Var>, time: f64, log: &mut dyn Log);
 
+    /// Writes the calculated parameters, once after each [`Model::prepare`] (they depend on the
+    /// parameters only). A model that writes them here need not repeat them in every
+    /// [`Model::evaluate`], which is on the per-step path.
+    fn calculated_parameters(&self, _values: &mut Values<Self::Var>) {}
+
     /// Advances internal state (if any) from `time` over `h`; algebraic models need nothing.
     fn do_step(
         &mut self,
@@ -504,6 +532,30 @@ pub trait Model: Sized + Send + 'static {
     ) -> Result<(), String> {
         Ok(())
     }
+
+    /// Model Exchange: number of continuous states (their derivatives are declared with
+    /// [`Var::derivative_of`], in the order of the states). 0: no Model Exchange interface.
+    const STATES: usize = 0;
+    /// Model Exchange: number of event indicators.
+    const EVENT_INDICATORS: usize = 0;
+
+    /// Model Exchange: the continuous states at `time`.
+    fn me_states(&mut self, _values: &Values<Self::Var>, _time: f64, _x: &mut [f64]) {}
+
+    /// Model Exchange: sets the continuous states.
+    fn me_set_states(&mut self, _values: &Values<Self::Var>, _time: f64, _x: &[f64]) {}
+
+    /// Model Exchange: the state derivatives at `time` for the current states and inputs.
+    fn me_derivatives(&mut self, _values: &Values<Self::Var>, _time: f64, _dx: &mut [f64]) {}
+
+    /// Model Exchange: the event indicators (an event is a sign change of one of them).
+    fn me_event_indicators(&mut self, _values: &Values<Self::Var>, _time: f64, _z: &mut [f64]) {}
+
+    /// Model Exchange: an event at `time` (discrete modes switch here).
+    fn me_event(&mut self, _values: &Values<Self::Var>, _time: f64, _log: &mut dyn Log) {}
+
+    /// Model Exchange: the host completed an integrator step at `time`.
+    fn me_completed_step(&mut self, _values: &Values<Self::Var>, _time: f64) {}
 
     /// Internal state beyond the variables, for `fmi2GetFMUstate` and serialization.
     fn save_state(&self) -> Vec<f64> {
@@ -576,6 +628,10 @@ pub mod shaft {
                 "kinetostatic",
                 "as kinematic, plus forces and torques from Newton-Euler on rigid links",
             ),
+            (
+                "elastodynamic",
+                "compliant drive chain and contacts: an ODE integrated inside fmi2DoStep (dynamics.md)",
+            ),
         ],
     };
 
@@ -584,6 +640,7 @@ pub mod shaft {
     pub enum Fidelity {
         Kinematic = 1,
         Kinetostatic = 2,
+        Elastodynamic = 3,
     }
 
     /// The common declarations; `nominal_rpm` is the machine's nominal speed.
@@ -644,7 +701,7 @@ pub mod shaft {
                 "model.fidelity",
                 &FIDELITY_LEVEL,
                 "kinetostatic",
-                "Level of physics: kinematic or kinetostatic",
+                "Level of physics: kinematic, kinetostatic or elastodynamic",
             ),
         ]
     }
@@ -678,10 +735,27 @@ pub mod shaft {
 
     /// The chosen fidelity level.
     pub fn fidelity<V: VarSet>(values: &Values<V>) -> Fidelity {
-        if values.raw()[FIDELITY as usize] == 1.0 {
-            Fidelity::Kinematic
+        match values.raw()[FIDELITY as usize] as i32 {
+            1 => Fidelity::Kinematic,
+            3 => Fidelity::Elastodynamic,
+            _ => Fidelity::Kinetostatic,
+        }
+    }
+
+    /// Refuses a fidelity level the mechanism does not implement (yet).
+    pub fn require_level<V: VarSet>(
+        values: &Values<V>,
+        supported: &[Fidelity],
+    ) -> Result<(), super::ParamError> {
+        let f = fidelity(values);
+        if supported.contains(&f) {
+            Ok(())
         } else {
-            Fidelity::Kinetostatic
+            Err(super::ParamError {
+                param: "model.fidelity",
+                value: values.raw()[FIDELITY as usize],
+                condition: format!("the level {f:?} is not implemented for this mechanism"),
+            })
         }
     }
 

@@ -3,6 +3,9 @@
 //! - `bindery build`: compiles every FMU's cdylib (release) and writes `out/fmus/<id>.fmu`.
 //! - `bindery describe`: writes `modelDescription/<id>.xml`; `--check` fails if one is stale.
 
+#[path = "bindery/report.rs"]
+mod report;
+
 use bindery_fmu::catalog::{self, Entry};
 use bindery_fmu::package::FmuContents;
 use clap::{Parser, Subcommand};
@@ -52,6 +55,17 @@ enum Cmd {
         /// Spring rate spring.kt, N.m/rad
         #[arg(long, default_value_t = 20.0)]
         kt: f64,
+    },
+    /// Error against wall time of the elastodynamic level: every solver method over a ladder of
+    /// tolerances and communication steps, against FMPy + CVode on Model Exchange (needs .venv
+    /// and the built FMUs for that line): out/report/report.md and work-precision PNGs
+    Report {
+        /// Output folder
+        #[arg(long, default_value = "out/report")]
+        out: PathBuf,
+        /// Leave out the FMPy baseline
+        #[arg(long)]
+        no_fmpy: bool,
     },
     /// Write modelDescription/<id>.xml for every FMU
     Describe {
@@ -227,6 +241,7 @@ fn main() -> ExitCode {
         Cmd::Docs { out } => docs(&out),
         Cmd::Describe { check } => check_descriptions(&catalog::all(), check),
         Cmd::Liftoff { from, to, m0, kt } => liftoff(from, to, m0, kt),
+        Cmd::Report { out, no_fmpy } => report::report(&root(), &out, !no_fmpy),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

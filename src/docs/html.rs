@@ -235,6 +235,7 @@ mod tests {
                 step: 1e-3,
                 tolerance: Some(1e-6),
             },
+            event_indicators: 0,
         }
     }
 

@@ -103,6 +103,7 @@ mod tests {
                 step: 1e-3,
                 tolerance: None,
             },
+            event_indicators: 0,
         };
         let v = Var::output("y", "m", "out");
         let fig = |f: &str| Figure {

@@ -38,7 +38,7 @@ macro_rules! export_fmu {
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2Instantiate(
                 name: FmiString,
-                ty: FmuType,
+                ty: std::ffi::c_int,
                 guid: FmiString,
                 resources: FmiString,
                 functions: *const CallbackFunctions,
@@ -46,7 +46,7 @@ macro_rules! export_fmu {
                 logging_on: Boolean,
             ) -> Component {
                 unsafe {
-                    rt::instantiate::<M>(name, ty, guid, resources, functions, visible, logging_on)
+                    rt::instantiate_c::<M>(name, ty, guid, resources, functions, visible, logging_on)
                 }
             }
             #[unsafe(no_mangle)]
@@ -258,7 +258,7 @@ macro_rules! export_fmu {
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2GetStatus(
                 c: Component,
-                _kind: StatusKind,
+                _kind: std::ffi::c_int,
                 _v: *mut Status,
             ) -> Status {
                 unsafe {
@@ -272,7 +272,7 @@ macro_rules! export_fmu {
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2GetRealStatus(
                 c: Component,
-                kind: StatusKind,
+                kind: std::ffi::c_int,
                 v: *mut Real,
             ) -> Status {
                 unsafe { rt::get_real_status::<M>(c, kind, v) }
@@ -280,7 +280,7 @@ macro_rules! export_fmu {
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2GetIntegerStatus(
                 c: Component,
-                _kind: StatusKind,
+                _kind: std::ffi::c_int,
                 _v: *mut Integer,
             ) -> Status {
                 unsafe {
@@ -294,7 +294,7 @@ macro_rules! export_fmu {
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2GetBooleanStatus(
                 c: Component,
-                kind: StatusKind,
+                kind: std::ffi::c_int,
                 v: *mut Boolean,
             ) -> Status {
                 unsafe { rt::get_boolean_status::<M>(c, kind, v) }
@@ -302,12 +302,89 @@ macro_rules! export_fmu {
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2GetStringStatus(
                 c: Component,
-                _kind: StatusKind,
+                _kind: std::ffi::c_int,
                 _v: *mut FmiString,
             ) -> Status {
                 unsafe {
                     rt::unsupported::<M>(c, Call::GetStringStatus, "no status message is pending")
                 }
+            }
+
+            // ---- Model Exchange (runtime::me); refused on a Co-Simulation instance
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi2EnterEventMode(c: Component) -> Status {
+                unsafe { rt::me::enter_event_mode::<M>(c) }
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi2NewDiscreteStates(
+                c: Component,
+                info: *mut rt::me::EventInfo,
+            ) -> Status {
+                unsafe { rt::me::new_discrete_states::<M>(c, info) }
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: Component) -> Status {
+                unsafe { rt::me::enter_continuous_time_mode::<M>(c) }
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi2CompletedIntegratorStep(
+                c: Component,
+                no_set_prior: Boolean,
+                enter_event_mode: *mut Boolean,
+                terminate: *mut Boolean,
+            ) -> Status {
+                unsafe {
+                    rt::me::completed_integrator_step::<M>(
+                        c,
+                        no_set_prior,
+                        enter_event_mode,
+                        terminate,
+                    )
+                }
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi2SetTime(c: Component, t: Real) -> Status {
+                unsafe { rt::me::set_time::<M>(c, t) }
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi2SetContinuousStates(
+                c: Component,
+                x: *const Real,
+                nx: usize,
+            ) -> Status {
+                unsafe { rt::me::set_continuous_states::<M>(c, x, nx) }
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi2GetDerivatives(
+                c: Component,
+                dx: *mut Real,
+                nx: usize,
+            ) -> Status {
+                unsafe { rt::me::get_derivatives::<M>(c, dx, nx) }
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi2GetEventIndicators(
+                c: Component,
+                z: *mut Real,
+                ni: usize,
+            ) -> Status {
+                unsafe { rt::me::get_event_indicators::<M>(c, z, ni) }
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi2GetContinuousStates(
+                c: Component,
+                x: *mut Real,
+                nx: usize,
+            ) -> Status {
+                unsafe { rt::me::get_continuous_states::<M>(c, x, nx) }
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi2GetNominalsOfContinuousStates(
+                c: Component,
+                x: *mut Real,
+                nx: usize,
+            ) -> Status {
+                unsafe { rt::me::get_nominals::<M>(c, x, nx) }
             }
         }
     };

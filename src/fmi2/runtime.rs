@@ -14,6 +14,9 @@ use std::ffi::{CStr, CString};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 
+#[path = "me.rs"]
+pub mod me;
+
 const MAGIC: u64 = 0x4249_4e44_4552_5932; // "BINDERY2"
 const STATE_MAGIC: &[u8; 8] = b"BNDRYST1";
 
@@ -197,6 +200,8 @@ pub struct Instance<M: Model> {
     pub resources: Option<PathBuf>,
     /// FMU states handed out and not yet freed (so a foreign pointer is refused, not followed).
     snapshots: Vec<*mut Snapshot>,
+    /// Model Exchange: instantiated as such, and its mode.
+    pub me: me::MeMode,
 }
 
 type Outcome = Result<Status, String>;
@@ -217,6 +222,7 @@ impl<M: Model> Instance<M> {
             stop_time: None,
             resources,
             snapshots: Vec::new(),
+            me: me::MeMode::default(),
         }
     }
 
@@ -224,24 +230,30 @@ impl<M: Model> Instance<M> {
         <M::Var as VarSet>::table()
     }
 
-    fn var(vr: ValueReference) -> Result<&'static Var, String> {
-        Self::table()
-            .get(vr as usize)
-            .ok_or_else(|| format!("unknown value reference {vr}"))
-    }
-
     /// Makes sure the model is prepared for the current parameters.
+    #[inline]
     fn prepared(&mut self) -> Result<&mut M, String> {
         if self.params_changed || self.model.is_none() {
-            check_bounds(&self.values).map_err(|e| e.to_string())?;
-            self.model = Some(M::prepare(&self.values).map_err(|e| e.to_string())?);
-            self.params_changed = false;
-            self.dirty = true;
+            self.prepare_now()?;
         }
         Ok(self.model.as_mut().expect("prepared above"))
     }
 
+    /// The slow path of [`Instance::prepared`], out of the per-step code.
+    #[cold]
+    #[inline(never)]
+    fn prepare_now(&mut self) -> Result<(), String> {
+        check_bounds(&self.values).map_err(|e| e.to_string())?;
+        let model = M::prepare(&self.values).map_err(|e| e.to_string())?;
+        model.calculated_parameters(&mut self.values);
+        self.model = Some(model);
+        self.params_changed = false;
+        self.dirty = true;
+        Ok(())
+    }
+
     /// Makes sure the outputs are current (lazy outputs).
+    #[inline]
     fn refresh(&mut self) -> Result<(), String> {
         self.prepared()?;
         if self.dirty {
@@ -266,11 +278,16 @@ impl<M: Model> Instance<M> {
         vrs: &[ValueReference],
         vals: &[f64],
         kind: &str,
-        type_ok: fn(VarType) -> bool,
+        type_ok: impl Fn(VarType) -> bool,
     ) -> Outcome {
         let phase = self.set_phase();
+        // The table is looked up once per call (it sits behind a OnceLock), and `type_ok` is a
+        // generic so it inlines: the per-step get/set stay a few instructions per value.
+        let table = Self::table();
         for (&vr, &x) in vrs.iter().zip(vals) {
-            let v = Self::var(vr)?;
+            let v = table
+                .get(vr as usize)
+                .ok_or_else(|| format!("unknown value reference {vr}"))?;
             if !type_ok(v.ty) {
                 return Err(format!("{} (vr {vr}) is not of type {kind}", v.name));
             }
@@ -303,9 +320,10 @@ impl<M: Model> Instance<M> {
                 ));
             }
         }
+        let raw = self.values.raw_mut();
         for (&vr, &x) in vrs.iter().zip(vals) {
-            let v = &Self::table()[vr as usize];
-            let slot = &mut self.values.raw_mut()[vr as usize];
+            let v = &table[vr as usize];
+            let slot = &mut raw[vr as usize];
             if *slot != x {
                 *slot = x;
                 self.dirty = true;
@@ -321,18 +339,21 @@ impl<M: Model> Instance<M> {
         &mut self,
         vrs: &[ValueReference],
         kind: &str,
-        type_ok: fn(VarType) -> bool,
+        type_ok: impl Fn(VarType) -> bool,
         mut out: impl FnMut(usize, f64),
     ) -> Outcome {
+        let table = Self::table();
         for &vr in vrs {
-            let v = Self::var(vr)?;
-            if !type_ok(v.ty) {
-                return Err(format!("{} (vr {vr}) is not of type {kind}", v.name));
+            match table.get(vr as usize) {
+                Some(v) if type_ok(v.ty) => {}
+                Some(v) => return Err(format!("{} (vr {vr}) is not of type {kind}", v.name)),
+                None => return Err(format!("unknown value reference {vr}")),
             }
         }
         self.refresh()?;
+        let raw = self.values.raw();
         for (i, &vr) in vrs.iter().enumerate() {
-            out(i, self.values.raw()[vr as usize]);
+            out(i, raw[vr as usize]);
         }
         Ok(Status::Ok)
     }
@@ -352,14 +373,43 @@ impl<M: Model> Instance<M> {
         if s.values.len() != self.values.raw().len() {
             return Err("FMU state does not belong to this FMU".into());
         }
+        // A serialized state is data a host may have stored and altered: it is held to what
+        // fmi2Set* and fmi2ExitInitializationMode accept, so no model runs on refused values.
+        if !(s.time.is_finite()
+            && s.start_time.is_finite()
+            && s.stop_time.is_none_or(f64::is_finite))
+        {
+            return Err(format!(
+                "FMU state refused: time = {}, start time = {}, stop time = {:?} must be finite",
+                s.time, s.start_time, s.stop_time
+            ));
+        }
+        if s.state == State::Fatal {
+            return Err("FMU state refused: an instance never leaves state Fatal".into());
+        }
+        for (v, &x) in Self::table().iter().zip(&s.values) {
+            if matches!(
+                v.causality,
+                crate::model::Causality::Input | crate::model::Causality::Parameter
+            ) && !x.is_finite()
+            {
+                return Err(format!("FMU state refused: {} = {x} is not finite", v.name));
+            }
+        }
         let mut values = Values::<M::Var>::start();
         values.raw_mut().copy_from_slice(&s.values);
-        let model = if matches!(s.state, State::Instantiated) {
+        if !matches!(s.state, State::Instantiated | State::InitializationMode) {
+            check_bounds(&values).map_err(|e| format!("FMU state refused: {e}"))?;
+        }
+        // Before initialization ends the model is prepared afresh (fmi2ExitInitializationMode
+        // always re-prepares it), so a state saved then carries no model state to restore.
+        let model = if matches!(s.state, State::Instantiated | State::InitializationMode) {
             None
         } else {
             match M::prepare(&values) {
                 Ok(mut m) => {
                     m.restore_state(&s.model_state)?;
+                    m.calculated_parameters(&mut values);
                     Some(m)
                 }
                 Err(e) if s.state == State::InitializationMode => {
@@ -530,6 +580,74 @@ pub fn resource_path(uri: &str) -> Option<PathBuf> {
 
 // ---- the calls ------------------------------------------------------------------------------
 
+/// The GUID of `M`, computed once per model type: describing a model takes milliseconds, and a
+/// host may instantiate millions of times.
+fn guid_of<M: Model>() -> &'static str {
+    static GUIDS: std::sync::Mutex<Vec<(std::any::TypeId, &'static str)>> =
+        std::sync::Mutex::new(Vec::new());
+    let id = std::any::TypeId::of::<M>();
+    let mut guids = GUIDS.lock().unwrap_or_else(|e| e.into_inner());
+    if let Some(&(_, g)) = guids.iter().find(|(t, _)| *t == id) {
+        return g;
+    }
+    let g: &'static str = Box::leak(md::describe::<M>().1.into_boxed_str());
+    guids.push((id, g));
+    g
+}
+
+/// `fmi2Instantiate` as a C host calls it: `fmuType` is whatever `int` the host passed, and a
+/// value that is no `fmi2Type` is refused with a log line (turning it into the Rust enum
+/// [`FmuType`] first would be undefined behaviour).
+///
+/// # Safety
+/// As [`instantiate`].
+pub unsafe fn instantiate_c<M: Model>(
+    instance_name: FmiString,
+    fmu_type: std::ffi::c_int,
+    guid: FmiString,
+    resource_location: FmiString,
+    functions: *const CallbackFunctions,
+    visible: Boolean,
+    logging_on: Boolean,
+) -> Component {
+    if let Some(ty) = FmuType::from_c(fmu_type) {
+        // SAFETY: as this function.
+        return unsafe {
+            instantiate::<M>(
+                instance_name,
+                ty,
+                guid,
+                resource_location,
+                functions,
+                visible,
+                logging_on,
+            )
+        };
+    }
+    let why = format!(
+        "fmi2Instantiate: fmuType {fmu_type} is not an fmi2Type (0 = ModelExchange, 1 = CoSimulation); refused"
+    );
+    // SAFETY: NULL or a valid struct, per the standard.
+    match unsafe { functions.as_ref() } {
+        Some(f) if f.logger.is_some() => {
+            // SAFETY: NULL or valid C string.
+            let name = unsafe { c_str(instance_name) }
+                .filter(|n| !n.is_empty())
+                .unwrap_or(M::IDENTIFIER);
+            Logger {
+                callback: f.logger,
+                env: f.component_environment,
+                name: CString::new(name).unwrap_or_default(),
+                on: false,
+                categories: u32::MAX,
+            }
+            .emit(Status::Error, "logStatusError", &why)
+        }
+        _ => eprintln!("{}: {why}", M::IDENTIFIER),
+    }
+    std::ptr::null_mut()
+}
+
 /// `fmi2Instantiate`.
 ///
 /// # Safety
@@ -581,13 +699,14 @@ pub unsafe fn instantiate<M: Model>(
         if name.is_empty() {
             return refuse("instanceName is NULL or empty".into());
         }
-        if fmu_type as i32 != FmuType::CoSimulation as i32 {
+        let model_exchange = fmu_type as i32 == FmuType::ModelExchange as i32 && M::STATES > 0;
+        if fmu_type as i32 != FmuType::CoSimulation as i32 && !model_exchange {
             return refuse(format!(
                 "fmuType {} requested; this FMU provides Co-Simulation (1) only",
                 fmu_type as i32
             ));
         }
-        let (_, our_guid) = md::describe::<M>();
+        let our_guid = guid_of::<M>();
         // SAFETY: NULL or valid C string.
         match unsafe { c_str(guid) } {
             Some(g) if g == our_guid => {}
@@ -600,7 +719,8 @@ pub unsafe fn instantiate<M: Model>(
         }
         // SAFETY: NULL or valid C string.
         let resources = unsafe { c_str(resource_location) }.and_then(resource_path);
-        let inst = Box::new(Instance::<M>::new(logger, resources, &our_guid));
+        let mut inst = Box::new(Instance::<M>::new(logger, resources, our_guid));
+        inst.me.is_me = model_exchange;
         Box::into_raw(inst) as Component
     }));
     result.unwrap_or_else(|p| {
@@ -718,6 +838,7 @@ pub unsafe fn exit_initialization_mode<M: Model>(c: Component) -> Status {
             inst.refresh()
                 .map_err(|e| format!("parameters refused: {e}"))?;
             inst.state = State::StepComplete;
+            inst.me.mode = me::Mode::Event;
             inst.logger.emit(Status::Ok, "logEvents", "initialized");
             Ok(Status::Ok)
         })
@@ -759,14 +880,17 @@ pub unsafe fn reset<M: Model>(c: Component) -> Status {
     }
 }
 
+#[inline]
 fn is_real(t: VarType) -> bool {
-    t == VarType::Real
+    matches!(t, VarType::Real)
 }
+#[inline]
 fn is_int(t: VarType) -> bool {
     t.is_integer_like()
 }
+#[inline]
 fn is_bool(t: VarType) -> bool {
-    t == VarType::Boolean
+    matches!(t, VarType::Boolean)
 }
 fn is_none(_: VarType) -> bool {
     false
@@ -958,6 +1082,11 @@ pub unsafe fn do_step<M: Model>(c: Component, t: f64, h: f64, _no_prior: Boolean
             if h <= 0.0 {
                 return Err(format!("communicationStepSize = {h} must be > 0"));
             }
+            if !(t + h).is_finite() {
+                return Err(format!(
+                    "communicationStepSize = {h} from {t}: the end of the step is not finite"
+                ));
+            }
             let tol = 1e-9 * inst.time.abs().max(1.0);
             if (t - inst.time).abs() > tol {
                 return Err(format!(
@@ -1144,7 +1273,7 @@ pub unsafe fn unsupported<M: Model>(c: Component, call: Call, why: &str) -> Stat
 /// As [`entry`]; `value` points to one element.
 pub unsafe fn get_real_status<M: Model>(
     c: Component,
-    kind: StatusKind,
+    kind: std::ffi::c_int,
     value: *mut Real,
 ) -> Status {
     // SAFETY: as entry.
@@ -1153,10 +1282,9 @@ pub unsafe fn get_real_status<M: Model>(
             if value.is_null() {
                 return Err("value is NULL".into());
             }
-            if kind as i32 != StatusKind::LastSuccessfulTime as i32 {
+            if kind != StatusKind::LastSuccessfulTime as i32 {
                 return Err(format!(
-                    "fmi2GetRealStatus answers fmi2LastSuccessfulTime (2) only, not {}",
-                    kind as i32
+                    "fmi2GetRealStatus answers fmi2LastSuccessfulTime (2) only, not {kind}"
                 ));
             }
             *value = inst.time;
@@ -1171,7 +1299,7 @@ pub unsafe fn get_real_status<M: Model>(
 /// As [`entry`]; `value` points to one element.
 pub unsafe fn get_boolean_status<M: Model>(
     c: Component,
-    kind: StatusKind,
+    kind: std::ffi::c_int,
     value: *mut Boolean,
 ) -> Status {
     // SAFETY: as entry.
@@ -1180,10 +1308,9 @@ pub unsafe fn get_boolean_status<M: Model>(
             if value.is_null() {
                 return Err("value is NULL".into());
             }
-            if kind as i32 != StatusKind::Terminated as i32 {
+            if kind != StatusKind::Terminated as i32 {
                 return Err(format!(
-                    "fmi2GetBooleanStatus answers fmi2Terminated (3) only, not {}",
-                    kind as i32
+                    "fmi2GetBooleanStatus answers fmi2Terminated (3) only, not {kind}"
                 ));
             }
             *value = FALSE;
@@ -1252,6 +1379,7 @@ mod tests {
     crate::model_variables! {
         enum TV (nominal_rpm = 60.0) {
             boom = Var::bool_parameter("test.boom", false, "panic in evaluate"),
+            fail = Var::bool_parameter("test.fail", false, "do_step cannot complete"),
             y = Var::output("test.y", "rad", "shaft angle").depends(crate::model::shaft::ON_PHI),
         }
     }
@@ -1276,6 +1404,18 @@ mod tests {
                 panic!("model failure at t = {time}");
             }
             v[TV::y] = crate::model::shaft::state(v, time).phi;
+        }
+        fn do_step(
+            &mut self,
+            v: &mut Values<TV>,
+            time: f64,
+            _: f64,
+            _: &mut dyn Log,
+        ) -> Result<(), String> {
+            if v.flag(TV::fail) {
+                return Err(format!("solver gave up at t = {time}"));
+            }
+            Ok(())
         }
     }
 
@@ -1368,6 +1508,43 @@ mod tests {
             assert_eq!(exit_initialization_mode::<Tiny>(c), Status::Ok);
             assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Ok);
             assert_eq!(y, 0.0, "reset restored the start values");
+            free_instance::<Tiny>(c);
+        }
+    }
+
+    #[test]
+    fn a_discarded_step_keeps_the_time_and_the_instance_restorable() {
+        let c = tiny();
+        unsafe {
+            assert_eq!(enter_initialization_mode::<Tiny>(c), Status::Ok);
+            assert_eq!(exit_initialization_mode::<Tiny>(c), Status::Ok);
+            assert_eq!(do_step::<Tiny>(c, 0.0, 0.1, TRUE), Status::Ok);
+            let mut saved: FMUstate = std::ptr::null_mut();
+            assert_eq!(get_fmu_state::<Tiny>(c, &mut saved), Status::Ok);
+            // the model cannot complete the next step (as a solver that gives up)
+            let inst = &mut *(c as *mut Instance<Tiny>);
+            inst.values.set_flag(TV::fail, true);
+            assert_eq!(do_step::<Tiny>(c, 0.1, 0.1, TRUE), Status::Discard);
+            assert_eq!(inst.state, State::StepFailed);
+            assert_eq!(inst.time, 0.1, "a discarded step does not advance the time");
+            let last = LOG.lock().unwrap().last().cloned().unwrap();
+            assert!(
+                last.0 == Status::Discard && last.1.contains("solver gave up at t = 0.1"),
+                "{last:?}"
+            );
+            let mut t = 0.0;
+            assert_eq!(get_real_status::<Tiny>(c, 2, &mut t), Status::Ok);
+            assert_eq!(t, 0.1, "fmi2LastSuccessfulTime");
+            let mut y = 0.0;
+            let vr = [TV::y.vr()];
+            assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Ok);
+            assert_eq!(do_step::<Tiny>(c, 0.1, 0.05, TRUE), Status::Error);
+            // restorable: the saved state is StepComplete again, and the run goes on
+            assert_eq!(set_fmu_state::<Tiny>(c, saved), Status::Ok);
+            assert_eq!(inst.state, State::StepComplete);
+            assert!(!inst.values.flag(TV::fail));
+            assert_eq!(do_step::<Tiny>(c, 0.1, 0.05, TRUE), Status::Ok);
+            assert_eq!(free_fmu_state::<Tiny>(c, &mut saved), Status::Ok);
             free_instance::<Tiny>(c);
         }
     }

@@ -102,6 +102,18 @@ pub enum Call {
     GetIntegerStatus,
     GetBooleanStatus,
     GetStringStatus,
+    // Model Exchange (its event and continuous-time modes run in the state StepComplete; the
+    // runtime's `me` module tells them apart)
+    EnterEventMode,
+    NewDiscreteStates,
+    EnterContinuousTimeMode,
+    CompletedIntegratorStep,
+    SetTime,
+    SetContinuousStates,
+    GetDerivatives,
+    GetEventIndicators,
+    GetContinuousStates,
+    GetNominalsOfContinuousStates,
 }
 
 /// The table: in which states each call is legal.
@@ -170,6 +182,28 @@ pub const LEGAL: &[(Call, u16)] = &[
         Call::GetStringStatus,
         mask(&[StepComplete, StepFailed, StepCanceled, Terminated]),
     ),
+    (Call::EnterEventMode, mask(&[StepComplete])),
+    (Call::NewDiscreteStates, mask(&[StepComplete])),
+    (Call::EnterContinuousTimeMode, mask(&[StepComplete])),
+    (Call::CompletedIntegratorStep, mask(&[StepComplete])),
+    (Call::SetTime, mask(&[StepComplete])),
+    (Call::SetContinuousStates, mask(&[StepComplete])),
+    (
+        Call::GetDerivatives,
+        mask(&[InitializationMode, StepComplete, Terminated, Error]),
+    ),
+    (
+        Call::GetEventIndicators,
+        mask(&[InitializationMode, StepComplete, Terminated, Error]),
+    ),
+    (
+        Call::GetContinuousStates,
+        mask(&[InitializationMode, StepComplete, Terminated, Error]),
+    ),
+    (
+        Call::GetNominalsOfContinuousStates,
+        mask(&[InitializationMode, StepComplete, Terminated, Error]),
+    ),
 ];
 
 /// Is `call` legal in `state`?
@@ -193,7 +227,7 @@ mod tests {
                 "{c:?} at {i}"
             );
         }
-        assert_eq!(LEGAL.len(), 31);
+        assert_eq!(LEGAL.len(), 41);
     }
 
     #[test]

@@ -36,7 +36,19 @@ pub enum FmuType {
     CoSimulation = 1,
 }
 
-/// `fmi2StatusKind`.
+impl FmuType {
+    /// The `fmi2Type` a C host passed as an `int`; `None` for a value that is none (such a value
+    /// must never be read as this enum: that would be undefined behaviour).
+    pub fn from_c(v: c_int) -> Option<FmuType> {
+        match v {
+            0 => Some(FmuType::ModelExchange),
+            1 => Some(FmuType::CoSimulation),
+            _ => None,
+        }
+    }
+}
+
+/// `fmi2StatusKind` (the runtime takes it as a C `int`: a host may pass any value).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum StatusKind {

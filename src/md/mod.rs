@@ -34,6 +34,9 @@ pub struct ModelInfo {
     pub model_name: &'static str,
     pub description: &'static str,
     pub experiment: Experiment,
+    /// Model Exchange: number of event indicators (the interface is declared when some variable
+    /// is a state derivative).
+    pub event_indicators: u32,
 }
 
 impl ModelInfo {
@@ -44,6 +47,7 @@ impl ModelInfo {
             model_name: M::MODEL_NAME,
             description: M::DESCRIPTION,
             experiment: M::EXPERIMENT,
+            event_indicators: M::EVENT_INDICATORS as u32,
         }
     }
 }
@@ -133,6 +137,11 @@ const UNITS: &[UnitDef] = &[
         display: &[],
     },
     UnitDef {
+        name: "J",
+        base: [1, 2, -2, 0],
+        display: &[],
+    },
+    UnitDef {
         name: "W",
         base: [1, 2, -3, 0],
         display: &[],
@@ -172,6 +181,8 @@ struct Fmd {
     naming: &'static str,
     #[serde(rename = "@numberOfEventIndicators")]
     event_indicators: u32,
+    #[serde(rename = "ModelExchange", skip_serializing_if = "Option::is_none")]
+    model_exchange: Option<ModelExch>,
     #[serde(rename = "CoSimulation")]
     co_simulation: CoSim,
     #[serde(rename = "UnitDefinitions")]
@@ -186,6 +197,26 @@ struct Fmd {
     variables: ModelVariables,
     #[serde(rename = "ModelStructure")]
     structure: ModelStructure,
+}
+
+#[derive(Serialize)]
+struct ModelExch {
+    #[serde(rename = "@modelIdentifier")]
+    model_identifier: String,
+    #[serde(rename = "@needsExecutionTool")]
+    needs_execution_tool: bool,
+    #[serde(rename = "@completedIntegratorStepNotNeeded")]
+    completed_step_not_needed: bool,
+    #[serde(rename = "@canBeInstantiatedOnlyOncePerProcess")]
+    once_per_process: bool,
+    #[serde(rename = "@canNotUseMemoryManagementFunctions")]
+    no_memory_functions: bool,
+    #[serde(rename = "@canGetAndSetFMUstate")]
+    get_set_state: bool,
+    #[serde(rename = "@canSerializeFMUstate")]
+    serialize_state: bool,
+    #[serde(rename = "@providesDirectionalDerivative")]
+    directional_derivative: bool,
 }
 
 #[derive(Serialize)]
@@ -358,6 +389,8 @@ struct RealAttrs {
     max: Option<String>,
     #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
     start: Option<String>,
+    #[serde(rename = "@derivative", skip_serializing_if = "Option::is_none")]
+    derivative: Option<usize>,
 }
 
 #[derive(Serialize)]
@@ -388,6 +421,8 @@ struct EnumAttrs {
 struct ModelStructure {
     #[serde(rename = "Outputs")]
     outputs: Unknowns,
+    #[serde(rename = "Derivatives", skip_serializing_if = "Option::is_none")]
+    derivatives: Option<Unknowns>,
     #[serde(rename = "InitialUnknowns")]
     initial: Unknowns,
 }
@@ -497,7 +532,7 @@ fn enum_types(vars: &[Var]) -> Vec<&'static EnumType> {
     out
 }
 
-fn scalar_variable(vr: u32, v: &Var) -> ScalarVariable {
+fn scalar_variable(vr: u32, v: &Var, index_of: impl Fn(u32) -> Option<usize>) -> ScalarVariable {
     let ty = match v.ty {
         VarType::Real => TypeElement::Real(RealAttrs {
             unit: v.unit,
@@ -505,6 +540,7 @@ fn scalar_variable(vr: u32, v: &Var) -> ScalarVariable {
             min: v.min.map(fmt_real),
             max: v.max.map(fmt_real),
             start: v.start.map(fmt_real),
+            derivative: v.derivative.and_then(index_of),
         }),
         VarType::Integer => TypeElement::Integer(IntAttrs {
             min: v.min.map(|x| x as i64),
@@ -603,10 +639,21 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
         .iter()
         .enumerate()
         .filter(|(_, (_, v))| {
-            (v.causality == Causality::Output
+            (matches!(v.causality, Causality::Output | Causality::Local)
                 && matches!(v.initial, Some(Initial::Approx | Initial::Calculated)))
                 || (v.causality == Causality::CalculatedParameter)
         })
+        .map(|(i, _)| Unknown {
+            index: i + 1,
+            dependencies: None,
+        })
+        .collect();
+    // Model Exchange: state derivatives (their dependencies are not declared: any state, any
+    // input).
+    let derivatives: Vec<Unknown> = vars
+        .iter()
+        .enumerate()
+        .filter(|(_, (_, v))| v.derivative.is_some())
         .map(|(i, _)| Unknown {
             index: i + 1,
             dependencies: None,
@@ -620,7 +667,21 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
         description: info.description.to_string(),
         generation_tool: format!("bindery-fmu {}", env!("CARGO_PKG_VERSION")),
         naming: "structured",
-        event_indicators: 0,
+        event_indicators: if derivatives.is_empty() {
+            0
+        } else {
+            info.event_indicators
+        },
+        model_exchange: (!derivatives.is_empty()).then(|| ModelExch {
+            model_identifier: info.identifier.to_string(),
+            needs_execution_tool: false,
+            completed_step_not_needed: false,
+            once_per_process: false,
+            no_memory_functions: true,
+            get_set_state: true,
+            serialize_state: true,
+            directional_derivative: false,
+        }),
         co_simulation: CoSim {
             model_identifier: info.identifier.to_string(),
             needs_execution_tool: false,
@@ -652,10 +713,16 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             step: fmt_real(e.step),
         },
         variables: ModelVariables {
-            vars: vars.iter().map(|(vr, v)| scalar_variable(*vr, v)).collect(),
+            vars: vars
+                .iter()
+                .map(|(vr, v)| scalar_variable(*vr, v, index_of))
+                .collect(),
         },
         structure: ModelStructure {
             outputs: Unknowns { unknown: outputs },
+            derivatives: (!derivatives.is_empty()).then_some(Unknowns {
+                unknown: derivatives,
+            }),
             initial: Unknowns { unknown: initial },
         },
     }

@@ -139,6 +139,7 @@ impl Model for DiscKnifeDrive {
     };
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
+        shaft::require_level(v, &[Fidelity::Kinematic, Fidelity::Kinetostatic])?;
         let params = Self::params(v);
         params.validate()?;
         Ok(DiscKnifeDrive {

@@ -1,9 +1,12 @@
 //! The GenevaKnifeDrive FMU: its variables, declared once, and the glue from them to
 //! [`super::physics`] (`../shared/spec/geneva-knife-drive.md`).
 
+use super::elastic::{KnifeOde, Point};
 use super::physics::{Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Values};
+use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use std::cell::Cell;
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 30.0) {
@@ -48,12 +51,147 @@ crate::model_variables! {
         crank_tau = Var::output("crank.tau", "N.m", "Torque on the crank shaft (gear 4) (kinetostatic level)").depends(ON_ALL),
         cross_tau = Var::output("cross.tau", "N.m", "Torque on the cross shaft (gear 3), with mesh losses and cross inertia (kinetostatic level)").depends(ON_ALL),
         geneva_F = Var::output("geneva.F", "N", "Contact force between roller and slot flank, cross.tau/rho (kinetostatic level)").depends(ON_ALL),
+        // ---- elastodynamic level (dynamics.md)
+        elastic_k = Var::parameter("elastic.k", 5e7, "N/m", "Stiffness of the drive chain between the rigid knife position and the knife (elastodynamic level; assumption, dynamics.md)").min(1.0),
+        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the drive chain, c = 2*zeta*sqrt(k*m_s) (elastodynamic level; assumption)").min(0.0),
+        solver_method = crate::solver::vars::method(),
+        solver_rtol = crate::solver::vars::rtol(),
+        solver_atol = crate::solver::vars::atol(),
+        solver_max_step = crate::solver::vars::max_step(),
+        knife_s_kin = Var::output("knife.s_kin", "m", "Rigid reference position of the knife s(phi) (elastodynamic level; equals knife.s at the others)").depends(ON_PHI),
+        elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the drive chain knife.s_kin - knife.s (elastodynamic level)").depends(ON_PHI),
+        elastic_F = Var::output("elastic.F", "N", "Dynamic chain force on the knife along s, k*deflection + c*deflection rate (elastodynamic level)").depends(ON_PHI_W),
+        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) chain force, of the last complete driver turn (the running one until a turn is complete; elastodynamic level)"),
+        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)"),
+        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)"),
+        // ---- Model Exchange states of the elastodynamic level and their derivatives
+        elastic_x = Var::local("elastic.x", "m", "State: knife position x, down positive (elastodynamic level)"),
+        elastic_xd = Var::local("elastic.xd", "m/s", "State: knife velocity (elastodynamic level)"),
+        elastic_W = Var::local("elastic.W", "J", "State: work done on knife and chain spring by drive, gravity, cutting, friction and damping (for the energy balance)"),
+        der_elastic_x = Var::local("der(elastic.x)", "m/s", "Derivative of elastic.x").derivative_of(V::elastic_x as u32),
+        der_elastic_xd = Var::local("der(elastic.xd)", "m/s2", "Derivative of elastic.xd").derivative_of(V::elastic_xd as u32),
+        der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32),
     }
 }
 
 /// The Geneva-mechanism knife drive of a three-knife trimmer (paper 003) as an FMU model.
 pub struct GenevaKnifeDrive {
     params: Params,
+    dynamic: Option<Dynamic>,
+}
+
+/// What the elastodynamic level carries between steps.
+#[derive(Clone, Debug, PartialEq)]
+struct Dynamic {
+    k: f64,
+    c: f64,
+    integ: Integrator,
+    started: bool,
+    y: [f64; 3],
+    e0: f64,
+    /// (cycle index, peak |F_el|, peak |F_rigid|) of the running driver turn.
+    peaks: (f64, f64, f64),
+    /// K_d of the last complete turn (NaN: none yet).
+    k_d: f64,
+    /// The stack is cut through in this stroke.
+    cut_done: bool,
+    /// Model Exchange: the event indicators at the last completed integrator step.
+    g_prev: Vec<f64>,
+}
+
+impl Dynamic {
+    const STATE_LEN: usize = 14;
+
+    fn ode<'a>(&self, p: &'a Params, path: ShaftPath) -> KnifeOde<'a> {
+        KnifeOde {
+            p,
+            k: self.k,
+            c: self.c,
+            path,
+            peaks: Cell::new(self.peaks),
+            k_d: Cell::new(self.k_d),
+            cut_done: Cell::new(self.cut_done),
+        }
+    }
+
+    fn start(&mut self, p: &Params, path: ShaftPath) {
+        let ode = self.ode(p, path);
+        self.y = ode.initial_state(path.t0);
+        self.e0 = ode.energy(&ode.point(path.t0, &self.y));
+        self.peaks = (ode.cycle(path.t0), 0.0, 0.0);
+        self.k_d = f64::NAN;
+        self.cut_done = false;
+        self.started = true;
+    }
+
+    fn save(&self) -> Vec<f64> {
+        let h = self.integ.save();
+        vec![
+            self.started as i32 as f64,
+            self.y[0],
+            self.y[1],
+            self.y[2],
+            self.e0,
+            self.peaks.0,
+            self.peaks.1,
+            self.peaks.2,
+            self.k_d,
+            h[0],
+            h[1],
+            self.integ.stats.steps as f64,
+            self.integ.stats.events as f64,
+            self.cut_done as i32 as f64,
+        ]
+    }
+
+    fn restore(&mut self, s: &[f64]) -> Result<(), String> {
+        if s.len() != Self::STATE_LEN {
+            return Err(format!(
+                "elastodynamic state has {} numbers, expected {}",
+                s.len(),
+                Self::STATE_LEN
+            ));
+        }
+        self.started = s[0] != 0.0;
+        self.y = [s[1], s[2], s[3]];
+        self.e0 = s[4];
+        self.peaks = (s[5], s[6], s[7]);
+        self.k_d = s[8];
+        self.integ.restore(&s[9..11]);
+        self.integ.stats.steps = s[11] as usize;
+        self.integ.stats.events = s[12] as usize;
+        self.cut_done = s[13] != 0.0;
+        Ok(())
+    }
+}
+
+impl GenevaKnifeDrive {
+    /// The elastodynamic state for Model Exchange, started from the inputs at `time` if new.
+    fn me_dynamic(&mut self, v: &Values<V>, time: f64) -> Option<&mut Dynamic> {
+        let p = self.params;
+        let d = self.dynamic.as_mut()?;
+        if !d.started {
+            d.start(&p, path_at(v, time));
+        }
+        Some(d)
+    }
+}
+
+/// The solver settings from the `solver.*` parameters.
+pub fn solver_settings(v: &Values<V>) -> Settings {
+    Settings {
+        method: Method::from_value(v.int(V::solver_method)),
+        rtol: v[V::solver_rtol],
+        atol: v[V::solver_atol],
+        max_step: v[V::solver_max_step],
+        ..Settings::default()
+    }
+}
+
+/// The shaft path of a step starting at `time`.
+fn path_at(v: &Values<V>, time: f64) -> ShaftPath {
+    let s = shaft::state(v, time);
+    ShaftPath::new(time, s.phi, s.w, s.a)
 }
 
 impl GenevaKnifeDrive {
@@ -110,18 +248,180 @@ impl Model for GenevaKnifeDrive {
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
         let params = Self::params(v);
         params.validate()?;
-        Ok(GenevaKnifeDrive { params })
+        let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
+            let k = v[V::elastic_k];
+            Dynamic {
+                k,
+                c: KnifeOde::damping(&params, k, v[V::elastic_zeta]),
+                integ: Integrator::new(solver_settings(v)),
+                started: false,
+                y: [0.0; 3],
+                e0: 0.0,
+                peaks: (0.0, 0.0, 0.0),
+                k_d: f64::NAN,
+                cut_done: false,
+                g_prev: Vec::new(),
+            }
+        });
+        Ok(GenevaKnifeDrive { params, dynamic })
     }
 
-    fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
+    fn do_step(
+        &mut self,
+        v: &mut Values<V>,
+        time: f64,
+        h: f64,
+        _log: &mut dyn Log,
+    ) -> Result<(), String> {
+        let Some(d) = self.dynamic.as_mut() else {
+            return Ok(());
+        };
+        let path = path_at(v, time);
+        if !d.started {
+            d.start(&self.params, path);
+        }
+        let before = d.clone();
+        let ode = d.ode(&self.params, path);
+        let mut y = d.y;
+        match d.integ.integrate(&ode, time, time + h, &mut y) {
+            Ok(_) => {
+                d.y = y;
+                d.peaks = ode.peaks.get();
+                d.k_d = ode.k_d.get();
+                d.cut_done = ode.cut_done.get();
+                if v.int(V::drive_mode) == 1 {
+                    // the FMU's own extrapolation of the inputs, until the host sets them
+                    let (_, w, a) = path.at(time + h);
+                    v[V::shaft_phi] = path.absolute_phi(time + h);
+                    v[V::shaft_w] = w;
+                    v[V::shaft_a] = a;
+                }
+                Ok(())
+            }
+            Err(why) => {
+                *d = before;
+                Err(why)
+            }
+        }
+    }
+
+    const STATES: usize = 3;
+    const EVENT_INDICATORS: usize = 8;
+
+    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
+        match self.me_dynamic(v, time) {
+            Some(d) => x.copy_from_slice(&d.y),
+            None => x.fill(0.0),
+        }
+    }
+
+    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
+        if let Some(d) = self.me_dynamic(v, time) {
+            d.y.copy_from_slice(x);
+        }
+    }
+
+    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
+        let p = self.params;
+        match self.me_dynamic(v, time) {
+            Some(d) => d.ode(&p, path_at(v, time)).rhs(time, &d.y, dx),
+            None => dx.fill(0.0),
+        }
+    }
+
+    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
+        let p = self.params;
+        match self.me_dynamic(v, time) {
+            Some(d) => d.ode(&p, path_at(v, time)).events(time, &d.y, z),
+            None => z.fill(1.0),
+        }
+    }
+
+    fn me_event(&mut self, v: &Values<V>, time: f64, _log: &mut dyn Log) {
+        let p = self.params;
+        if let Some(d) = self.me_dynamic(v, time) {
+            let ode = d.ode(&p, path_at(v, time));
+            let mut g = vec![0.0; Self::EVENT_INDICATORS];
+            ode.events(time, &d.y, &mut g);
+            if d.g_prev.len() == g.len() {
+                ode.on_event(time, &d.y, &d.g_prev, &g);
+                d.cut_done = ode.cut_done.get();
+                ode.events(time, &d.y, &mut g);
+            }
+            d.g_prev = g;
+        }
+    }
+
+    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
+        let p = self.params;
+        if let Some(d) = self.me_dynamic(v, time) {
+            let ode = d.ode(&p, path_at(v, time));
+            ode.on_step(time, &d.y);
+            d.peaks = ode.peaks.get();
+            d.k_d = ode.k_d.get();
+            let mut g = vec![0.0; Self::EVENT_INDICATORS];
+            ode.events(time, &d.y, &mut g);
+            d.g_prev = g;
+        }
+    }
+
+    fn save_state(&self) -> Vec<f64> {
+        self.dynamic.as_ref().map(Dynamic::save).unwrap_or_default()
+    }
+
+    fn restore_state(&mut self, s: &[f64]) -> Result<(), String> {
+        match self.dynamic.as_mut() {
+            Some(d) => d.restore(s),
+            None if s.is_empty() => Ok(()),
+            None => Err("FMU state of the elastodynamic level given to another level".into()),
+        }
+    }
+
+    fn calculated_parameters(&self, v: &mut Values<V>) {
         let p = &self.params;
         v[V::geneva_a] = p.a();
         v[V::geneva_lambda] = p.lambda();
         v[V::rod_lambda2] = p.lambda2();
         v[V::knife_stroke] = p.stroke();
+    }
+
+    fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
+        let p = &self.params;
         let s = shaft::state(v, time);
         let k = p.kinematics(s.phi, s.w, s.a);
         Self::write_kinematics(v, &k);
+        v[V::knife_s_kin] = k.s;
+        if let Some(d) = self.dynamic.as_ref() {
+            let path = path_at(v, time);
+            let ode = d.ode(p, path);
+            let y = if d.started {
+                d.y
+            } else {
+                ode.initial_state(time)
+            };
+            let pt = ode.point_at(&k, &y);
+            v[V::elastic_x] = y[0];
+            v[V::elastic_xd] = y[1];
+            v[V::elastic_W] = y[2];
+            v[V::der_elastic_x] = y[1];
+            v[V::der_elastic_xd] = pt.xdd;
+            v[V::der_elastic_W] = pt.power;
+            let tau = elastic_outputs(p, v, &pt, s.w, s.a);
+            v[V::elastic_E_residual] =
+                ode.energy(&pt) - if d.started { d.e0 } else { ode.energy(&pt) } - y[2];
+            let running = if d.peaks.2 > 0.0 {
+                d.peaks.1 / d.peaks.2
+            } else {
+                1.0
+            };
+            v[V::dyn_factor] = if d.k_d.is_nan() { running } else { d.k_d };
+            v[V::solver_steps] = d.integ.stats.steps as f64;
+            shaft::set_outputs(v, tau, s.w);
+            return;
+        }
+        v[V::elastic_deflection] = 0.0;
+        v[V::elastic_F] = 0.0;
+        v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic {
             let f = p.kinetostatics(&k, s.w, s.a);
             v[V::knife_F_cut] = f.f_cut;
@@ -137,4 +437,43 @@ impl Model for GenevaKnifeDrive {
         };
         shaft::set_outputs(v, tau, s.w);
     }
+}
+
+/// Writes the outputs of the elastodynamic level at one point; returns the shaft torque. The
+/// chain force replaces the rigid rod force: crank, gear pair, cross and shaft follow the
+/// kinetostatic chain (rigid links behind the compliant one).
+fn elastic_outputs(p: &Params, v: &mut Values<V>, pt: &Point, w: f64, eps: f64) -> f64 {
+    let k = &pt.kin;
+    v[V::knife_s] = pt.x;
+    v[V::knife_v] = pt.xd;
+    v[V::knife_a] = pt.xdd;
+    v[V::elastic_deflection] = pt.delta;
+    v[V::elastic_F] = pt.f_el;
+    v[V::knife_F_cut] = pt.f_cut;
+    v[V::knife_F_inertia] = -p.slider_mass() * pt.xdd;
+    let rod_f = pt.f_el / k.cos_nu;
+    v[V::rod_F] = rod_f;
+    v[V::guide_N] = rod_f * k.sin_nu;
+    let crank_tau = pt.f_el * k.ds_dtheta + p.crank_inertia() * k.crank_a;
+    let i = f64::from(p.gear_i);
+    let gear = if crank_tau * k.crank_w >= 0.0 {
+        i * crank_tau / p.gear_eta
+    } else {
+        i * crank_tau * p.gear_eta
+    };
+    let (cross_tau, geneva_f, shaft_tau) = if k.engaged {
+        let cross_tau = gear + p.cross_j * k.cross_a;
+        (
+            cross_tau,
+            cross_tau / k.rho,
+            cross_tau * k.gamma_d + p.driver_j * eps,
+        )
+    } else {
+        (0.0, 0.0, p.driver_j * eps)
+    };
+    v[V::crank_tau] = crank_tau;
+    v[V::cross_tau] = cross_tau;
+    v[V::geneva_F] = geneva_f;
+    let _ = w;
+    shaft_tau
 }

@@ -218,6 +218,7 @@ impl Model for Perforators {
     };
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
+        shaft::require_level(v, &[Fidelity::Kinematic, Fidelity::Kinetostatic])?;
         let drive = Self::params(v).drive()?;
         Ok(Perforators {
             drive,

@@ -1,10 +1,13 @@
 //! The SewingTable FMU: its variables, declared once, and the glue from them to
 //! [`super::physics`] (`../shared/spec/sewing-table.md`).
 
+use super::elastic::TableOde;
 use super::physics::{Kind, Params};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Values};
+use crate::solver::{Integrator, Method, Settings, ShaftPath};
+use std::cell::Cell;
 
 /// `law.*` (`motion-laws.md`), shared by SewingTable and Perforators.
 pub static MOTION_LAW: EnumType = EnumType {
@@ -99,13 +102,124 @@ crate::model_variables! {
         rocking_x = Var::output("rocking.x", "m", "Rocking table's saddle: horizontal displacement from loading towards sewing").depends(ON_PHI),
         rocking_y = Var::output("rocking.y", "m", "Rocking table's saddle: vertical displacement from loading, up positive").depends(ON_PHI),
         rocking_M_inertia = Var::output("rocking.M_inertia", "N.m", "Rocking table's inertia torque -J*beta'' about its axis").depends(ON_ALL),
+        // ---- elastodynamic level (dynamics.md; translating table)
+        elastic_k = Var::parameter("elastic.k", 1e7, "N/m", "Stiffness of the cam-follower chain between the rigid table position and the table (elastodynamic level; assumption, dynamics.md)").min(1.0),
+        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the follower chain, c = 2*zeta*sqrt(k*m) (elastodynamic level; assumption)").min(0.0),
+        cam_clearance = Var::parameter("cam.clearance", 0.0, "m", "Play of the roller in the cam slot (total); with play the roller crosses it and impacts the other flank (elastodynamic level; dynamics.md)").min(0.0),
+        solver_method = crate::solver::vars::method(),
+        solver_rtol = crate::solver::vars::rtol(),
+        solver_atol = crate::solver::vars::atol(),
+        solver_max_step = crate::solver::vars::max_step(),
+        table_x_kin = Var::output("table.x_kin", "m", "Rigid reference position of the table (elastodynamic level; equals table.x at the others)").depends(ON_PHI),
+        elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the follower chain table.x_kin - table.x, play included (elastodynamic level)").depends(ON_PHI),
+        elastic_F = Var::output("elastic.F", "N", "Dynamic force of the cam on the table along +x (0 while the roller crosses the play; elastodynamic level)").depends(ON_PHI_W),
+        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) cam force along x, of the last complete shaft turn (the running one before; elastodynamic level)"),
+        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller left a slot flank (with play; elastodynamic level)"),
+        contact_F_impact = Var::output("contact.F_impact", "N", "Largest cam force after a landing of the roller on a flank (with play; elastodynamic level)"),
+        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)"),
+        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)"),
     }
+}
+
+/// What the elastodynamic level carries between steps.
+#[derive(Clone, Debug, PartialEq)]
+struct Dynamic {
+    k: f64,
+    c: f64,
+    gap: f64,
+    integ: Integrator,
+    started: bool,
+    y: [f64; 3],
+    e0: f64,
+    peaks: (f64, f64, f64),
+    k_d: f64,
+    liftoffs: f64,
+    impact: f64,
+    landed: bool,
+}
+
+impl Dynamic {
+    const STATE_LEN: usize = 16;
+
+    fn ode<'a>(&self, p: &'a Params, path: ShaftPath, f_ext: f64) -> TableOde<'a> {
+        TableOde {
+            p,
+            k: self.k,
+            c: self.c,
+            gap: self.gap,
+            f_ext,
+            path,
+            peaks: Cell::new(self.peaks),
+            k_d: Cell::new(self.k_d),
+            liftoffs: Cell::new(self.liftoffs),
+            impact: Cell::new(self.impact),
+            landed: Cell::new(self.landed),
+        }
+    }
+
+    fn absorb(&mut self, ode: &TableOde) {
+        self.peaks = ode.peaks.get();
+        self.k_d = ode.k_d.get();
+        self.liftoffs = ode.liftoffs.get();
+        self.impact = ode.impact.get();
+        self.landed = ode.landed.get();
+    }
+
+    fn save(&self) -> Vec<f64> {
+        let h = self.integ.save();
+        vec![
+            self.started as i32 as f64,
+            self.y[0],
+            self.y[1],
+            self.y[2],
+            self.e0,
+            self.peaks.0,
+            self.peaks.1,
+            self.peaks.2,
+            self.k_d,
+            h[0],
+            h[1],
+            self.integ.stats.steps as f64,
+            self.liftoffs,
+            self.impact,
+            self.landed as i32 as f64,
+            self.integ.stats.events as f64,
+        ]
+    }
+
+    fn restore(&mut self, s: &[f64]) -> Result<(), String> {
+        if s.len() != Self::STATE_LEN {
+            return Err(format!(
+                "elastodynamic state has {} numbers, expected {}",
+                s.len(),
+                Self::STATE_LEN
+            ));
+        }
+        self.started = s[0] != 0.0;
+        self.y = [s[1], s[2], s[3]];
+        self.e0 = s[4];
+        self.peaks = (s[5], s[6], s[7]);
+        self.k_d = s[8];
+        self.integ.restore(&s[9..11]);
+        self.integ.stats.steps = s[11] as usize;
+        self.liftoffs = s[12];
+        self.impact = s[13];
+        self.landed = s[14] != 0.0;
+        self.integ.stats.events = s[15] as usize;
+        Ok(())
+    }
+}
+
+fn path_at(v: &Values<V>, time: f64) -> ShaftPath {
+    let s = shaft::state(v, time);
+    ShaftPath::new(time, s.phi, s.w, s.a)
 }
 
 /// The translating sewing table of paper 000 as an FMU model.
 pub struct SewingTable {
     params: Params,
     r0_min: f64,
+    dynamic: Option<Dynamic>,
 }
 
 impl SewingTable {
@@ -157,7 +271,92 @@ impl Model for SewingTable {
         let params = Self::params(v);
         params.validate()?;
         let r0_min = params.smallest_r0();
-        Ok(SewingTable { params, r0_min })
+        let dynamic = if shaft::fidelity(v) == Fidelity::Elastodynamic {
+            if params.kind == Kind::Rocking {
+                return Err(ParamError {
+                    param: "table.kind",
+                    value: 2.0,
+                    condition: "the elastodynamic level models the translating table only".into(),
+                });
+            }
+            let k = v[V::elastic_k];
+            Some(Dynamic {
+                k,
+                c: TableOde::damping(&params, k, v[V::elastic_zeta]),
+                gap: 0.5 * v[V::cam_clearance],
+                integ: Integrator::new(Settings {
+                    method: Method::from_value(v.int(V::solver_method)),
+                    rtol: v[V::solver_rtol],
+                    atol: v[V::solver_atol],
+                    max_step: v[V::solver_max_step],
+                    ..Settings::default()
+                }),
+                started: false,
+                y: [0.0; 3],
+                e0: 0.0,
+                peaks: (0.0, 0.0, 0.0),
+                k_d: f64::NAN,
+                liftoffs: 0.0,
+                impact: 0.0,
+                landed: false,
+            })
+        } else {
+            None
+        };
+        Ok(SewingTable {
+            params,
+            r0_min,
+            dynamic,
+        })
+    }
+
+    fn do_step(
+        &mut self,
+        v: &mut Values<V>,
+        time: f64,
+        h: f64,
+        _log: &mut dyn Log,
+    ) -> Result<(), String> {
+        let Some(d) = self.dynamic.as_mut() else {
+            return Ok(());
+        };
+        let path = path_at(v, time);
+        let f_ext = v[V::table_F_ext];
+        if !d.started {
+            let ode = d.ode(&self.params, path, f_ext);
+            d.y = ode.initial_state(time);
+            d.e0 = ode.energy(&ode.point(time, &d.y));
+            d.peaks = (path.cycle(time), 0.0, 0.0);
+            d.started = true;
+        }
+        let ode = d.ode(&self.params, path, f_ext);
+        let mut y = d.y;
+        let before = d.integ.clone();
+        if let Err(why) = d.integ.integrate(&ode, time, time + h, &mut y) {
+            d.integ = before; // the state before the step stays intact
+            return Err(why);
+        }
+        d.y = y;
+        d.absorb(&ode);
+        if v.int(V::drive_mode) == 1 {
+            let (_, w, a) = path.at(time + h);
+            v[V::shaft_phi] = path.absolute_phi(time + h);
+            v[V::shaft_w] = w;
+            v[V::shaft_a] = a;
+        }
+        Ok(())
+    }
+
+    fn save_state(&self) -> Vec<f64> {
+        self.dynamic.as_ref().map(Dynamic::save).unwrap_or_default()
+    }
+
+    fn restore_state(&mut self, s: &[f64]) -> Result<(), String> {
+        match self.dynamic.as_mut() {
+            Some(d) => d.restore(s),
+            None if s.is_empty() => Ok(()),
+            None => Err("FMU state of the elastodynamic level given to another level".into()),
+        }
     }
 
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
@@ -183,6 +382,55 @@ impl Model for SewingTable {
         v[V::rocking_x] = r.x;
         v[V::rocking_y] = r.y;
         v[V::rocking_M_inertia] = if kinetostatic { r.m_inertia } else { 0.0 };
+        v[V::table_x_kin] = k.c.x;
+        if let Some(d) = self.dynamic.as_ref() {
+            let ode = d.ode(p, path_at(v, time), f_ext);
+            let y = if d.started {
+                d.y
+            } else {
+                ode.initial_state(time)
+            };
+            let pt = ode.point_at(&k, &y);
+            let m = p.table_m;
+            v[V::table_x] = pt.x;
+            v[V::table_v] = pt.xd;
+            v[V::table_a] = pt.xdd;
+            v[V::cam_theta] = k.theta;
+            v[V::elastic_deflection] = pt.delta;
+            v[V::elastic_F] = pt.f_c;
+            let rigid = p.forces(&k, st.a, f_ext);
+            v[V::cam_rho] = rigid.rho_flank.clamp(-1000.0, 1000.0);
+            v[V::table_F_inertia] = -m * pt.xdd;
+            v[V::table_F_friction] = m * pt.xdd - pt.f_c - f_ext;
+            v[V::cam_F] = pt.f_c / k.theta.cos();
+            // Hertz stress grows with the square root of the force
+            v[V::cam_sigma_H] = if rigid.cam_f != 0.0 {
+                rigid.sigma_h * (pt.f_c / rigid.f_x).abs().sqrt()
+            } else {
+                0.0
+            };
+            v[V::dyn_factor] = if d.k_d.is_nan() {
+                if d.peaks.2 > 0.0 {
+                    d.peaks.1 / d.peaks.2
+                } else {
+                    1.0
+                }
+            } else {
+                d.k_d
+            };
+            v[V::contact_liftoffs] = d.liftoffs;
+            v[V::contact_F_impact] = d.impact;
+            v[V::elastic_E_residual] = if d.started {
+                ode.energy(&pt) - d.e0 - y[2]
+            } else {
+                0.0
+            };
+            v[V::solver_steps] = d.integ.stats.steps as f64;
+            let tau = pt.f_c * k.c.dx + p.cam_j * st.a;
+            shaft::set_outputs(v, tau, st.w);
+            return;
+        }
+        v[V::dyn_factor] = 1.0;
         let tau = match p.kind {
             Kind::Translating => {
                 v[V::table_x] = k.c.x;

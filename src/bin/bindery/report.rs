@@ -1,0 +1,320 @@
+//! `bindery report`: error against wall time of the elastodynamic level (`dynamics.md`, "Error
+//! against run time"). For GenevaKnifeDrive and SewingTable, at a non-stiff and a stiff chain,
+//! every internal method over a ladder of tolerances (rk4: of steps), `auto` also over a ladder
+//! of communication steps, all in this process (median of 3 runs) on the plain Rust models,
+//! against a Dormand–Prince reference at rtol 1e-11; and the baseline, FMPy + CVode on the Model
+//! Exchange interface (GenevaKnifeDrive), with the FMU's own `auto` through the same FMPy loop
+//! for a like-for-like ratio, measured in the same run by `scripts/work_precision.py`.
+//! Writes `report.md` and one work-precision PNG per case (log10 axes).
+
+use bindery_fmu::docs::{Figure, Series, render_png};
+use bindery_fmu::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
+use bindery_fmu::mechanisms::geneva_knife_drive::model::V as G;
+use bindery_fmu::mechanisms::sewing_table::SewingTable;
+use bindery_fmu::mechanisms::sewing_table::model::V as S;
+use bindery_fmu::model::{Model, NoLog, Values};
+use indicatif::{ProgressBar, ProgressStyle};
+use std::fmt::Write as _;
+use std::path::Path;
+use std::time::Instant;
+
+#[derive(Clone, Copy)]
+struct Case {
+    mech: &'static str,
+    label: &'static str,
+    k: f64,
+    stop: f64,
+}
+
+const CASES: [Case; 4] = [
+    Case {
+        mech: "GenevaKnifeDrive",
+        label: "non-stiff (k = 5e7 N/m)",
+        k: 5e7,
+        stop: 0.5,
+    },
+    Case {
+        mech: "GenevaKnifeDrive",
+        label: "stiff (k = 1e12 N/m)",
+        k: 1e12,
+        stop: 0.5,
+    },
+    Case {
+        mech: "SewingTable",
+        label: "non-stiff (k = 1e7 N/m)",
+        k: 1e7,
+        stop: 0.6,
+    },
+    Case {
+        mech: "SewingTable",
+        label: "stiff (k = 1e12 N/m)",
+        k: 1e12,
+        stop: 0.6,
+    },
+];
+
+/// One run: the position and chain force on the 1 ms output grid.
+type Trace = (Vec<f64>, Vec<f64>);
+
+fn simulate(c: &Case, method: i32, tol: f64, dt: f64) -> Result<Trace, String> {
+    let grid = 1e-3;
+    let per = (grid / dt).round().max(1.0) as usize;
+    let dt = grid / per as f64;
+    let n = (c.stop / grid).round() as usize;
+    let (mut xs, mut fs) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    macro_rules! run {
+        ($m:ty, $v:ident, $x:expr, $f:expr, $rpm:expr) => {{
+            let mut v = Values::<$v>::start();
+            v[$v::model_fidelity] = 3.0;
+            v[$v::drive_mode] = 2.0;
+            v[$v::drive_n] = $rpm * std::f64::consts::PI / 30.0;
+            v[$v::elastic_k] = c.k;
+            v[$v::solver_method] = method as f64;
+            if method == 4 {
+                v[$v::solver_max_step] = tol;
+            } else {
+                v[$v::solver_rtol] = tol;
+                v[$v::solver_atol] = (tol * 1e-3).min(3.0 / c.k);
+            }
+            let mut m = <$m>::prepare(&v).map_err(|e| e.to_string())?;
+            let mut t = 0.0;
+            for i in 0..n {
+                for j in 0..per {
+                    m.do_step(&mut v, t, dt, &mut NoLog)?;
+                    t = (i * per + j + 1) as f64 * dt;
+                }
+                m.evaluate(&mut v, t, &mut NoLog);
+                xs.push(v[$x]);
+                fs.push(v[$f]);
+            }
+        }};
+    }
+    if c.mech == "GenevaKnifeDrive" {
+        run!(GenevaKnifeDrive, G, G::knife_s, G::elastic_F, 30.0);
+    } else {
+        run!(SewingTable, S, S::table_x, S::elastic_F, 100.0);
+    }
+    Ok((xs, fs))
+}
+
+fn errors(a: &Trace, r: &Trace) -> (f64, f64) {
+    let dx =
+        a.0.iter()
+            .zip(&r.0)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
+    let pa = a.1.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    let pr = r.1.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    (dx, (pa - pr).abs() / pr.max(1e-300))
+}
+
+struct Point {
+    method: String,
+    setting: String,
+    err: Option<(f64, f64)>,
+    secs: f64,
+    note: String,
+}
+
+fn measure(
+    c: &Case,
+    method: i32,
+    tol: f64,
+    dt: f64,
+    reference: &Trace,
+) -> (Option<(f64, f64)>, f64, String) {
+    let mut times = vec![];
+    let mut last = None;
+    for _ in 0..3 {
+        let t0 = Instant::now();
+        let r = simulate(c, method, tol, dt);
+        times.push(t0.elapsed().as_secs_f64());
+        match r {
+            Ok(tr) => last = Some(errors(&tr, reference)),
+            Err(e) => {
+                return (
+                    None,
+                    times[0],
+                    format!("Discard: {}", e.chars().take(90).collect::<String>()),
+                );
+            }
+        }
+    }
+    times.sort_by(f64::total_cmp);
+    (last, times[1], String::new())
+}
+
+/// FMPy's lines (GenevaKnifeDrive): JSON lines of scripts/work_precision.py.
+fn fmpy_baseline(root: &Path, k: f64, stop: f64) -> Vec<Point> {
+    let out = std::process::Command::new(root.join(".venv/bin/python"))
+        .arg(root.join("scripts/work_precision.py"))
+        .args([
+            "--k",
+            &k.to_string(),
+            "--stop",
+            &stop.to_string(),
+            "--only",
+            "auto,fmpy-cvode-me",
+        ])
+        .output();
+    let Ok(out) = out else { return vec![] };
+    let mut pts = vec![];
+    for line in String::from_utf8_lossy(&out.stdout).lines() {
+        let get = |key: &str| -> Option<String> {
+            let i = line.find(&format!("\"{key}\": "))? + key.len() + 4;
+            let rest = &line[i..];
+            let end = rest.find([',', '}']).unwrap_or(rest.len());
+            Some(rest[..end].trim_matches('"').to_string())
+        };
+        let (Some(m), Some(tol)) = (get("method"), get("tol")) else {
+            continue;
+        };
+        let err = get("error").and_then(|e| e.parse::<f64>().ok());
+        let secs = get("seconds")
+            .and_then(|e| e.parse::<f64>().ok())
+            .unwrap_or(f64::NAN);
+        pts.push(Point {
+            method: format!(
+                "FMPy: {}",
+                if m == "auto" {
+                    "CS auto"
+                } else {
+                    "CVode on ME"
+                }
+            ),
+            setting: format!("rtol {tol}"),
+            err: err.map(|e| (e, f64::NAN)),
+            secs,
+            note: if err.is_none() {
+                "failed".into()
+            } else {
+                String::new()
+            },
+        });
+    }
+    pts
+}
+
+pub fn report(root: &Path, out: &Path, with_fmpy: bool) -> Result<(), String> {
+    std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let tols = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8];
+    let rk4_steps = [1e-4, 3e-5, 1e-5, 3e-6];
+    let dts = [1e-4, 1e-3, 1e-2];
+    let per_case = 3 * tols.len() + rk4_steps.len() + dts.len() + 1;
+    let bar = ProgressBar::new((CASES.len() * per_case) as u64);
+    bar.set_style(
+        ProgressStyle::with_template("{msg:40} [{bar:30}] {pos}/{len} {elapsed}")
+            .map_err(|e| e.to_string())?,
+    );
+    let mut md = String::from(
+        "# Error against run time (elastodynamic level)\n\nGenerated by `cargo run --release -- report`. Error: largest |position − reference| on the 1 ms output grid (m), and relative error of the peak chain force; reference: dopri5 at rtol 1e-11. Time: median of 3 runs in this process (plain Rust model, no FMI host); the FMPy lines run through FMPy's host loop (Python per output step), with the FMU's own `auto` through the same loop for the like-for-like ratio.\n",
+    );
+    for c in CASES {
+        bar.set_message(format!("{} {}", c.mech, c.label));
+        let reference = simulate(&c, 2, 1e-11, 1e-3)?;
+        bar.inc(1);
+        let mut pts: Vec<Point> = vec![];
+        for (m, name) in [(1, "auto"), (2, "dopri5"), (3, "radau5")] {
+            for tol in tols {
+                let (err, secs, note) = measure(&c, m, tol, 1e-3, &reference);
+                pts.push(Point {
+                    method: name.into(),
+                    setting: format!("rtol {tol:e}"),
+                    err,
+                    secs,
+                    note,
+                });
+                bar.inc(1);
+            }
+        }
+        for h in rk4_steps {
+            let (err, secs, note) = measure(&c, 4, h, 1e-3, &reference);
+            pts.push(Point {
+                method: "rk4".into(),
+                setting: format!("h {h:e} s"),
+                err,
+                secs,
+                note,
+            });
+            bar.inc(1);
+        }
+        for dt in dts {
+            let (err, secs, note) = measure(&c, 1, 1e-6, dt, &reference);
+            pts.push(Point {
+                method: "auto, rtol 1e-6, comm. step ladder".into(),
+                setting: format!("dt {dt:e} s"),
+                err,
+                secs,
+                note,
+            });
+            bar.inc(1);
+        }
+        if with_fmpy && c.mech == "GenevaKnifeDrive" {
+            bar.set_message(format!("{} {}: FMPy", c.mech, c.label));
+            pts.extend(fmpy_baseline(root, c.k, c.stop));
+        }
+        // table
+        let _ = write!(
+            md,
+            "\n## {} — {}\n\n| method | setting | position error (m) | peak force error | time (s) | note |\n| --- | --- | --- | --- | --- | --- |\n",
+            c.mech, c.label
+        );
+        for p in &pts {
+            let (e, f) = p.err.map_or(("–".into(), "–".into()), |(e, f)| {
+                (
+                    format!("{e:.2e}"),
+                    if f.is_nan() {
+                        "–".into()
+                    } else {
+                        format!("{f:.2e}")
+                    },
+                )
+            });
+            let _ = writeln!(
+                md,
+                "| {} | {} | {} | {} | {:.4} | {} |",
+                p.method, p.setting, e, f, p.secs, p.note
+            );
+        }
+        // plot: one line per method, log10 axes
+        let mut names: Vec<&str> = vec![];
+        for p in &pts {
+            if !names.contains(&p.method.as_str()) {
+                names.push(&p.method);
+            }
+        }
+        let series = names
+            .iter()
+            .map(|n| {
+                let v: Vec<(f64, f64)> = pts
+                    .iter()
+                    .filter(|p| p.method == *n)
+                    .filter_map(|p| p.err.map(|(e, _)| (p.secs.log10(), e.max(1e-16).log10())))
+                    .filter(|(a, b)| a.is_finite() && b.is_finite())
+                    .collect();
+                // in ladder order (tolerance or step), as work-precision plots join them
+                Series::new(*n, v)
+            })
+            .collect();
+        let file = format!(
+            "{}_{}.png",
+            c.mech,
+            if c.k > 1e9 { "stiff" } else { "nonstiff" }
+        );
+        let fig = Figure {
+            file: file.clone(),
+            title: format!("{} {}: work-precision", c.mech, c.label),
+            x_label: "log10 wall time [s]".into(),
+            y_label: "log10 position error [m]".into(),
+            series,
+            caption: String::new(),
+            equal_axes: false,
+        };
+        std::fs::write(out.join(&file), render_png(&fig)?).map_err(|e| e.to_string())?;
+        let _ = writeln!(md, "\n![{}]({file})", fig.title);
+    }
+    bar.finish_with_message("done");
+    std::fs::write(out.join("report.md"), md).map_err(|e| e.to_string())?;
+    eprintln!("wrote {}", out.join("report.md").display());
+    Ok(())
+}

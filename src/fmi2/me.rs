@@ -1,0 +1,265 @@
+//! FMI 2.0 Model Exchange on the same runtime: the host integrates the model's continuous
+//! states with its own solver (e.g. FMPy with CVode) through states, derivatives and event
+//! indicators ([`Model::STATES`], [`Model::me_derivatives`], ...). A submodule of the runtime:
+//! it uses the same instance, entry wrapper and state table; the event and continuous-time
+//! modes of Model Exchange both run in the table's state `StepComplete`, told apart here.
+
+use super::*;
+
+/// Which Model Exchange mode an instance is in, after initialization.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Mode {
+    #[default]
+    Event,
+    ContinuousTime,
+}
+
+/// The Model Exchange side of an instance.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct MeMode {
+    /// Instantiated as Model Exchange.
+    pub is_me: bool,
+    pub mode: Mode,
+}
+
+/// `fmi2EventInfo`.
+#[repr(C)]
+#[derive(Clone, Copy, Debug)]
+pub struct EventInfo {
+    pub new_discrete_states_needed: Boolean,
+    pub terminate_simulation: Boolean,
+    pub nominals_of_continuous_states_changed: Boolean,
+    pub values_of_continuous_states_changed: Boolean,
+    pub next_event_time_defined: Boolean,
+    pub next_event_time: Real,
+}
+
+fn check<M: Model>(inst: &Instance<M>, call: Call, need: Option<Mode>) -> Result<(), String> {
+    if !inst.me.is_me {
+        return Err(format!(
+            "fmi2{call:?} is a Model Exchange call; this instance is Co-Simulation"
+        ));
+    }
+    if let Some(m) = need
+        && inst.state == State::StepComplete
+        && inst.me.mode != m
+    {
+        return Err(format!(
+            "fmi2{call:?} is not allowed in {:?} mode",
+            inst.me.mode
+        ));
+    }
+    Ok(())
+}
+
+fn count(n: usize, what: &str, expected: usize) -> Result<(), String> {
+    if n != expected {
+        return Err(format!("{what} = {n}; this FMU has {expected}"));
+    }
+    Ok(())
+}
+
+/// `fmi2EnterEventMode`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn enter_event_mode<M: Model>(c: Component) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::EnterEventMode, |inst| {
+            check(inst, Call::EnterEventMode, None)?;
+            inst.me.mode = Mode::Event;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2NewDiscreteStates`: the model switches its discrete modes at the event.
+///
+/// # Safety
+/// As [`entry`]; `info` points to an `fmi2EventInfo`.
+pub unsafe fn new_discrete_states<M: Model>(c: Component, info: *mut EventInfo) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::NewDiscreteStates, |inst| {
+            check(inst, Call::NewDiscreteStates, Some(Mode::Event))?;
+            if info.is_null() {
+                return Err("fmi2EventInfo pointer is NULL".into());
+            }
+            inst.prepared()?;
+            let model = inst.model.as_mut().expect("prepared");
+            model.me_event(&inst.values, inst.time, &mut inst.logger);
+            inst.dirty = true;
+            *info = EventInfo {
+                new_discrete_states_needed: FALSE,
+                terminate_simulation: FALSE,
+                nominals_of_continuous_states_changed: FALSE,
+                values_of_continuous_states_changed: FALSE,
+                next_event_time_defined: FALSE,
+                next_event_time: 0.0,
+            };
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2EnterContinuousTimeMode`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn enter_continuous_time_mode<M: Model>(c: Component) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::EnterContinuousTimeMode, |inst| {
+            check(inst, Call::EnterContinuousTimeMode, Some(Mode::Event))?;
+            inst.me.mode = Mode::ContinuousTime;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2CompletedIntegratorStep`.
+///
+/// # Safety
+/// As [`entry`]; the two flags point to an `fmi2Boolean` each.
+pub unsafe fn completed_integrator_step<M: Model>(
+    c: Component,
+    _no_set_prior: Boolean,
+    enter_event_mode: *mut Boolean,
+    terminate: *mut Boolean,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::CompletedIntegratorStep, |inst| {
+            check(
+                inst,
+                Call::CompletedIntegratorStep,
+                Some(Mode::ContinuousTime),
+            )?;
+            if enter_event_mode.is_null() || terminate.is_null() {
+                return Err("a result pointer is NULL".into());
+            }
+            inst.prepared()?;
+            let model = inst.model.as_mut().expect("prepared");
+            model.me_completed_step(&inst.values, inst.time);
+            *enter_event_mode = FALSE;
+            *terminate = FALSE;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2SetTime`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn set_time<M: Model>(c: Component, t: Real) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetTime, |inst| {
+            check(inst, Call::SetTime, None)?;
+            if !t.is_finite() {
+                return Err(format!("time {t} is not finite"));
+            }
+            inst.time = t;
+            inst.dirty = true;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2SetContinuousStates`.
+///
+/// # Safety
+/// As [`entry`]; `x` holds `nx` reals.
+pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: usize) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetContinuousStates, |inst| {
+            check(inst, Call::SetContinuousStates, Some(Mode::ContinuousTime))?;
+            count(nx, "nx", M::STATES)?;
+            let x = slice(x, nx, "x")?;
+            if let Some(bad) = x.iter().find(|v| !v.is_finite()) {
+                return Err(format!("a state {bad} is not finite; the states are kept"));
+            }
+            inst.prepared()?;
+            let model = inst.model.as_mut().expect("prepared");
+            model.me_set_states(&inst.values, inst.time, x);
+            inst.dirty = true;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2GetDerivatives`.
+///
+/// # Safety
+/// As [`entry`]; `dx` holds `nx` reals.
+pub unsafe fn get_derivatives<M: Model>(c: Component, dx: *mut Real, nx: usize) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetDerivatives, |inst| {
+            check(inst, Call::GetDerivatives, None)?;
+            count(nx, "nx", M::STATES)?;
+            let dx = slice_mut(dx, nx, "derivatives")?;
+            inst.prepared()?;
+            let model = inst.model.as_mut().expect("prepared");
+            model.me_derivatives(&inst.values, inst.time, dx);
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2GetEventIndicators`.
+///
+/// # Safety
+/// As [`entry`]; `z` holds `ni` reals.
+pub unsafe fn get_event_indicators<M: Model>(c: Component, z: *mut Real, ni: usize) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetEventIndicators, |inst| {
+            check(inst, Call::GetEventIndicators, None)?;
+            count(ni, "ni", M::EVENT_INDICATORS)?;
+            let z = slice_mut(z, ni, "eventIndicators")?;
+            inst.prepared()?;
+            let model = inst.model.as_mut().expect("prepared");
+            model.me_event_indicators(&inst.values, inst.time, z);
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2GetContinuousStates`.
+///
+/// # Safety
+/// As [`entry`]; `x` holds `nx` reals.
+pub unsafe fn get_continuous_states<M: Model>(c: Component, x: *mut Real, nx: usize) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetContinuousStates, |inst| {
+            check(inst, Call::GetContinuousStates, None)?;
+            count(nx, "nx", M::STATES)?;
+            let x = slice_mut(x, nx, "x")?;
+            inst.prepared()?;
+            let model = inst.model.as_mut().expect("prepared");
+            model.me_states(&inst.values, inst.time, x);
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2GetNominalsOfContinuousStates`: 1 for every state.
+///
+/// # Safety
+/// As [`entry`]; `x` holds `nx` reals.
+pub unsafe fn get_nominals<M: Model>(c: Component, x: *mut Real, nx: usize) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetNominalsOfContinuousStates, |inst| {
+            check(inst, Call::GetNominalsOfContinuousStates, None)?;
+            count(nx, "nx", M::STATES)?;
+            slice_mut(x, nx, "x_nominal")?.fill(1.0);
+            Ok(Status::Ok)
+        })
+    }
+}

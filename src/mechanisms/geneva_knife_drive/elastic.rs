@@ -1,0 +1,250 @@
+//! Elastodynamic level of the Geneva knife drive (`dynamics.md`): the knife slider (mass
+//! m_s = knife.m + rod.m/2) is tied to its rigid position s_kin(φ) by the drive chain's
+//! stiffness k and damping c = 2·ζ·√(k·m_s):
+//!
+//! `m_s·ẍ = k·(s_kin − x) + c·(ṡ_kin − ẋ) + m_s·g − F_cut(x, ẋ) − F_friction`,
+//!
+//! with the guide friction `μ·|F_el·tan ν|` (the chain force's lateral component through the rod
+//! at the rigid rod angle ν), directed against the rigid velocity ṡ_kin (assumption: the
+//! knife's own vibration does not reverse the sliding direction in the guides; it keeps the
+//! friction free of chattering), and the cutting force of the kinetostatic level evaluated at
+//! the elastic position and velocity.
+//!
+//! States `y = [x, ẋ, W]`: W is the work done on the knife and its chain spring by the drive,
+//! gravity, cutting, friction and damping, so `E − E0 − W` (E = ½·m_s·ẋ² + ½·k·δ²) is the
+//! energy-balance residual of the integration.
+//!
+//! Events: Geneva entry and exit (ψ = 0 and ψ = 2φe, where γ'' jumps), the stack's edges
+//! (`cut.s_start`, `cut.s_full`, cut-through at `cut.s_end`), the knife stopping inside the
+//! stack (ẋ = 0) and the rigid velocity reversing (friction direction).
+
+use super::physics::{Kinematics, Params};
+use crate::mechanics::STANDARD_GRAVITY;
+use crate::solver::{OdeSystem, ShaftPath};
+use std::cell::Cell;
+
+fn sgn(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// Half width of the velocity band in which the knife sticks at the cut front (Karnopp): the
+/// cutting resistance holds whatever drive force up to its full value, m/s.
+pub const V_STICK: f64 = 1e-5;
+
+/// The ODE of one communication step.
+pub struct KnifeOde<'a> {
+    pub p: &'a Params,
+    /// Chain stiffness k, N/m.
+    pub k: f64,
+    /// Chain damping c, N.s/m.
+    pub c: f64,
+    pub path: ShaftPath,
+    /// Peak tracking over accepted steps: (cycle index, peak |F_el|, peak |F_rigid|).
+    pub peaks: Cell<(f64, f64, f64)>,
+    /// Dynamic factor of the last complete cycle (NaN: none yet).
+    pub k_d: Cell<f64>,
+    /// The stack is cut through in this stroke (set at cut-through, cleared when the knife
+    /// rises back above `cut.s_start`): no cutting resistance.
+    pub cut_done: Cell<bool>,
+}
+
+/// Everything at one instant.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Point {
+    pub kin: Kinematics,
+    pub x: f64,
+    pub xd: f64,
+    pub xdd: f64,
+    /// Deflection δ = s_kin − x, m.
+    pub delta: f64,
+    /// Chain force on the knife along s, k·δ + c·δ̇, N.
+    pub f_el: f64,
+    pub f_cut: f64,
+    pub f_fr: f64,
+    /// dW/dt.
+    pub power: f64,
+    /// The rigid (kinetostatic) chain force along s at this instant, N.
+    pub f_rigid: f64,
+}
+
+impl KnifeOde<'_> {
+    /// Damping from the damping ratio.
+    pub fn damping(p: &Params, k: f64, zeta: f64) -> f64 {
+        2.0 * zeta * (k * p.slider_mass()).sqrt()
+    }
+
+    /// Evaluates the model at time t and state y.
+    pub fn point(&self, t: f64, y: &[f64]) -> Point {
+        let (phi, w, a) = self.path.at(t);
+        let kin = self.p.kinematics(phi, w, a);
+        self.point_at(&kin, y)
+    }
+
+    /// As [`KnifeOde::point`], for given kinematics.
+    pub fn point_at(&self, kin: &Kinematics, y: &[f64]) -> Point {
+        let m = self.p.slider_mass();
+        let (x, xd) = (y[0], y[1]);
+        let delta = kin.s - x;
+        let deltad = kin.v - xd;
+        let f_el = self.k * delta + self.c * deltad;
+        let tan_nu = kin.sin_nu / kin.cos_nu;
+        let f_fr = self.p.guide_mu * (f_el * tan_nu).abs() * sgn(kin.v);
+        let f_drive = f_el + m * STANDARD_GRAVITY - f_fr;
+        let f_cut = self.cut(x, xd, f_drive);
+        let xdd = (f_drive - f_cut) / m;
+        let power = self.k * delta * kin.v
+            + self.c * deltad * xd
+            + (m * STANDARD_GRAVITY - f_cut - f_fr) * xd;
+        // rigid chain force along s: m_s·a − m_s·g + F_cut + friction (kinetostatic level)
+        let f_rigid = {
+            let r = m * (kin.a - STANDARD_GRAVITY) + self.p.cut_force(kin.s, kin.v);
+            let kf = self.p.guide_mu * tan_nu.abs() * sgn(kin.v);
+            if r >= 0.0 {
+                r / (1.0 - kf)
+            } else {
+                r / (1.0 + kf)
+            }
+        };
+        Point {
+            kin: *kin,
+            x,
+            xd,
+            xdd,
+            delta,
+            f_el,
+            f_cut,
+            f_fr,
+            power,
+            f_rigid,
+        }
+    }
+
+    /// Is the knife in the uncut stack?
+    fn in_stack(&self, x: f64) -> bool {
+        !self.cut_done.get() && x >= self.p.cut_s_start && x <= self.p.cut_s_end
+    }
+
+    /// Cutting resistance at the elastic position and velocity, with the drive force
+    /// `f_drive` pushing the knife down (for sticking at the cut front).
+    fn cut(&self, x: f64, xd: f64, f_drive: f64) -> f64 {
+        if !self.in_stack(x) {
+            return 0.0;
+        }
+        let cap = if x >= self.p.cut_s_full {
+            self.p.cut_f_max
+        } else {
+            self.p.cut_f_max * (x - self.p.cut_s_start) / (self.p.cut_s_full - self.p.cut_s_start)
+        };
+        if xd > V_STICK {
+            cap
+        } else if xd < -V_STICK {
+            0.0
+        } else {
+            f_drive.clamp(0.0, cap)
+        }
+    }
+
+    /// Energy of knife and chain spring, J.
+    pub fn energy(&self, pt: &Point) -> f64 {
+        0.5 * self.p.slider_mass() * pt.xd * pt.xd + 0.5 * self.k * pt.delta * pt.delta
+    }
+
+    /// The state in static equilibrium on the rigid motion at time t: at rest relative to the
+    /// chain, the spring holding the weight.
+    pub fn initial_state(&self, t: f64) -> [f64; 3] {
+        let (phi, w, a) = self.path.at(t);
+        let kin = self.p.kinematics(phi, w, a);
+        let x = if self.k > 0.0 {
+            kin.s + self.p.slider_mass() * STANDARD_GRAVITY / self.k
+        } else {
+            kin.s
+        };
+        [x, kin.v, 0.0]
+    }
+
+    /// Cycle index of the driver at time t.
+    pub fn cycle(&self, t: f64) -> f64 {
+        self.path.cycle(t)
+    }
+}
+
+impl OdeSystem for KnifeOde<'_> {
+    fn dim(&self) -> usize {
+        3
+    }
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let pt = self.point(t, y);
+        dy[0] = y[1];
+        dy[1] = pt.xdd;
+        dy[2] = pt.power;
+    }
+    fn jacobian(&self, t: f64, y: &[f64], j: &mut [f64]) {
+        let pt = self.point(t, y);
+        let m = self.p.slider_mass();
+        let tan_nu = pt.kin.sin_nu / pt.kin.cos_nu;
+        // ∂F_fr/∂F_el
+        let dfr =
+            self.p.guide_mu * tan_nu.abs() * sgn(pt.f_el * tan_nu) * sgn(tan_nu) * sgn(pt.kin.v);
+        let dcut_dx = if pt.xd > V_STICK && self.in_stack(y[0]) && y[0] < self.p.cut_s_full {
+            self.p.cut_f_max / (self.p.cut_s_full - self.p.cut_s_start)
+        } else {
+            0.0
+        };
+        let dfel_dx = -self.k;
+        let dfel_dv = -self.c;
+        let a_x = (dfel_dx * (1.0 - dfr) - dcut_dx) / m;
+        let a_v = dfel_dv * (1.0 - dfr) / m;
+        let gfc = m * STANDARD_GRAVITY - pt.f_cut - pt.f_fr;
+        let p_x = -self.k * pt.kin.v + (-dcut_dx - dfr * dfel_dx) * pt.xd;
+        let p_v = self.c * (pt.kin.v - 2.0 * pt.xd) + gfc - dfr * dfel_dv * pt.xd;
+        j.copy_from_slice(&[0.0, 1.0, 0.0, a_x, a_v, 0.0, p_x, p_v, 0.0]);
+    }
+    fn n_events(&self) -> usize {
+        8
+    }
+    fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
+        let (phi, w, a) = self.path.at(t);
+        let exit = 2.0 * self.p.geneva().half_engagement();
+        let kin = self.p.kinematics(phi, w, a);
+        g[0] = phi.sin();
+        g[1] = (phi - exit).sin();
+        g[2] = y[0] - self.p.cut_s_start;
+        g[3] = y[0] - self.p.cut_s_full;
+        g[4] = y[0] - self.p.cut_s_end;
+        let stack = self.in_stack(y[0]);
+        g[5] = if stack { y[1] - V_STICK } else { 1.0 };
+        g[6] = if stack { y[1] + V_STICK } else { 1.0 };
+        g[7] = kin.v;
+    }
+    fn on_event(&self, _t: f64, _y: &[f64], before: &[f64], after: &[f64]) {
+        if before[4] < 0.0 && after[4] >= 0.0 {
+            self.cut_done.set(true); // cut through
+        }
+        if before[2] > 0.0 && after[2] <= 0.0 {
+            self.cut_done.set(false); // back above the stack: the next one comes
+        }
+    }
+    fn error_weight(&self, i: usize) -> f64 {
+        if i == 2 { 0.0 } else { 1.0 }
+    }
+    fn on_step(&self, t: f64, y: &[f64]) {
+        let pt = self.point(t, y);
+        let cyc = self.cycle(t);
+        let (c0, pd, pr) = self.peaks.get();
+        if cyc != c0 {
+            if pr > 0.0 {
+                self.k_d.set(pd / pr);
+            }
+            self.peaks.set((cyc, pt.f_el.abs(), pt.f_rigid.abs()));
+        } else {
+            self.peaks
+                .set((c0, pd.max(pt.f_el.abs()), pr.max(pt.f_rigid.abs())));
+        }
+    }
+}

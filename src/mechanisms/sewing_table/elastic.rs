@@ -1,0 +1,222 @@
+//! Elastodynamic level of the translating sewing table (`dynamics.md`): the table (mass m) is
+//! tied to its rigid position x_kin(φ) by the cam-follower chain's stiffness k and damping
+//! c = 2·ζ·√(k·m), through the slot's clearance `cam.clearance` (total play; default 0):
+//!
+//! `m·ẍ = F_c(δ, δ̇) − f·(m·g + |F_c·tan θp|)·sgn ẋ_kin + F_ext`,  δ = x_kin − x,
+//!
+//! with `F_c = k·(δ − g) + c·δ̇ ≥ 0` on the pushing flank (δ > g), `k·(δ + g) + c·δ̇ ≤ 0` on the
+//! other flank (δ < −g) and 0 while the roller crosses the gap (|δ| ≤ g, g = clearance/2);
+//! without play the slot holds the roller between both flanks, `F_c = k·δ + c·δ̇`. With
+//! clearance the roller leaves one flank (a lift-off, counted) and impacts the other (a landing;
+//! the largest force after a landing is the impact force). The guide friction takes its
+//! direction from the rigid velocity (as in the Geneva drive: no chattering at rest).
+//!
+//! States `y = [x, ẋ, W]`, W the work on table and follower spring (energy balance).
+//! Events: the four cyclogram phase boundaries, both flanks (δ = ±g, with clearance only), the
+//! rigid velocity's sign (friction direction).
+
+use super::physics::{Kinematics, Params};
+use crate::mechanics::STANDARD_GRAVITY;
+use crate::solver::{OdeSystem, ShaftPath};
+use std::cell::Cell;
+
+fn sgn(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// The ODE of one communication step.
+pub struct TableOde<'a> {
+    pub p: &'a Params,
+    pub k: f64,
+    pub c: f64,
+    /// Half the clearance, m.
+    pub gap: f64,
+    pub f_ext: f64,
+    pub path: ShaftPath,
+    /// (cycle, peak |F_c|, peak |F_rigid|) of the running turn.
+    pub peaks: Cell<(f64, f64, f64)>,
+    pub k_d: Cell<f64>,
+    /// Lift-offs so far.
+    pub liftoffs: Cell<f64>,
+    /// Largest contact force after a landing, N.
+    pub impact: Cell<f64>,
+    /// Between a landing and the next lift-off.
+    pub landed: Cell<bool>,
+}
+
+/// Everything at one instant.
+#[derive(Clone, Copy, Debug)]
+pub struct Point {
+    pub kin: Kinematics,
+    pub x: f64,
+    pub xd: f64,
+    pub xdd: f64,
+    pub delta: f64,
+    pub f_c: f64,
+    pub power: f64,
+    /// Penetration of the loaded flank (0 in the gap), m.
+    pub pen: f64,
+    pub f_rigid: f64,
+}
+
+impl TableOde<'_> {
+    /// Damping from the damping ratio.
+    pub fn damping(p: &Params, k: f64, zeta: f64) -> f64 {
+        2.0 * zeta * (k * p.table_m).sqrt()
+    }
+
+    pub fn point(&self, t: f64, y: &[f64]) -> Point {
+        let (phi, w, a) = self.path.at(t);
+        let kin = self.p.kinematics(phi, w, a);
+        self.point_at(&kin, y)
+    }
+
+    pub fn point_at(&self, kin: &Kinematics, y: &[f64]) -> Point {
+        let m = self.p.table_m;
+        let (x, xd) = (y[0], y[1]);
+        let delta = kin.c.x - x;
+        let deltad = kin.v - xd;
+        let (pen, f_c) = if self.gap <= 0.0 {
+            // no play: the slot holds the roller between both flanks at once
+            (delta, self.k * delta + self.c * deltad)
+        } else if delta > self.gap {
+            let pen = delta - self.gap;
+            (pen, (self.k * pen + self.c * deltad).max(0.0))
+        } else if delta < -self.gap {
+            let pen = delta + self.gap;
+            (pen, (self.k * pen + self.c * deltad).min(0.0))
+        } else {
+            (0.0, 0.0)
+        };
+        let f_fr =
+            self.p.guide_f * (m * STANDARD_GRAVITY + (f_c * kin.theta.tan()).abs()) * sgn(kin.v);
+        let xdd = (f_c - f_fr + self.f_ext) / m;
+        let power = self.k * pen * kin.v + (f_c - self.k * pen) * xd + (self.f_ext - f_fr) * xd;
+        let f_rigid = self.p.forces(kin, 0.0, self.f_ext).f_x;
+        Point {
+            kin: *kin,
+            x,
+            xd,
+            xdd,
+            delta,
+            f_c,
+            power,
+            pen,
+            f_rigid,
+        }
+    }
+
+    /// Energy of table and follower spring, J.
+    pub fn energy(&self, pt: &Point) -> f64 {
+        0.5 * self.p.table_m * pt.xd * pt.xd + 0.5 * self.k * pt.pen * pt.pen
+    }
+
+    /// The table in equilibrium on its rigid motion at time t (roller on the flank that holds
+    /// the rigid force, the spring carrying it).
+    pub fn initial_state(&self, t: f64) -> [f64; 3] {
+        let (phi, w, a) = self.path.at(t);
+        let kin = self.p.kinematics(phi, w, a);
+        let f = self.p.forces(&kin, a, self.f_ext).f_x;
+        let side = if f >= 0.0 { 1.0 } else { -1.0 };
+        [kin.c.x - f / self.k - side * self.gap, kin.v, 0.0]
+    }
+
+    fn boundaries(&self) -> [f64; 4] {
+        let c = self.p.cyclogram();
+        let b0 = c.phi0;
+        [
+            b0,
+            b0 + c.forward,
+            b0 + c.forward + c.dwell_far,
+            b0 + c.forward + c.dwell_far + c.ret,
+        ]
+    }
+}
+
+impl OdeSystem for TableOde<'_> {
+    fn dim(&self) -> usize {
+        3
+    }
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let pt = self.point(t, y);
+        dy[0] = y[1];
+        dy[1] = pt.xdd;
+        dy[2] = pt.power;
+    }
+    fn jacobian(&self, t: f64, y: &[f64], j: &mut [f64]) {
+        let pt = self.point(t, y);
+        let m = self.p.table_m;
+        let contact = self.gap <= 0.0 || pt.f_c != 0.0;
+        let tan = pt.kin.theta.tan();
+        // ∂F_fr/∂F_c
+        let dfr = self.p.guide_f * tan.abs() * sgn(pt.f_c) * sgn(pt.kin.v);
+        let (dfc_dx, dfc_dv) = if contact {
+            (-self.k, -self.c)
+        } else {
+            (0.0, 0.0)
+        };
+        let a_x = dfc_dx * (1.0 - dfr) / m;
+        let a_v = dfc_dv * (1.0 - dfr) / m;
+        j.copy_from_slice(&[0.0, 1.0, 0.0, a_x, a_v, 0.0, 0.0, 0.0, 0.0]);
+    }
+    fn n_events(&self) -> usize {
+        7
+    }
+    fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
+        let (phi, w, a) = self.path.at(t);
+        let abs_phi = phi + self.path.turns * std::f64::consts::TAU;
+        for (i, b) in self.boundaries().iter().enumerate() {
+            g[i] = ((abs_phi - b) * 0.5).sin();
+        }
+        let kin = self.p.kinematics(phi, w, a);
+        let delta = kin.c.x - y[0];
+        if self.gap > 0.0 {
+            g[4] = delta - self.gap;
+            g[5] = delta + self.gap;
+        } else {
+            g[4] = 1.0;
+            g[5] = 1.0;
+        }
+        g[6] = kin.v;
+    }
+    fn on_event(&self, _t: f64, _y: &[f64], before: &[f64], after: &[f64]) {
+        if self.gap <= 0.0 {
+            return;
+        }
+        let in_contact = |g: &[f64]| g[4] > 0.0 || g[5] < 0.0;
+        match (in_contact(before), in_contact(after)) {
+            (true, false) => {
+                self.liftoffs.set(self.liftoffs.get() + 1.0);
+                self.landed.set(false);
+            }
+            (false, true) => self.landed.set(true),
+            _ => {}
+        }
+    }
+    fn error_weight(&self, i: usize) -> f64 {
+        if i == 2 { 0.0 } else { 1.0 }
+    }
+    fn on_step(&self, t: f64, y: &[f64]) {
+        let pt = self.point(t, y);
+        if self.landed.get() {
+            self.impact.set(self.impact.get().max(pt.f_c.abs()));
+        }
+        let cyc = self.path.cycle(t);
+        let (c0, pd, pr) = self.peaks.get();
+        if cyc != c0 {
+            if pr > 0.0 {
+                self.k_d.set(pd / pr);
+            }
+            self.peaks.set((cyc, pt.f_c.abs(), pt.f_rigid.abs()));
+        } else {
+            self.peaks
+                .set((c0, pd.max(pt.f_c.abs()), pr.max(pt.f_rigid.abs())));
+        }
+    }
+}

@@ -1,0 +1,1074 @@
+//! Integrators for the elastodynamic level (`../shared/spec/dynamics.md`, "Solver inside
+//! fmi2DoStep"). Knows no mechanism: a mechanism hands an [`OdeSystem`] (right-hand side,
+//! analytic Jacobian, event functions) and the integrator advances it over one communication
+//! step.
+//!
+//! Methods ([`Method`], the FMU parameter `solver.method`):
+//! - `dopri5`: explicit Dormand–Prince 5(4), adaptive, with Hairer's stiffness detection;
+//! - `radau5`: implicit Radau IIA of order 5 (3 stages, L-stable, stiffly accurate) with the
+//!   analytic Jacobian and a simplified Newton iteration on the full 3n×3n system (the systems
+//!   are 2–6 states, so a dense LU of at most 18×18 is cheaper than the complex transformation),
+//!   and Hairer's embedded error estimate (`radau5.f`, ESTRAD);
+//! - `rk4`: classical fixed-step Runge–Kutta, step `solver.max_step`, for comparison;
+//! - `auto` (default): Dormand–Prince while the step the accuracy asks for is within its
+//!   stability region, Radau IIA when the spectral radius of the Jacobian times that step would
+//!   leave it (and when Hairer's stiffness test fires), switching back when the stiffness goes:
+//!   the LSODA idea.
+//!
+//! Events: every step is checked for sign changes of the system's event functions; the earliest
+//! is located (a root of the Hermite interpolant, then confirmed with real steps to a bracket of
+//! `1e-10` of the step) and the step ends just after it, so a discontinuity of the right-hand
+//! side is never stepped over.
+//!
+//! Failure is an `Err` with the reason (step-size collapse, step budget, non-finite state, an
+//! explicit method out of its stability region): the caller returns `fmi2Discard` and keeps the
+//! state before the step.
+
+use crate::model::{EnumType, Var};
+use nalgebra::DMatrix;
+
+/// The largest system the integrators take.
+pub const MAX_DIM: usize = 8;
+
+/// An ODE `y' = f(t, y)` with event functions.
+pub trait OdeSystem {
+    /// Number of states.
+    fn dim(&self) -> usize;
+    /// `dy = f(t, y)`.
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]);
+    /// `jac[i*n + j] = ∂f_i/∂y_j` (row-major). The default is a forward difference.
+    fn jacobian(&self, t: f64, y: &[f64], jac: &mut [f64]) {
+        let n = self.dim();
+        let mut f0 = vec![0.0; n];
+        let mut f1 = vec![0.0; n];
+        let mut yp = y.to_vec();
+        self.rhs(t, y, &mut f0);
+        for j in 0..n {
+            let d = 1e-7 * y[j].abs().max(1e-5);
+            yp[j] = y[j] + d;
+            self.rhs(t, &yp, &mut f1);
+            yp[j] = y[j];
+            for i in 0..n {
+                jac[i * n + j] = (f1[i] - f0[i]) / d;
+            }
+        }
+    }
+    /// Number of event functions.
+    fn n_events(&self) -> usize {
+        0
+    }
+    /// Event functions: an event is a strict sign change of one of them.
+    fn events(&self, _t: f64, _y: &[f64], _g: &mut [f64]) {}
+    /// Called after every accepted step (for peak tracking with interior mutability).
+    fn on_step(&self, _t: f64, _y: &[f64]) {}
+    /// Called when a step ends just after a located event, with the event functions before
+    /// and after it: a system may switch a discrete mode here (interior mutability).
+    fn on_event(&self, _t: f64, _y: &[f64], _g_before: &[f64], _g_after: &[f64]) {}
+    /// Discrete modes of the system (saved with the state), and their restoration.
+    fn modes(&self) -> Vec<f64> {
+        Vec::new()
+    }
+    /// Which states the error norm leaves out (e.g. a work integral kept for the energy
+    /// balance); default none.
+    fn error_weight(&self, _i: usize) -> f64 {
+        1.0
+    }
+}
+
+/// `solver.method`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Method {
+    Auto = 1,
+    Dopri5 = 2,
+    Radau5 = 3,
+    Rk4 = 4,
+}
+
+impl Method {
+    /// From the Enumeration value of `solver.method`.
+    pub fn from_value(v: i32) -> Method {
+        match v {
+            2 => Method::Dopri5,
+            3 => Method::Radau5,
+            4 => Method::Rk4,
+            _ => Method::Auto,
+        }
+    }
+    /// Every method, for reports.
+    pub const ALL: [Method; 4] = [Method::Auto, Method::Dopri5, Method::Radau5, Method::Rk4];
+    /// The item name.
+    pub fn name(self) -> &'static str {
+        SOLVER_METHOD.items[self as usize - 1].0
+    }
+}
+
+/// The Enumeration type of `solver.method`.
+pub static SOLVER_METHOD: EnumType = EnumType {
+    name: "SolverMethod",
+    description: "Integrator of the elastodynamic level inside fmi2DoStep (dynamics.md)",
+    items: &[
+        (
+            "auto",
+            "Dormand-Prince 5(4), switching to Radau IIA when the problem turns stiff (LSODA idea)",
+        ),
+        ("dopri5", "explicit adaptive Dormand-Prince 5(4)"),
+        (
+            "radau5",
+            "implicit Radau IIA order 5, L-stable, analytic Jacobian",
+        ),
+        ("rk4", "classical Runge-Kutta, fixed step solver.max_step"),
+    ],
+};
+
+/// The solver parameters every elastodynamic model declares (once, here).
+pub mod vars {
+    use super::*;
+    /// `solver.method`.
+    pub fn method() -> Var {
+        Var::enum_parameter(
+            "solver.method",
+            &SOLVER_METHOD,
+            "auto",
+            "Integrator of the elastodynamic level inside fmi2DoStep",
+        )
+    }
+    /// `solver.rtol`.
+    pub fn rtol() -> Var {
+        Var::parameter(
+            "solver.rtol",
+            1e-6,
+            "",
+            "Relative tolerance of the adaptive integrators (elastodynamic level)",
+        )
+        .min(1e-14)
+        .max(1.0)
+    }
+    /// `solver.atol`.
+    pub fn atol() -> Var {
+        Var::parameter(
+            "solver.atol",
+            1e-9,
+            "",
+            "Absolute tolerance of the adaptive integrators, in the states' SI units (elastodynamic level)",
+        )
+        .min(1e-20)
+        .max(1.0)
+    }
+    /// `solver.max_step`.
+    pub fn max_step() -> Var {
+        Var::parameter(
+            "solver.max_step",
+            1e-3,
+            "s",
+            "Largest internal step; the fixed step of rk4 (elastodynamic level)",
+        )
+        .min(1e-9)
+    }
+}
+
+/// Solver settings.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Settings {
+    pub method: Method,
+    pub rtol: f64,
+    pub atol: f64,
+    pub max_step: f64,
+    /// Step budget of one `integrate` call.
+    pub max_steps: usize,
+}
+
+impl Default for Settings {
+    fn default() -> Self {
+        Settings {
+            method: Method::Auto,
+            rtol: 1e-6,
+            atol: 1e-9,
+            max_step: 1e-3,
+            max_steps: 200_000,
+        }
+    }
+}
+
+/// Counters of one or more `integrate` calls.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Stats {
+    pub steps: usize,
+    pub rejected: usize,
+    pub rhs_evals: usize,
+    pub jac_evals: usize,
+    pub events: usize,
+    pub switches: usize,
+}
+
+impl Stats {
+    fn add(&mut self, o: &Stats) {
+        self.steps += o.steps;
+        self.rejected += o.rejected;
+        self.rhs_evals += o.rhs_evals;
+        self.jac_evals += o.jac_evals;
+        self.events += o.events;
+        self.switches += o.switches;
+    }
+}
+
+/// Which stepper a step uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Stepper {
+    Dopri,
+    Radau,
+    Rk4,
+}
+
+/// An integrator with its memory between communication steps (the next step size, and for
+/// `auto` which method it is in).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Integrator {
+    pub settings: Settings,
+    /// Step size to try next (0: choose one).
+    pub h_next: f64,
+    /// `auto` is in its stiff (implicit) mode.
+    pub stiff: bool,
+    /// Counters since creation.
+    pub stats: Stats,
+    stiff_count: u32,
+    nonstiff_count: u32,
+}
+
+/// Outcome of one step attempt.
+struct Attempt {
+    err: f64,
+    /// Hairer's stiffness estimate h·|λ| (Dormand–Prince only), else 0.
+    hlamb: f64,
+}
+
+// Dormand–Prince 5(4) coefficients.
+const C2: f64 = 1.0 / 5.0;
+const C3: f64 = 3.0 / 10.0;
+const C4: f64 = 4.0 / 5.0;
+const C5: f64 = 8.0 / 9.0;
+const A21: f64 = 1.0 / 5.0;
+const A31: f64 = 3.0 / 40.0;
+const A32: f64 = 9.0 / 40.0;
+const A41: f64 = 44.0 / 45.0;
+const A42: f64 = -56.0 / 15.0;
+const A43: f64 = 32.0 / 9.0;
+const A51: f64 = 19372.0 / 6561.0;
+const A52: f64 = -25360.0 / 2187.0;
+const A53: f64 = 64448.0 / 6561.0;
+const A54: f64 = -212.0 / 729.0;
+const A61: f64 = 9017.0 / 3168.0;
+const A62: f64 = -355.0 / 33.0;
+const A63: f64 = 46732.0 / 5247.0;
+const A64: f64 = 49.0 / 176.0;
+const A65: f64 = -5103.0 / 18656.0;
+const A71: f64 = 35.0 / 384.0;
+const A73: f64 = 500.0 / 1113.0;
+const A74: f64 = 125.0 / 192.0;
+const A75: f64 = -2187.0 / 6784.0;
+const A76: f64 = 11.0 / 84.0;
+const E1: f64 = 71.0 / 57600.0;
+const E3: f64 = -71.0 / 16695.0;
+const E4: f64 = 71.0 / 1920.0;
+const E5: f64 = -17253.0 / 339200.0;
+const E6: f64 = 22.0 / 525.0;
+const E7: f64 = -1.0 / 40.0;
+
+/// Radau IIA (order 5) tableau.
+struct RadauTab {
+    c: [f64; 3],
+    a: [[f64; 3]; 3],
+    dd: [f64; 3],
+    u1: f64,
+}
+
+fn radau_tab() -> RadauTab {
+    let s6 = 6f64.sqrt();
+    RadauTab {
+        c: [(4.0 - s6) / 10.0, (4.0 + s6) / 10.0, 1.0],
+        a: [
+            [
+                (88.0 - 7.0 * s6) / 360.0,
+                (296.0 - 169.0 * s6) / 1800.0,
+                (-2.0 + 3.0 * s6) / 225.0,
+            ],
+            [
+                (296.0 + 169.0 * s6) / 1800.0,
+                (88.0 + 7.0 * s6) / 360.0,
+                (-2.0 - 3.0 * s6) / 225.0,
+            ],
+            [(16.0 - s6) / 36.0, (16.0 + s6) / 36.0, 1.0 / 9.0],
+        ],
+        dd: [
+            -(13.0 + 7.0 * s6) / 3.0,
+            (-13.0 + 7.0 * s6) / 3.0,
+            -1.0 / 3.0,
+        ],
+        u1: 1.0 / ((6.0 + 81f64.powf(1.0 / 3.0) - 9f64.powf(1.0 / 3.0)) / 30.0),
+    }
+}
+
+/// Largest modulus of the eigenvalues of an n×n row-major matrix.
+pub fn spectral_radius(n: usize, jac: &[f64]) -> f64 {
+    let m = DMatrix::from_row_slice(n, n, &jac[..n * n]);
+    if m.iter().any(|x| !x.is_finite()) {
+        return f64::INFINITY;
+    }
+    m.complex_eigenvalues()
+        .iter()
+        .map(|z| z.norm())
+        .fold(0.0, f64::max)
+}
+
+/// Cubic Hermite interpolation of the state at `t0 + s`, `s ∈ [0, h]`.
+fn hermite(y0: &[f64], f0: &[f64], y1: &[f64], f1: &[f64], h: f64, s: f64, out: &mut [f64]) {
+    let th = s / h;
+    let h00 = (1.0 + 2.0 * th) * (1.0 - th) * (1.0 - th);
+    let h10 = th * (1.0 - th) * (1.0 - th);
+    let h01 = th * th * (3.0 - 2.0 * th);
+    let h11 = th * th * (th - 1.0);
+    for i in 0..y0.len() {
+        out[i] = h00 * y0[i] + h10 * h * f0[i] + h01 * y1[i] + h11 * h * f1[i];
+    }
+}
+
+impl Integrator {
+    /// A fresh integrator.
+    pub fn new(settings: Settings) -> Self {
+        Integrator {
+            settings,
+            h_next: 0.0,
+            stiff: settings.method == Method::Radau5,
+            stats: Stats::default(),
+            stiff_count: 0,
+            nonstiff_count: 0,
+        }
+    }
+
+    /// Memory for `fmi2GetFMUstate`: `[h_next, stiff]`.
+    pub fn save(&self) -> [f64; 2] {
+        [self.h_next, if self.stiff { 1.0 } else { 0.0 }]
+    }
+
+    /// Restores [`Integrator::save`].
+    pub fn restore(&mut self, s: &[f64]) {
+        if s.len() >= 2 {
+            self.h_next = s[0];
+            self.stiff = s[1] != 0.0;
+        }
+    }
+
+    fn norm(&self, sys: &dyn OdeSystem, e: &[f64], y0: &[f64], y1: &[f64]) -> f64 {
+        let n = e.len();
+        let mut s = 0.0;
+        let mut m = 0.0;
+        for i in 0..n {
+            let w = sys.error_weight(i);
+            if w == 0.0 {
+                continue;
+            }
+            let sc = self.settings.atol + self.settings.rtol * y0[i].abs().max(y1[i].abs());
+            let r = e[i] / sc;
+            s += w * r * r;
+            m += w;
+        }
+        if m == 0.0 { 0.0 } else { (s / m).sqrt() }
+    }
+
+    /// Advances `y` from `t0` to `t1`. On `Err` the caller keeps its copy of the state before
+    /// the call (`y` may hold a partial result).
+    pub fn integrate(
+        &mut self,
+        sys: &dyn OdeSystem,
+        t0: f64,
+        t1: f64,
+        y: &mut [f64],
+    ) -> Result<Stats, String> {
+        let mut st = Stats::default();
+        let r = self.run(sys, t0, t1, y, &mut st);
+        self.stats.add(&st);
+        r.map(|_| st)
+    }
+
+    fn run(
+        &mut self,
+        sys: &dyn OdeSystem,
+        t0: f64,
+        t1: f64,
+        y: &mut [f64],
+        st: &mut Stats,
+    ) -> Result<(), String> {
+        let n = sys.dim();
+        assert!(n <= MAX_DIM && y.len() == n, "system dimension");
+        if y.iter().any(|x| !x.is_finite()) {
+            return Err("the state is not finite at the start of the step".into());
+        }
+        let set = self.settings;
+        let span = t1 - t0;
+        if span <= 0.0 {
+            return Ok(());
+        }
+        let ne = sys.n_events();
+        let mut t = t0;
+        let mut f0 = vec![0.0; n];
+        sys.rhs(t, y, &mut f0);
+        st.rhs_evals += 1;
+        let mut g0 = vec![0.0; ne];
+        let mut g1 = vec![0.0; ne];
+        sys.events(t, y, &mut g0);
+        let mut y1 = vec![0.0; n];
+        let mut f1 = vec![0.0; n];
+        let mut yt = vec![0.0; n];
+        let mut ft = vec![0.0; n];
+        let mut gt = vec![0.0; ne];
+        let mut jac = vec![0.0; n * n];
+        let max_step = if set.max_step > 0.0 {
+            set.max_step
+        } else {
+            span
+        };
+        let fixed = set.method == Method::Rk4;
+        let mut h = if fixed {
+            max_step
+        } else if self.h_next > 0.0 {
+            self.h_next
+        } else {
+            self.initial_step(sys, t, y, &f0, max_step, st)
+        };
+        let hmin = 1e-14 * (t0.abs() + span).max(1e-3);
+        loop {
+            let rest = t1 - t;
+            if rest <= 1e-13 * t1.abs().max(span) {
+                break;
+            }
+            let mut hs = h.min(max_step);
+            let last = hs >= rest * (1.0 - 1e-12);
+            if last {
+                hs = rest;
+            }
+            // choose the stepper
+            let stepper = match set.method {
+                Method::Rk4 => Stepper::Rk4,
+                Method::Dopri5 => Stepper::Dopri,
+                Method::Radau5 => Stepper::Radau,
+                Method::Auto => {
+                    if self.stiff {
+                        Stepper::Radau
+                    } else {
+                        Stepper::Dopri
+                    }
+                }
+            };
+            if matches!(stepper, Stepper::Radau | Stepper::Rk4) || set.method == Method::Auto {
+                sys.jacobian(t, y, &mut jac);
+                st.jac_evals += 1;
+            }
+            // the spectral radius (an eigenvalue problem) only where it decides something
+            let check_rho = st.steps.is_multiple_of(20);
+            if stepper == Stepper::Rk4 && check_rho {
+                let rho = spectral_radius(n, &jac);
+                if hs * rho > 2.78 {
+                    return Err(format!(
+                        "rk4 with step {hs:.3e} s is unstable here: the stiffest mode has |lambda| = {rho:.3e} 1/s, h*|lambda| = {:.3e} > 2.78; set solver.max_step below {:.3e} s or choose solver.method = auto or radau5",
+                        hs * rho,
+                        2.78 / rho
+                    ));
+                }
+            }
+            if set.method == Method::Auto && check_rho {
+                // LSODA-like: compare the accuracy step with the explicit stability limit.
+                let rho = spectral_radius(n, &jac);
+                let h_stab = 3.3 / rho.max(1e-300);
+                if !self.stiff && hs > 1.5 * h_stab {
+                    self.stiff = true;
+                    st.switches += 1;
+                } else if self.stiff {
+                    if hs < 0.5 * h_stab {
+                        self.nonstiff_count += 1;
+                        if self.nonstiff_count > 2 {
+                            self.stiff = false;
+                            self.nonstiff_count = 0;
+                            st.switches += 1;
+                        }
+                    } else {
+                        self.nonstiff_count = 0;
+                    }
+                }
+            }
+            let stepper = if set.method == Method::Auto {
+                if self.stiff {
+                    Stepper::Radau
+                } else {
+                    Stepper::Dopri
+                }
+            } else {
+                stepper
+            };
+            let att = self.attempt(stepper, sys, t, y, &f0, &jac, hs, &mut y1, &mut f1, st);
+            let accepted = match &att {
+                Ok(a) => a.err <= 1.0 && y1.iter().all(|x| x.is_finite()),
+                Err(_) => false,
+            };
+            if !accepted {
+                if fixed {
+                    return Err(match att {
+                        Err(e) => e,
+                        Ok(_) => format!("rk4 produced a non-finite state at t = {t}"),
+                    });
+                }
+                st.rejected += 1;
+                let fac = match &att {
+                    Ok(a) if a.err.is_finite() => {
+                        let p = if stepper == Stepper::Radau { 0.25 } else { 0.2 };
+                        (0.9 * a.err.powf(-p)).clamp(0.1, 0.9)
+                    }
+                    _ => 0.25,
+                };
+                h = hs * fac;
+                if h < hmin {
+                    return Err(format!(
+                        "step-size collapse at t = {t}: step {h:.3e} s below {hmin:.3e} s ({}{})",
+                        if stepper == Stepper::Radau {
+                            "radau5"
+                        } else {
+                            "dopri5"
+                        },
+                        match att {
+                            Err(e) => format!(": {e}"),
+                            Ok(a) => format!(", error estimate {:.3e}", a.err),
+                        }
+                    ));
+                }
+                continue;
+            }
+            let att = att.expect("accepted");
+            // stiffness detection inside Dormand-Prince (Hairer): h*|lambda| > 3.25 repeatedly
+            if stepper == Stepper::Dopri {
+                if att.hlamb > 3.25 {
+                    self.stiff_count += 1;
+                    if self.stiff_count >= 15 {
+                        if set.method == Method::Auto {
+                            self.stiff = true;
+                            st.switches += 1;
+                        }
+                        self.stiff_count = 0;
+                    }
+                } else {
+                    self.stiff_count = 0;
+                }
+            }
+            // events
+            let mut hacc = hs;
+            sys.events(t + hs, &y1, &mut g1);
+            let crossed = |ga: &[f64], gb: &[f64]| {
+                ga.iter()
+                    .zip(gb)
+                    .any(|(a, b)| a * b < 0.0 || (*a != 0.0 && *b == 0.0))
+            };
+            if ne > 0 && crossed(&g0, &g1) {
+                // earliest root on the interpolant
+                let mut s_star = hs;
+                for i in 0..ne {
+                    if !(g0[i] * g1[i] < 0.0 || (g0[i] != 0.0 && g1[i] == 0.0)) {
+                        continue;
+                    }
+                    let (mut lo, mut hi) = (0.0, hs);
+                    let (mut glo, mut ghi) = (g0[i], g1[i]);
+                    for _ in 0..60 {
+                        let mid = if ghi != glo {
+                            (lo - glo * (hi - lo) / (ghi - glo))
+                                .clamp(lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo))
+                        } else {
+                            0.5 * (lo + hi)
+                        };
+                        hermite(y, &f0, &y1, &f1, hs, mid, &mut yt);
+                        sys.events(t + mid, &yt, &mut gt);
+                        if gt[i] * glo > 0.0 {
+                            lo = mid;
+                            glo = gt[i];
+                        } else {
+                            hi = mid;
+                            ghi = gt[i];
+                        }
+                        if hi - lo < 1e-12 * hs {
+                            break;
+                        }
+                    }
+                    s_star = s_star.min(hi);
+                }
+                // confirm with real steps: bracket [lo, hi] with the crossing inside
+                let tol = (1e-10 * hs).max(4.0 * f64::EPSILON * t.abs().max(1.0));
+                let (mut lo, mut hi) = (0.0f64, hs);
+                let mut yhi = y1.clone();
+                let mut fhi = f1.clone();
+                let mut guess = Some((s_star + tol).min(hs));
+                let mut second = Some((s_star - tol).max(0.0));
+                let mut iter = 0;
+                while hi - lo > 2.0 * tol && iter < 80 {
+                    iter += 1;
+                    let s = if let Some(g) = guess.take() {
+                        g
+                    } else if let Some(g) = second.take() {
+                        g
+                    } else {
+                        0.5 * (lo + hi)
+                    };
+                    if s <= lo || s >= hi {
+                        continue;
+                    }
+                    if self
+                        .attempt(stepper, sys, t, y, &f0, &jac, s, &mut yt, &mut ft, st)
+                        .is_err()
+                    {
+                        lo = s; // treat as not yet crossed; bisection continues
+                        continue;
+                    }
+                    sys.events(t + s, &yt, &mut gt);
+                    if crossed(&g0, &gt) {
+                        hi = s;
+                        yhi.copy_from_slice(&yt);
+                        fhi.copy_from_slice(&ft);
+                    } else {
+                        lo = s;
+                    }
+                }
+                hacc = hi;
+                y1.copy_from_slice(&yhi);
+                f1.copy_from_slice(&fhi);
+                sys.events(t + hacc, &y1, &mut g1);
+                sys.on_event(t + hacc, &y1, &g0, &g1);
+                sys.events(t + hacc, &y1, &mut g1);
+                st.events += 1;
+            }
+            // accept
+            t = if last && hacc == hs { t1 } else { t + hacc };
+            y.copy_from_slice(&y1);
+            // after an event the right-hand side changes: evaluate it afresh
+            sys.rhs(t, y, &mut f0);
+            st.rhs_evals += 1;
+            std::mem::swap(&mut g0, &mut g1);
+            sys.on_step(t, y);
+            st.steps += 1;
+            if st.steps > set.max_steps {
+                return Err(format!(
+                    "step budget of {} steps exhausted at t = {t} of [{t0}, {t1}] (last step {hacc:.3e} s{})",
+                    set.max_steps,
+                    if stepper == Stepper::Dopri {
+                        "; the problem is probably stiff: choose solver.method = auto or radau5"
+                    } else {
+                        ""
+                    }
+                ));
+            }
+            if !fixed {
+                let p = if stepper == Stepper::Radau { 0.25 } else { 0.2 };
+                let fac = if att.err > 0.0 {
+                    (0.9 * att.err.powf(-p)).clamp(0.2, 5.0)
+                } else {
+                    5.0
+                };
+                // do not let the last (shortened) step or an event shrink the memory
+                let base = if (last || hacc < hs) && h > hs { h } else { hs };
+                h = (base * fac).min(max_step);
+                if hacc == hs {
+                    self.h_next = h;
+                }
+            }
+        }
+        if !fixed {
+            self.h_next = h;
+        }
+        Ok(())
+    }
+
+    fn initial_step(
+        &self,
+        sys: &dyn OdeSystem,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+        max_step: f64,
+        st: &mut Stats,
+    ) -> f64 {
+        // Hairer's starting step: h = 0.01 * ||y|| / ||f||, refined by a second derivative.
+        let n = y.len();
+        let sc = |i: usize| self.settings.atol + self.settings.rtol * y[i].abs();
+        let d0 = (0..n).map(|i| (y[i] / sc(i)).powi(2)).sum::<f64>().sqrt();
+        let d1 = (0..n).map(|i| (f0[i] / sc(i)).powi(2)).sum::<f64>().sqrt();
+        let h0 = if d0 < 1e-5 || d1 < 1e-5 {
+            1e-6
+        } else {
+            0.01 * d0 / d1
+        }
+        .min(max_step);
+        let mut y1 = vec![0.0; n];
+        let mut f1 = vec![0.0; n];
+        for i in 0..n {
+            y1[i] = y[i] + h0 * f0[i];
+        }
+        sys.rhs(t + h0, &y1, &mut f1);
+        st.rhs_evals += 1;
+        let d2 = (0..n)
+            .map(|i| ((f1[i] - f0[i]) / sc(i)).powi(2))
+            .sum::<f64>()
+            .sqrt()
+            / h0;
+        let h1 = if d1.max(d2) <= 1e-15 {
+            (h0 * 1e-3).max(1e-6)
+        } else {
+            (0.01 / d1.max(d2)).powf(0.2)
+        };
+        (100.0 * h0).min(h1).min(max_step).max(1e-12)
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn attempt(
+        &self,
+        stepper: Stepper,
+        sys: &dyn OdeSystem,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+        jac: &[f64],
+        h: f64,
+        y1: &mut [f64],
+        f1: &mut [f64],
+        st: &mut Stats,
+    ) -> Result<Attempt, String> {
+        match stepper {
+            Stepper::Dopri => Ok(self.dopri(sys, t, y, f0, h, y1, f1, st)),
+            Stepper::Rk4 => {
+                rk4(sys, t, y, f0, h, y1, st);
+                sys.rhs(t + h, y1, f1);
+                st.rhs_evals += 1;
+                Ok(Attempt {
+                    err: 0.0,
+                    hlamb: 0.0,
+                })
+            }
+            Stepper::Radau => match self.radau(sys, t, y, f0, jac, h, y1, f1, st) {
+                // The Newton iteration cannot converge on a step whose stages straddle a
+                // discontinuity of the right-hand side (an event surface): the step that crosses
+                // it is taken explicitly; its error estimate still decides, and at the short
+                // steps near an event the explicit method is well inside its stability region.
+                Err(e) => {
+                    let a = self.dopri(sys, t, y, f0, h, y1, f1, st);
+                    if a.err <= 1.0 { Ok(a) } else { Err(e) }
+                }
+                ok => ok,
+            },
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn dopri(
+        &self,
+        sys: &dyn OdeSystem,
+        t: f64,
+        y: &[f64],
+        k1: &[f64],
+        h: f64,
+        y1: &mut [f64],
+        k7: &mut [f64],
+        st: &mut Stats,
+    ) -> Attempt {
+        let n = y.len();
+        let mut k2 = [0.0; MAX_DIM];
+        let mut k3 = [0.0; MAX_DIM];
+        let mut k4 = [0.0; MAX_DIM];
+        let mut k5 = [0.0; MAX_DIM];
+        let mut k6 = [0.0; MAX_DIM];
+        let mut ys = [0.0; MAX_DIM];
+        let (k2, k3, k4, k5, k6, ys) = (
+            &mut k2[..n],
+            &mut k3[..n],
+            &mut k4[..n],
+            &mut k5[..n],
+            &mut k6[..n],
+            &mut ys[..n],
+        );
+        for i in 0..n {
+            ys[i] = y[i] + h * A21 * k1[i];
+        }
+        sys.rhs(t + C2 * h, ys, k2);
+        for i in 0..n {
+            ys[i] = y[i] + h * (A31 * k1[i] + A32 * k2[i]);
+        }
+        sys.rhs(t + C3 * h, ys, k3);
+        for i in 0..n {
+            ys[i] = y[i] + h * (A41 * k1[i] + A42 * k2[i] + A43 * k3[i]);
+        }
+        sys.rhs(t + C4 * h, ys, k4);
+        for i in 0..n {
+            ys[i] = y[i] + h * (A51 * k1[i] + A52 * k2[i] + A53 * k3[i] + A54 * k4[i]);
+        }
+        sys.rhs(t + C5 * h, ys, k5);
+        for i in 0..n {
+            ys[i] =
+                y[i] + h * (A61 * k1[i] + A62 * k2[i] + A63 * k3[i] + A64 * k4[i] + A65 * k5[i]);
+        }
+        sys.rhs(t + h, ys, k6);
+        for i in 0..n {
+            y1[i] =
+                y[i] + h * (A71 * k1[i] + A73 * k3[i] + A74 * k4[i] + A75 * k5[i] + A76 * k6[i]);
+        }
+        sys.rhs(t + h, y1, k7);
+        st.rhs_evals += 6;
+        let mut e = [0.0; MAX_DIM];
+        for i in 0..n {
+            e[i] =
+                h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
+        }
+        let err = self.norm(sys, &e[..n], y, y1);
+        // Hairer's stiffness estimate: h*|k7 - k6| / |y1 - ys|
+        let mut num = 0.0;
+        let mut den = 0.0;
+        for i in 0..n {
+            num += (k7[i] - k6[i]).powi(2);
+            den += (y1[i] - ys[i]).powi(2);
+        }
+        let hlamb = if den > 0.0 {
+            h * (num / den).sqrt()
+        } else {
+            0.0
+        };
+        Attempt {
+            err: if err.is_finite() { err } else { f64::INFINITY },
+            hlamb,
+        }
+    }
+
+    #[allow(clippy::too_many_arguments)]
+    fn radau(
+        &self,
+        sys: &dyn OdeSystem,
+        t: f64,
+        y: &[f64],
+        f0: &[f64],
+        jac: &[f64],
+        h: f64,
+        y1: &mut [f64],
+        f1: &mut [f64],
+        st: &mut Stats,
+    ) -> Result<Attempt, String> {
+        let n = y.len();
+        let tab = radau_tab();
+        let m = 3 * n;
+        // Newton matrix I - h (A ⊗ J)
+        let mut mat = DMatrix::<f64>::identity(m, m);
+        for bi in 0..3 {
+            for bj in 0..3 {
+                let a = h * tab.a[bi][bj];
+                for i in 0..n {
+                    for j in 0..n {
+                        mat[(bi * n + i, bj * n + j)] -= a * jac[i * n + j];
+                    }
+                }
+            }
+        }
+        let lu = mat.lu();
+        let rtol = self.settings.rtol;
+        let fnewt = (10.0 * f64::EPSILON / rtol).max(0.03f64.min(rtol.sqrt()));
+        let mut z = vec![0.0; m];
+        let mut fz = vec![0.0; m];
+        let mut yi = [0.0; MAX_DIM];
+        let mut prev = f64::NAN;
+        let mut converged = false;
+        let zero = vec![0.0; n];
+        for it in 0..10 {
+            for s in 0..3 {
+                for i in 0..n {
+                    yi[i] = y[i] + z[s * n + i];
+                }
+                sys.rhs(t + tab.c[s] * h, &yi[..n], &mut fz[s * n..(s + 1) * n]);
+            }
+            st.rhs_evals += 3;
+            let mut r = nalgebra::DVector::<f64>::zeros(m);
+            for s in 0..3 {
+                for i in 0..n {
+                    let mut acc = 0.0;
+                    for q in 0..3 {
+                        acc += tab.a[s][q] * fz[q * n + i];
+                    }
+                    r[s * n + i] = -z[s * n + i] + h * acc;
+                }
+            }
+            let Some(dz) = lu.solve(&r) else {
+                return Err("singular Newton matrix in radau5".into());
+            };
+            let mut nrm = 0.0;
+            for s in 0..3 {
+                nrm += self
+                    .norm(sys, &dz.as_slice()[s * n..(s + 1) * n], y, &zero)
+                    .powi(2);
+            }
+            let nrm = (nrm / 3.0).sqrt();
+            for k in 0..m {
+                z[k] += dz[k];
+            }
+            if !nrm.is_finite() {
+                return Err("non-finite Newton iterate in radau5".into());
+            }
+
+            if nrm <= 1e-3 * fnewt {
+                converged = true;
+                break;
+            }
+            if it > 0 {
+                let theta = nrm / prev;
+                if theta >= 0.99 {
+                    return Err(format!(
+                        "Newton iteration of radau5 diverges (contraction {theta:.2})"
+                    ));
+                }
+                let eta = theta / (1.0 - theta);
+                if eta * nrm <= fnewt {
+                    converged = true;
+                    break;
+                }
+            } else if nrm <= 1e-2 * fnewt {
+                converged = true;
+                break;
+            }
+            prev = nrm;
+        }
+        if !converged {
+            return Err("Newton iteration of radau5 did not converge in 10 iterations".into());
+        }
+        // Components left out of the norms (work integrals): their stage values are fixed
+        // point updates one iteration behind; settle them on the converged stages.
+        if (0..n).any(|i| sys.error_weight(i) == 0.0) {
+            for s in 0..3 {
+                for i in 0..n {
+                    yi[i] = y[i] + z[s * n + i];
+                }
+                sys.rhs(t + tab.c[s] * h, &yi[..n], &mut fz[s * n..(s + 1) * n]);
+            }
+            st.rhs_evals += 3;
+            for s in 0..3 {
+                for i in (0..n).filter(|&i| sys.error_weight(i) == 0.0) {
+                    z[s * n + i] = h * (0..3).map(|q| tab.a[s][q] * fz[q * n + i]).sum::<f64>();
+                }
+            }
+        }
+        for i in 0..n {
+            y1[i] = y[i] + z[2 * n + i];
+        }
+        // error estimate (Hairer, radau5.f ESTRAD)
+        let fac1 = tab.u1 / h;
+        let mut e1 = DMatrix::<f64>::zeros(n, n);
+        for i in 0..n {
+            for j in 0..n {
+                e1[(i, j)] = -jac[i * n + j];
+            }
+            e1[(i, i)] += fac1;
+        }
+        let lu1 = e1.lu();
+        let mut f2 = vec![0.0; n];
+        let mut cont = nalgebra::DVector::<f64>::zeros(n);
+        for i in 0..n {
+            f2[i] = (tab.dd[0] * z[i] + tab.dd[1] * z[n + i] + tab.dd[2] * z[2 * n + i]) / h;
+            cont[i] = f2[i] + f0[i];
+        }
+        let mut errv = lu1.solve(&cont).ok_or("singular error matrix in radau5")?;
+        let mut err = self.norm(sys, errv.as_slice(), y, y1);
+        if err >= 1.0 {
+            // Hairer's refinement for stiff components
+            let mut yp = [0.0; MAX_DIM];
+            for i in 0..n {
+                yp[i] = y[i] + errv[i];
+            }
+            let mut fp = [0.0; MAX_DIM];
+            sys.rhs(t, &yp[..n], &mut fp[..n]);
+            st.rhs_evals += 1;
+            for i in 0..n {
+                cont[i] = fp[i] + f2[i];
+            }
+            errv = lu1.solve(&cont).ok_or("singular error matrix in radau5")?;
+            err = self.norm(sys, errv.as_slice(), y, y1);
+        }
+        sys.rhs(t + h, y1, f1);
+        st.rhs_evals += 1;
+        Ok(Attempt {
+            err: if err.is_finite() { err } else { f64::INFINITY },
+            hlamb: 0.0,
+        })
+    }
+}
+
+fn rk4(sys: &dyn OdeSystem, t: f64, y: &[f64], k1: &[f64], h: f64, y1: &mut [f64], st: &mut Stats) {
+    let n = y.len();
+    let mut k2 = [0.0; MAX_DIM];
+    let mut k3 = [0.0; MAX_DIM];
+    let mut k4 = [0.0; MAX_DIM];
+    let mut ys = [0.0; MAX_DIM];
+    for i in 0..n {
+        ys[i] = y[i] + 0.5 * h * k1[i];
+    }
+    sys.rhs(t + 0.5 * h, &ys[..n], &mut k2[..n]);
+    for i in 0..n {
+        ys[i] = y[i] + 0.5 * h * k2[i];
+    }
+    sys.rhs(t + 0.5 * h, &ys[..n], &mut k3[..n]);
+    for i in 0..n {
+        ys[i] = y[i] + h * k3[i];
+    }
+    sys.rhs(t + h, &ys[..n], &mut k4[..n]);
+    st.rhs_evals += 3;
+    for i in 0..n {
+        y1[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
+    }
+}
+
+/// The shaft's motion inside a communication step, extrapolated from its state at the step's
+/// start: `φ(t0 + τ) = φ0 + ω0·τ + ε0·τ²/2` (or the input derivatives a host set, which are the
+/// same Taylor coefficients).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShaftPath {
+    pub t0: f64,
+    /// The angle at `t0` less `turns` whole turns, in `[0, 2π)`: a shaft angle near 1e9 rad
+    /// would otherwise add its rounding noise (1e-7 rad) to every stage of the integrator.
+    pub phi: f64,
+    pub w: f64,
+    pub a: f64,
+    /// Whole turns taken out of the angle.
+    pub turns: f64,
+}
+
+impl ShaftPath {
+    /// The path from the shaft state at `t0`.
+    pub fn new(t0: f64, phi: f64, w: f64, a: f64) -> Self {
+        let turns = (phi / std::f64::consts::TAU).floor();
+        let red = phi - turns * std::f64::consts::TAU;
+        ShaftPath {
+            t0,
+            phi: red,
+            w,
+            a,
+            turns,
+        }
+    }
+
+    /// Index of the shaft turn at time `t` (`floor(φ/2π)`).
+    pub fn cycle(&self, t: f64) -> f64 {
+        self.turns + (self.at(t).0 / std::f64::consts::TAU).floor()
+    }
+
+    /// The absolute angle at `t` (with the whole turns).
+    pub fn absolute_phi(&self, t: f64) -> f64 {
+        self.at(t).0 + self.turns * std::f64::consts::TAU
+    }
+
+    /// `(φ, ω, ε)` at time `t`.
+    #[inline]
+    pub fn at(&self, t: f64) -> (f64, f64, f64) {
+        let tau = t - self.t0;
+        (
+            self.phi + self.w * tau + 0.5 * self.a * tau * tau,
+            self.w + self.a * tau,
+            self.a,
+        )
+    }
+}
+
+#[cfg(test)]
+mod tests;

@@ -1,0 +1,257 @@
+/*
+ * A small FMI 2.0 co-simulation host written by the project (issue 7), the way a C tool
+ * would load an FMU: it reads modelDescription.xml of an extracted FMU, dlopens
+ * binaries/linux64/<modelIdentifier>.so, instantiates with the GUID of the description, sets
+ * start values, runs fixed communication steps from 0 to the stop time and prints every output
+ * as CSV (time first) on stdout. The FMI 2.0 types it needs are written here by hand.
+ *
+ *   host <extracted FMU dir> <stop time> <step size> [name=value ...]
+ *
+ * Exit status 0 when every call returned fmi2OK; messages of the FMU go to stderr.
+ * Build: gcc -Wall -Wextra -Werror -std=c99 -o host host.c -ldl
+ */
+#define _POSIX_C_SOURCE 200809L
+#include <dlfcn.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* ---- FMI 2.0 types (fmi2TypesPlatform.h, fmi2FunctionTypes.h), by hand ---- */
+typedef void *fmi2Component;
+typedef void *fmi2ComponentEnvironment;
+typedef unsigned int fmi2ValueReference;
+typedef double fmi2Real;
+typedef int fmi2Integer;
+typedef int fmi2Boolean;
+typedef const char *fmi2String;
+typedef enum { fmi2OK, fmi2Warning, fmi2Discard, fmi2Error, fmi2Fatal, fmi2Pending } fmi2Status;
+typedef enum { fmi2ModelExchange, fmi2CoSimulation } fmi2Type;
+typedef struct {
+    void (*logger)(fmi2ComponentEnvironment, fmi2String, fmi2Status, fmi2String, fmi2String, ...);
+    void *(*allocateMemory)(size_t, size_t);
+    void (*freeMemory)(void *);
+    void (*stepFinished)(fmi2ComponentEnvironment, fmi2Status);
+    fmi2ComponentEnvironment componentEnvironment;
+} fmi2CallbackFunctions;
+typedef fmi2Component (*Instantiate)(fmi2String, fmi2Type, fmi2String, fmi2String,
+                                     const fmi2CallbackFunctions *, fmi2Boolean, fmi2Boolean);
+typedef void (*FreeInstance)(fmi2Component);
+typedef fmi2Status (*SetupExperiment)(fmi2Component, fmi2Boolean, fmi2Real, fmi2Real, fmi2Boolean,
+                                      fmi2Real);
+typedef fmi2Status (*Call0)(fmi2Component);
+typedef fmi2Status (*GetReal)(fmi2Component, const fmi2ValueReference *, size_t, fmi2Real *);
+typedef fmi2Status (*GetInteger)(fmi2Component, const fmi2ValueReference *, size_t, fmi2Integer *);
+typedef fmi2Status (*SetReal)(fmi2Component, const fmi2ValueReference *, size_t, const fmi2Real *);
+typedef fmi2Status (*SetInteger)(fmi2Component, const fmi2ValueReference *, size_t,
+                                 const fmi2Integer *);
+typedef fmi2Status (*DoStep)(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean);
+
+/* ---- the model description, read with plain string search ---- */
+enum { T_REAL, T_INTEGER, T_BOOLEAN };
+typedef struct {
+    char *name;
+    fmi2ValueReference vr;
+    int type;
+    int output;
+} Variable;
+
+static char *read_file(const char *path) {
+    FILE *f = fopen(path, "rb");
+    if (!f) return NULL;
+    fseek(f, 0, SEEK_END);
+    long n = ftell(f);
+    fseek(f, 0, SEEK_SET);
+    char *s = malloc((size_t)n + 1);
+    if (s && fread(s, 1, (size_t)n, f) != (size_t)n) {
+        free(s);
+        s = NULL;
+    }
+    if (s) s[n] = '\0';
+    fclose(f);
+    return s;
+}
+
+/* The value of attribute `attr` inside the tag that starts at `tag` (up to its '>'). */
+static char *attribute(const char *tag, const char *attr) {
+    const char *end = strchr(tag, '>');
+    size_t n = strlen(attr);
+    for (const char *p = tag; p && end && p < end; p++) {
+        p = strstr(p, attr);
+        if (!p || p >= end) return NULL;
+        if ((p[-1] == ' ' || p[-1] == '\n' || p[-1] == '\t') && p[n] == '=' && p[n + 1] == '"') {
+            const char *v = p + n + 2, *q = strchr(v, '"');
+            char *out = malloc((size_t)(q - v) + 1);
+            memcpy(out, v, (size_t)(q - v));
+            out[q - v] = '\0';
+            return out;
+        }
+    }
+    return NULL;
+}
+
+static int log_errors = 0;
+
+static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status status,
+                   fmi2String category, fmi2String message, ...) {
+    (void)env;
+    va_list args;
+    va_start(args, message);
+    fprintf(stderr, "[%s] %s (status %d): ", name ? name : "?", category ? category : "?",
+            (int)status);
+    vfprintf(stderr, message, args);
+    fputc('\n', stderr);
+    va_end(args);
+    if (status >= fmi2Error) log_errors++;
+}
+
+static void *sym(void *lib, const char *name) {
+    void *p = dlsym(lib, name);
+    if (!p) {
+        fprintf(stderr, "host: %s not exported\n", name);
+        exit(2);
+    }
+    return p;
+}
+
+#define CHECK(call)                                                         \
+    do {                                                                    \
+        fmi2Status s_ = (call);                                             \
+        if (s_ != fmi2OK) {                                                 \
+            fprintf(stderr, "host: %s returned %d\n", #call, (int)s_);      \
+            status = 1;                                                     \
+            goto done;                                                      \
+        }                                                                   \
+    } while (0)
+
+int main(int argc, char **argv) {
+    if (argc < 4) {
+        fprintf(stderr, "usage: host <extracted FMU dir> <stop time> <step size> [name=value ...]\n");
+        return 2;
+    }
+    const char *dir = argv[1];
+    double stop = atof(argv[2]), h = atof(argv[3]);
+    char path[4096];
+    snprintf(path, sizeof path, "%s/modelDescription.xml", dir);
+    char *md = read_file(path);
+    if (!md) {
+        fprintf(stderr, "host: cannot read %s\n", path);
+        return 2;
+    }
+    char *guid = attribute(strstr(md, "<fmiModelDescription"), "guid");
+    const char *cs = strstr(md, "<CoSimulation");
+    char *id = cs ? attribute(cs, "modelIdentifier") : NULL;
+    if (!guid || !id) {
+        fprintf(stderr, "host: no guid or CoSimulation modelIdentifier in %s\n", path);
+        return 2;
+    }
+
+    /* every ScalarVariable: name, value reference, type, is it an output */
+    size_t nv = 0, cap = 64;
+    Variable *vars = malloc(cap * sizeof *vars);
+    for (const char *p = strstr(md, "<ScalarVariable"); p; p = strstr(p + 1, "<ScalarVariable")) {
+        if (nv == cap) vars = realloc(vars, (cap *= 2) * sizeof *vars);
+        Variable *v = &vars[nv++];
+        v->name = attribute(p, "name");
+        char *vr = attribute(p, "valueReference"), *causality = attribute(p, "causality");
+        v->vr = (fmi2ValueReference)strtoul(vr ? vr : "0", NULL, 10);
+        v->output = causality && strcmp(causality, "output") == 0;
+        free(vr);
+        free(causality);
+        const char *t = strchr(p, '>') + 1;
+        while (*t == ' ' || *t == '\n' || *t == '\r' || *t == '\t') t++;
+        v->type = strncmp(t, "<Real", 5) == 0 ? T_REAL
+                  : strncmp(t, "<Boolean", 8) == 0 ? T_BOOLEAN
+                                                   : T_INTEGER; /* Integer, Enumeration */
+    }
+
+    snprintf(path, sizeof path, "%s/binaries/linux64/%s.so", dir, id);
+    void *lib = dlopen(path, RTLD_NOW | RTLD_LOCAL);
+    if (!lib) {
+        fprintf(stderr, "host: %s\n", dlerror());
+        return 2;
+    }
+    Instantiate instantiate = (Instantiate)sym(lib, "fmi2Instantiate");
+    FreeInstance free_instance = (FreeInstance)sym(lib, "fmi2FreeInstance");
+    SetupExperiment setup = (SetupExperiment)sym(lib, "fmi2SetupExperiment");
+    Call0 enter = (Call0)sym(lib, "fmi2EnterInitializationMode");
+    Call0 exit_init = (Call0)sym(lib, "fmi2ExitInitializationMode");
+    Call0 terminate = (Call0)sym(lib, "fmi2Terminate");
+    GetReal get_real = (GetReal)sym(lib, "fmi2GetReal");
+    GetInteger get_integer = (GetInteger)sym(lib, "fmi2GetInteger");
+    GetInteger get_boolean = (GetInteger)sym(lib, "fmi2GetBoolean");
+    SetReal set_real = (SetReal)sym(lib, "fmi2SetReal");
+    SetInteger set_integer = (SetInteger)sym(lib, "fmi2SetInteger");
+    SetInteger set_boolean = (SetInteger)sym(lib, "fmi2SetBoolean");
+    DoStep do_step = (DoStep)sym(lib, "fmi2DoStep");
+
+    char resources[4200];
+    snprintf(resources, sizeof resources, "file://%s/resources", dir);
+    fmi2CallbackFunctions callbacks = {logger, calloc, free, NULL, NULL};
+    int status = 0;
+    fmi2Component c = instantiate("host", fmi2CoSimulation, guid, resources, &callbacks, 0, 0);
+    if (!c) {
+        fprintf(stderr, "host: fmi2Instantiate failed\n");
+        return 1;
+    }
+    CHECK(setup(c, 0, 0.0, 0.0, 1, stop));
+    CHECK(enter(c));
+    for (int k = 4; k < argc; k++) {
+        char *eq = strchr(argv[k], '=');
+        size_t i = 0;
+        for (; eq && i < nv; i++)
+            if (strlen(vars[i].name) == (size_t)(eq - argv[k]) &&
+                strncmp(vars[i].name, argv[k], (size_t)(eq - argv[k])) == 0)
+                break;
+        if (!eq || i == nv) {
+            fprintf(stderr, "host: no variable for %s\n", argv[k]);
+            status = 2;
+            goto done;
+        }
+        if (vars[i].type == T_REAL) {
+            fmi2Real x = atof(eq + 1);
+            CHECK(set_real(c, &vars[i].vr, 1, &x));
+        } else {
+            fmi2Integer x = atoi(eq + 1);
+            CHECK((vars[i].type == T_BOOLEAN ? set_boolean : set_integer)(c, &vars[i].vr, 1, &x));
+        }
+    }
+    CHECK(exit_init(c));
+
+    printf("time");
+    for (size_t i = 0; i < nv; i++)
+        if (vars[i].output) printf(",%s", vars[i].name);
+    printf("\n");
+    long steps = (long)(stop / h + 0.5);
+    for (long k = 0;; k++) {
+        double t = k * h;
+        printf("%.17g", t);
+        for (size_t i = 0; i < nv; i++) {
+            if (!vars[i].output) continue;
+            if (vars[i].type == T_REAL) {
+                fmi2Real x;
+                CHECK(get_real(c, &vars[i].vr, 1, &x));
+                printf(",%.17g", x);
+            } else {
+                fmi2Integer x;
+                CHECK((vars[i].type == T_BOOLEAN ? get_boolean : get_integer)(c, &vars[i].vr, 1, &x));
+                printf(",%d", x);
+            }
+        }
+        printf("\n");
+        if (k == steps) break;
+        /* communication points t_k = k*h, without drift; the step is t_{k+1} - t_k */
+        CHECK(do_step(c, t, (k + 1) * h - t, 1));
+    }
+    CHECK(terminate(c));
+done:
+    free_instance(c);
+    for (size_t i = 0; i < nv; i++) free(vars[i].name);
+    free(vars);
+    free(guid);
+    free(id);
+    free(md);
+    if (log_errors && !status) status = 1;
+    return status;
+}

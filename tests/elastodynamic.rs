@@ -1,0 +1,425 @@
+//! The elastodynamic level (`dynamics.md`): the stiff and extreme test matrix, run on the plain
+//! Rust models (the FMI runtime adds nothing to the numerics), each case asserting no NaN, no
+//! panic, a result close to a tight-tolerance reference and a bounded energy-balance residual,
+//! or a Discard (`Err`) with a reason.
+
+use bindery_fmu::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
+use bindery_fmu::mechanisms::geneva_knife_drive::model::V as G;
+use bindery_fmu::model::{Model, NoLog, Values};
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug)]
+struct Case {
+    k: f64,
+    zeta: f64,
+    rpm: f64,
+    dt: f64,
+    phi0: f64,
+    method: i32,
+    rtol: f64,
+}
+
+#[derive(Debug)]
+struct Run {
+    s: Vec<f64>,
+    f: Vec<f64>,
+    residual: f64,
+    energy_scale: f64,
+    steps: f64,
+}
+
+fn geneva(c: &Case, stop: f64) -> Result<Run, String> {
+    let mut v = Values::<G>::start();
+    v[G::model_fidelity] = 3.0;
+    v[G::drive_mode] = 2.0;
+    v[G::drive_n] = c.rpm * std::f64::consts::PI / 30.0;
+    v[G::drive_phi0] = c.phi0;
+    v[G::elastic_k] = c.k;
+    v[G::elastic_zeta] = c.zeta;
+    v[G::solver_method] = c.method as f64;
+    v[G::solver_rtol] = c.rtol;
+    v[G::solver_atol] = c.rtol * 1e-3;
+    let mut m = GenevaKnifeDrive::prepare(&v).map_err(|e| e.to_string())?;
+    let n = (stop / c.dt).round().max(1.0) as usize;
+    let mut run = Run {
+        s: vec![],
+        f: vec![],
+        residual: 0.0,
+        energy_scale: 1.0,
+        steps: 0.0,
+    };
+    let mut t = 0.0;
+    for i in 0..n {
+        m.do_step(&mut v, t, c.dt, &mut NoLog)?;
+        t = (i + 1) as f64 * c.dt;
+        m.evaluate(&mut v, t, &mut NoLog);
+        for x in [
+            v[G::knife_s],
+            v[G::elastic_F],
+            v[G::shaft_tau],
+            v[G::elastic_E_residual],
+        ] {
+            assert!(x.is_finite(), "{c:?}: non-finite output at t = {t}");
+        }
+        run.s.push(v[G::knife_s]);
+        run.f.push(v[G::elastic_F]);
+        run.residual = run.residual.max(v[G::elastic_E_residual].abs());
+        // energy scale: the work of the peak chain force over the stroke
+        run.energy_scale = run.energy_scale.max(v[G::elastic_F].abs() * 0.14);
+    }
+    run.steps = v[G::solver_steps];
+    Ok(run)
+}
+
+#[test]
+fn geneva_default_scene_sanity() {
+    let c = Case {
+        k: 5e7,
+        zeta: 0.05,
+        rpm: 30.0,
+        dt: 1e-3,
+        phi0: 0.0,
+        method: 1,
+        rtol: 1e-6,
+    };
+    let t0 = Instant::now();
+    let r = geneva(&c, 2.0).unwrap();
+    let smax = r.s.iter().cloned().fold(f64::MIN, f64::max);
+    let fmax = r.f.iter().cloned().fold(f64::MIN, f64::max);
+    eprintln!(
+        "smax {smax} fmax {fmax} residual {} steps {} in {:?}",
+        r.residual,
+        r.steps,
+        t0.elapsed()
+    );
+    assert!((smax - 0.14).abs() < 1e-3);
+}
+
+/// Largest difference of two position histories, and of their peak chain forces (relative).
+fn compare(a: &Run, b: &Run) -> (f64, f64) {
+    let ds =
+        a.s.iter()
+            .zip(&b.s)
+            .map(|(x, y)| (x - y).abs())
+            .fold(0.0, f64::max);
+    let pa = a.f.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    let pb = b.f.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    (ds, (pa - pb).abs() / pb.max(1.0))
+}
+
+/// Runs a case and its reference (radau5 at a tight tolerance, output at the same instants)
+/// and checks: no NaN (in `geneva`), the positions within `pos_tol` of the reference, the peak
+/// chain force within `force_tol` (relative), the energy-balance residual within 1e-4 of the
+/// energy scale. Returns the case's error message when it is a Discard.
+fn check(c: Case, stop: f64, pos_tol: f64, force_tol: f64) -> Result<(), String> {
+    let t0 = Instant::now();
+    let r = geneva(&c, stop)?;
+    let took = t0.elapsed();
+    let ref_rtol = if c.k >= 1e10 { 1e-8 } else { 1e-9 };
+    let refc = Case {
+        method: 3,
+        rtol: ref_rtol,
+        ..c
+    };
+    let reference = geneva(&refc, stop).expect("the reference solves every case");
+    let (ds, df) = compare(&r, &reference);
+    assert!(
+        ds <= pos_tol,
+        "{c:?}: position off the reference by {ds:e} m"
+    );
+    assert!(
+        df <= force_tol,
+        "{c:?}: peak chain force off the reference by {df:e}"
+    );
+    assert!(
+        r.residual <= 1e-4 * r.energy_scale,
+        "{c:?}: energy residual {} J of {} J",
+        r.residual,
+        r.energy_scale
+    );
+    assert!(took.as_secs_f64() < 5.0, "{c:?} ground for {took:?}");
+    Ok(())
+}
+
+const BASE: Case = Case {
+    k: 5e7,
+    zeta: 0.05,
+    rpm: 30.0,
+    dt: 1e-3,
+    phi0: 0.0,
+    method: 1,
+    rtol: 1e-6,
+};
+/// The first 0.3 s at 30 rpm: Geneva entry, the stroke down, cut start and cut-through, the
+/// bottom dead centre (0.25 s).
+const WINDOW: f64 = 0.3;
+
+#[test]
+fn stiffness_from_1e4_to_1e12_and_damping_0_to_1() {
+    for k in [1e4, 1e6, 1e8, 1e10, 1e12] {
+        for zeta in [0.0, 0.01, 1.0] {
+            // an undamped 1e10..1e12 N/m chain rings after cut-through at 2.7e5 rad/s: its peak
+            // force is the least determined quantity of the matrix
+            let force_tol = if zeta == 0.0 && k >= 1e10 { 0.1 } else { 1e-3 };
+            check(Case { k, zeta, ..BASE }, WINDOW, 1e-6, force_tol).unwrap();
+        }
+    }
+}
+
+#[test]
+fn shaft_speeds_stopped_slow_nominal_fast_and_reversed() {
+    for rpm in [0.0, 1.0, 30.0, 150.0, 600.0, -30.0] {
+        check(Case { rpm, ..BASE }, WINDOW, 1e-6, 1e-3).unwrap();
+    }
+}
+
+#[test]
+fn communication_steps_from_1e_6_to_longer_than_a_cycle() {
+    check(Case { dt: 1e-6, ..BASE }, 0.01, 1e-6, 1e-3).unwrap();
+    check(Case { dt: 1e-4, ..BASE }, WINDOW, 1e-6, 1e-3).unwrap();
+    check(Case { dt: 1e-2, ..BASE }, WINDOW, 1e-6, 1e-3).unwrap();
+    // one step of 3 s: longer than the driver turn of 2 s
+    check(Case { dt: 3.0, ..BASE }, 3.0, 1e-6, 1e-3).unwrap();
+}
+
+#[test]
+fn extreme_angles_and_the_instants_of_entry_exit_and_dead_centre() {
+    use std::f64::consts::{FRAC_PI_2, FRAC_PI_4};
+    // 1e9 rad: the angle's own rounding (1e-7 rad) must not reach the integrator
+    check(Case { phi0: 1e9, ..BASE }, WINDOW, 1e-6, 1e-3).unwrap();
+    // starting exactly at Geneva entry, exit, and the knife's bottom dead centre
+    for phi0 in [0.0, FRAC_PI_2, FRAC_PI_4, 2.0 * std::f64::consts::PI] {
+        check(Case { phi0, ..BASE }, WINDOW, 1e-6, 1e-3).unwrap();
+    }
+    // a communication point exactly on the entry instant
+    let lead = 0.1;
+    check(
+        Case {
+            phi0: -lead,
+            dt: lead / std::f64::consts::PI / 10.0,
+            ..BASE
+        },
+        WINDOW,
+        1e-6,
+        1e-3,
+    )
+    .unwrap();
+}
+
+#[test]
+fn every_method_on_the_default_and_the_stiffest_chain() {
+    for method in [1, 2, 3] {
+        check(Case { method, ..BASE }, WINDOW, 1e-6, 1e-3).unwrap();
+        // the 1e12 N/m chain's ringing peak after cut-through: within 1 % at rtol 1e-6
+        check(
+            Case {
+                method,
+                k: 1e12,
+                ..BASE
+            },
+            WINDOW,
+            1e-6,
+            1e-2,
+        )
+        .unwrap();
+    }
+    // fixed-step rk4 at 1e-4 s on the default chain: stable (h*omega = 0.19), accurate to 1e-6
+    let mut c = Case { method: 4, ..BASE };
+    c.dt = 1e-4;
+    check(c, WINDOW, 1e-6, 1e-3).unwrap();
+}
+
+#[test]
+fn explicit_methods_on_a_stiff_chain_refuse_fast_instead_of_grinding() {
+    // rk4 with its default 1 ms step on a 1e12 N/m chain: h*|lambda| = 272: a Discard with the
+    // step that would be stable, at once
+    let t0 = Instant::now();
+    let e = geneva(
+        &Case {
+            method: 4,
+            k: 1e12,
+            ..BASE
+        },
+        WINDOW,
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("unstable") && e.contains("solver.max_step below"),
+        "{e}"
+    );
+    // dopri5 on a chain so stiff that its stability limit needs more than the step budget
+    // (2e5 steps) in one communication step of 1 s: a Discard naming the budget
+    let e = geneva(
+        &Case {
+            method: 2,
+            k: 1e16,
+            zeta: 1.0,
+            dt: 1.0,
+            ..BASE
+        },
+        1.0,
+    )
+    .unwrap_err();
+    assert!(e.contains("budget") && e.contains("stiff"), "{e}");
+    // auto on the same case switches to radau5 and completes
+    geneva(
+        &Case {
+            method: 1,
+            k: 1e16,
+            zeta: 1.0,
+            dt: 1.0,
+            ..BASE
+        },
+        1.0,
+    )
+    .unwrap();
+    assert!(t0.elapsed().as_secs_f64() < 5.0, "{:?}", t0.elapsed());
+}
+
+// ---- SewingTable: the follower chain and the slot's play -----------------------------------
+
+use bindery_fmu::mechanisms::sewing_table::SewingTable;
+use bindery_fmu::mechanisms::sewing_table::model::V as S;
+
+#[derive(Debug)]
+struct TableRun {
+    x: Vec<f64>,
+    f: Vec<f64>,
+    residual: f64,
+    energy_scale: f64,
+    liftoffs: i32,
+    impact: f64,
+}
+
+#[allow(clippy::too_many_arguments)]
+fn table(
+    k: f64,
+    zeta: f64,
+    clearance: f64,
+    rpm: f64,
+    dt: f64,
+    method: i32,
+    rtol: f64,
+    stop: f64,
+) -> Result<TableRun, String> {
+    let mut v = Values::<S>::start();
+    v[S::model_fidelity] = 3.0;
+    v[S::drive_mode] = 2.0;
+    v[S::drive_n] = rpm * std::f64::consts::PI / 30.0;
+    v[S::elastic_k] = k;
+    v[S::elastic_zeta] = zeta;
+    v[S::cam_clearance] = clearance;
+    v[S::solver_method] = method as f64;
+    v[S::solver_rtol] = rtol;
+    // the absolute tolerance resolves the chain's deflection (some 300 N over k), or the
+    // spring's energy is not controlled at all on a 1e12 N/m chain (deflection 3e-10 m)
+    v[S::solver_atol] = (rtol * 1e-3).min(1e-2 * 300.0 / k);
+    let mut m = SewingTable::prepare(&v).map_err(|e| e.to_string())?;
+    let n = (stop / dt).round().max(1.0) as usize;
+    let mut r = TableRun {
+        x: vec![],
+        f: vec![],
+        residual: 0.0,
+        energy_scale: 1.0,
+        liftoffs: 0,
+        impact: 0.0,
+    };
+    for i in 0..n {
+        m.do_step(&mut v, i as f64 * dt, dt, &mut NoLog)?;
+        m.evaluate(&mut v, (i + 1) as f64 * dt, &mut NoLog);
+        for x in [
+            v[S::table_x],
+            v[S::elastic_F],
+            v[S::shaft_tau],
+            v[S::elastic_E_residual],
+        ] {
+            assert!(x.is_finite());
+        }
+        r.x.push(v[S::table_x]);
+        r.f.push(v[S::elastic_F]);
+        r.residual = r.residual.max(v[S::elastic_E_residual].abs());
+        r.energy_scale = r.energy_scale.max(v[S::elastic_F].abs() * 0.11);
+    }
+    r.liftoffs = v.int(S::contact_liftoffs);
+    r.impact = v[S::contact_F_impact];
+    Ok(r)
+}
+
+/// One shaft turn at 100 rpm: 0.6 s.
+const TURN: f64 = 0.6;
+
+#[test]
+fn sewing_table_stiffness_damping_and_speed_matrix() {
+    for k in [1e4, 1e6, 1e8, 1e10, 1e12] {
+        for zeta in [0.0, 0.01, 1.0] {
+            // 5x nominal speed on the chains whose reference is cheap; the stiffest at nominal
+            let speeds: &[f64] = if k <= 1e8 { &[100.0, 500.0] } else { &[100.0] };
+            for &rpm in speeds {
+                let t0 = Instant::now();
+                let a = table(k, zeta, 0.0, rpm, 1e-3, 1, 1e-6, TURN).unwrap();
+                assert!(t0.elapsed().as_secs_f64() < 5.0);
+                let rtol = if k >= 1e10 { 1e-7 } else { 1e-9 };
+                let b = table(k, zeta, 0.0, rpm, 1e-3, 3, rtol, TURN).unwrap();
+                let dx =
+                    a.x.iter()
+                        .zip(&b.x)
+                        .map(|(p, q)| (p - q).abs())
+                        .fold(0.0, f64::max);
+                assert!(dx < 2e-6, "k {k} zeta {zeta} rpm {rpm}: {dx:e}");
+                // the undamped 1e10..1e12 N/m follower rings at 3.5e4..3.5e5 rad/s on a small
+                // energy scale (30 J at 100 rpm): its work integral is the least accurate
+                assert!(
+                    a.residual <= 2e-3 * a.energy_scale,
+                    "k {k} zeta {zeta}: {} of {}",
+                    a.residual,
+                    a.energy_scale
+                );
+            }
+        }
+    }
+    for rpm in [0.0, 1.0, -100.0, 2000.0] {
+        table(1e7, 0.05, 0.0, rpm, 1e-3, 1, 1e-6, TURN).unwrap();
+    }
+}
+
+#[test]
+fn sewing_table_slot_play_lifts_off_and_impacts_and_the_impacts_are_located() {
+    // 0.2 mm of play at the nominal 100 rpm: the roller changes flanks when the cam force
+    // changes sign (acceleration to deceleration), crossing the play and impacting
+    let a = table(1e7, 0.05, 2e-4, 100.0, 1e-3, 1, 1e-6, TURN).unwrap();
+    assert!(a.liftoffs >= 2, "{}", a.liftoffs);
+    let peak_rigid = {
+        let r = table(1e7, 0.05, 0.0, 100.0, 1e-3, 1, 1e-6, TURN).unwrap();
+        r.f.iter().map(|x| x.abs()).fold(0.0, f64::max)
+    };
+    assert!(a.impact > 0.0 && a.impact.is_finite());
+    eprintln!(
+        "liftoffs {} impact {} N (no play: peak {} N)",
+        a.liftoffs, a.impact, peak_rigid
+    );
+    // the tight-tolerance reference agrees: events located, not stepped over
+    let b = table(1e7, 0.05, 2e-4, 100.0, 1e-3, 3, 1e-9, TURN).unwrap();
+    // a marginal re-contact of the bouncing roller may be resolved at one tolerance only
+    assert!(
+        (a.liftoffs - b.liftoffs).abs() <= 1,
+        "{} vs {}",
+        a.liftoffs,
+        b.liftoffs
+    );
+    let dx =
+        a.x.iter()
+            .zip(&b.x)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
+    assert!(dx < 2e-5, "{dx:e}"); // a tenth of the play
+    assert!(
+        (a.impact - b.impact).abs() < 2e-2 * b.impact,
+        "{} vs {}",
+        a.impact,
+        b.impact
+    );
+    assert!(a.residual <= 2e-3 * a.energy_scale);
+    // stiff play: 1e10 N/m, undamped, and a long communication step
+    let c = table(1e10, 0.0, 2e-4, 100.0, 0.1, 1, 1e-6, TURN).unwrap();
+    assert!(c.liftoffs >= 2);
+}
