@@ -450,7 +450,7 @@ impl Fuzzer {
             unsafe { (a.free_instance)(c) };
             return;
         }
-        if valid != !c.is_null() && ty != 0 {
+        if valid == c.is_null() && ty != 0 {
             self.report.finding(format!(
                 "{}: fmi2Instantiate(name ok {good_name}, type {ty}, guid ok {good_guid}, callbacks ok {}) returned {c:?}",
                 a.id,
@@ -1017,7 +1017,7 @@ fn main() {
     // stops after --execs calls or --seconds of wall time, whichever comes first (a step of an
     // elastodynamic level with random solver parameters may take its whole step budget)
     while f.report.execs < execs
-        && (f.report.execs % 256 != 0 || t0.elapsed().as_secs_f64() < seconds)
+        && (!f.report.execs.is_multiple_of(256) || t0.elapsed().as_secs_f64() < seconds)
     {
         f.step();
     }

@@ -46,7 +46,9 @@ macro_rules! export_fmu {
                 logging_on: Boolean,
             ) -> Component {
                 unsafe {
-                    rt::instantiate_c::<M>(name, ty, guid, resources, functions, visible, logging_on)
+                    rt::instantiate_c::<M>(
+                        name, ty, guid, resources, functions, visible, logging_on,
+                    )
                 }
             }
             #[unsafe(no_mangle)]

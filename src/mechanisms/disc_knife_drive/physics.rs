@@ -284,7 +284,6 @@ pub struct AssemblyFailure {
     pub worst_at: f64,
 }
 
-
 /// 2-D cross product (z component).
 #[inline]
 fn cross(a: Vec2, b: Vec2) -> f64 {

@@ -182,7 +182,6 @@ pub struct Forces {
     pub tau: f64,
 }
 
-
 /// Samples per travel phase in the initialization checks (undercut, self-locking).
 const SAMPLES: usize = 2000;
 
