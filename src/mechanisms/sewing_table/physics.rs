@@ -338,8 +338,17 @@ impl Params {
             lo = hi;
             hi *= 2.0;
         }
-        while hi - lo > 1e-7 {
+        // At most 200 halvings, and stop where floats cannot split the bracket any more: with a
+        // huge bracket (a fuzzed cam.R0 of 1e20 m) an absolute 1e-7 is below the float spacing
+        // and `mid` would equal `lo` or `hi` for ever.
+        for _ in 0..200 {
+            if hi - lo <= 1e-7 {
+                break;
+            }
             let mid = 0.5 * (lo + hi);
+            if mid <= lo || mid >= hi {
+                break;
+            }
             if self.undercut(mid).is_some() {
                 lo = mid;
             } else {
@@ -685,6 +694,17 @@ mod tests {
         let (phi, _) = small.undercut(small.cam_r0).unwrap();
         let ph = small.cyclogram().at(phi).phase;
         assert!(matches!(ph, Phase::Forward | Phase::Return), "{ph:?}");
+    }
+
+    /// A fuzzed huge base radius once made the bisection spin for ever (the float spacing at
+    /// 1e20 is far above its 1e-7 m tolerance); it must end, finite.
+    #[test]
+    fn smallest_r0_terminates_for_huge_and_tiny_radii() {
+        let p = Params::default();
+        for r0 in [1e20, 1e300, 1e-300, 0.0] {
+            let r = Params { cam_r0: r0, ..p }.smallest_r0();
+            assert!(r.is_finite() || r0 >= 1e300, "{r0}: {r}");
+        }
     }
 
     #[test]
