@@ -62,6 +62,7 @@ impl Logger {
 impl Logger {
     /// Would a message of this status and category reach the host? Warnings and errors always
     /// do; debug messages when logging is on for their category.
+    #[inline]
     pub fn enabled(&self, status: Status, category: &str) -> bool {
         let debug = matches!(status, Status::Ok | Status::Pending);
         !debug || (self.on && category_bit(category).is_some_and(|b| self.categories & b != 0))
@@ -181,6 +182,63 @@ impl<'a> Reader<'a> {
     }
 }
 
+/// What a host may do with a variable, as the bits of one byte per value reference: the
+/// per-value checks of `fmi2Get*`/`fmi2Set*` are one load and a mask (the variable table holds
+/// the same facts, for the messages of refused calls).
+pub mod access {
+    use crate::model::{Causality, SetPhase, Var, VarType};
+
+    /// Read and written by `fmi2GetReal`/`fmi2SetReal`.
+    pub const REAL: u8 = 1;
+    /// By the Integer calls (Integer and Enumeration variables).
+    pub const INTEGER: u8 = 2;
+    /// By the Boolean calls.
+    pub const BOOLEAN: u8 = 4;
+    /// Settable before `fmi2EnterInitializationMode`.
+    pub const SET_INSTANTIATED: u8 = 8;
+    /// Settable in initialization mode.
+    pub const SET_INITIALIZATION: u8 = 16;
+    /// Settable after initialization.
+    pub const SET_RUNNING: u8 = 32;
+    /// An Enumeration: a set value must be one of its items (checked on the slow path).
+    pub const ENUMERATION: u8 = 64;
+    /// A parameter: setting it re-prepares the model.
+    pub const PARAMETER: u8 = 128;
+
+    /// The bits of one declared variable.
+    pub fn of(v: &Var) -> u8 {
+        let mut a = match v.ty {
+            VarType::Real => REAL,
+            VarType::Integer => INTEGER,
+            VarType::Boolean => BOOLEAN,
+            VarType::Enumeration(_) => INTEGER | ENUMERATION,
+        };
+        for phase in [
+            SetPhase::Instantiated,
+            SetPhase::Initialization,
+            SetPhase::Running,
+        ] {
+            if v.settable(phase) {
+                a |= settable_bit(phase);
+            }
+        }
+        if v.causality == Causality::Parameter {
+            a |= PARAMETER;
+        }
+        a
+    }
+
+    /// The bit that says a variable may be set in this phase.
+    #[inline]
+    pub fn settable_bit(phase: SetPhase) -> u8 {
+        match phase {
+            SetPhase::Instantiated => SET_INSTANTIATED,
+            SetPhase::Initialization => SET_INITIALIZATION,
+            SetPhase::Running => SET_RUNNING,
+        }
+    }
+}
+
 /// One FMU instance.
 pub struct Instance<M: Model> {
     magic: u64,
@@ -202,6 +260,8 @@ pub struct Instance<M: Model> {
     snapshots: Vec<*mut Snapshot>,
     /// Model Exchange: instantiated as such, and its mode.
     pub me: me::MeMode,
+    /// Per value reference, what a host may do with it ([`access`]; 0: not visible).
+    access: Box<[u8]>,
 }
 
 type Outcome = Result<Status, String>;
@@ -223,6 +283,7 @@ impl<M: Model> Instance<M> {
             resources,
             snapshots: Vec::new(),
             me: me::MeMode::default(),
+            access: <M::Var as VarSet>::table().iter().map(access::of).collect(),
         }
     }
 
@@ -273,23 +334,51 @@ impl<M: Model> Instance<M> {
     }
 
     /// Validates every (vr, value) first, then applies them all: a refused call changes nothing.
-    fn set_values(
-        &mut self,
+    /// The common case (every value of the right type, settable now, finite, no enumeration)
+    /// costs one byte load and a mask per value ([`access`]); anything else takes the slow path
+    /// that names the culprit.
+    fn set_values(&mut self, vrs: &[ValueReference], vals: &[f64], kind: Kind) -> Outcome {
+        let phase = self.set_phase();
+        let need = kind.bit | access::settable_bit(phase);
+        let fast = vrs.iter().zip(vals).all(|(&vr, &x)| {
+            let a = self.access.get(vr as usize).copied().unwrap_or(0);
+            a & need == need && a & access::ENUMERATION == 0 && x.is_finite()
+        });
+        if !fast {
+            self.check_set(vrs, vals, kind, phase)?;
+        }
+        let raw = self.values.raw_mut();
+        for (&vr, &x) in vrs.iter().zip(vals) {
+            let slot = &mut raw[vr as usize];
+            if *slot != x {
+                *slot = x;
+                self.dirty = true;
+                if self.access[vr as usize] & access::PARAMETER != 0 {
+                    self.params_changed = true;
+                }
+            }
+        }
+        Ok(Status::Ok)
+    }
+
+    /// The slow path of [`Instance::set_values`]: the first refused value, named.
+    #[cold]
+    #[inline(never)]
+    fn check_set(
+        &self,
         vrs: &[ValueReference],
         vals: &[f64],
-        kind: &str,
-        type_ok: impl Fn(VarType) -> bool,
-    ) -> Outcome {
-        let phase = self.set_phase();
-        // The table is looked up once per call (it sits behind a OnceLock), and `type_ok` is a
-        // generic so it inlines: the per-step get/set stay a few instructions per value.
+        kind: Kind,
+        phase: SetPhase,
+    ) -> Result<(), String> {
         let table = Self::table();
         for (&vr, &x) in vrs.iter().zip(vals) {
             let v = table
                 .get(vr as usize)
+                .filter(|_| self.access[vr as usize] != 0)
                 .ok_or_else(|| format!("unknown value reference {vr}"))?;
-            if !type_ok(v.ty) {
-                return Err(format!("{} (vr {vr}) is not of type {kind}", v.name));
+            if !(kind.ok)(v.ty) {
+                return Err(format!("{} (vr {vr}) is not of type {}", v.name, kind.name));
             }
             if !v.settable(phase) {
                 return Err(format!(
@@ -320,42 +409,43 @@ impl<M: Model> Instance<M> {
                 ));
             }
         }
-        let raw = self.values.raw_mut();
-        for (&vr, &x) in vrs.iter().zip(vals) {
-            let v = &table[vr as usize];
-            let slot = &mut raw[vr as usize];
-            if *slot != x {
-                *slot = x;
-                self.dirty = true;
-                if v.causality == crate::model::Causality::Parameter {
-                    self.params_changed = true;
-                }
-            }
-        }
-        Ok(Status::Ok)
+        Ok(())
     }
 
-    fn get_values(
-        &mut self,
-        vrs: &[ValueReference],
-        kind: &str,
-        type_ok: impl Fn(VarType) -> bool,
-        mut out: impl FnMut(usize, f64),
-    ) -> Outcome {
+    /// Checks that every vr is a variable of this type, brings the outputs up to date (lazy
+    /// outputs) and gives all values by value reference.
+    fn get_values(&mut self, vrs: &[ValueReference], kind: Kind) -> Result<&[f64], String> {
+        let fast = vrs.iter().all(|&vr| {
+            self.access
+                .get(vr as usize)
+                .is_some_and(|a| a & kind.bit != 0)
+        });
+        if !fast {
+            self.check_get(vrs, kind)?;
+        }
+        self.refresh()?;
+        Ok(self.values.raw())
+    }
+
+    /// The slow path of [`Instance::get_values`]: the first vr refused, named.
+    #[cold]
+    #[inline(never)]
+    fn check_get(&self, vrs: &[ValueReference], kind: Kind) -> Result<(), String> {
         let table = Self::table();
         for &vr in vrs {
             match table.get(vr as usize) {
-                Some(v) if type_ok(v.ty) => {}
-                Some(v) => return Err(format!("{} (vr {vr}) is not of type {kind}", v.name)),
+                Some(v) if self.access[vr as usize] == 0 => {
+                    let _ = v;
+                    return Err(format!("unknown value reference {vr}"));
+                }
+                Some(v) if (kind.ok)(v.ty) => {}
+                Some(v) => {
+                    return Err(format!("{} (vr {vr}) is not of type {}", v.name, kind.name));
+                }
                 None => return Err(format!("unknown value reference {vr}")),
             }
         }
-        self.refresh()?;
-        let raw = self.values.raw();
-        for (i, &vr) in vrs.iter().enumerate() {
-            out(i, raw[vr as usize]);
-        }
-        Ok(Status::Ok)
+        Ok(())
     }
 
     fn snapshot(&self) -> Snapshot {
@@ -482,7 +572,7 @@ pub unsafe fn entry<M: Model>(
         inst.logger.emit(Status::Error, "logStatusError", &msg);
         return Status::Error;
     }
-    if inst.logger.enabled(Status::Ok, "logAll") {
+    if inst.logger.on && inst.logger.enabled(Status::Ok, "logAll") {
         inst.logger
             .emit(Status::Ok, "logAll", &format!("fmi2{call:?}"));
     }
@@ -880,21 +970,36 @@ pub unsafe fn reset<M: Model>(c: Component) -> Status {
     }
 }
 
-#[inline]
-fn is_real(t: VarType) -> bool {
-    matches!(t, VarType::Real)
+/// The FMI type a get/set call handles: its name (for messages), its [`access`] bit and the
+/// declared types it covers (Integer calls also read and write Enumerations).
+#[derive(Clone, Copy)]
+struct Kind {
+    name: &'static str,
+    bit: u8,
+    ok: fn(VarType) -> bool,
 }
-#[inline]
-fn is_int(t: VarType) -> bool {
-    t.is_integer_like()
-}
-#[inline]
-fn is_bool(t: VarType) -> bool {
-    matches!(t, VarType::Boolean)
-}
-fn is_none(_: VarType) -> bool {
-    false
-}
+
+const REAL: Kind = Kind {
+    name: "Real",
+    bit: access::REAL,
+    ok: |t| t == VarType::Real,
+};
+const INTEGER: Kind = Kind {
+    name: "Integer",
+    bit: access::INTEGER,
+    ok: VarType::is_integer_like,
+};
+const BOOLEAN: Kind = Kind {
+    name: "Boolean",
+    bit: access::BOOLEAN,
+    ok: |t| t == VarType::Boolean,
+};
+/// The models have no String variables: every String call is refused by the slow path.
+const STRING: Kind = Kind {
+    name: "String",
+    bit: 0,
+    ok: |_| false,
+};
 
 /// `fmi2GetReal`.
 ///
@@ -911,7 +1016,11 @@ pub unsafe fn get_real<M: Model>(
         entry::<M>(c, Call::GetReal, |inst| {
             let vrs = slice(vr, n, "vr")?;
             let out = slice_mut(value, n, "value")?;
-            inst.get_values(vrs, "Real", is_real, |i, x| out[i] = x)
+            let raw = inst.get_values(vrs, REAL)?;
+            for (o, &vr) in out.iter_mut().zip(vrs) {
+                *o = raw[vr as usize];
+            }
+            Ok(Status::Ok)
         })
     }
 }
@@ -931,7 +1040,11 @@ pub unsafe fn get_integer<M: Model>(
         entry::<M>(c, Call::GetInteger, |inst| {
             let vrs = slice(vr, n, "vr")?;
             let out = slice_mut(value, n, "value")?;
-            inst.get_values(vrs, "Integer", is_int, |i, x| out[i] = x as Integer)
+            let raw = inst.get_values(vrs, INTEGER)?;
+            for (o, &vr) in out.iter_mut().zip(vrs) {
+                *o = raw[vr as usize] as Integer;
+            }
+            Ok(Status::Ok)
         })
     }
 }
@@ -951,9 +1064,11 @@ pub unsafe fn get_boolean<M: Model>(
         entry::<M>(c, Call::GetBoolean, |inst| {
             let vrs = slice(vr, n, "vr")?;
             let out = slice_mut(value, n, "value")?;
-            inst.get_values(vrs, "Boolean", is_bool, |i, x| {
-                out[i] = if x != 0.0 { TRUE } else { FALSE }
-            })
+            let raw = inst.get_values(vrs, BOOLEAN)?;
+            for (o, &vr) in out.iter_mut().zip(vrs) {
+                *o = if raw[vr as usize] != 0.0 { TRUE } else { FALSE };
+            }
+            Ok(Status::Ok)
         })
     }
 }
@@ -973,7 +1088,8 @@ pub unsafe fn get_string<M: Model>(
         entry::<M>(c, Call::GetString, |inst| {
             let vrs = slice(vr, n, "vr")?;
             let _ = slice_mut(value, n, "value")?;
-            inst.get_values(vrs, "String", is_none, |_, _| ())
+            inst.get_values(vrs, STRING)?;
+            Ok(Status::Ok)
         })
     }
 }
@@ -993,7 +1109,7 @@ pub unsafe fn set_real<M: Model>(
         entry::<M>(c, Call::SetReal, |inst| {
             let vrs = slice(vr, n, "vr")?;
             let vals = slice(value, n, "value")?;
-            inst.set_values(vrs, vals, "Real", is_real)
+            inst.set_values(vrs, vals, REAL)
         })
     }
 }
@@ -1016,7 +1132,7 @@ pub unsafe fn set_integer<M: Model>(
                 .iter()
                 .map(|&x| x as f64)
                 .collect();
-            inst.set_values(vrs, &vals, "Integer", is_int)
+            inst.set_values(vrs, &vals, INTEGER)
         })
     }
 }
@@ -1039,7 +1155,7 @@ pub unsafe fn set_boolean<M: Model>(
                 .iter()
                 .map(|&x| if x != FALSE { 1.0 } else { 0.0 })
                 .collect();
-            inst.set_values(vrs, &vals, "Boolean", is_bool)
+            inst.set_values(vrs, &vals, BOOLEAN)
         })
     }
 }
@@ -1060,7 +1176,7 @@ pub unsafe fn set_string<M: Model>(
             let vrs = slice(vr, n, "vr")?;
             let _ = slice(value, n, "value")?;
             let vals = vec![0.0; n];
-            inst.set_values(vrs, &vals, "String", is_none)
+            inst.set_values(vrs, &vals, STRING)
         })
     }
 }

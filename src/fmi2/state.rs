@@ -206,12 +206,23 @@ pub const LEGAL: &[(Call, u16)] = &[
     ),
 ];
 
+/// [`LEGAL`] indexed by the call, built at compile time: a call's check is one load and a mask.
+const BY_CALL: [u16; LEGAL.len()] = {
+    let mut t = [0u16; LEGAL.len()];
+    let mut i = 0;
+    while i < LEGAL.len() {
+        t[LEGAL[i].0 as usize] = LEGAL[i].1;
+        i += 1;
+    }
+    t
+};
+
 /// Is `call` legal in `state`?
+#[inline]
 pub fn allowed(call: Call, state: State) -> bool {
-    LEGAL
-        .iter()
-        .find(|(c, _)| *c == call)
-        .is_some_and(|(_, m)| m & state as u16 != 0)
+    BY_CALL
+        .get(call as usize)
+        .is_some_and(|m| m & state as u16 != 0)
 }
 
 #[cfg(test)]
@@ -228,6 +239,12 @@ mod tests {
             );
         }
         assert_eq!(LEGAL.len(), 41);
+        // the indexed copy holds the same rules
+        for (c, m) in LEGAL {
+            for s in ALL_STATES {
+                assert_eq!(allowed(*c, s), m & s as u16 != 0, "{c:?} in {s:?}");
+            }
+        }
     }
 
     #[test]
