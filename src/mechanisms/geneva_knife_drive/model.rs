@@ -3,6 +3,7 @@
 
 use super::elastic::{KnifeOde, Point};
 use super::physics::{Kinematics, Params};
+use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Values};
 use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
@@ -77,6 +78,8 @@ crate::model_variables! {
 /// The Geneva-mechanism knife drive of a three-knife trimmer (paper 003) as an FMU model.
 pub struct GenevaKnifeDrive {
     params: Params,
+    /// The Geneva pair of `params`, built once per prepare.
+    geneva: Geneva,
     dynamic: Option<Dynamic>,
 }
 
@@ -263,7 +266,11 @@ impl Model for GenevaKnifeDrive {
                 g_prev: Vec::new(),
             }
         });
-        Ok(GenevaKnifeDrive { params, dynamic })
+        Ok(GenevaKnifeDrive {
+            geneva: params.geneva(),
+            params,
+            dynamic,
+        })
     }
 
     fn do_step(
@@ -388,7 +395,7 @@ impl Model for GenevaKnifeDrive {
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
         let p = &self.params;
         let s = shaft::state(v, time);
-        let k = p.kinematics(s.phi, s.w, s.a);
+        let k = p.kinematics_of(&self.geneva, s.phi, s.w, s.a);
         Self::write_kinematics(v, &k);
         v[V::knife_s_kin] = k.s;
         if let Some(d) = self.dynamic.as_ref() {
