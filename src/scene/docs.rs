@@ -72,10 +72,7 @@ pub fn report<M: Model>(t: &Tailored) -> Report {
                 Drive::ConstantSpeed { rpm, .. }
                     if matches!(vr as u32, shaft::PHI | shaft::W | shaft::A) =>
                 {
-                    format!(
-                        "the FMU drives itself at {} rpm (constant_speed)",
-                        fmt_real(rpm)
-                    )
+                    format!("the FMU drives itself at {rpm} rpm (constant_speed)")
                 }
                 _ => "no output of the scene depends on it".into(),
             })),

@@ -700,15 +700,30 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
     let param_error = |e: crate::model::ParamError| {
         let (key, span) = if e.param == "model.fidelity" {
             ("fidelity".to_string(), scene.spans.fidelity.clone())
-        } else if let Some((n, _, s)) = scene.parameters.iter().find(|p| p.0 == e.param) {
+        } else if let Some((n, _, s)) =
+            scene
+                .parameters
+                .iter()
+                .find(|p| p.0 == e.param)
+                .or_else(|| {
+                    // the mechanism blames one of its parameters for a condition that names the
+                    // scene's (a rod shorter than the crank radius the scene set)
+                    scene
+                        .parameters
+                        .iter()
+                        .find(|p| e.condition.contains(p.0.as_str()))
+                })
+        {
             (format!("parameters.{n:?}"), s.clone())
         } else if e.param.starts_with("drive.") {
             ("drive".to_string(), scene.spans.drive.clone())
         } else {
-            (
-                format!("parameters.{:?}", e.param),
-                scene.spans.name.clone(),
-            )
+            // a default the scene did not touch, refused with the scene's other values
+            return SceneError {
+                key: format!("parameters.{:?}", e.param),
+                line: None,
+                message: format!("refused by {} with this scene's values: {e}", M::IDENTIFIER),
+            };
         };
         scene.error_at(key, &span, format!("refused by {}: {e}", M::IDENTIFIER))
     };
