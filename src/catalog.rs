@@ -9,6 +9,9 @@ use crate::scene::{Scene, SceneError, Tailored};
 /// An FMU's `documentation/` files (index.html first, then figures) and its `model.png` icon.
 pub type Documentation = (Vec<(String, Vec<u8>)>, Vec<u8>);
 
+/// Files by name, e.g. of `documentation/`.
+pub type Files = Vec<(String, Vec<u8>)>;
+
 /// One FMU of the catalog.
 pub struct Entry {
     /// `modelIdentifier`, also the folder `fmus/<identifier>/`.
@@ -26,7 +29,7 @@ pub struct Entry {
     /// The FMU tailored to a scene of this mechanism (`scenes.md`).
     pub tailor: fn(&Scene) -> Result<Tailored, SceneError>,
     /// The `documentation/` files of such an FMU (what it leaves out, and why).
-    pub scene_documentation: fn(&Tailored) -> Result<Vec<(String, Vec<u8>)>, String>,
+    pub scene_documentation: fn(&Tailored) -> Result<Files, String>,
 }
 
 /// The variables of a model type, by value reference.

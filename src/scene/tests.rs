@@ -94,8 +94,8 @@ fn every_example_scene_tailors_and_covers_every_level() {
         covered.push((scene.mechanism.clone(), scene.fidelity));
     }
     for (m, levels) in [
-        ("GenevaKnifeDrive", &FIDELITIES[..]),
-        ("SewingTable", &FIDELITIES[..]),
+        ("GenevaKnifeDrive", FIDELITIES),
+        ("SewingTable", FIDELITIES),
         ("Perforators", &FIDELITIES[..2]),
         ("DiscKnifeDrive", &FIDELITIES[..2]),
     ] {
