@@ -15,11 +15,9 @@ use crate::model::shaft::{self, Fidelity};
 use crate::model::{
     Causality, Experiment, Model, Stage, Stages, Values, Var, VarSet, VarType, check_bounds,
 };
-use serde::Deserialize;
-use std::collections::BTreeMap;
 use std::fmt;
 use std::ops::Range;
-use toml::Spanned;
+use toml::de::{DeTable, DeValue};
 
 #[cfg(feature = "tools")]
 pub mod docs;
@@ -67,8 +65,7 @@ impl fmt::Display for SceneError {
 impl std::error::Error for SceneError {}
 
 /// A parameter value as written in the scene.
-#[derive(Clone, Debug, PartialEq, Deserialize)]
-#[serde(untagged)]
+#[derive(Clone, Debug, PartialEq)]
 pub enum Value {
     Bool(bool),
     Int(i64),
@@ -87,36 +84,141 @@ impl fmt::Display for Value {
     }
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawScene {
-    name: Spanned<String>,
-    mechanism: Spanned<String>,
-    fidelity: Spanned<String>,
-    outputs: Spanned<Vec<Spanned<String>>>,
-    #[serde(default)]
-    parameters: BTreeMap<Spanned<String>, Spanned<Value>>,
-    experiment: Option<Spanned<RawExperiment>>,
-    drive: Option<Spanned<RawDrive>>,
+/// The keys of a scene file, of its `[experiment]` and of its `[drive]`.
+pub const KEYS: &[&str] = &[
+    "name",
+    "mechanism",
+    "fidelity",
+    "outputs",
+    "parameters",
+    "experiment",
+    "drive",
+];
+const EXPERIMENT_KEYS: &[&str] = &["start", "stop", "step", "tolerance"];
+const DRIVE_KEYS: &[&str] = &["mode", "n", "phi0"];
+
+/// A TOML table of the file, read key by key (toml's parser, without serde: the FMU's binary
+/// parses the scene too, and serde's generated readers would add to its size what this does not).
+struct Table<'a, 'i> {
+    text: &'a str,
+    /// `""` for the file, `"experiment."` for `[experiment]`, ...
+    prefix: &'static str,
+    table: &'a DeTable<'i>,
+    /// Where the table is (for a missing key).
+    span: Range<usize>,
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawExperiment {
-    start: Option<Spanned<f64>>,
-    stop: Spanned<f64>,
-    step: Spanned<f64>,
-    tolerance: Option<Spanned<f64>>,
+type Item<'a, 'i> = (&'a DeValue<'i>, Range<usize>);
+
+fn type_name(v: &DeValue) -> &'static str {
+    match v {
+        DeValue::String(_) => "a string",
+        DeValue::Integer(_) => "an integer",
+        DeValue::Float(_) => "a float",
+        DeValue::Boolean(_) => "a boolean",
+        DeValue::Datetime(_) => "a date-time",
+        DeValue::Array(_) => "an array",
+        DeValue::Table(_) => "a table",
+    }
 }
 
-#[derive(Deserialize)]
-#[serde(deny_unknown_fields)]
-struct RawDrive {
-    mode: Spanned<String>,
-    /// rpm
-    n: Option<Spanned<f64>>,
-    /// rad
-    phi0: Option<Spanned<f64>>,
+impl<'a, 'i> Table<'a, 'i> {
+    fn error(&self, key: &str, span: Range<usize>, message: String) -> SceneError {
+        SceneError {
+            key: format!("{}{key}", self.prefix),
+            line: Some(line_of(self.text, span.start)),
+            message,
+        }
+    }
+
+    /// Refuses a key not in `valid`, naming the valid ones.
+    fn only(&self, valid: &[&str]) -> Result<(), SceneError> {
+        for (k, _) in self.table.iter() {
+            if !valid.contains(&k.get_ref().as_ref()) {
+                return Err(self.error(
+                    k.get_ref(),
+                    k.span(),
+                    format!("unknown key; valid: {}", valid.join(", ")),
+                ));
+            }
+        }
+        Ok(())
+    }
+
+    fn get(&self, key: &str) -> Option<Item<'a, 'i>> {
+        self.table
+            .iter()
+            .find(|(k, _)| k.get_ref() == key)
+            .map(|(_, v)| (v.get_ref(), v.span()))
+    }
+
+    fn require(&self, key: &str, what: &str) -> Result<Item<'a, 'i>, SceneError> {
+        self.get(key).ok_or_else(|| {
+            self.error(
+                key,
+                self.span.clone(),
+                format!("missing: the scene needs `{key}` ({what})"),
+            )
+        })
+    }
+
+    fn wrong(&self, key: &str, (v, span): Item, want: &str) -> SceneError {
+        self.error(key, span, format!("must be {want}, not {}", type_name(v)))
+    }
+
+    fn string(&self, key: &str, item: Item<'a, 'i>) -> Result<(String, Range<usize>), SceneError> {
+        match item.0 {
+            DeValue::String(s) => Ok((s.to_string(), item.1)),
+            _ => Err(self.wrong(key, item, "a string")),
+        }
+    }
+
+    fn number(&self, key: &str, item: Item<'a, 'i>) -> Result<(f64, Range<usize>), SceneError> {
+        match number(item.0) {
+            Some(x) => Ok((x, item.1)),
+            None => Err(self.wrong(key, item, "a number")),
+        }
+    }
+
+    fn table(&self, key: &str, prefix: &'static str) -> Result<Option<Table<'a, 'i>>, SceneError> {
+        match self.get(key) {
+            None => Ok(None),
+            Some((DeValue::Table(t), span)) => Ok(Some(Table {
+                text: self.text,
+                prefix,
+                table: t,
+                span,
+            })),
+            Some(item) => Err(self.wrong(key, item, "a table")),
+        }
+    }
+}
+
+/// A TOML number as `f64` (an integer too).
+fn number(v: &DeValue) -> Option<f64> {
+    match v {
+        DeValue::Float(f) => {
+            let x: f64 = f.as_str().parse().ok()?;
+            (x.is_finite() || f.as_str().contains("inf") || x.is_nan()).then_some(x)
+        }
+        DeValue::Integer(i) => i64::from_str_radix(i.as_str(), i.radix())
+            .ok()
+            .map(|i| i as f64),
+        _ => None,
+    }
+}
+
+/// A scene parameter's value.
+fn value(v: &DeValue) -> Option<Value> {
+    match v {
+        DeValue::Boolean(b) => Some(Value::Bool(*b)),
+        DeValue::Integer(i) => i64::from_str_radix(i.as_str(), i.radix())
+            .ok()
+            .map(Value::Int),
+        DeValue::Float(_) => number(v).map(Value::Float),
+        DeValue::String(s) => Some(Value::Text(s.to_string())),
+        _ => None,
+    }
 }
 
 /// The scene's drive (`[drive]`).
@@ -207,22 +309,24 @@ impl Scene {
     /// Reads a scene file; refuses bad syntax, unknown keys, wrong types and bad values of the
     /// mechanism-independent keys.
     pub fn parse(text: &str) -> Result<Scene, SceneError> {
-        let raw: RawScene = toml::from_str(text).map_err(|e| {
-            let line = e.span().map(|s| line_of(text, s.start));
-            // toml's message spans several lines with a snippet; the first is the reason
-            let msg = e.message().trim().to_string();
-            SceneError {
-                key: String::new(),
-                line,
-                message: msg,
-            }
+        let doc = DeTable::parse(text).map_err(|e| SceneError {
+            key: String::new(),
+            line: e.span().map(|s| line_of(text, s.start)),
+            message: e.message().trim().to_string(),
         })?;
+        let root = Table {
+            text,
+            prefix: "",
+            table: doc.get_ref(),
+            span: 0..0,
+        };
+        root.only(KEYS)?;
         let at = |key: &str, span: Range<usize>, message: String| SceneError {
             key: key.into(),
             line: Some(line_of(text, span.start)),
             message,
         };
-        let name = raw.name.get_ref().clone();
+        let (name, name_span) = root.string("name", root.require("name", "a string")?)?;
         let name_ok = !name.is_empty()
             && name.len() <= 64
             && name
@@ -231,23 +335,28 @@ impl Scene {
         if !name_ok {
             return Err(at(
                 "name",
-                raw.name.span(),
+                name_span,
                 format!(
                     "{name:?} is not a valid scene name: 1 to 64 ASCII letters, digits, '-' or '_' (it becomes the modelIdentifier suffix)"
                 ),
             ));
         }
+        let (mechanism, mechanism_span) =
+            root.string("mechanism", root.require("mechanism", "a string")?)?;
+        let (fid, fidelity_span) = root.string(
+            "fidelity",
+            root.require("fidelity", "kinematic, kinetostatic or elastodynamic")?,
+        )?;
         let fidelity = FIDELITIES
             .iter()
-            .find(|(n, _)| *n == raw.fidelity.get_ref().as_str())
+            .find(|(n, _)| *n == fid.as_str())
             .map(|(_, f)| *f)
             .ok_or_else(|| {
                 at(
                     "fidelity",
-                    raw.fidelity.span(),
+                    fidelity_span.clone(),
                     format!(
-                        "unknown fidelity {:?}; valid: {}",
-                        raw.fidelity.get_ref(),
+                        "unknown fidelity {fid:?}; valid: {}",
                         FIDELITIES
                             .iter()
                             .map(|f| f.0)
@@ -256,134 +365,140 @@ impl Scene {
                     ),
                 )
             })?;
-        let outputs_span = raw.outputs.span();
-        let outputs: Vec<(String, Range<usize>)> = raw
-            .outputs
-            .into_inner()
-            .into_iter()
-            .map(|s| (s.get_ref().clone(), s.span()))
-            .collect();
+        let outputs_item = root.require("outputs", "an array of output names")?;
+        let outputs_span = outputs_item.1.clone();
+        let DeValue::Array(list) = outputs_item.0 else {
+            return Err(root.wrong("outputs", outputs_item, "an array of output names"));
+        };
+        let mut outputs: Vec<(String, Range<usize>)> = Vec::new();
+        for (i, o) in list.iter().enumerate() {
+            let key = format!("outputs[{i}]");
+            let (DeValue::String(name), span) = (o.get_ref(), o.span()) else {
+                return Err(root.wrong(&key, (o.get_ref(), o.span()), "a string"));
+            };
+            if outputs.iter().any(|(p, _)| p == name.as_ref()) {
+                return Err(at(&key, span, format!("{name:?} is listed twice")));
+            }
+            outputs.push((name.to_string(), span));
+        }
         if outputs.is_empty() {
             return Err(at(
                 "outputs",
-                outputs_span,
+                outputs_span.clone(),
                 "is empty: a scene asks for at least one output".into(),
             ));
         }
-        for (i, (o, span)) in outputs.iter().enumerate() {
-            if outputs[..i].iter().any(|(p, _)| p == o) {
-                return Err(at(
-                    &format!("outputs[{i}]"),
-                    span.clone(),
-                    format!("{o:?} is listed twice"),
-                ));
+        let mut parameters = Vec::new();
+        if let Some(p) = root.table("parameters", "parameters.")? {
+            for (k, v) in p.table.iter() {
+                let key = format!("parameters.{:?}", k.get_ref());
+                let x = value(v.get_ref()).ok_or_else(|| {
+                    at(
+                        &key,
+                        k.span(),
+                        format!(
+                            "must be a number, a boolean or a string, not {}",
+                            type_name(v.get_ref())
+                        ),
+                    )
+                })?;
+                parameters.push((k.get_ref().to_string(), x, k.span()));
             }
         }
-        let parameters = raw
-            .parameters
-            .into_iter()
-            .map(|(k, v)| (k.get_ref().clone(), v.get_ref().clone(), k.span()))
-            .collect();
-        let experiment = match raw.experiment {
+        let experiment = match root.table("experiment", "experiment.")? {
             None => None,
             Some(e) => {
-                let e = e.into_inner();
-                let start = e.start.as_ref().map(|s| *s.get_ref()).unwrap_or(0.0);
-                let stop = *e.stop.get_ref();
-                let step = *e.step.get_ref();
-                let check = |key: &str, s: Range<usize>, ok: bool, why: &str| {
-                    if ok {
-                        Ok(())
-                    } else {
-                        Err(at(key, s, why.to_string()))
-                    }
-                };
-                if let Some(s) = &e.start {
-                    check(
-                        "experiment.start",
-                        s.span(),
-                        start.is_finite(),
-                        "must be finite",
-                    )?;
+                e.only(EXPERIMENT_KEYS)?;
+                let opt = |key: &str| e.get(key).map(|item| e.number(key, item)).transpose();
+                let start = opt("start")?;
+                let (stop, stop_span) = e.number("stop", e.require("stop", "a time in s")?)?;
+                let (step, step_span) = e.number("step", e.require("step", "a time in s")?)?;
+                let tolerance = opt("tolerance")?;
+                if let Some((x, s)) = &start
+                    && !x.is_finite()
+                {
+                    return Err(at("experiment.start", s.clone(), "must be finite".into()));
                 }
-                check(
-                    "experiment.stop",
-                    e.stop.span(),
-                    stop.is_finite() && stop > start,
-                    &format!("= {stop} must be finite and after experiment.start = {start}"),
-                )?;
-                check(
-                    "experiment.step",
-                    e.step.span(),
-                    step.is_finite() && step > 0.0 && step <= stop - start,
-                    &format!("= {step} must be > 0 and at most stop - start"),
-                )?;
-                if let Some(t) = &e.tolerance {
-                    check(
-                        "experiment.tolerance",
-                        t.span(),
-                        *t.get_ref() > 0.0 && t.get_ref().is_finite(),
-                        "must be > 0",
-                    )?;
+                let t0 = start.as_ref().map(|s| s.0).unwrap_or(0.0);
+                if !(stop.is_finite() && stop > t0) {
+                    return Err(at(
+                        "experiment.stop",
+                        stop_span,
+                        format!("= {stop} must be finite and after experiment.start = {t0}"),
+                    ));
+                }
+                if !(step.is_finite() && step > 0.0 && step <= stop - t0) {
+                    return Err(at(
+                        "experiment.step",
+                        step_span,
+                        format!("= {step} must be > 0 and at most stop - start"),
+                    ));
+                }
+                if let Some((x, s)) = &tolerance
+                    && !(x.is_finite() && *x > 0.0)
+                {
+                    return Err(at("experiment.tolerance", s.clone(), "must be > 0".into()));
                 }
                 Some(Experiment {
-                    start,
+                    start: t0,
                     stop,
                     step,
-                    tolerance: e.tolerance.map(|t| *t.get_ref()),
+                    tolerance: tolerance.map(|t| t.0),
                 })
             }
         };
         let mut drive_span = 0..0;
-        let drive = match raw.drive {
+        let drive = match root.table("drive", "drive.")? {
             None => Drive::Input,
             Some(d) => {
-                drive_span = d.span();
-                let d = d.into_inner();
-                match d.mode.get_ref().as_str() {
+                drive_span = d.span.clone();
+                d.only(DRIVE_KEYS)?;
+                let (mode, mode_span) =
+                    d.string("mode", d.require("mode", "input or constant_speed")?)?;
+                let n = d.get("n").map(|item| d.number("n", item)).transpose()?;
+                let phi0 = d
+                    .get("phi0")
+                    .map(|item| d.number("phi0", item))
+                    .transpose()?;
+                match mode.as_str() {
                     "input" => {
-                        if let Some(n) = d.n.as_ref().or(d.phi0.as_ref()) {
+                        if let Some((_, s)) = n.as_ref().or(phi0.as_ref()) {
                             return Err(at(
                                 "drive",
-                                n.span(),
+                                s.clone(),
                                 "n and phi0 apply to mode = \"constant_speed\" only".into(),
                             ));
                         }
                         Drive::Input
                     }
                     "constant_speed" => {
-                        let n = d.n.as_ref().ok_or_else(|| {
+                        let (rpm, n_span) = n.ok_or_else(|| {
                             at(
                                 "drive.n",
-                                d.mode.span(),
+                                mode_span.clone(),
                                 "mode = \"constant_speed\" needs the speed n (rpm)".into(),
                             )
                         })?;
-                        let rpm = *n.get_ref();
                         // drive.n is bounded to +-1e4 rad/s
                         if !(rpm.is_finite() && (rpm * std::f64::consts::PI / 30.0).abs() <= 1e4) {
                             return Err(at(
                                 "drive.n",
-                                n.span(),
+                                n_span,
                                 format!(
                                     "= {rpm} rpm must be finite and within +-95493 rpm (1e4 rad/s)"
                                 ),
                             ));
                         }
-                        let phi0 = d.phi0.as_ref().map(|p| *p.get_ref()).unwrap_or(0.0);
+                        let (phi0, phi0_span) = phi0.unwrap_or((0.0, 0..0));
                         if !phi0.is_finite() {
-                            return Err(at(
-                                "drive.phi0",
-                                d.phi0.as_ref().map(|p| p.span()).unwrap_or(0..0),
-                                "must be finite (rad)".into(),
-                            ));
+                            return Err(at("drive.phi0", phi0_span, "must be finite (rad)".into()));
                         }
                         Drive::ConstantSpeed { rpm, phi0 }
                     }
                     other => {
                         return Err(at(
                             "drive.mode",
-                            d.mode.span(),
+                            mode_span,
                             format!("unknown drive mode {other:?}; valid: input, constant_speed"),
                         ));
                     }
@@ -393,16 +508,16 @@ impl Scene {
         Ok(Scene {
             text: text.to_string(),
             name,
-            mechanism: raw.mechanism.get_ref().clone(),
+            mechanism,
             fidelity,
             outputs,
             parameters,
             experiment,
             drive,
             spans: Spans {
-                name: raw.name.span(),
-                mechanism: raw.mechanism.span(),
-                fidelity: raw.fidelity.span(),
+                name: name_span,
+                mechanism: mechanism_span,
+                fidelity: fidelity_span,
                 outputs: outputs_span,
                 drive: drive_span,
             },

@@ -328,19 +328,41 @@ fn syntax_and_unknown_keys() {
     assert_refused("name = \"a\"\nmechanism = = 3\n", "", 2, &[]);
     assert_refused(
         &(GENEVA.to_string() + "colour = \"red\"\n"),
-        "",
+        "colour",
         5,
-        &["unknown field `colour`", "mechanism", "outputs"],
+        &[
+            "unknown key",
+            "valid: name, mechanism, fidelity, outputs, parameters, experiment, drive",
+        ],
     );
     assert_refused(
         &(GENEVA.to_string() + "[experiment]\nstop = 1.0\nstep = 1e-3\nend = 2\n"),
-        "",
+        "experiment.end",
         8,
-        &["unknown field `end`", "stop"],
+        &["unknown key", "valid: start, stop, step, tolerance"],
+    );
+    assert_refused(
+        &(GENEVA.to_string() + "[experiment]\nstop = \"1 s\"\nstep = 1e-3\n"),
+        "experiment.stop",
+        6,
+        &["must be a number, not a string"],
+    );
+    assert_refused(
+        &GENEVA.replace("outputs = [\"knife.s\"]", "outputs = \"knife.s\""),
+        "outputs",
+        4,
+        &["must be an array of output names, not a string"],
+    );
+    assert_refused(
+        &GENEVA.replace("outputs = [\"knife.s\"]", "outputs = [\"knife.s\", 3]"),
+        "outputs[1]",
+        4,
+        &["must be a string, not an integer"],
     );
     // a missing key
     let e = refusal("name = \"a\"\nmechanism = \"SewingTable\"\nfidelity = \"kinematic\"\n");
-    assert!(e.message.contains("missing field `outputs`"), "{e}");
+    assert_eq!(e.key, "outputs");
+    assert!(e.message.contains("missing"), "{e}");
 }
 
 #[test]
