@@ -249,3 +249,90 @@ fn a_scene_fmu_refuses_the_full_guid_and_a_bad_scene() {
     std::fs::remove_file(_d.join(RESOURCE_NAME)).unwrap();
     assert!(instantiate(&fmu, &full_guid, &uri).is_some());
 }
+
+#[test]
+fn reset_and_fmu_states_keep_the_scene() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/perforators-ramp-contact.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (entry, t) = catalog::tailor(&Scene::parse(&text).unwrap()).unwrap();
+    let fmu = Fmu::load(entry.identifier, &(entry.describe)().1);
+    let (_dir, uri) = resources("reset", &text);
+    let s = instantiate(&fmu, &t.guid, &uri).unwrap();
+    let vr = t
+        .variables
+        .iter()
+        .find(|(_, v)| v.name == "roller.F")
+        .map(|(vr, _)| *vr)
+        .unwrap();
+    let run = |s: &Slave, steps: usize| -> Vec<u64> {
+        let mut out = vec![];
+        for k in 0..steps {
+            assert_eq!(s.do_step(k as f64 * 1e-3, 1e-3), Status::Ok);
+            out.push(s.get_real(&[vr]).1[0].to_bits());
+        }
+        out
+    };
+    assert_eq!(s.setup(0.0, None), Status::Ok);
+    assert_eq!(s.init(), Status::Ok);
+    let first = run(&s, 50);
+    // a saved state restores the scene's run (its stages and start values included)
+    let mut saved: FMUstate = std::ptr::null_mut();
+    assert_eq!(s.get_state(&mut saved), Status::Ok);
+    let (st, bytes) = s.serialize(saved);
+    assert_eq!(st, Status::Ok);
+    let later = |s: &Slave| -> Vec<u64> {
+        (50..80)
+            .map(|k| {
+                assert_eq!(s.do_step(k as f64 * 1e-3, 1e-3), Status::Ok);
+                s.get_real(&[vr]).1[0].to_bits()
+            })
+            .collect()
+    };
+    let a = later(&s);
+    assert_eq!(s.set_state(saved), Status::Ok);
+    assert_eq!(later(&s), a);
+    let mut back: FMUstate = std::ptr::null_mut();
+    assert_eq!(s.deserialize(&bytes, &mut back), Status::Ok);
+    assert_eq!(s.set_state(back), Status::Ok);
+    assert_eq!(later(&s), a);
+    assert_eq!(s.free_state(&mut saved), Status::Ok);
+    assert_eq!(s.free_state(&mut back), Status::Ok);
+    // reset: the scene's start values again, and still only its variables
+    assert_eq!(s.call0("fmi2Reset"), Status::Ok);
+    assert_eq!(s.setup(0.0, None), Status::Ok);
+    assert_eq!(s.init(), Status::Ok);
+    assert_eq!(run(&s, 50), first);
+    let hidden = shaft::PHI; // constant_speed: the shaft inputs are left out
+    assert_eq!(s.set_real(&[hidden], &[1.0]), Status::Error);
+    assert!(
+        s.last_error()
+            .contains("shaft.phi is left out of Perforators_ramp_contact")
+    );
+}
+
+#[test]
+fn a_scene_without_states_refuses_model_exchange() {
+    let path =
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/geneva-side-knife-kinematics.toml");
+    let text = std::fs::read_to_string(&path).unwrap();
+    let (entry, t) = catalog::tailor(&Scene::parse(&text).unwrap()).unwrap();
+    let fmu = Fmu::load(entry.identifier, &(entry.describe)().1);
+    let (_dir, uri) = resources("me", &text);
+    let env = ENV.fetch_add(1, Ordering::SeqCst);
+    let f = fmu.callbacks(env);
+    let g = CString::new(t.guid.clone()).unwrap();
+    let c = fmu.instantiate_raw(
+        c"me".as_ptr(),
+        FmuType::ModelExchange,
+        g.as_ptr(),
+        uri.as_ptr(),
+        &f,
+    );
+    assert!(c.is_null());
+    let logs = common::logs_of(env);
+    assert!(
+        logs.iter()
+            .any(|l| l.2.contains("provides Co-Simulation (1) only")),
+        "{logs:?}"
+    );
+}
