@@ -8,6 +8,7 @@
 //! - [`solver`]: the integrators of the elastodynamic level (inside `fmi2DoStep`); know no mechanism.
 //! - [`md`]: the modelDescription.xml writer and GUID, generated from those declarations.
 //! - [`fmi2`]: the FMI 2.0 C ABI runtime; knows no mechanism.
+//! - [`scene`]: scene files and the FMU tailored to one (`scenes.md`); knows no mechanism.
 //! - `docs` (feature `tools`): the FMU's `documentation/` page, figures and icon; knows no mechanism.
 #[cfg(feature = "tools")]
 pub mod catalog;
@@ -20,4 +21,5 @@ pub mod mechanisms;
 pub mod model;
 #[cfg(feature = "tools")]
 pub mod package;
+pub mod scene;
 pub mod solver;
