@@ -143,17 +143,18 @@ const ROWS: &[Row] = &[
 ];
 
 /// Calls whose capability flag is false: refused with "not supported" in every state.
-fn unsupported(call: Call) -> bool {
-    matches!(
-        call,
-        Call::GetDirectionalDerivative
-            | Call::SetRealInputDerivatives
-            | Call::GetRealOutputDerivatives
-            | Call::CancelStep
-            | Call::GetStatus
-            | Call::GetIntegerStatus
-            | Call::GetStringStatus
-    )
+/// (`fmi2SetRealInputDerivatives` works where `canInterpolateInputs` is true.)
+fn unsupported(call: Call, e: &Entry) -> bool {
+    (call == Call::SetRealInputDerivatives && !(e.info)().can_interpolate_inputs)
+        || matches!(
+            call,
+            Call::GetDirectionalDerivative
+                | Call::GetRealOutputDerivatives
+                | Call::CancelStep
+                | Call::GetStatus
+                | Call::GetIntegerStatus
+                | Call::GetStringStatus
+        )
 }
 
 /// A valid call of `call` on instance `c` (NULL included: every function must refuse it).
@@ -391,7 +392,7 @@ fn call_sequence_matrix() {
                             && l.2.contains(&format!("not allowed in state {state:?}"))),
                         "{cell}: {new_logs:?}"
                     );
-                } else if unsupported(call) {
+                } else if unsupported(call, &e) {
                     assert_eq!(status, Status::Error, "{cell}");
                     assert!(
                         new_logs.iter().any(|l| l.2.contains("not supported")),
@@ -835,6 +836,159 @@ fn tampered_fmu_states_are_refused() {
             );
         }
         assert_eq!(s.free_state(&mut st), Status::Ok);
+    }
+}
+
+/// `fmi2SetRealInputDerivatives`: refused where `canInterpolateInputs` is false ("not
+/// supported") and on a Model Exchange instance; where it is true, every bad argument (not a
+/// Real input, order 0 or above 2, a non-finite value, NULL arrays) is refused with a reason
+/// and changes nothing, even when other entries of the same call are valid; derivatives a
+/// state was saved with are checked when it is set again.
+#[test]
+fn input_derivative_calls_are_checked_and_atomic() {
+    for e in catalog::all() {
+        let f = load(&e);
+        let s = f.slave("ider");
+        assert_eq!(s.setup(0.0, None), Status::Ok);
+        assert_eq!(s.init(), Status::Ok);
+        let phi = vr_of(&e, "shaft.phi");
+        if !(e.info)().can_interpolate_inputs {
+            assert_eq!(s.set_input_derivatives(&[phi], &[1], &[1.0]), Status::Error);
+            assert!(
+                s.last_error().contains("not supported"),
+                "{}",
+                s.last_error()
+            );
+            continue;
+        }
+        let state_bytes = |s: &Slave| {
+            let mut st: FMUstate = std::ptr::null_mut();
+            assert_eq!(s.get_state(&mut st), Status::Ok);
+            let (ok, b) = s.serialize(st);
+            assert_eq!(ok, Status::Ok);
+            assert_eq!(s.free_state(&mut st), Status::Ok);
+            b
+        };
+        assert_eq!(s.set_input_derivatives(&[phi], &[1], &[2.5]), Status::Ok);
+        let before = state_bytes(&s);
+        let n = vars(&e).len() as u32;
+        let output = vr_of(&e, "shaft.tau");
+        let param = first(&e, |v| {
+            v.causality == Causality::Parameter && v.ty == VarType::Real
+        })
+        .expect("a Real parameter");
+        let int = vr_of(&e, "drive.mode");
+        let cases: Vec<(u32, i32, f64, &str)> = vec![
+            (output, 1, 1.0, "not a Real input"),
+            (param, 1, 1.0, "not a Real input"),
+            (int, 1, 1.0, "not a Real input"),
+            (n, 1, 1.0, "unknown value reference"),
+            (u32::MAX, 1, 1.0, "unknown value reference"),
+            (phi, 0, 1.0, "orders 1..=2"),
+            (phi, 3, 1.0, "orders 1..=2"),
+            (phi, -1, 1.0, "orders 1..=2"),
+            (phi, i32::MIN, 1.0, "orders 1..=2"),
+            (phi, 1, f64::NAN, "not a finite number"),
+            (phi, 2, f64::INFINITY, "not a finite number"),
+        ];
+        for (vr, order, x, why) in cases {
+            // a valid entry first: the call is refused as a whole
+            let st = s.set_input_derivatives(&[phi, vr], &[2, order], &[7.0, x]);
+            let cell = format!("{} vr {vr} order {order} = {x}", e.identifier);
+            assert_eq!(st, Status::Error, "{cell}");
+            assert!(s.last_error().contains(why), "{cell}: {}", s.last_error());
+            assert_eq!(
+                state_bytes(&s),
+                before,
+                "{cell}: the refused call changed the state"
+            );
+        }
+        // NULL arrays with n > 0
+        let g: Symbol<
+            unsafe extern "C" fn(
+                Component,
+                *const u32,
+                usize,
+                *const Integer,
+                *const Real,
+            ) -> Status,
+        > = f.sym("fmi2SetRealInputDerivatives");
+        // SAFETY: the FMI function with NULL arrays, which it must refuse.
+        unsafe {
+            assert_eq!(
+                g(s.c, std::ptr::null(), 1, [1].as_ptr(), [1.0].as_ptr()),
+                Status::Error
+            );
+            assert_eq!(
+                g(s.c, [phi].as_ptr(), 1, std::ptr::null(), [1.0].as_ptr()),
+                Status::Error
+            );
+            assert_eq!(
+                g(s.c, [phi].as_ptr(), 1, [1].as_ptr(), std::ptr::null()),
+                Status::Error
+            );
+            assert!(s.last_error().contains("NULL"), "{}", s.last_error());
+            assert_eq!(
+                g(s.c, std::ptr::null(), 0, std::ptr::null(), std::ptr::null()),
+                Status::Ok
+            );
+        }
+        assert_eq!(state_bytes(&s), before);
+        // a derivative the path does not use is kept, with a warning saying so
+        let a = vr_of(&e, "shaft.a");
+        let n_logs = s.logs().len();
+        assert_eq!(s.set_input_derivatives(&[a], &[1], &[1.0]), Status::Warning);
+        assert!(
+            s.logs()[n_logs..]
+                .iter()
+                .any(|l| l.0 == Status::Warning && l.2.contains("shaft.a of order 1")),
+            "{:?}",
+            &s.logs()[n_logs..]
+        );
+        // tampered derivatives in a serialized state: the last triple (vr, order, value)
+        let bytes = state_bytes(&s);
+        let at = bytes.len() - 24;
+        for (k, x, why) in [
+            (0, f64::from(output), "not a Real input"),
+            (0, 0.5, "not a value reference"),
+            (1, 3.0, "orders 1..=2"),
+            (2, f64::NAN, "not a finite number"),
+        ] {
+            let mut b = bytes.clone();
+            b[at + 8 * k..at + 8 * k + 8].copy_from_slice(&x.to_bits().to_le_bytes());
+            let mut bad: FMUstate = std::ptr::null_mut();
+            let de = s.deserialize(&b, &mut bad);
+            if de == Status::Ok {
+                assert_eq!(
+                    s.set_state(bad),
+                    Status::Error,
+                    "{} tampered {k} = {x}",
+                    e.identifier
+                );
+                assert_eq!(s.free_state(&mut bad), Status::Ok);
+            }
+            assert!(
+                s.last_error().contains(why),
+                "{k} = {x}: {}",
+                s.last_error()
+            );
+            assert_eq!(state_bytes(&s), bytes);
+        }
+        // not on a Model Exchange instance: the host integrates and sets the inputs itself
+        let me = f.me_instance("ider-me");
+        assert_eq!(me.setup(0.0, None), Status::Ok);
+        assert_eq!(me.init(), Status::Ok);
+        assert_eq!(
+            me.set_input_derivatives(&[phi], &[1], &[1.0]),
+            Status::Error
+        );
+        assert!(
+            me.last_error().contains("Model Exchange"),
+            "{}",
+            me.last_error()
+        );
+        // the instance goes on, with its derivatives
+        assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
     }
 }
 

@@ -236,6 +236,7 @@ mod tests {
                 tolerance: Some(1e-6),
             },
             event_indicators: 0,
+            can_interpolate_inputs: false,
         }
     }
 

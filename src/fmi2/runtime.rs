@@ -9,7 +9,10 @@
 use super::state::{Call, State, allowed};
 use super::types::*;
 use crate::md;
-use crate::model::{Log, Model, SetPhase, Severity, Values, Var, VarSet, VarType, check_bounds};
+use crate::model::{
+    Log, MAX_INPUT_DERIVATIVE_ORDER, Model, SetPhase, Severity, Values, Var, VarSet, VarType,
+    check_bounds, shaft,
+};
 use std::ffi::{CStr, CString};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
@@ -18,7 +21,7 @@ use std::path::PathBuf;
 pub mod me;
 
 const MAGIC: u64 = 0x4249_4e44_4552_5932; // "BINDERY2"
-const STATE_MAGIC: &[u8; 8] = b"BNDRYST1";
+const STATE_MAGIC: &[u8; 8] = b"BNDRYST2";
 
 /// Log categories as bits (see [`md::LOG_CATEGORIES`]).
 fn category_bit(name: &str) -> Option<u32> {
@@ -86,6 +89,8 @@ pub struct Snapshot {
     stop_time: Option<f64>,
     values: Vec<f64>,
     model_state: Vec<f64>,
+    /// The input derivatives set for the next step, `(vr, order, value)`.
+    input_derivatives: Vec<(u32, u32, f64)>,
 }
 
 impl Snapshot {
@@ -102,7 +107,12 @@ impl Snapshot {
             b.extend_from_slice(&x.to_bits().to_le_bytes());
         }
         b.push(self.stop_time.is_some() as u8);
-        for v in [&self.values, &self.model_state] {
+        let ders: Vec<f64> = self
+            .input_derivatives
+            .iter()
+            .flat_map(|&(vr, order, x)| [f64::from(vr), f64::from(order), x])
+            .collect();
+        for v in [&self.values, &self.model_state, &ders] {
             b.extend_from_slice(&(v.len() as u64).to_le_bytes());
             for x in v.iter() {
                 b.extend_from_slice(&x.to_bits().to_le_bytes());
@@ -134,6 +144,26 @@ impl Snapshot {
             ));
         }
         let model_state = r.vec()?;
+        let ders = r.vec()?;
+        if ders.len() % 3 != 0 {
+            return Err(format!(
+                "serialized input derivatives: {} numbers, not triples",
+                ders.len()
+            ));
+        }
+        // (vr, order) are checked against the variables in `Instance::restore`; here only
+        // that they are whole numbers in range
+        let mut input_derivatives = Vec::with_capacity(ders.len() / 3);
+        for d in ders.chunks(3) {
+            let whole = |x: f64| x >= 0.0 && x <= f64::from(u32::MAX) && x.fract() == 0.0;
+            if !(whole(d[0]) && whole(d[1])) {
+                return Err(format!(
+                    "serialized input derivative of vr {} order {}: not a value reference and order",
+                    d[0], d[1]
+                ));
+            }
+            input_derivatives.push((d[0] as u32, d[1] as u32, d[2]));
+        }
         if r.at != bytes.len() {
             return Err(format!(
                 "{} trailing bytes in serialized state",
@@ -147,6 +177,7 @@ impl Snapshot {
             stop_time: stop_defined.then_some(stop),
             values,
             model_state,
+            input_derivatives,
         })
     }
 }
@@ -358,6 +389,32 @@ impl<M: Model> Instance<M> {
         Ok(Status::Ok)
     }
 
+    /// Is `(vr, order, x)` an input derivative `fmi2SetRealInputDerivatives` accepts?
+    fn check_input_derivative(vr: u32, order: u32, x: f64) -> Result<(), String> {
+        let v = Self::table()
+            .get(vr as usize)
+            .ok_or_else(|| format!("unknown value reference {vr}"))?;
+        if !(v.ty == VarType::Real && v.causality == crate::model::Causality::Input) {
+            return Err(format!(
+                "{} (vr {vr}) is not a Real input; only inputs have input derivatives",
+                v.name
+            ));
+        }
+        if !(1..=MAX_INPUT_DERIVATIVE_ORDER).contains(&order) {
+            return Err(format!(
+                "order {order} of the derivative of {} refused: this FMU takes orders 1..={MAX_INPUT_DERIVATIVE_ORDER}",
+                v.name
+            ));
+        }
+        if !x.is_finite() {
+            return Err(format!(
+                "derivative of order {order} of {} = {x} refused: not a finite number",
+                v.name
+            ));
+        }
+        Ok(())
+    }
+
     fn snapshot(&self) -> Snapshot {
         Snapshot {
             state: self.state,
@@ -366,6 +423,7 @@ impl<M: Model> Instance<M> {
             stop_time: self.stop_time,
             values: self.values.raw().to_vec(),
             model_state: self.model.as_ref().map(M::save_state).unwrap_or_default(),
+            input_derivatives: self.values.input_derivatives().to_vec(),
         }
     }
 
@@ -398,6 +456,11 @@ impl<M: Model> Instance<M> {
         }
         let mut values = Values::<M::Var>::start();
         values.raw_mut().copy_from_slice(&s.values);
+        for &(vr, order, x) in &s.input_derivatives {
+            Self::check_input_derivative(vr, order, x)
+                .map_err(|e| format!("FMU state refused: {e}"))?;
+            values.set_input_derivative(vr, order, x);
+        }
         if !matches!(s.state, State::Instantiated | State::InitializationMode) {
             check_bounds(&values).map_err(|e| format!("FMU state refused: {e}"))?;
         }
@@ -1065,6 +1128,80 @@ pub unsafe fn set_string<M: Model>(
     }
 }
 
+/// `fmi2SetRealInputDerivatives` (`canInterpolateInputs`, [`Model::CAN_INTERPOLATE_INPUTS`]):
+/// time derivatives of Real inputs at the current communication point, for the next
+/// `fmi2DoStep` only. The elastodynamic level extrapolates the shaft angle with those of
+/// `shaft.phi` (orders 1 and 2) and of `shaft.w` (order 1) ([`shaft::path`]); when that step is
+/// done they expire and the next step uses `shaft.w` and `shaft.a` again, unless the host sets
+/// derivatives anew. Setting an input's value does not cancel its derivatives (a host may set
+/// them in either order at one point). FMU states and `fmi2Reset` include them. Derivatives of
+/// the other inputs, or orders the path does not use, are stored and ignored with
+/// `fmi2Warning`. Refused, changing nothing: a model without the capability, a Model Exchange
+/// instance, anything but a Real input, order 0 or above [`MAX_INPUT_DERIVATIVE_ORDER`], a
+/// non-finite value.
+///
+/// # Safety
+/// As [`entry`]; arrays hold `n` elements.
+pub unsafe fn set_real_input_derivatives<M: Model>(
+    c: Component,
+    vr: *const ValueReference,
+    n: usize,
+    order: *const Integer,
+    value: *const Real,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetRealInputDerivatives, |inst| {
+            if !M::CAN_INTERPOLATE_INPUTS {
+                return Err(
+                    "not supported: canInterpolateInputs is false (this FMU has no elastodynamic level to extrapolate the inputs in)"
+                        .into(),
+                );
+            }
+            if inst.me.is_me {
+                return Err(
+                    "a Co-Simulation call; this instance is Model Exchange (the host integrates and sets the inputs at each time)"
+                        .into(),
+                );
+            }
+            let vrs = slice(vr, n, "vr")?;
+            let orders = slice(order, n, "order")?;
+            let vals = slice(value, n, "value")?;
+            for ((&vr, &o), &x) in vrs.iter().zip(orders).zip(vals) {
+                let o = u32::try_from(o).map_err(|_| {
+                    format!(
+                        "order {o} refused: this FMU takes orders 1..={MAX_INPUT_DERIVATIVE_ORDER}"
+                    )
+                })?;
+                Instance::<M>::check_input_derivative(vr, o, x)?;
+            }
+            let mut unused = Vec::new();
+            for ((&vr, &o), &x) in vrs.iter().zip(orders).zip(vals) {
+                inst.values.set_input_derivative(vr, o as u32, x);
+                if !shaft::uses_input_derivative(vr, o as u32) {
+                    unused.push(format!(
+                        "{} of order {o}",
+                        Instance::<M>::table()[vr as usize].name
+                    ));
+                }
+            }
+            inst.dirty = true;
+            if unused.is_empty() {
+                return Ok(Status::Ok);
+            }
+            inst.logger.emit(
+                Status::Warning,
+                "logStatusWarning",
+                &format!(
+                    "fmi2SetRealInputDerivatives: the derivative of {} is kept but not used: inside a step the shaft angle follows a parabola from shaft.phi and the derivatives of shaft.phi (orders 1, 2) and shaft.w (order 1); other inputs are held",
+                    unused.join(", ")
+                ),
+            );
+            Ok(Status::Warning)
+        })
+    }
+}
+
 /// `fmi2DoStep`: checks the communication point, `h > 0` and the stop time; the outputs at the
 /// new time are computed when read.
 ///
@@ -1112,6 +1249,10 @@ pub unsafe fn do_step<M: Model>(c: Component, t: f64, h: f64, _no_prior: Boolean
             }
             inst.time = t + h;
             inst.dirty = true;
+            // input derivatives apply to the step they were set for (FMI 2.0: "with respect to
+            // the beginning of a communication time step"); the next step falls back to
+            // shaft.w and shaft.a, which the step left at the extrapolated values
+            inst.values.clear_input_derivatives();
             Ok(Status::Ok)
         })
     }
@@ -1346,6 +1487,7 @@ mod tests {
             stop_time: Some(4.0),
             values: vec![1.0, -0.0, f64::MIN_POSITIVE, 3.5],
             model_state: vec![2.0],
+            input_derivatives: vec![(0, 1, 3.25), (1, 1, -0.5)],
         };
         let b = s.to_bytes(42);
         let back = Snapshot::from_bytes(&b, 42, 4).unwrap();

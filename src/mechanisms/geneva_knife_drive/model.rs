@@ -171,7 +171,7 @@ impl GenevaKnifeDrive {
         let p = self.params;
         let d = self.dynamic.as_mut()?;
         if !d.started {
-            d.start(&p, path_at(v, time));
+            d.start(&p, shaft::path(v, time));
         }
         Some(d)
     }
@@ -186,12 +186,6 @@ pub fn solver_settings(v: &Values<V>) -> Settings {
         max_step: v[V::solver_max_step],
         ..Settings::default()
     }
-}
-
-/// The shaft path of a step starting at `time`.
-fn path_at(v: &Values<V>, time: f64) -> ShaftPath {
-    let s = shaft::state(v, time);
-    ShaftPath::new(time, s.phi, s.w, s.a)
 }
 
 impl GenevaKnifeDrive {
@@ -276,7 +270,7 @@ impl Model for GenevaKnifeDrive {
         let Some(d) = self.dynamic.as_mut() else {
             return Ok(());
         };
-        let path = path_at(v, time);
+        let path = shaft::path(v, time);
         if !d.started {
             d.start(&self.params, path);
         }
@@ -324,7 +318,7 @@ impl Model for GenevaKnifeDrive {
     fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
         let p = self.params;
         match self.me_dynamic(v, time) {
-            Some(d) => d.ode(&p, path_at(v, time)).rhs(time, &d.y, dx),
+            Some(d) => d.ode(&p, shaft::path(v, time)).rhs(time, &d.y, dx),
             None => dx.fill(0.0),
         }
     }
@@ -332,7 +326,7 @@ impl Model for GenevaKnifeDrive {
     fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
         let p = self.params;
         match self.me_dynamic(v, time) {
-            Some(d) => d.ode(&p, path_at(v, time)).events(time, &d.y, z),
+            Some(d) => d.ode(&p, shaft::path(v, time)).events(time, &d.y, z),
             None => z.fill(1.0),
         }
     }
@@ -340,7 +334,7 @@ impl Model for GenevaKnifeDrive {
     fn me_event(&mut self, v: &Values<V>, time: f64, _log: &mut dyn Log) {
         let p = self.params;
         if let Some(d) = self.me_dynamic(v, time) {
-            let ode = d.ode(&p, path_at(v, time));
+            let ode = d.ode(&p, shaft::path(v, time));
             let mut g = vec![0.0; Self::EVENT_INDICATORS];
             ode.events(time, &d.y, &mut g);
             if d.g_prev.len() == g.len() {
@@ -355,7 +349,7 @@ impl Model for GenevaKnifeDrive {
     fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
         let p = self.params;
         if let Some(d) = self.me_dynamic(v, time) {
-            let ode = d.ode(&p, path_at(v, time));
+            let ode = d.ode(&p, shaft::path(v, time));
             ode.on_step(time, &d.y);
             d.peaks = ode.peaks.get();
             d.k_d = ode.k_d.get();
@@ -392,7 +386,7 @@ impl Model for GenevaKnifeDrive {
         Self::write_kinematics(v, &k);
         v[V::knife_s_kin] = k.s;
         if let Some(d) = self.dynamic.as_ref() {
-            let path = path_at(v, time);
+            let path = shaft::path(v, time);
             let ode = d.ode(p, path);
             let y = if d.started {
                 d.y

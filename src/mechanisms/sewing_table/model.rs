@@ -210,11 +210,6 @@ impl Dynamic {
     }
 }
 
-fn path_at(v: &Values<V>, time: f64) -> ShaftPath {
-    let s = shaft::state(v, time);
-    ShaftPath::new(time, s.phi, s.w, s.a)
-}
-
 /// The translating sewing table of paper 000 as an FMU model.
 pub struct SewingTable {
     params: Params,
@@ -320,7 +315,7 @@ impl Model for SewingTable {
         let Some(d) = self.dynamic.as_mut() else {
             return Ok(());
         };
-        let path = path_at(v, time);
+        let path = shaft::path(v, time);
         let f_ext = v[V::table_F_ext];
         if !d.started {
             let ode = d.ode(&self.params, path, f_ext);
@@ -384,7 +379,7 @@ impl Model for SewingTable {
         v[V::rocking_M_inertia] = if kinetostatic { r.m_inertia } else { 0.0 };
         v[V::table_x_kin] = k.c.x;
         if let Some(d) = self.dynamic.as_ref() {
-            let ode = d.ode(p, path_at(v, time), f_ext);
+            let ode = d.ode(p, shaft::path(v, time), f_ext);
             let y = if d.started {
                 d.y
             } else {
