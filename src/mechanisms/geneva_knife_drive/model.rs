@@ -346,15 +346,24 @@ impl Model for GenevaKnifeDrive {
         }
     }
 
+    /// Also applies a transition of the event indicators since the last call (cut-through,
+    /// back above the stack): hosts such as FMPy call `fmi2CompletedIntegratorStep` at the
+    /// event instant before they enter event mode, so [`Model::me_event`] would find nothing
+    /// changed.
     fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
         let p = self.params;
         if let Some(d) = self.me_dynamic(v, time) {
             let ode = d.ode(&p, shaft::path(v, time));
+            let mut g = vec![0.0; Self::EVENT_INDICATORS];
+            ode.events(time, &d.y, &mut g);
+            if d.g_prev.len() == g.len() {
+                ode.on_event(time, &d.y, &d.g_prev, &g);
+                d.cut_done = ode.cut_done.get();
+                ode.events(time, &d.y, &mut g);
+            }
             ode.on_step(time, &d.y);
             d.peaks = ode.peaks.get();
             d.k_d = ode.k_d.get();
-            let mut g = vec![0.0; Self::EVENT_INDICATORS];
-            ode.events(time, &d.y, &mut g);
             d.g_prev = g;
         }
     }
