@@ -6,7 +6,7 @@
 //! The `extern "C"` symbols themselves are generated per FMU by [`crate::export_fmu!`], each a
 //! one-line call into this module.
 
-use super::state::{Call, State, allowed};
+use super::state::{Call, MeState, State, allowed, me_allowed};
 use super::types::*;
 use crate::md;
 use crate::model::{
@@ -91,6 +91,8 @@ pub struct Snapshot {
     model_state: Vec<f64>,
     /// The input derivatives set for the next step, `(vr, order, value)`.
     input_derivatives: Vec<(u32, u32, f64)>,
+    /// Model Exchange: in continuous-time mode (else event mode, or Co-Simulation).
+    continuous_time: bool,
 }
 
 impl Snapshot {
@@ -118,6 +120,7 @@ impl Snapshot {
                 b.extend_from_slice(&x.to_bits().to_le_bytes());
             }
         }
+        b.push(self.continuous_time as u8);
         b
     }
 
@@ -164,6 +167,15 @@ impl Snapshot {
             }
             input_derivatives.push((d[0] as u32, d[1] as u32, d[2]));
         }
+        let continuous_time = match r.take(1)?[0] {
+            0 => false,
+            1 => true,
+            m => {
+                return Err(format!(
+                    "unknown Model Exchange mode {m} in serialized state"
+                ));
+            }
+        };
         if r.at != bytes.len() {
             return Err(format!(
                 "{} trailing bytes in serialized state",
@@ -178,6 +190,7 @@ impl Snapshot {
             values,
             model_state,
             input_derivatives,
+            continuous_time,
         })
     }
 }
@@ -261,6 +274,22 @@ impl<M: Model> Instance<M> {
         <M::Var as VarSet>::table()
     }
 
+    /// The Model Exchange state of an instance (None for the Co-Simulation-only states a
+    /// Model Exchange instance is never in).
+    pub fn me_state(&self) -> Option<MeState> {
+        Some(match self.state {
+            State::Instantiated => MeState::Instantiated,
+            State::InitializationMode => MeState::InitializationMode,
+            State::StepComplete => match self.me.mode {
+                me::Mode::Event => MeState::EventMode,
+                me::Mode::ContinuousTime => MeState::ContinuousTimeMode,
+            },
+            State::Terminated => MeState::Terminated,
+            State::Error => MeState::Error,
+            State::StepFailed | State::StepCanceled | State::Fatal => return None,
+        })
+    }
+
     /// Makes sure the model is prepared for the current parameters.
     #[inline]
     fn prepared(&mut self) -> Result<&mut M, String> {
@@ -331,6 +360,16 @@ impl<M: Model> Instance<M> {
                             "after initialization (it is not an input or tunable parameter)",
                         _ => "(it is not a parameter or an input)",
                     }
+                ));
+            }
+            if self.me.is_me
+                && self.state == State::StepComplete
+                && self.me.mode == me::Mode::ContinuousTime
+                && v.causality != crate::model::Causality::Input
+            {
+                return Err(format!(
+                    "{} cannot be set in continuous-time mode (only continuous inputs; a tunable parameter in event mode)",
+                    v.name
                 ));
             }
             if !x.is_finite() {
@@ -424,6 +463,9 @@ impl<M: Model> Instance<M> {
             values: self.values.raw().to_vec(),
             model_state: self.model.as_ref().map(M::save_state).unwrap_or_default(),
             input_derivatives: self.values.input_derivatives().to_vec(),
+            continuous_time: self.me.is_me
+                && self.state == State::StepComplete
+                && self.me.mode == me::Mode::ContinuousTime,
         }
     }
 
@@ -444,6 +486,18 @@ impl<M: Model> Instance<M> {
         }
         if s.state == State::Fatal {
             return Err("FMU state refused: an instance never leaves state Fatal".into());
+        }
+        if self.me.is_me && matches!(s.state, State::StepFailed | State::StepCanceled) {
+            return Err(format!(
+                "FMU state refused: {:?} is a Co-Simulation state; this instance is Model Exchange",
+                s.state
+            ));
+        }
+        if s.continuous_time && !(self.me.is_me && s.state == State::StepComplete) {
+            return Err(
+                "FMU state refused: continuous-time mode belongs to an initialized Model Exchange instance"
+                    .into(),
+            );
         }
         for (v, &x) in Self::table().iter().zip(&s.values) {
             if matches!(
@@ -486,6 +540,11 @@ impl<M: Model> Instance<M> {
         self.params_changed = model.is_none();
         self.model = model;
         self.state = s.state;
+        self.me.mode = if s.continuous_time {
+            me::Mode::ContinuousTime
+        } else {
+            me::Mode::Event
+        };
         self.time = s.time;
         self.start_time = s.start_time;
         self.stop_time = s.stop_time;
@@ -515,6 +574,37 @@ impl<M: Model> Drop for Instance<M> {
     }
 }
 
+/// Why `call` is illegal in the instance's state (its interface's state machine), if it is.
+fn refusal<M: Model>(inst: &Instance<M>, call: Call) -> Option<String> {
+    if inst.me.is_me {
+        let state = inst.me_state();
+        let legal = state.is_some_and(|s| me_allowed(call, s));
+        (!legal).then(|| {
+            format!(
+                "fmi2{call:?} is not allowed in state {}{}",
+                state.map_or_else(|| format!("{:?}", inst.state), |s| format!("{s:?}")),
+                if call.is_co_simulation() {
+                    " (a Co-Simulation function; this instance is Model Exchange)"
+                } else {
+                    ""
+                }
+            )
+        })
+    } else {
+        (!allowed(call, inst.state)).then(|| {
+            format!(
+                "fmi2{call:?} is not allowed in state {:?}{}",
+                inst.state,
+                if call.is_model_exchange() {
+                    " (a Model Exchange function; this instance is Co-Simulation)"
+                } else {
+                    ""
+                }
+            )
+        })
+    }
+}
+
 fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
     p.downcast_ref::<&str>()
         .map(|s| s.to_string())
@@ -540,8 +630,7 @@ pub unsafe fn entry<M: Model>(
     if inst.magic != MAGIC {
         return Status::Error;
     }
-    if !allowed(call, inst.state) {
-        let msg = format!("fmi2{call:?} is not allowed in state {:?}", inst.state);
+    if let Some(msg) = refusal(inst, call) {
         inst.logger.emit(Status::Error, "logStatusError", &msg);
         return Status::Error;
     }
@@ -931,6 +1020,7 @@ pub unsafe fn reset<M: Model>(c: Component) -> Status {
     unsafe {
         entry::<M>(c, Call::Reset, |inst| {
             inst.state = State::Instantiated;
+            inst.me.mode = me::Mode::Event;
             inst.values = Values::start();
             inst.model = None;
             inst.dirty = true;
@@ -1138,7 +1228,8 @@ pub unsafe fn set_string<M: Model>(
 /// the other inputs, or orders the path does not use, are stored and ignored with
 /// `fmi2Warning`. Refused, changing nothing: a model without the capability, a Model Exchange
 /// instance, anything but a Real input, order 0 or above [`MAX_INPUT_DERIVATIVE_ORDER`], a
-/// non-finite value.
+/// non-finite value. (On a Model Exchange instance [`entry`] refuses it: a Co-Simulation
+/// function.)
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
@@ -1155,12 +1246,6 @@ pub unsafe fn set_real_input_derivatives<M: Model>(
             if !M::CAN_INTERPOLATE_INPUTS {
                 return Err(
                     "not supported: canInterpolateInputs is false (this FMU has no elastodynamic level to extrapolate the inputs in)"
-                        .into(),
-                );
-            }
-            if inst.me.is_me {
-                return Err(
-                    "a Co-Simulation call; this instance is Model Exchange (the host integrates and sets the inputs at each time)"
                         .into(),
                 );
             }
@@ -1488,6 +1573,7 @@ mod tests {
             values: vec![1.0, -0.0, f64::MIN_POSITIVE, 3.5],
             model_state: vec![2.0],
             input_derivatives: vec![(0, 1, 3.25), (1, 1, -0.5)],
+            continuous_time: true,
         };
         let b = s.to_bytes(42);
         let back = Snapshot::from_bytes(&b, 42, 4).unwrap();
