@@ -931,6 +931,41 @@ mod tests {
     }
 
     #[test]
+    fn shaft_path_takes_the_input_derivatives_a_host_set() {
+        let mut v = Values::<T>::start();
+        v[T::shaft_phi] = 1.0;
+        v[T::shaft_w] = 2.0;
+        v[T::shaft_a] = 3.0;
+        let at = |v: &Values<T>| {
+            let p = shaft::path(v, 10.0);
+            (p.w, p.a, p.absolute_phi(10.5))
+        };
+        assert_eq!(at(&v), (2.0, 3.0, 1.0 + 2.0 * 0.5 + 0.5 * 3.0 * 0.25));
+        // phi' replaces shaft.w; shaft.w' replaces shaft.a; phi'' wins over shaft.w'
+        v.set_input_derivative(shaft::PHI, 1, 5.0);
+        assert_eq!(at(&v).0, 5.0);
+        assert_eq!(at(&v).1, 3.0);
+        v.set_input_derivative(shaft::W, 1, 7.0);
+        assert_eq!(at(&v).1, 7.0);
+        v.set_input_derivative(shaft::PHI, 2, -4.0);
+        v.set_input_derivative(shaft::PHI, 2, -6.0);
+        assert_eq!(v.input_derivatives().len(), 3, "set again replaces");
+        let (w, a, phi) = at(&v);
+        assert_eq!((w, a), (5.0, -6.0));
+        assert!((phi - (1.0 + 5.0 * 0.5 - 0.5 * 6.0 * 0.25)).abs() < 1e-12);
+        // the unused ones are stored but not read by the path
+        assert!(!shaft::uses_input_derivative(shaft::A, 1));
+        assert!(!shaft::uses_input_derivative(shaft::W, 2));
+        // the constant-speed drive ignores the inputs and their derivatives
+        v[T::drive_mode] = 2.0;
+        let p = shaft::path(&v, 10.0);
+        assert_eq!((p.w, p.a), (v[T::drive_n], 0.0));
+        v.clear_input_derivatives();
+        v[T::drive_mode] = 1.0;
+        assert_eq!(at(&v).0, 2.0);
+    }
+
+    #[test]
     fn settable_rules_follow_fmi2() {
         let t = T::table();
         let p = &t[T::p.vr() as usize];
