@@ -126,7 +126,7 @@ impl Dynamic {
 
     fn save(&self) -> Vec<f64> {
         let h = self.integ.save();
-        vec![
+        let mut s = vec![
             self.started as i32 as f64,
             self.y[0],
             self.y[1],
@@ -141,17 +141,24 @@ impl Dynamic {
             self.integ.stats.steps as f64,
             self.integ.stats.events as f64,
             self.cut_done as i32 as f64,
-        ]
+        ];
+        // Model Exchange: the event indicators of the last event or step (transitions from them
+        // are counted after a restore too)
+        s.extend_from_slice(&self.g_prev);
+        s
     }
 
     fn restore(&mut self, s: &[f64]) -> Result<(), String> {
-        if s.len() != Self::STATE_LEN {
+        let n_ind = <GenevaKnifeDrive as Model>::EVENT_INDICATORS;
+        if s.len() != Self::STATE_LEN && s.len() != Self::STATE_LEN + n_ind {
             return Err(format!(
-                "elastodynamic state has {} numbers, expected {}",
+                "elastodynamic state has {} numbers, expected {} or {}",
                 s.len(),
-                Self::STATE_LEN
+                Self::STATE_LEN,
+                Self::STATE_LEN + n_ind
             ));
         }
+        self.g_prev = s[Self::STATE_LEN..].to_vec();
         self.started = s[0] != 0.0;
         self.y = [s[1], s[2], s[3]];
         self.e0 = s[4];

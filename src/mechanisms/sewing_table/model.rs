@@ -185,7 +185,7 @@ impl Dynamic {
 
     fn save(&self) -> Vec<f64> {
         let h = self.integ.save();
-        vec![
+        let mut s = vec![
             self.started as i32 as f64,
             self.y[0],
             self.y[1],
@@ -202,17 +202,24 @@ impl Dynamic {
             self.impact,
             self.landed as i32 as f64,
             self.integ.stats.events as f64,
-        ]
+        ];
+        // Model Exchange: the event indicators of the last event or step (transitions from them
+        // are counted after a restore too)
+        s.extend_from_slice(&self.g_prev);
+        s
     }
 
     fn restore(&mut self, s: &[f64]) -> Result<(), String> {
-        if s.len() != Self::STATE_LEN {
+        let n_ind = <SewingTable as Model>::EVENT_INDICATORS;
+        if s.len() != Self::STATE_LEN && s.len() != Self::STATE_LEN + n_ind {
             return Err(format!(
-                "elastodynamic state has {} numbers, expected {}",
+                "elastodynamic state has {} numbers, expected {} or {}",
                 s.len(),
-                Self::STATE_LEN
+                Self::STATE_LEN,
+                Self::STATE_LEN + n_ind
             ));
         }
+        self.g_prev = s[Self::STATE_LEN..].to_vec();
         self.started = s[0] != 0.0;
         self.y = [s[1], s[2], s[3]];
         self.e0 = s[4];
@@ -588,6 +595,37 @@ mod tests {
         m.evaluate(&mut v, 0.0, &mut NoLog);
         let k = m.params.kinematics(0.5, v[V::shaft_w], 0.0);
         assert!(v[V::shaft_tau] - tau0 > 0.9 * 100.0 * k.c.dx);
+    }
+
+    #[test]
+    fn model_exchange_bookkeeping_travels_with_the_fmu_state() {
+        let mut v = Values::<V>::start();
+        v[V::model_fidelity] = 3.0;
+        let gap = 1e-4;
+        v[V::cam_clearance] = 2.0 * gap;
+        let mut m = SewingTable::prepare(&v).unwrap();
+        m.evaluate(&mut v, 0.0, &mut NoLog);
+        let x_kin = v[V::table_x_kin];
+        // the roller pressed on a flank (deflection 2*gap > gap), a completed step sees it
+        m.me_set_states(&v, 0.0, &[x_kin - 2.0 * gap, 0.0, 0.0]);
+        m.me_completed_step(&v, 0.0);
+        let saved = m.save_state();
+        assert_eq!(
+            saved.len(),
+            Dynamic::STATE_LEN + SewingTable::EVENT_INDICATORS
+        );
+        let bits = |s: &[f64]| s.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        // restored elsewhere, the roller then crosses into the play: one lift-off is counted
+        let mut r = SewingTable::prepare(&v).unwrap();
+        r.restore_state(&saved).unwrap();
+        assert_eq!(bits(&r.save_state()), bits(&saved));
+        r.me_set_states(&v, 0.0, &[x_kin, 0.0, 0.0]);
+        r.me_completed_step(&v, 0.0);
+        assert_eq!(r.dynamic.as_ref().unwrap().liftoffs, 1.0);
+        // a Co-Simulation state (no indicators) is accepted; a truncated one is not
+        let mut c = SewingTable::prepare(&v).unwrap();
+        c.restore_state(&saved[..Dynamic::STATE_LEN]).unwrap();
+        assert!(c.restore_state(&saved[..5]).is_err());
     }
 
     #[test]
