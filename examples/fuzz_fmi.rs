@@ -3,12 +3,20 @@
 //! A seeded random host: it loads every FMU of the catalog with libloading, keeps a few live
 //! instances, and makes random FMI 2.0 calls with random and hostile arguments (NULL arrays,
 //! unknown value references, wrong types, NaN/Inf/huge values, invalid enum integers, mutated
-//! serialized states, FMU states of other instances, calls out of the state machine). It never
-//! passes dangling pointers: that is undefined behaviour of the host, not a bug of the FMU.
+//! serialized states, FMU states of other instances, calls out of the state machine), Co-Simulation
+//! and, for the FMUs that provide it, Model Exchange instances (every ME function, wrong nx/nz,
+//! NULL result pointers), and `fmi2SetRealInputDerivatives`. It never passes dangling pointers:
+//! that is undefined behaviour of the host, not a bug of the FMU.
+//!
+//! A third of the instances of an FMU with an elastodynamic level start at that level. The
+//! values that set the work of one elastodynamic step are held to a budget ([`BUDGET`],
+//! [`ELASTIC_H`]): accepted values are drawn from safe ranges, refused ones are still sent. A run
+//! of 1e7 calls then takes ~10 min of one core (about 60 µs per call).
 //!
 //! After every call it checks:
 //! * the status is an `fmi2Status` (0..=4);
-//! * a call the state machine forbids (the shadow state, `fmi2::state::allowed`) is `fmi2Error`;
+//! * a call the state machine forbids (the shadow state, `fmi2::state::allowed`, or
+//!   `me_allowed` for a Model Exchange instance) is `fmi2Error`;
 //! * every `fmi2Error` of a live instance comes with an error log line;
 //! * no log line reports a panic caught at the FMI boundary (a caught panic is still a bug);
 //! * `fmi2Instantiate` succeeds exactly for valid arguments.
@@ -26,9 +34,10 @@
 #![allow(clippy::type_complexity)]
 
 use bindery_fmu::catalog;
-use bindery_fmu::fmi2::state::{Call, State, allowed};
+use bindery_fmu::fmi2::runtime::me::EventInfo;
+use bindery_fmu::fmi2::state::{Call, MeState, State, allowed, me_allowed};
 use bindery_fmu::fmi2::types::CallbackFunctions;
-use bindery_fmu::model::{Causality, VarType};
+use bindery_fmu::model::{Causality, VarType, shaft};
 use libloading::Library;
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char, c_int, c_void};
@@ -44,6 +53,14 @@ struct Api {
     guid: CString,
     /// (value reference, type, causality) of every variable.
     vars: Vec<(u32, VarType, Causality)>,
+    /// Safe ranges of the parameters that set an elastodynamic step's work ([`BUDGET`]), by
+    /// value reference, with the declared bounds (values outside them are refused).
+    budget: Vec<(u32, f64, f64, f64, f64)>,
+    /// Model Exchange: number of continuous states (0: none) and of event indicators.
+    nx: usize,
+    nz: usize,
+    /// (value reference of model.fidelity, its elastodynamic item) where the level exists.
+    elastodynamic: Option<(u32, c_int)>,
     instantiate: unsafe extern "C" fn(
         *const c_char,
         c_int,
@@ -92,7 +109,43 @@ struct Api {
     get_integer_status: unsafe extern "C" fn(Comp, c_int, *mut c_int) -> c_int,
     get_boolean_status: unsafe extern "C" fn(Comp, c_int, *mut c_int) -> c_int,
     get_string_status: unsafe extern "C" fn(Comp, c_int, *mut *const c_char) -> c_int,
+    me: Option<MeApi>,
 }
+
+/// The Model Exchange functions of a binary that provides them.
+struct MeApi {
+    enter_event_mode: unsafe extern "C" fn(Comp) -> c_int,
+    new_discrete_states: unsafe extern "C" fn(Comp, *mut EventInfo) -> c_int,
+    enter_continuous_time_mode: unsafe extern "C" fn(Comp) -> c_int,
+    completed_integrator_step: unsafe extern "C" fn(Comp, c_int, *mut c_int, *mut c_int) -> c_int,
+    set_time: unsafe extern "C" fn(Comp, f64) -> c_int,
+    set_continuous_states: unsafe extern "C" fn(Comp, *const f64, usize) -> c_int,
+    get_derivatives: unsafe extern "C" fn(Comp, *mut f64, usize) -> c_int,
+    get_event_indicators: unsafe extern "C" fn(Comp, *mut f64, usize) -> c_int,
+    get_continuous_states: unsafe extern "C" fn(Comp, *mut f64, usize) -> c_int,
+    get_nominals: unsafe extern "C" fn(Comp, *mut f64, usize) -> c_int,
+}
+
+/// The fuzzer's budget: accepted values of these parameters are drawn from these ranges, so
+/// one elastodynamic `fmi2DoStep` stays in milliseconds (the solvers' step budget is 200 000
+/// steps: a max_step of 1e-9 s over a 0.37 s step, or rtol = 1e-14, spends it, ~0.7 s, which
+/// is legal and tested by tests/elastodynamic.rs, only slow). Refused values (NaN, out of the
+/// declared bounds) are still sent as drawn.
+const BUDGET: &[(&str, f64, f64)] = &[
+    ("solver.max_step", 1e-4, 0.1),
+    ("solver.rtol", 1e-8, 1.0),
+    ("solver.atol", 1e-12, 1.0),
+    ("elastic.k", 1.0, 1e9),
+    // 20x the nominal speed of the fastest machine (dynamics.md's extreme)
+    ("drive.n", -200.0, 200.0),
+];
+
+/// On an instance at the elastodynamic level, also the shaft inputs (rad/s, rad/s2) and the
+/// communication step (s) are held to these: radau5 on a 1e9 N/m chain at 200 rad/s takes
+/// ~0.1 s per 0.05 s of simulated time.
+const ELASTIC_W: f64 = 200.0;
+const ELASTIC_A: f64 = 1e4;
+const ELASTIC_H: f64 = 0.05;
 
 impl Api {
     fn load(dir: &std::path::Path, e: &catalog::Entry) -> Api {
@@ -111,12 +164,42 @@ impl Api {
                     .unwrap_or_else(|err| panic!("{}: {err}", $name))
             };
         }
+        let vars = (e.variables)();
+        let nx = vars.iter().filter(|(_, v)| v.derivative.is_some()).count();
+        let me = (nx > 0).then(|| MeApi {
+            enter_event_mode: f!("fmi2EnterEventMode"),
+            new_discrete_states: f!("fmi2NewDiscreteStates"),
+            enter_continuous_time_mode: f!("fmi2EnterContinuousTimeMode"),
+            completed_integrator_step: f!("fmi2CompletedIntegratorStep"),
+            set_time: f!("fmi2SetTime"),
+            set_continuous_states: f!("fmi2SetContinuousStates"),
+            get_derivatives: f!("fmi2GetDerivatives"),
+            get_event_indicators: f!("fmi2GetEventIndicators"),
+            get_continuous_states: f!("fmi2GetContinuousStates"),
+            get_nominals: f!("fmi2GetNominalsOfContinuousStates"),
+        });
         Api {
             id: e.identifier,
             guid: CString::new((e.describe)().1).unwrap(),
-            vars: (e.variables)()
-                .into_iter()
-                .map(|(vr, v)| (vr, v.ty, v.causality))
+            budget: vars
+                .iter()
+                .filter_map(|(vr, v)| {
+                    BUDGET.iter().find(|b| b.0 == v.name).map(|b| {
+                        let (lo, hi) = (v.min.unwrap_or(f64::MIN), v.max.unwrap_or(f64::MAX));
+                        (*vr, b.1, b.2, lo, hi)
+                    })
+                })
+                .collect(),
+            nx,
+            nz: (e.info)().event_indicators as usize,
+            elastodynamic: vars
+                .iter()
+                .any(|(_, v)| v.name == "elastic.k")
+                .then_some((bindery_fmu::model::shaft::FIDELITY, 3)),
+            me,
+            vars: vars
+                .iter()
+                .map(|(vr, v)| (*vr, v.ty, v.causality))
                 .collect(),
             instantiate: f!("fmi2Instantiate"),
             free_instance: f!("fmi2FreeInstance"),
@@ -285,14 +368,23 @@ struct Inst {
     api: usize,
     c: Comp,
     state: State,
-    /// FMU states this instance handed out and not freed, with the state each holds.
-    fmu_states: Vec<(St, State)>,
+    /// Set to the elastodynamic level at instantiation.
+    elastic: bool,
+    /// A Model Exchange instance, and whether it is in continuous-time mode (else event mode).
+    me: bool,
+    ct: bool,
+    /// FMU states this instance handed out and not freed, with the state (and mode) each holds.
+    fmu_states: Vec<(St, State, bool)>,
     /// The last serialized state bytes (mutated into new ones).
     bytes: Vec<u8>,
 }
 
 #[derive(Default)]
 struct Report {
+    /// The slowest call (seconds, which).
+    slowest: (f64, String),
+    /// Completed `fmi2DoStep`s of instances set to the elastodynamic level, and their time.
+    elastic_steps: (u64, f64),
     execs: u64,
     instantiated: u64,
     statuses: [u64; 6],
@@ -318,6 +410,19 @@ const CATEGORIES: [&CStr; 8] = [
     c"noSuchCategory",
     c"",
 ];
+
+/// The Model Exchange state of a shadow (state, continuous-time mode).
+fn me_state(state: State, ct: bool) -> Option<MeState> {
+    Some(match state {
+        State::Instantiated => MeState::Instantiated,
+        State::InitializationMode => MeState::InitializationMode,
+        State::StepComplete if ct => MeState::ContinuousTimeMode,
+        State::StepComplete => MeState::EventMode,
+        State::Terminated => MeState::Terminated,
+        State::Error => MeState::Error,
+        _ => return None,
+    })
+}
 
 fn state_of_bytes(b: &[u8]) -> Option<State> {
     let code = u16::from_le_bytes(b.get(24..26)?.try_into().ok()?);
@@ -366,8 +471,20 @@ impl Fuzzer {
             let t = t.borrow();
             (t.errors, t.panics.len())
         });
-        let state = self.live[k].state;
+        let (state, me, ct) = (self.live[k].state, self.live[k].me, self.live[k].ct);
+        let t_call = std::time::Instant::now();
         let (call, status) = self.call(k);
+        let took = t_call.elapsed().as_secs_f64();
+        if call == Call::DoStep && status == 0 && self.live[k].elastic {
+            self.report.elastic_steps.0 += 1;
+            self.report.elastic_steps.1 += took;
+        }
+        if took > self.report.slowest.0 {
+            self.report.slowest = (
+                took,
+                format!("{} fmi2{call:?}", self.apis[self.live[k].api].id),
+            );
+        }
         self.report.execs += 1;
         let (errors, panics) = TALLY.with(|t| {
             let t = t.borrow();
@@ -387,9 +504,14 @@ impl Fuzzer {
                 .finding(format!("{id}: fmi2{call:?} in {state:?}: {msg}"));
             inst.state = State::Error;
         }
-        if !allowed(call, state) && status != 3 {
+        let legal = if me {
+            me_state(state, ct).is_some_and(|s| me_allowed(call, s))
+        } else {
+            allowed(call, state)
+        };
+        if !legal && status != 3 {
             self.report.finding(format!(
-                "{id}: fmi2{call:?} in state {state:?} returned {status}, not fmi2Error"
+                "{id}: fmi2{call:?} in state {state:?} (ME {me}, continuous-time {ct}) returned {status}, not fmi2Error"
             ));
         }
         if status == 3 && errors == before.0 {
@@ -413,12 +535,14 @@ impl Fuzzer {
         } else {
             self.rng.pick(&[std::ptr::null(), c"".as_ptr()])
         };
-        let good_type = !self.rng.chance(10);
-        let ty = if good_type {
-            1
+        let has_me = a.me.is_some();
+        let ty = if self.rng.chance(90) {
+            // Model Exchange where the FMU provides it, a third of the time
+            if has_me && self.rng.chance(33) { 0 } else { 1 }
         } else {
             self.rng.pick(&[0, 2, -1, 1000, c_int::MIN])
         };
+        let good_type = ty == 1 || ty == 0 && has_me;
         let good_guid = !self.rng.chance(10);
         let wrong = CString::new(format!("{{{}-%s%n}}", self.rng.next())).unwrap();
         let guid = if good_guid {
@@ -444,18 +568,24 @@ impl Fuzzer {
         let c = unsafe { (a.instantiate)(name, ty, guid, res, cbp, self.rng.int(), logging) };
         self.report.execs += 1;
         let valid = good_name && good_type && good_guid && !cbp.is_null() && cb.logger.is_some();
-        if ty == 0 && !c.is_null() {
-            // a Model Exchange instance (once the FMUs provide it): not fuzzed here yet
-            // SAFETY: a live instance of this binary.
-            unsafe { (a.free_instance)(c) };
-            return;
-        }
-        if valid == c.is_null() && ty != 0 {
+        if valid == c.is_null() {
             self.report.finding(format!(
                 "{}: fmi2Instantiate(name ok {good_name}, type {ty}, guid ok {good_guid}, callbacks ok {}) returned {c:?}",
                 a.id,
                 !cbp.is_null() && cb.logger.is_some()
             ));
+        }
+        let elastic = !c.is_null() && a.elastodynamic.is_some() && self.rng.chance(30);
+        if elastic {
+            // often at the elastodynamic level (integrator, events, ME states) to fuzz it
+            let (vr, level) = a.elastodynamic.expect("checked");
+            // SAFETY: a live instance; one value reference and value.
+            let s = unsafe { (a.set_integer)(c, &vr, 1, &level) };
+            self.report.execs += 1;
+            if s != 0 {
+                self.report
+                    .finding(format!("{}: model.fidelity = elastodynamic refused", a.id));
+            }
         }
         if !c.is_null() {
             self.report.instantiated += 1;
@@ -463,6 +593,9 @@ impl Fuzzer {
                 api,
                 c,
                 state: State::Instantiated,
+                me: ty == 0,
+                ct: false,
+                elastic,
                 fmu_states: Vec::new(),
                 bytes: Vec::new(),
             });
@@ -548,10 +681,11 @@ impl Fuzzer {
             };
         }
         let state = self.live[k].state;
+        let elastic = self.live[k].elastic;
         // SAFETY (all calls below): `c` is a live instance; every array holds its length or is
         // NULL; FMU states are NULL, this instance's, or another live instance's.
         unsafe {
-            match self.rng.below(31) {
+            match self.rng.below(if a.me.is_some() { 36 } else { 31 }) {
                 0 => {
                     let n = self.rng.below(4);
                     let cats: Vec<*const c_char> = (0..n)
@@ -600,6 +734,7 @@ impl Fuzzer {
                     let s = (a.exit)(c);
                     if s == 0 {
                         self.live[k].state = State::StepComplete;
+                        self.live[k].ct = false;
                     }
                     (Call::ExitInitializationMode, s)
                 }
@@ -614,6 +749,7 @@ impl Fuzzer {
                     let s = (a.reset)(c);
                     if s == 0 {
                         self.live[k].state = State::Instantiated;
+                        self.live[k].ct = false;
                     }
                     (Call::Reset, s)
                 }
@@ -651,7 +787,25 @@ impl Fuzzer {
                 }
                 13..=15 => {
                     let vrs = self.vrs(api, |t| t == VarType::Real);
-                    let vals: Vec<f64> = vrs.iter().map(|_| self.rng.real()).collect();
+                    let vals: Vec<f64> = vrs
+                        .iter()
+                        .map(|&vr| {
+                            let x = self.rng.real();
+                            match a.budget.iter().find(|b| b.0 == vr) {
+                                // an accepted value of a budget parameter: into its safe range
+                                Some(&(_, lo, hi, min, max)) if x >= min && x <= max => {
+                                    x.clamp(lo, hi)
+                                }
+                                _ if elastic && x.is_finite() && vr == shaft::W => {
+                                    x.clamp(-ELASTIC_W, ELASTIC_W)
+                                }
+                                _ if elastic && x.is_finite() && vr == shaft::A => {
+                                    x.clamp(-ELASTIC_A, ELASTIC_A)
+                                }
+                                _ => x,
+                            }
+                        })
+                        .collect();
                     (
                         Call::SetReal,
                         (a.set_real)(c, arr!(vrs), vrs.len(), arr!(vals)),
@@ -660,10 +814,17 @@ impl Fuzzer {
                 16 => {
                     let vrs = self.vrs(api, VarType::is_integer_like);
                     let vals: Vec<c_int> = vrs.iter().map(|_| self.rng.int()).collect();
-                    (
-                        Call::SetInteger,
-                        (a.set_integer)(c, arr!(vrs), vrs.len(), arr!(vals)),
-                    )
+                    let s = (a.set_integer)(c, arr!(vrs), vrs.len(), arr!(vals));
+                    if s == 0
+                        && vrs
+                            .iter()
+                            .zip(&vals)
+                            .any(|(&v, &x)| v == shaft::FIDELITY && x == 3)
+                    {
+                        // the elastodynamic level: from now on held to its budget
+                        self.live[k].elastic = true;
+                    }
+                    (Call::SetInteger, s)
                 }
                 17 => {
                     let vrs = self.vrs(api, |t| t == VarType::Boolean);
@@ -696,10 +857,11 @@ impl Fuzzer {
                     let s = (a.get_state)(c, sp);
                     if s == 0 {
                         let inst = &mut self.live[k];
+                        let ct = inst.ct;
                         if fresh {
-                            inst.fmu_states.push((st, state));
+                            inst.fmu_states.push((st, state, ct));
                         } else if let Some(e) = inst.fmu_states.iter_mut().find(|e| e.0 == st) {
-                            e.1 = state;
+                            (e.1, e.2) = (state, ct);
                         }
                     }
                     (Call::GetFMUstate, s)
@@ -710,7 +872,7 @@ impl Fuzzer {
                     if s == 0 {
                         let inst = &mut self.live[k];
                         match inst.fmu_states.iter().find(|e| e.0 == st) {
-                            Some(e) => inst.state = e.1,
+                            Some(e) => (inst.state, inst.ct) = (e.1, e.2),
                             None => self.report.finding(format!(
                                 "{}: fmi2SetFMUstate accepted a foreign state",
                                 a.id
@@ -788,11 +950,13 @@ impl Fuzzer {
                     let s = (a.deserialize)(c, bp, b.len(), &mut st);
                     if s == 0 {
                         let code = state_of_bytes(&b).unwrap_or(State::Fatal);
+                        // the last byte: continuous-time mode of a Model Exchange state
+                        let ct = b.last() == Some(&1);
                         let inst = &mut self.live[k];
                         if fresh {
-                            inst.fmu_states.push((st, code));
+                            inst.fmu_states.push((st, code, ct));
                         } else if let Some(e) = inst.fmu_states.iter_mut().find(|e| e.0 == st) {
-                            e.1 = code;
+                            (e.1, e.2) = (code, ct);
                         }
                     }
                     (Call::DeSerializeFMUstate, s)
@@ -822,6 +986,11 @@ impl Fuzzer {
                             f64::MAX,
                         ])
                     };
+                    let h = if elastic && h > ELASTIC_H {
+                        ELASTIC_H
+                    } else {
+                        h
+                    };
                     let s = (a.do_step)(c, t, h, self.rng.int());
                     if s == 2 {
                         self.live[k].state = State::StepFailed;
@@ -848,6 +1017,27 @@ impl Fuzzer {
                                 ),
                             )
                         }
+                        1 if self.rng.chance(50) => {
+                            // valid ones: Real inputs, orders 1 and 2, finite values
+                            let inputs: Vec<u32> = a
+                                .vars
+                                .iter()
+                                .filter(|v| v.1 == VarType::Real && v.2 == Causality::Input)
+                                .map(|v| v.0)
+                                .collect();
+                            let n = 1 + self.rng.below(3);
+                            let vrs: Vec<u32> = (0..n).map(|_| self.rng.pick(&inputs)).collect();
+                            let ord: Vec<c_int> =
+                                vrs.iter().map(|_| 1 + self.rng.below(2) as c_int).collect();
+                            let vals: Vec<f64> = vrs
+                                .iter()
+                                .map(|_| (self.rng.next() as f64 / u64::MAX as f64 - 0.5) * 40.0)
+                                .collect();
+                            (
+                                Call::SetRealInputDerivatives,
+                                (a.set_input_der)(c, arr!(vrs), n, arr!(ord), arr!(vals)),
+                            )
+                        }
                         1 => (
                             Call::SetRealInputDerivatives,
                             (a.set_input_der)(c, arr!(vrs), vrs.len(), arr!(ord), arr!(vals)),
@@ -868,6 +1058,7 @@ impl Fuzzer {
                     }
                 }
                 29 => (Call::CancelStep, (a.cancel_step)(c)),
+                31.. => self.me_call(k),
                 _ => {
                     let kind = self.rng.int();
                     let np = self.rng.chance(5);
@@ -929,6 +1120,113 @@ impl Fuzzer {
                         }
                     }
                 }
+            }
+        }
+    }
+}
+
+impl Fuzzer {
+    /// One Model Exchange call on instance `k` (of a binary that provides them; on a
+    /// Co-Simulation instance each is refused): random modes, times, states, wrong nx/nz,
+    /// NULL arrays and pointers.
+    fn me_call(&mut self, k: usize) -> (Call, c_int) {
+        let a: *const Api = &self.apis[self.live[k].api];
+        // SAFETY: `apis` is not modified while the fuzzer runs.
+        let a = unsafe { &*a };
+        let me = a.me.as_ref().expect("an FMU with Model Exchange");
+        let c = self.live[k].c;
+        let nx = match self.rng.below(10) {
+            0 => 0,
+            1 => a.nx + 1,
+            2 => self.rng.pick(&[a.nx.saturating_sub(1), 1 << 20]),
+            _ => a.nx,
+        };
+        let nz = match self.rng.below(10) {
+            0 => 0,
+            1 => a.nz + 1,
+            _ => a.nz,
+        };
+        let null = self.rng.chance(5);
+        // arrays as long as the counts (up to a cap: a huge count is refused before any read)
+        let mut buf = vec![0.0f64; nx.max(nz).min(64)];
+        let p = if null || nx.max(nz) > 64 {
+            std::ptr::null_mut()
+        } else {
+            buf.as_mut_ptr()
+        };
+        // SAFETY: `c` is a live instance; `p` is NULL or holds max(nx, nz) reals.
+        unsafe {
+            match self.rng.below(10) {
+                0 => {
+                    let s = (me.enter_event_mode)(c);
+                    if s == 0 {
+                        self.live[k].ct = false;
+                    }
+                    (Call::EnterEventMode, s)
+                }
+                1 => {
+                    let mut info = std::mem::zeroed::<EventInfo>();
+                    let ip: *mut EventInfo = if null {
+                        std::ptr::null_mut()
+                    } else {
+                        &mut info
+                    };
+                    (Call::NewDiscreteStates, (me.new_discrete_states)(c, ip))
+                }
+                2 => {
+                    let s = (me.enter_continuous_time_mode)(c);
+                    if s == 0 {
+                        self.live[k].ct = true;
+                    }
+                    (Call::EnterContinuousTimeMode, s)
+                }
+                3 => {
+                    let (mut e, mut t) = (0, 0);
+                    let ep: *mut c_int = if null { std::ptr::null_mut() } else { &mut e };
+                    (
+                        Call::CompletedIntegratorStep,
+                        (me.completed_integrator_step)(c, self.rng.int(), ep, &mut t),
+                    )
+                }
+                4 => {
+                    let t = if self.rng.chance(70) {
+                        self.rng.below(1000) as f64 * 1e-3
+                    } else {
+                        self.rng.real()
+                    };
+                    (Call::SetTime, (me.set_time)(c, t))
+                }
+                5 => {
+                    for x in buf.iter_mut() {
+                        *x = if self.rng.chance(80) {
+                            (self.rng.next() as f64 / u64::MAX as f64 - 0.5) * 1e-2
+                        } else {
+                            self.rng.real()
+                        };
+                    }
+                    let p = if p.is_null() {
+                        std::ptr::null()
+                    } else {
+                        buf.as_ptr()
+                    };
+                    (
+                        Call::SetContinuousStates,
+                        (me.set_continuous_states)(c, p, nx),
+                    )
+                }
+                6 => (Call::GetDerivatives, (me.get_derivatives)(c, p, nx)),
+                7 => (
+                    Call::GetEventIndicators,
+                    (me.get_event_indicators)(c, p, nz),
+                ),
+                8 => (
+                    Call::GetContinuousStates,
+                    (me.get_continuous_states)(c, p, nx),
+                ),
+                _ => (
+                    Call::GetNominalsOfContinuousStates,
+                    (me.get_nominals)(c, p, nx),
+                ),
             }
         }
     }
@@ -1027,13 +1325,19 @@ fn main() {
     }
     let r = &f.report;
     let lines = TALLY.with(|t| t.borrow().lines);
+    let secs = t0.elapsed().as_secs_f64();
     println!(
-        "fuzz_fmi: {} FMI calls on {} FMUs from {} (seed {seed}) in {:.1} s: {} instances, \
+        "fuzz_fmi: {} FMI calls on {} FMUs from {} (seed {seed}) in {secs:.1} s ({:.0} calls/s; \
+         slowest {:.3} s, {}; {} elastodynamic steps in {:.1} s): {} instances, \
          statuses ok/warning/discard/error/fatal = {:?}, {lines} log lines, {} findings",
         r.execs,
         f.apis.len(),
         dir.display(),
-        t0.elapsed().as_secs_f64(),
+        r.execs as f64 / secs,
+        r.slowest.0,
+        r.slowest.1,
+        r.elastic_steps.0,
+        r.elastic_steps.1,
         r.instantiated,
         &r.statuses[..5],
         r.findings.len()

@@ -446,6 +446,10 @@ pub struct Values<V: VarSet> {
     /// scene's tailored FMU narrows it). [`Model::prepare`] and [`Model::evaluate`] skip what is
     /// not in it.
     pub stages: Stages,
+    /// Time derivatives of Real inputs a host set with `fmi2SetRealInputDerivatives`, as
+    /// `(value reference, order, value)`, for the next communication step only
+    /// ([`shaft::path`] reads those of the shaft; see `interface.md`).
+    input_derivatives: Vec<(u32, u32, f64)>,
     _v: PhantomData<V>,
 }
 
@@ -461,6 +465,7 @@ impl<V: VarSet> Values<V> {
         Values {
             data: V::table().iter().map(|v| v.start.unwrap_or(0.0)).collect(),
             stages: Stages::ALL,
+            input_derivatives: Vec::new(),
             _v: PhantomData,
         }
     }
@@ -489,7 +494,41 @@ impl<V: VarSet> Values<V> {
     pub fn raw_mut(&mut self) -> &mut [f64] {
         &mut self.data
     }
+    /// The derivative of order `order` of the input `vr` a host set for the next step, if any.
+    pub fn input_derivative(&self, vr: u32, order: u32) -> Option<f64> {
+        self.input_derivatives
+            .iter()
+            .find(|d| d.0 == vr && d.1 == order)
+            .map(|d| d.2)
+    }
+    /// Sets (or replaces) the derivative of order `order` of the input `vr`. The runtime checks
+    /// that `vr` is a Real input, `order` in `1..=`[`MAX_INPUT_DERIVATIVE_ORDER`] and `x` finite.
+    pub fn set_input_derivative(&mut self, vr: u32, order: u32, x: f64) {
+        match self
+            .input_derivatives
+            .iter_mut()
+            .find(|d| d.0 == vr && d.1 == order)
+        {
+            Some(d) => d.2 = x,
+            None => self.input_derivatives.push((vr, order, x)),
+        }
+    }
+    /// Every input derivative set, as `(value reference, order, value)`, in the order set.
+    pub fn input_derivatives(&self) -> &[(u32, u32, f64)] {
+        &self.input_derivatives
+    }
+    /// Forgets the input derivatives (they applied to one communication step).
+    pub fn clear_input_derivatives(&mut self) {
+        self.input_derivatives.clear();
+    }
 }
+
+/// Highest order of input derivative `fmi2SetRealInputDerivatives` accepts: the shaft angle is
+/// extrapolated with a parabola, `phi(t0 + dt) = phi + phi'*dt + phi''*dt^2/2`
+/// (`dynamics.md`). FMI 2.0 has no attribute for it in `modelDescription.xml`
+/// (`fmi2ModelDescription.xsd` defines `maxOutputDerivativeOrder` only), so a higher order is
+/// refused at the call with this number in the message.
+pub const MAX_INPUT_DERIVATIVE_ORDER: u32 = 2;
 
 impl<V: VarSet> Index<V> for Values<V> {
     type Output = f64;
@@ -623,6 +662,11 @@ pub trait Model: Sized + Send + 'static {
     const STATES: usize = 0;
     /// Model Exchange: number of event indicators.
     const EVENT_INDICATORS: usize = 0;
+
+    /// `canInterpolateInputs`: `fmi2SetRealInputDerivatives` has an effect (the elastodynamic
+    /// level extrapolates the shaft angle inside a step with them, [`shaft::path`];
+    /// `interface.md`). By default the models with an elastodynamic level, i.e. with states.
+    const CAN_INTERPOLATE_INPUTS: bool = Self::STATES > 0;
 
     /// Model Exchange: the continuous states at `time`.
     fn me_states(&mut self, _values: &Values<Self::Var>, _time: f64, _x: &mut [f64]) {}
@@ -818,6 +862,34 @@ pub mod shaft {
         }
     }
 
+    /// The shaft's path over a communication step from `time`, for an integration inside
+    /// `fmi2DoStep` (`dynamics.md`): the angle `phi(time + dt) = phi + phi'*dt + phi''*dt^2/2`
+    /// from `shaft.phi`, with `phi'` and `phi''` the input derivatives a host set with
+    /// `fmi2SetRealInputDerivatives` (`interface.md`: a derivative of order 1 of `shaft.w` is
+    /// `phi''` too) and else `shaft.w` and `shaft.a`. In `constant_speed` mode the inputs and
+    /// their derivatives are ignored ([`state`]).
+    pub fn path<V: VarSet>(values: &Values<V>, time: f64) -> crate::solver::ShaftPath {
+        let s = state(values, time);
+        let (w, a) = if values.raw()[MODE as usize] == 2.0 {
+            (s.w, s.a)
+        } else {
+            (
+                values.input_derivative(PHI, 1).unwrap_or(s.w),
+                values
+                    .input_derivative(PHI, 2)
+                    .or_else(|| values.input_derivative(W, 1))
+                    .unwrap_or(s.a),
+            )
+        };
+        crate::solver::ShaftPath::new(time, s.phi, w, a)
+    }
+
+    /// Does [`path`] use the derivative of order `order` of the input `vr`? (The others a host
+    /// may set are accepted and ignored with a warning: the path is a parabola in time.)
+    pub fn uses_input_derivative(vr: u32, order: u32) -> bool {
+        matches!((vr, order), (PHI, 1) | (PHI, 2) | (W, 1))
+    }
+
     /// The chosen fidelity level.
     pub fn fidelity<V: VarSet>(values: &Values<V>) -> Fidelity {
         match values.raw()[FIDELITY as usize] as i32 {
@@ -954,6 +1026,41 @@ mod tests {
         let s = shaft::state(&v, 0.5);
         assert_eq!(s.phi, 1.0 + 0.5 * v[T::drive_n]);
         assert_eq!(s.a, 0.0);
+    }
+
+    #[test]
+    fn shaft_path_takes_the_input_derivatives_a_host_set() {
+        let mut v = Values::<T>::start();
+        v[T::shaft_phi] = 1.0;
+        v[T::shaft_w] = 2.0;
+        v[T::shaft_a] = 3.0;
+        let at = |v: &Values<T>| {
+            let p = shaft::path(v, 10.0);
+            (p.w, p.a, p.absolute_phi(10.5))
+        };
+        assert_eq!(at(&v), (2.0, 3.0, 1.0 + 2.0 * 0.5 + 0.5 * 3.0 * 0.25));
+        // phi' replaces shaft.w; shaft.w' replaces shaft.a; phi'' wins over shaft.w'
+        v.set_input_derivative(shaft::PHI, 1, 5.0);
+        assert_eq!(at(&v).0, 5.0);
+        assert_eq!(at(&v).1, 3.0);
+        v.set_input_derivative(shaft::W, 1, 7.0);
+        assert_eq!(at(&v).1, 7.0);
+        v.set_input_derivative(shaft::PHI, 2, -4.0);
+        v.set_input_derivative(shaft::PHI, 2, -6.0);
+        assert_eq!(v.input_derivatives().len(), 3, "set again replaces");
+        let (w, a, phi) = at(&v);
+        assert_eq!((w, a), (5.0, -6.0));
+        assert!((phi - (1.0 + 5.0 * 0.5 - 0.5 * 6.0 * 0.25)).abs() < 1e-12);
+        // the unused ones are stored but not read by the path
+        assert!(!shaft::uses_input_derivative(shaft::A, 1));
+        assert!(!shaft::uses_input_derivative(shaft::W, 2));
+        // the constant-speed drive ignores the inputs and their derivatives
+        v[T::drive_mode] = 2.0;
+        let p = shaft::path(&v, 10.0);
+        assert_eq!((p.w, p.a), (v[T::drive_n], 0.0));
+        v.clear_input_derivatives();
+        v[T::drive_mode] = 1.0;
+        assert_eq!(at(&v).0, 2.0);
     }
 
     #[test]

@@ -11,12 +11,21 @@
 mod common;
 
 use bindery_fmu::catalog::{self, Entry};
-use bindery_fmu::fmi2::state::{Call, State, allowed};
+use bindery_fmu::fmi2::runtime::me::EventInfo;
+use bindery_fmu::fmi2::state::{Call, ME_STATES, MeState, State, allowed, me_allowed};
 use bindery_fmu::fmi2::types::*;
 use bindery_fmu::model::{Causality, Var, VarType, Variability};
 use common::*;
 use libloading::Symbol;
 use std::ffi::{c_char, c_int};
+
+/// The leak test measures the process's memory: it runs alone (write lock) while the other
+/// tests of this file, which allocate (and log) a lot, share the read lock.
+static ALONE: std::sync::RwLock<()> = std::sync::RwLock::new(());
+
+fn shared() -> std::sync::RwLockReadGuard<'static, ()> {
+    ALONE.read().unwrap_or_else(|e| e.into_inner())
+}
 
 fn load(e: &Entry) -> Fmu {
     Fmu::load(e.identifier, &(e.describe)().1)
@@ -142,18 +151,54 @@ const ROWS: &[Row] = &[
     ("fmi2GetStringStatus", Call::GetStringStatus),
 ];
 
+/// Every Model Exchange function.
+const ME_ROWS: &[Row] = &[
+    ("fmi2EnterEventMode", Call::EnterEventMode),
+    ("fmi2NewDiscreteStates", Call::NewDiscreteStates),
+    ("fmi2EnterContinuousTimeMode", Call::EnterContinuousTimeMode),
+    ("fmi2CompletedIntegratorStep", Call::CompletedIntegratorStep),
+    ("fmi2SetTime", Call::SetTime),
+    ("fmi2SetContinuousStates", Call::SetContinuousStates),
+    ("fmi2GetDerivatives", Call::GetDerivatives),
+    ("fmi2GetEventIndicators", Call::GetEventIndicators),
+    ("fmi2GetContinuousStates", Call::GetContinuousStates),
+    (
+        "fmi2GetNominalsOfContinuousStates",
+        Call::GetNominalsOfContinuousStates,
+    ),
+];
+
+/// Every row, common, Co-Simulation and Model Exchange.
+fn all_rows() -> impl Iterator<Item = &'static Row> {
+    ROWS.iter().chain(ME_ROWS)
+}
+
+/// The FMU's number of continuous states (0: no Model Exchange interface).
+fn n_states(e: &Entry) -> usize {
+    vars(e)
+        .iter()
+        .filter(|(_, v)| v.derivative.is_some())
+        .count()
+}
+
+/// The FMU's number of event indicators.
+fn n_indicators(e: &Entry) -> usize {
+    (e.info)().event_indicators as usize
+}
+
 /// Calls whose capability flag is false: refused with "not supported" in every state.
-fn unsupported(call: Call) -> bool {
-    matches!(
-        call,
-        Call::GetDirectionalDerivative
-            | Call::SetRealInputDerivatives
-            | Call::GetRealOutputDerivatives
-            | Call::CancelStep
-            | Call::GetStatus
-            | Call::GetIntegerStatus
-            | Call::GetStringStatus
-    )
+/// (`fmi2SetRealInputDerivatives` works where `canInterpolateInputs` is true.)
+fn unsupported(call: Call, e: &Entry) -> bool {
+    (call == Call::SetRealInputDerivatives && !(e.info)().can_interpolate_inputs)
+        || matches!(
+            call,
+            Call::GetDirectionalDerivative
+                | Call::GetRealOutputDerivatives
+                | Call::CancelStep
+                | Call::GetStatus
+                | Call::GetIntegerStatus
+                | Call::GetStringStatus
+        )
 }
 
 /// A valid call of `call` on instance `c` (NULL included: every function must refuse it).
@@ -167,6 +212,7 @@ fn invoke(
     bytes: &[u8],
 ) -> Status {
     type F0 = unsafe extern "C" fn(Component) -> Status;
+    type Arr = unsafe extern "C" fn(Component, *mut Real, usize) -> Status;
     type Get<T> = unsafe extern "C" fn(Component, *const u32, usize, *mut T) -> Status;
     type Set<T> = unsafe extern "C" fn(Component, *const u32, usize, *const T) -> Status;
     let input = [vr_of(e, "shaft.phi")];
@@ -178,7 +224,9 @@ fn invoke(
     })
     .into_iter()
     .collect();
-    let name = ROWS.iter().find(|r| r.1 == call).expect("a row").0;
+    let name = all_rows().find(|r| r.1 == call).expect("a row").0;
+    let nx = n_states(e);
+    let nz = n_indicators(e);
     // SAFETY: each symbol is the FMI 2.0 function of that name, called with valid arguments.
     unsafe {
         match call {
@@ -357,8 +405,61 @@ fn invoke(
                     c, 0, &mut v,
                 )
             }
-            // Model Exchange calls get their rows (and an ME instance) here
-            other => panic!("{other:?}: no row in the co-simulation matrix"),
+            Call::EnterEventMode | Call::EnterContinuousTimeMode => f.sym::<F0>(name)(c),
+            Call::NewDiscreteStates => {
+                let mut info = EventInfo {
+                    new_discrete_states_needed: TRUE,
+                    terminate_simulation: TRUE,
+                    nominals_of_continuous_states_changed: TRUE,
+                    values_of_continuous_states_changed: TRUE,
+                    next_event_time_defined: TRUE,
+                    next_event_time: 0.0,
+                };
+                f.sym::<unsafe extern "C" fn(Component, *mut EventInfo) -> Status>(name)(
+                    c, &mut info,
+                )
+            }
+            Call::CompletedIntegratorStep => {
+                let (mut enter, mut term) = (TRUE, TRUE);
+                let s = f.sym::<unsafe extern "C" fn(
+                    Component,
+                    Boolean,
+                    *mut Boolean,
+                    *mut Boolean,
+                ) -> Status>(name)(c, TRUE, &mut enter, &mut term);
+                if s == Status::Ok {
+                    assert_eq!((enter, term), (FALSE, FALSE));
+                }
+                s
+            }
+            Call::SetTime => f.sym::<unsafe extern "C" fn(Component, Real) -> Status>(name)(c, 0.0),
+            Call::SetContinuousStates => {
+                // (the matrix runs at the default level: no elastodynamic states, all 0)
+                let x = vec![0.0; nx];
+                f.sym::<unsafe extern "C" fn(Component, *const Real, usize) -> Status>(name)(
+                    c,
+                    x.as_ptr(),
+                    nx,
+                )
+            }
+            Call::GetDerivatives
+            | Call::GetContinuousStates
+            | Call::GetNominalsOfContinuousStates => {
+                let mut x = vec![f64::NAN; nx];
+                let s = f.sym::<Arr>(name)(c, x.as_mut_ptr(), nx);
+                if s == Status::Ok {
+                    assert!(x.iter().all(|v| v.is_finite()), "{name}: {x:?}");
+                }
+                s
+            }
+            Call::GetEventIndicators => {
+                let mut z = vec![f64::NAN; nz];
+                let s = f.sym::<Arr>(name)(c, z.as_mut_ptr(), nz);
+                if s == Status::Ok {
+                    assert!(z.iter().all(|v| v.is_finite()), "{name}: {z:?}");
+                }
+                s
+            }
         }
     }
 }
@@ -367,12 +468,18 @@ fn invoke(
 /// saying so and changes nothing; a legal one does what it should; a NULL instance is refused.
 #[test]
 fn call_sequence_matrix() {
+    let _shared = shared();
     let mut cells = 0;
     for e in catalog::all() {
         let f = load(&e);
-        assert_eq!(ROWS.len(), 31, "every FMI 2.0 function taking an instance");
+        assert_eq!(
+            ROWS.len(),
+            31,
+            "every FMI 2.0 common and CS function taking an instance"
+        );
+        assert_eq!(ME_ROWS.len(), 10, "every FMI 2.0 Model Exchange function");
         for &state in &STATES {
-            for &(name, call) in ROWS {
+            for &(name, call) in all_rows() {
                 let s = f.slave("matrix");
                 drive_to(&s, state);
                 let mut st: FMUstate = std::ptr::null_mut();
@@ -391,7 +498,7 @@ fn call_sequence_matrix() {
                             && l.2.contains(&format!("not allowed in state {state:?}"))),
                         "{cell}: {new_logs:?}"
                     );
-                } else if unsupported(call) {
+                } else if unsupported(call, &e) {
                     assert_eq!(status, Status::Error, "{cell}");
                     assert!(
                         new_logs.iter().any(|l| l.2.contains("not supported")),
@@ -418,8 +525,294 @@ fn call_sequence_matrix() {
             }
         }
     }
-    assert_eq!(cells, catalog::all().len() * STATES.len() * ROWS.len());
+    assert_eq!(
+        cells,
+        catalog::all().len() * STATES.len() * (ROWS.len() + ME_ROWS.len())
+    );
     eprintln!("call-sequence matrix: {cells} cells");
+}
+
+/// Drives a fresh Model Exchange instance into `state` by legal calls.
+fn drive_me_to(s: &Slave, state: MeState) {
+    let ok = |st: Status, what: &str| assert_eq!(st, Status::Ok, "{what}: {:?}", s.logs());
+    match state {
+        MeState::Instantiated => {}
+        MeState::InitializationMode => ok(s.call0("fmi2EnterInitializationMode"), "enter"),
+        MeState::EventMode => ok(s.init(), "init"),
+        MeState::ContinuousTimeMode => {
+            ok(s.init(), "init");
+            ok(
+                s.call0("fmi2EnterContinuousTimeMode"),
+                "continuous-time mode",
+            );
+        }
+        MeState::Terminated => {
+            ok(s.init(), "init");
+            ok(s.call0("fmi2Terminate"), "terminate");
+        }
+        MeState::Error => {
+            // as for Co-Simulation: a saved state with the state code replaced
+            let probe = s.fmu.me_instance("probe");
+            ok(probe.init(), "probe init");
+            let mut st: FMUstate = std::ptr::null_mut();
+            ok(probe.get_state(&mut st), "probe state");
+            let (_, mut bytes) = probe.serialize(st);
+            ok(probe.free_state(&mut st), "probe free");
+            assert_eq!(
+                u16::from_le_bytes([bytes[24], bytes[25]]),
+                State::StepComplete.code()
+            );
+            bytes[24..26].copy_from_slice(&State::Error.code().to_le_bytes());
+            ok(s.deserialize(&bytes, &mut st), "deserialize");
+            ok(s.set_state(st), "set state");
+            ok(s.free_state(&mut st), "free state");
+        }
+    }
+}
+
+/// The Model Exchange state machine (FMI 2.0 section 3.2.3): every function, common,
+/// Co-Simulation and Model Exchange, in every state of a Model Exchange instance, for every
+/// FMU that provides Model Exchange (those with continuous states join by themselves): a legal
+/// call does what it should, an illegal one is `fmi2Error` with a log line and changes nothing.
+#[test]
+fn model_exchange_call_sequence_matrix() {
+    let _shared = shared();
+    let mut cells = 0;
+    let mut fmus = 0;
+    for e in catalog::all() {
+        if n_states(&e) == 0 {
+            continue;
+        }
+        fmus += 1;
+        let f = load(&e);
+        for &state in &ME_STATES {
+            for &(name, call) in all_rows() {
+                let s = f.me_instance("me-matrix");
+                drive_me_to(&s, state);
+                let mut st: FMUstate = std::ptr::null_mut();
+                assert_eq!(s.get_state(&mut st), Status::Ok);
+                let (_, bytes) = s.serialize(st);
+                let n_logs = s.logs().len();
+                let status = invoke(&f, &e, s.c, call, &mut st, &bytes);
+                let new_logs: Vec<LogLine> = s.logs()[n_logs..].to_vec();
+                let cell = format!("{} ME {name} in {state:?}", e.identifier);
+                if !me_allowed(call, state) {
+                    assert_eq!(status, Status::Error, "{cell}");
+                    assert!(
+                        new_logs.iter().any(|l| l.0 == Status::Error
+                            && l.2.contains(&format!("not allowed in state {state:?}"))),
+                        "{cell}: {new_logs:?}"
+                    );
+                    // nothing changed: the instance's state serializes as before
+                    if call != Call::FreeInstance {
+                        let mut now: FMUstate = std::ptr::null_mut();
+                        assert_eq!(s.get_state(&mut now), Status::Ok, "{cell}");
+                        assert_eq!(s.serialize(now).1, bytes, "{cell}: changed");
+                        assert_eq!(s.free_state(&mut now), Status::Ok);
+                    }
+                } else if unsupported(call, &e) {
+                    assert_eq!(status, Status::Error, "{cell}");
+                    assert!(
+                        new_logs.iter().any(|l| l.2.contains("not supported")),
+                        "{cell}: {new_logs:?}"
+                    );
+                } else {
+                    assert_eq!(status, Status::Ok, "{cell}: {new_logs:?}");
+                }
+                if call == Call::FreeInstance {
+                    std::mem::forget(s);
+                } else if call != Call::FreeFMUstate && !st.is_null() {
+                    assert_eq!(s.free_state(&mut st), Status::Ok, "{cell}");
+                }
+                let mut none: FMUstate = std::ptr::null_mut();
+                if call != Call::FreeInstance {
+                    assert_eq!(
+                        invoke(&f, &e, std::ptr::null_mut(), call, &mut none, &bytes),
+                        Status::Error,
+                        "{name}(NULL)"
+                    );
+                }
+                cells += 1;
+            }
+        }
+    }
+    assert!(fmus >= 1, "no FMU provides Model Exchange");
+    assert_eq!(cells, fmus * ME_STATES.len() * (ROWS.len() + ME_ROWS.len()));
+    eprintln!("Model Exchange call-sequence matrix: {fmus} FMUs, {cells} cells");
+}
+
+/// Bad arguments to the Model Exchange functions: NULL arrays and result pointers, nx and nz
+/// that are not the FMU's, non-finite states and times, parameters set in continuous-time
+/// mode. Each is `fmi2Error` with a reason naming it, changes nothing, and the run goes on.
+#[test]
+fn model_exchange_bad_arguments_are_refused_with_a_reason() {
+    let _shared = shared();
+    type Arr = unsafe extern "C" fn(Component, *mut Real, usize) -> Status;
+    type SetX = unsafe extern "C" fn(Component, *const Real, usize) -> Status;
+    for e in catalog::all() {
+        let nx = n_states(&e);
+        if nx == 0 {
+            continue;
+        }
+        let nz = n_indicators(&e);
+        let f = load(&e);
+        let s = f.me_instance("me-bad");
+        assert_eq!(
+            s.set_integer(&[vr_of(&e, "model.fidelity")], &[3]),
+            Status::Ok
+        );
+        drive_me_to(&s, MeState::ContinuousTimeMode);
+        let expect = |st: Status, text: &str, what: &str| {
+            assert_eq!(st, Status::Error, "{} {what}", e.identifier);
+            assert!(
+                s.last_error().contains(text),
+                "{} {what}: {:?}",
+                e.identifier,
+                s.last_error()
+            );
+        };
+        let state_bytes = || {
+            let mut st: FMUstate = std::ptr::null_mut();
+            assert_eq!(s.get_state(&mut st), Status::Ok);
+            let b = s.serialize(st).1;
+            assert_eq!(s.free_state(&mut st), Status::Ok);
+            b
+        };
+        let mut x = vec![0.0; nx + 1];
+        // SAFETY: the FMI functions with the arrays and pointers described, NULL where said.
+        unsafe {
+            // the first read starts the elastodynamic states (from the inputs at the time)
+            assert_eq!(
+                f.sym::<Arr>("fmi2GetContinuousStates")(s.c, x.as_mut_ptr(), nx),
+                Status::Ok
+            );
+            assert!(x[..nx].iter().all(|v| v.is_finite()), "{x:?}");
+        }
+        let before = state_bytes();
+        // SAFETY: as above.
+        unsafe {
+            for g in [
+                "fmi2GetDerivatives",
+                "fmi2GetContinuousStates",
+                "fmi2GetNominalsOfContinuousStates",
+            ] {
+                expect(f.sym::<Arr>(g)(s.c, std::ptr::null_mut(), nx), "NULL", g);
+                for n in [0, nx - 1, nx + 1, usize::MAX] {
+                    expect(
+                        f.sym::<Arr>(g)(s.c, x.as_mut_ptr(), n),
+                        &format!("nx = {n}; this FMU has {nx}"),
+                        g,
+                    );
+                }
+            }
+            let mut z = vec![0.0; nz + 1];
+            let gi = f.sym::<Arr>("fmi2GetEventIndicators");
+            if nz > 0 {
+                expect(gi(s.c, std::ptr::null_mut(), nz), "NULL", "indicators");
+            }
+            // (an FMU may have states and no event indicators: then only nz + 1 is wrong)
+            let wrong_nz: Vec<usize> = if nz > 0 {
+                vec![0, nz - 1, nz + 1]
+            } else {
+                vec![1]
+            };
+            for n in wrong_nz {
+                expect(
+                    gi(s.c, z.as_mut_ptr(), n),
+                    &format!("ni = {n}; this FMU has {nz}"),
+                    "indicators",
+                );
+            }
+            let set = f.sym::<SetX>("fmi2SetContinuousStates");
+            expect(set(s.c, std::ptr::null(), nx), "NULL", "set states");
+            expect(set(s.c, x.as_ptr(), nx + 1), "nx = ", "set states");
+            for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+                let mut y = x[..nx].to_vec();
+                y[nx - 1] = bad;
+                expect(set(s.c, y.as_ptr(), nx), "not finite", "set states");
+            }
+            let st = f.sym::<unsafe extern "C" fn(Component, Real) -> Status>("fmi2SetTime");
+            for bad in [f64::NAN, f64::INFINITY] {
+                expect(st(s.c, bad), "not finite", "set time");
+            }
+            let cis = f.sym::<unsafe extern "C" fn(
+                Component,
+                Boolean,
+                *mut Boolean,
+                *mut Boolean,
+            ) -> Status>("fmi2CompletedIntegratorStep");
+            let mut b = FALSE;
+            expect(
+                cis(s.c, TRUE, std::ptr::null_mut(), &mut b),
+                "NULL",
+                "completed step",
+            );
+            expect(
+                cis(s.c, TRUE, &mut b, std::ptr::null_mut()),
+                "NULL",
+                "completed step",
+            );
+            // a parameter in continuous-time mode (only continuous inputs may change)
+            let param = first(&e, |v| {
+                v.causality == Causality::Parameter && v.ty == VarType::Real
+            })
+            .expect("a Real parameter");
+            expect(s.set_real(&[param], &[1.0]), "cannot be set", "parameter");
+            assert_eq!(
+                state_bytes(),
+                before,
+                "{}: a refused call changed the state",
+                e.identifier
+            );
+            // in event mode: NewDiscreteStates(NULL)
+            assert_eq!(s.call0("fmi2EnterEventMode"), Status::Ok);
+            expect(
+                f.sym::<unsafe extern "C" fn(Component, *mut EventInfo) -> Status>(
+                    "fmi2NewDiscreteStates",
+                )(s.c, std::ptr::null_mut()),
+                "NULL",
+                "new discrete states",
+            );
+            // the run goes on
+            assert_eq!(s.call0("fmi2EnterContinuousTimeMode"), Status::Ok);
+            assert_eq!(st(s.c, 1e-3), Status::Ok);
+            assert_eq!(set(s.c, x.as_ptr(), nx), Status::Ok);
+            let mut dx = vec![f64::NAN; nx];
+            assert_eq!(
+                f.sym::<Arr>("fmi2GetDerivatives")(s.c, dx.as_mut_ptr(), nx),
+                Status::Ok
+            );
+            assert!(dx.iter().all(|v| v.is_finite()), "{dx:?}");
+        }
+        // a Model Exchange state in continuous-time mode restores its mode; a Co-Simulation
+        // instance refuses it
+        let mut st: FMUstate = std::ptr::null_mut();
+        assert_eq!(s.get_state(&mut st), Status::Ok);
+        let (_, bytes) = s.serialize(st);
+        assert_eq!(*bytes.last().unwrap(), 1, "continuous-time mode is saved");
+        assert_eq!(s.call0("fmi2EnterEventMode"), Status::Ok);
+        assert_eq!(s.set_state(st), Status::Ok);
+        let mut dummy = vec![0.0; nx];
+        // SAFETY: as above.
+        unsafe {
+            // legal in continuous-time mode only: the mode came back with the state
+            assert_eq!(
+                f.sym::<SetX>("fmi2SetContinuousStates")(s.c, dummy.as_mut_ptr(), nx),
+                Status::Ok
+            );
+        }
+        assert_eq!(s.free_state(&mut st), Status::Ok);
+        let cs = f.slave("cs");
+        let mut st2: FMUstate = std::ptr::null_mut();
+        assert_eq!(cs.deserialize(&bytes, &mut st2), Status::Ok);
+        assert_eq!(cs.set_state(st2), Status::Error);
+        assert!(
+            cs.last_error().contains("continuous-time mode"),
+            "{}",
+            cs.last_error()
+        );
+        assert_eq!(cs.free_state(&mut st2), Status::Ok);
+    }
 }
 
 /// NULL arrays with nvr > 0, unknown value references, wrong-type getters and setters, setting
@@ -427,6 +820,7 @@ fn call_sequence_matrix() {
 /// line, and the instance goes on.
 #[test]
 fn bad_arguments_are_refused_with_a_reason() {
+    let _shared = shared();
     type Get<T> = unsafe extern "C" fn(Component, *const u32, usize, *mut T) -> Status;
     type Set<T> = unsafe extern "C" fn(Component, *const u32, usize, *const T) -> Status;
     for e in catalog::all() {
@@ -644,6 +1038,7 @@ fn instantiate_refuses_invalid_fmu_types(e: &Entry, f: &Fmu) {
 /// (The mechanism-specific assembly conditions are in each FMU's own C-ABI test.)
 #[test]
 fn out_of_bounds_parameters_are_refused_naming_them() {
+    let _shared = shared();
     let mut checked = 0;
     for e in catalog::all() {
         let f = load(&e);
@@ -711,6 +1106,7 @@ fn out_of_bounds_parameters_are_refused_naming_them() {
 /// steps are taken.
 #[test]
 fn bad_values_keep_the_instance_going() {
+    let _shared = shared();
     for e in catalog::all() {
         let f = load(&e);
         let outs = real_outputs(&e);
@@ -788,6 +1184,7 @@ fn bad_values_keep_the_instance_going() {
 /// would have refused through fmi2Set*/fmi2ExitInitializationMode.
 #[test]
 fn tampered_fmu_states_are_refused() {
+    let _shared = shared();
     for e in catalog::all() {
         let f = load(&e);
         let s = f.slave("tamper");
@@ -838,6 +1235,160 @@ fn tampered_fmu_states_are_refused() {
     }
 }
 
+/// `fmi2SetRealInputDerivatives`: refused where `canInterpolateInputs` is false ("not
+/// supported") and on a Model Exchange instance; where it is true, every bad argument (not a
+/// Real input, order 0 or above 2, a non-finite value, NULL arrays) is refused with a reason
+/// and changes nothing, even when other entries of the same call are valid; derivatives a
+/// state was saved with are checked when it is set again.
+#[test]
+fn input_derivative_calls_are_checked_and_atomic() {
+    let _shared = shared();
+    for e in catalog::all() {
+        let f = load(&e);
+        let s = f.slave("ider");
+        assert_eq!(s.setup(0.0, None), Status::Ok);
+        assert_eq!(s.init(), Status::Ok);
+        let phi = vr_of(&e, "shaft.phi");
+        if !(e.info)().can_interpolate_inputs {
+            assert_eq!(s.set_input_derivatives(&[phi], &[1], &[1.0]), Status::Error);
+            assert!(
+                s.last_error().contains("not supported"),
+                "{}",
+                s.last_error()
+            );
+            continue;
+        }
+        let state_bytes = |s: &Slave| {
+            let mut st: FMUstate = std::ptr::null_mut();
+            assert_eq!(s.get_state(&mut st), Status::Ok);
+            let (ok, b) = s.serialize(st);
+            assert_eq!(ok, Status::Ok);
+            assert_eq!(s.free_state(&mut st), Status::Ok);
+            b
+        };
+        assert_eq!(s.set_input_derivatives(&[phi], &[1], &[2.5]), Status::Ok);
+        let before = state_bytes(&s);
+        let n = vars(&e).len() as u32;
+        let output = vr_of(&e, "shaft.tau");
+        let param = first(&e, |v| {
+            v.causality == Causality::Parameter && v.ty == VarType::Real
+        })
+        .expect("a Real parameter");
+        let int = vr_of(&e, "drive.mode");
+        let cases: Vec<(u32, i32, f64, &str)> = vec![
+            (output, 1, 1.0, "not a Real input"),
+            (param, 1, 1.0, "not a Real input"),
+            (int, 1, 1.0, "not a Real input"),
+            (n, 1, 1.0, "unknown value reference"),
+            (u32::MAX, 1, 1.0, "unknown value reference"),
+            (phi, 0, 1.0, "orders 1..=2"),
+            (phi, 3, 1.0, "orders 1..=2"),
+            (phi, -1, 1.0, "orders 1..=2"),
+            (phi, i32::MIN, 1.0, "orders 1..=2"),
+            (phi, 1, f64::NAN, "not a finite number"),
+            (phi, 2, f64::INFINITY, "not a finite number"),
+        ];
+        for (vr, order, x, why) in cases {
+            // a valid entry first: the call is refused as a whole
+            let st = s.set_input_derivatives(&[phi, vr], &[2, order], &[7.0, x]);
+            let cell = format!("{} vr {vr} order {order} = {x}", e.identifier);
+            assert_eq!(st, Status::Error, "{cell}");
+            assert!(s.last_error().contains(why), "{cell}: {}", s.last_error());
+            assert_eq!(
+                state_bytes(&s),
+                before,
+                "{cell}: the refused call changed the state"
+            );
+        }
+        // NULL arrays with n > 0
+        let g: Symbol<
+            unsafe extern "C" fn(
+                Component,
+                *const u32,
+                usize,
+                *const Integer,
+                *const Real,
+            ) -> Status,
+        > = f.sym("fmi2SetRealInputDerivatives");
+        // SAFETY: the FMI function with NULL arrays, which it must refuse.
+        unsafe {
+            assert_eq!(
+                g(s.c, std::ptr::null(), 1, [1].as_ptr(), [1.0].as_ptr()),
+                Status::Error
+            );
+            assert_eq!(
+                g(s.c, [phi].as_ptr(), 1, std::ptr::null(), [1.0].as_ptr()),
+                Status::Error
+            );
+            assert_eq!(
+                g(s.c, [phi].as_ptr(), 1, [1].as_ptr(), std::ptr::null()),
+                Status::Error
+            );
+            assert!(s.last_error().contains("NULL"), "{}", s.last_error());
+            assert_eq!(
+                g(s.c, std::ptr::null(), 0, std::ptr::null(), std::ptr::null()),
+                Status::Ok
+            );
+        }
+        assert_eq!(state_bytes(&s), before);
+        // a derivative the path does not use is kept, with a warning saying so
+        let a = vr_of(&e, "shaft.a");
+        let n_logs = s.logs().len();
+        assert_eq!(s.set_input_derivatives(&[a], &[1], &[1.0]), Status::Warning);
+        assert!(
+            s.logs()[n_logs..]
+                .iter()
+                .any(|l| l.0 == Status::Warning && l.2.contains("shaft.a of order 1")),
+            "{:?}",
+            &s.logs()[n_logs..]
+        );
+        // tampered derivatives in a serialized state: the last triple (vr, order, value)
+        let bytes = state_bytes(&s);
+        let at = bytes.len() - 25; // before the Model Exchange mode byte
+        for (k, x, why) in [
+            (0, f64::from(output), "not a Real input"),
+            (0, 0.5, "not a value reference"),
+            (1, 3.0, "orders 1..=2"),
+            (2, f64::NAN, "not a finite number"),
+        ] {
+            let mut b = bytes.clone();
+            b[at + 8 * k..at + 8 * k + 8].copy_from_slice(&x.to_bits().to_le_bytes());
+            let mut bad: FMUstate = std::ptr::null_mut();
+            let de = s.deserialize(&b, &mut bad);
+            if de == Status::Ok {
+                assert_eq!(
+                    s.set_state(bad),
+                    Status::Error,
+                    "{} tampered {k} = {x}",
+                    e.identifier
+                );
+                assert_eq!(s.free_state(&mut bad), Status::Ok);
+            }
+            assert!(
+                s.last_error().contains(why),
+                "{k} = {x}: {}",
+                s.last_error()
+            );
+            assert_eq!(state_bytes(&s), bytes);
+        }
+        // not on a Model Exchange instance: the host integrates and sets the inputs itself
+        let me = f.me_instance("ider-me");
+        assert_eq!(me.setup(0.0, None), Status::Ok);
+        assert_eq!(me.init(), Status::Ok);
+        assert_eq!(
+            me.set_input_derivatives(&[phi], &[1], &[1.0]),
+            Status::Error
+        );
+        assert!(
+            me.last_error().contains("Model Exchange"),
+            "{}",
+            me.last_error()
+        );
+        // the instance goes on, with its derivatives
+        assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
+    }
+}
+
 /// A run of `n` steps of `h` from `t0`, reading every Real output after each: the shaft input
 /// follows a fixed non-trivial law so that inputs matter.
 fn run(s: &Slave, e: &Entry, t0: f64, n: usize, h: f64) -> Vec<u64> {
@@ -870,6 +1421,7 @@ fn run(s: &Slave, e: &Entry, t0: f64, n: usize, h: f64) -> Vec<u64> {
 /// fmi2Reset each replay the same run bit for bit.
 #[test]
 fn fmu_state_and_reset_replay_bit_identically() {
+    let _shared = shared();
     for e in catalog::all() {
         let f = load(&e);
         let s = f.slave("replay");
@@ -915,6 +1467,7 @@ fn fmu_state_and_reset_replay_bit_identically() {
 /// one after the other.
 #[test]
 fn parallel_instances_match_sequential_runs() {
+    let _shared = shared();
     for e in catalog::all() {
         let f = load(&e);
         let job = |k: usize| {
@@ -952,6 +1505,7 @@ fn rss_kib() -> usize {
 /// process. `examples/fuzz_fmi.rs` and the report run a million cycles under LeakSanitizer.
 #[test]
 fn instantiate_free_cycles_do_not_leak() {
+    let _alone = ALONE.write().unwrap_or_else(|e| e.into_inner());
     let cycles: usize = std::env::var("BINDERY_CYCLES")
         .ok()
         .and_then(|s| s.parse().ok())

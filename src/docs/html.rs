@@ -153,9 +153,15 @@ pub fn index_html(
     if !info.description.is_empty() {
         let _ = writeln!(out, "<p class=\"lead\">{}</p>", escape(info.description));
     }
+    // Model Exchange is declared where some variable is a state derivative (md::describe)
+    let interfaces = if vars.iter().any(|(_, v)| v.derivative.is_some()) {
+        "Co-Simulation and Model Exchange"
+    } else {
+        "Co-Simulation"
+    };
     let _ = writeln!(
         out,
-        "<p class=\"meta\">FMI 2.0 Co-Simulation FMU, model identifier <code>{}</code>.</p>",
+        "<p class=\"meta\">FMI 2.0 {interfaces} FMU, model identifier <code>{}</code>.</p>",
         escape(info.identifier)
     );
     if !intro_html.trim().is_empty() {
@@ -236,6 +242,7 @@ mod tests {
                 tolerance: Some(1e-6),
             },
             event_indicators: 0,
+            can_interpolate_inputs: false,
         }
     }
 

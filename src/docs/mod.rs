@@ -104,6 +104,7 @@ mod tests {
                 tolerance: None,
             },
             event_indicators: 0,
+            can_interpolate_inputs: false,
         };
         let v = Var::output("y", "m", "out");
         let fig = |f: &str| Figure {

@@ -1,8 +1,9 @@
 //! FMI 2.0 Model Exchange on the same runtime: the host integrates the model's continuous
 //! states with its own solver (e.g. FMPy with CVode) through states, derivatives and event
 //! indicators ([`Model::STATES`], [`Model::me_derivatives`], ...). A submodule of the runtime:
-//! it uses the same instance, entry wrapper and state table; the event and continuous-time
-//! modes of Model Exchange both run in the table's state `StepComplete`, told apart here.
+//! it uses the same instance and entry wrapper; [`entry`] checks each call against the Model
+//! Exchange table (`state::ME_LEGAL`), whose event and continuous-time modes both run in the
+//! runtime's state `StepComplete`, told apart by [`Mode`].
 
 use super::*;
 
@@ -34,24 +35,6 @@ pub struct EventInfo {
     pub next_event_time: Real,
 }
 
-fn check<M: Model>(inst: &Instance<M>, call: Call, need: Option<Mode>) -> Result<(), String> {
-    if !inst.me.is_me {
-        return Err(format!(
-            "fmi2{call:?} is a Model Exchange call; this instance is Co-Simulation"
-        ));
-    }
-    if let Some(m) = need
-        && inst.state == State::StepComplete
-        && inst.me.mode != m
-    {
-        return Err(format!(
-            "fmi2{call:?} is not allowed in {:?} mode",
-            inst.me.mode
-        ));
-    }
-    Ok(())
-}
-
 fn count(n: usize, what: &str, expected: usize) -> Result<(), String> {
     if n != expected {
         return Err(format!("{what} = {n}; this FMU has {expected}"));
@@ -67,7 +50,6 @@ pub unsafe fn enter_event_mode<M: Model>(c: Component) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::EnterEventMode, |inst| {
-            check(inst, Call::EnterEventMode, None)?;
             inst.me.mode = Mode::Event;
             Ok(Status::Ok)
         })
@@ -82,7 +64,6 @@ pub unsafe fn new_discrete_states<M: Model>(c: Component, info: *mut EventInfo) 
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::NewDiscreteStates, |inst| {
-            check(inst, Call::NewDiscreteStates, Some(Mode::Event))?;
             if info.is_null() {
                 return Err("fmi2EventInfo pointer is NULL".into());
             }
@@ -111,7 +92,6 @@ pub unsafe fn enter_continuous_time_mode<M: Model>(c: Component) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::EnterContinuousTimeMode, |inst| {
-            check(inst, Call::EnterContinuousTimeMode, Some(Mode::Event))?;
             inst.me.mode = Mode::ContinuousTime;
             Ok(Status::Ok)
         })
@@ -131,11 +111,6 @@ pub unsafe fn completed_integrator_step<M: Model>(
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::CompletedIntegratorStep, |inst| {
-            check(
-                inst,
-                Call::CompletedIntegratorStep,
-                Some(Mode::ContinuousTime),
-            )?;
             if enter_event_mode.is_null() || terminate.is_null() {
                 return Err("a result pointer is NULL".into());
             }
@@ -157,7 +132,6 @@ pub unsafe fn set_time<M: Model>(c: Component, t: Real) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::SetTime, |inst| {
-            check(inst, Call::SetTime, None)?;
             if !t.is_finite() {
                 return Err(format!("time {t} is not finite"));
             }
@@ -176,7 +150,6 @@ pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: 
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::SetContinuousStates, |inst| {
-            check(inst, Call::SetContinuousStates, Some(Mode::ContinuousTime))?;
             count(nx, "nx", M::STATES)?;
             let x = slice(x, nx, "x")?;
             if let Some(bad) = x.iter().find(|v| !v.is_finite()) {
@@ -199,7 +172,6 @@ pub unsafe fn get_derivatives<M: Model>(c: Component, dx: *mut Real, nx: usize) 
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::GetDerivatives, |inst| {
-            check(inst, Call::GetDerivatives, None)?;
             count(nx, "nx", M::STATES)?;
             let dx = slice_mut(dx, nx, "derivatives")?;
             inst.prepared()?;
@@ -218,7 +190,6 @@ pub unsafe fn get_event_indicators<M: Model>(c: Component, z: *mut Real, ni: usi
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::GetEventIndicators, |inst| {
-            check(inst, Call::GetEventIndicators, None)?;
             count(ni, "ni", M::EVENT_INDICATORS)?;
             let z = slice_mut(z, ni, "eventIndicators")?;
             inst.prepared()?;
@@ -237,7 +208,6 @@ pub unsafe fn get_continuous_states<M: Model>(c: Component, x: *mut Real, nx: us
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::GetContinuousStates, |inst| {
-            check(inst, Call::GetContinuousStates, None)?;
             count(nx, "nx", M::STATES)?;
             let x = slice_mut(x, nx, "x")?;
             inst.prepared()?;
@@ -255,8 +225,7 @@ pub unsafe fn get_continuous_states<M: Model>(c: Component, x: *mut Real, nx: us
 pub unsafe fn get_nominals<M: Model>(c: Component, x: *mut Real, nx: usize) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::GetNominalsOfContinuousStates, |inst| {
-            check(inst, Call::GetNominalsOfContinuousStates, None)?;
+        entry::<M>(c, Call::GetNominalsOfContinuousStates, |_| {
             count(nx, "nx", M::STATES)?;
             slice_mut(x, nx, "x_nominal")?.fill(1.0);
             Ok(Status::Ok)

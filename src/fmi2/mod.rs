@@ -213,18 +213,12 @@ macro_rules! export_fmu {
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
                 c: Component,
-                _vr: *const ValueReference,
-                _n: usize,
-                _order: *const Integer,
-                _v: *const Real,
+                vr: *const ValueReference,
+                n: usize,
+                order: *const Integer,
+                v: *const Real,
             ) -> Status {
-                unsafe {
-                    rt::unsupported::<M>(
-                        c,
-                        Call::SetRealInputDerivatives,
-                        "canInterpolateInputs is false",
-                    )
-                }
+                unsafe { rt::set_real_input_derivatives::<M>(c, vr, n, order, v) }
             }
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(

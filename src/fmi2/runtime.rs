@@ -6,10 +6,13 @@
 //! The `extern "C"` symbols themselves are generated per FMU by [`crate::export_fmu!`], each a
 //! one-line call into this module.
 
-use super::state::{Call, State, allowed};
+use super::state::{Call, MeState, State, allowed, me_allowed};
 use super::types::*;
 use crate::md;
-use crate::model::{Log, Model, SetPhase, Severity, Values, Var, VarSet, VarType, check_bounds};
+use crate::model::{
+    Log, MAX_INPUT_DERIVATIVE_ORDER, Model, SetPhase, Severity, Values, Var, VarSet, VarType,
+    check_bounds, shaft,
+};
 use std::ffi::{CStr, CString};
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
@@ -18,7 +21,7 @@ use std::path::PathBuf;
 pub mod me;
 
 const MAGIC: u64 = 0x4249_4e44_4552_5932; // "BINDERY2"
-const STATE_MAGIC: &[u8; 8] = b"BNDRYST1";
+const STATE_MAGIC: &[u8; 8] = b"BNDRYST2";
 
 /// Log categories as bits (see [`md::LOG_CATEGORIES`]).
 fn category_bit(name: &str) -> Option<u32> {
@@ -87,6 +90,10 @@ pub struct Snapshot {
     stop_time: Option<f64>,
     values: Vec<f64>,
     model_state: Vec<f64>,
+    /// The input derivatives set for the next step, `(vr, order, value)`.
+    input_derivatives: Vec<(u32, u32, f64)>,
+    /// Model Exchange: in continuous-time mode (else event mode, or Co-Simulation).
+    continuous_time: bool,
 }
 
 impl Snapshot {
@@ -103,12 +110,18 @@ impl Snapshot {
             b.extend_from_slice(&x.to_bits().to_le_bytes());
         }
         b.push(self.stop_time.is_some() as u8);
-        for v in [&self.values, &self.model_state] {
+        let ders: Vec<f64> = self
+            .input_derivatives
+            .iter()
+            .flat_map(|&(vr, order, x)| [f64::from(vr), f64::from(order), x])
+            .collect();
+        for v in [&self.values, &self.model_state, &ders] {
             b.extend_from_slice(&(v.len() as u64).to_le_bytes());
             for x in v.iter() {
                 b.extend_from_slice(&x.to_bits().to_le_bytes());
             }
         }
+        b.push(self.continuous_time as u8);
         b
     }
 
@@ -135,6 +148,35 @@ impl Snapshot {
             ));
         }
         let model_state = r.vec()?;
+        let ders = r.vec()?;
+        if ders.len() % 3 != 0 {
+            return Err(format!(
+                "serialized input derivatives: {} numbers, not triples",
+                ders.len()
+            ));
+        }
+        // (vr, order) are checked against the variables in `Instance::restore`; here only
+        // that they are whole numbers in range
+        let mut input_derivatives = Vec::with_capacity(ders.len() / 3);
+        for d in ders.chunks(3) {
+            let whole = |x: f64| x >= 0.0 && x <= f64::from(u32::MAX) && x.fract() == 0.0;
+            if !(whole(d[0]) && whole(d[1])) {
+                return Err(format!(
+                    "serialized input derivative of vr {} order {}: not a value reference and order",
+                    d[0], d[1]
+                ));
+            }
+            input_derivatives.push((d[0] as u32, d[1] as u32, d[2]));
+        }
+        let continuous_time = match r.take(1)?[0] {
+            0 => false,
+            1 => true,
+            m => {
+                return Err(format!(
+                    "unknown Model Exchange mode {m} in serialized state"
+                ));
+            }
+        };
         if r.at != bytes.len() {
             return Err(format!(
                 "{} trailing bytes in serialized state",
@@ -148,6 +190,8 @@ impl Snapshot {
             stop_time: stop_defined.then_some(stop),
             values,
             model_state,
+            input_derivatives,
+            continuous_time,
         })
     }
 }
@@ -336,6 +380,22 @@ impl<M: Model> Instance<M> {
         <M::Var as VarSet>::table()
     }
 
+    /// The Model Exchange state of an instance (None for the Co-Simulation-only states a
+    /// Model Exchange instance is never in).
+    pub fn me_state(&self) -> Option<MeState> {
+        Some(match self.state {
+            State::Instantiated => MeState::Instantiated,
+            State::InitializationMode => MeState::InitializationMode,
+            State::StepComplete => match self.me.mode {
+                me::Mode::Event => MeState::EventMode,
+                me::Mode::ContinuousTime => MeState::ContinuousTimeMode,
+            },
+            State::Terminated => MeState::Terminated,
+            State::Error => MeState::Error,
+            State::StepFailed | State::StepCanceled | State::Fatal => return None,
+        })
+    }
+
     /// Makes sure the model is prepared for the current parameters.
     #[inline]
     fn prepared(&mut self) -> Result<&mut M, String> {
@@ -436,6 +496,16 @@ impl<M: Model> Instance<M> {
                     }
                 ));
             }
+            if self.me.is_me
+                && self.state == State::StepComplete
+                && self.me.mode == me::Mode::ContinuousTime
+                && v.causality != crate::model::Causality::Input
+            {
+                return Err(format!(
+                    "{} cannot be set in continuous-time mode (only continuous inputs; a tunable parameter in event mode)",
+                    v.name
+                ));
+            }
             if !x.is_finite() {
                 return Err(format!(
                     "{} = {x} refused: not a finite number; the previous value {} is kept",
@@ -490,6 +560,32 @@ impl<M: Model> Instance<M> {
         Ok(())
     }
 
+    /// Is `(vr, order, x)` an input derivative `fmi2SetRealInputDerivatives` accepts?
+    fn check_input_derivative(vr: u32, order: u32, x: f64) -> Result<(), String> {
+        let v = Self::table()
+            .get(vr as usize)
+            .ok_or_else(|| format!("unknown value reference {vr}"))?;
+        if !(v.ty == VarType::Real && v.causality == crate::model::Causality::Input) {
+            return Err(format!(
+                "{} (vr {vr}) is not a Real input; only inputs have input derivatives",
+                v.name
+            ));
+        }
+        if !(1..=MAX_INPUT_DERIVATIVE_ORDER).contains(&order) {
+            return Err(format!(
+                "order {order} of the derivative of {} refused: this FMU takes orders 1..={MAX_INPUT_DERIVATIVE_ORDER}",
+                v.name
+            ));
+        }
+        if !x.is_finite() {
+            return Err(format!(
+                "derivative of order {order} of {} = {x} refused: not a finite number",
+                v.name
+            ));
+        }
+        Ok(())
+    }
+
     fn snapshot(&self) -> Snapshot {
         Snapshot {
             state: self.state,
@@ -498,6 +594,10 @@ impl<M: Model> Instance<M> {
             stop_time: self.stop_time,
             values: self.values.raw().to_vec(),
             model_state: self.model.as_ref().map(M::save_state).unwrap_or_default(),
+            input_derivatives: self.values.input_derivatives().to_vec(),
+            continuous_time: self.me.is_me
+                && self.state == State::StepComplete
+                && self.me.mode == me::Mode::ContinuousTime,
         }
     }
 
@@ -519,6 +619,18 @@ impl<M: Model> Instance<M> {
         if s.state == State::Fatal {
             return Err("FMU state refused: an instance never leaves state Fatal".into());
         }
+        if self.me.is_me && matches!(s.state, State::StepFailed | State::StepCanceled) {
+            return Err(format!(
+                "FMU state refused: {:?} is a Co-Simulation state; this instance is Model Exchange",
+                s.state
+            ));
+        }
+        if s.continuous_time && !(self.me.is_me && s.state == State::StepComplete) {
+            return Err(
+                "FMU state refused: continuous-time mode belongs to an initialized Model Exchange instance"
+                    .into(),
+            );
+        }
         for (v, &x) in Self::table().iter().zip(&s.values) {
             if matches!(
                 v.causality,
@@ -530,6 +642,11 @@ impl<M: Model> Instance<M> {
         }
         let mut values = start_values::<M>(self.scene.as_deref());
         values.raw_mut().copy_from_slice(&s.values);
+        for &(vr, order, x) in &s.input_derivatives {
+            Self::check_input_derivative(vr, order, x)
+                .map_err(|e| format!("FMU state refused: {e}"))?;
+            values.set_input_derivative(vr, order, x);
+        }
         if !matches!(s.state, State::Instantiated | State::InitializationMode) {
             check_bounds(&values).map_err(|e| format!("FMU state refused: {e}"))?;
         }
@@ -555,6 +672,11 @@ impl<M: Model> Instance<M> {
         self.params_changed = model.is_none();
         self.model = model;
         self.state = s.state;
+        self.me.mode = if s.continuous_time {
+            me::Mode::ContinuousTime
+        } else {
+            me::Mode::Event
+        };
         self.time = s.time;
         self.start_time = s.start_time;
         self.stop_time = s.stop_time;
@@ -584,6 +706,37 @@ impl<M: Model> Drop for Instance<M> {
     }
 }
 
+/// Why `call` is illegal in the instance's state (its interface's state machine), if it is.
+fn refusal<M: Model>(inst: &Instance<M>, call: Call) -> Option<String> {
+    if inst.me.is_me {
+        let state = inst.me_state();
+        let legal = state.is_some_and(|s| me_allowed(call, s));
+        (!legal).then(|| {
+            format!(
+                "fmi2{call:?} is not allowed in state {}{}",
+                state.map_or_else(|| format!("{:?}", inst.state), |s| format!("{s:?}")),
+                if call.is_co_simulation() {
+                    " (a Co-Simulation function; this instance is Model Exchange)"
+                } else {
+                    ""
+                }
+            )
+        })
+    } else {
+        (!allowed(call, inst.state)).then(|| {
+            format!(
+                "fmi2{call:?} is not allowed in state {:?}{}",
+                inst.state,
+                if call.is_model_exchange() {
+                    " (a Model Exchange function; this instance is Co-Simulation)"
+                } else {
+                    ""
+                }
+            )
+        })
+    }
+}
+
 fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
     p.downcast_ref::<&str>()
         .map(|s| s.to_string())
@@ -609,8 +762,7 @@ pub unsafe fn entry<M: Model>(
     if inst.magic != MAGIC {
         return Status::Error;
     }
-    if !allowed(call, inst.state) {
-        let msg = format!("fmi2{call:?} is not allowed in state {:?}", inst.state);
+    if let Some(msg) = refusal(inst, call) {
         inst.logger.emit(Status::Error, "logStatusError", &msg);
         return Status::Error;
     }
@@ -1049,6 +1201,7 @@ pub unsafe fn reset<M: Model>(c: Component) -> Status {
     unsafe {
         entry::<M>(c, Call::Reset, |inst| {
             inst.state = State::Instantiated;
+            inst.me.mode = me::Mode::Event;
             inst.values = start_values::<M>(inst.scene.as_deref());
             inst.model = None;
             inst.dirty = true;
@@ -1272,6 +1425,86 @@ pub unsafe fn set_string<M: Model>(
     }
 }
 
+/// `fmi2SetRealInputDerivatives` (`canInterpolateInputs`, [`Model::CAN_INTERPOLATE_INPUTS`]):
+/// time derivatives of Real inputs at the current communication point, for the next
+/// `fmi2DoStep` only. The elastodynamic level extrapolates the shaft angle with those of
+/// `shaft.phi` (orders 1 and 2) and of `shaft.w` (order 1) ([`shaft::path`]); when that step is
+/// done they expire and the next step uses `shaft.w` and `shaft.a` again, unless the host sets
+/// derivatives anew. Setting an input's value does not cancel its derivatives (a host may set
+/// them in either order at one point). FMU states and `fmi2Reset` include them. Derivatives of
+/// the other inputs, or orders the path does not use, are stored and ignored with
+/// `fmi2Warning`. Refused, changing nothing: a model without the capability, a Model Exchange
+/// instance, anything but a Real input, order 0 or above [`MAX_INPUT_DERIVATIVE_ORDER`], a
+/// non-finite value. (On a Model Exchange instance [`entry`] refuses it: a Co-Simulation
+/// function.)
+///
+/// # Safety
+/// As [`entry`]; arrays hold `n` elements.
+pub unsafe fn set_real_input_derivatives<M: Model>(
+    c: Component,
+    vr: *const ValueReference,
+    n: usize,
+    order: *const Integer,
+    value: *const Real,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetRealInputDerivatives, |inst| {
+            if !M::CAN_INTERPOLATE_INPUTS {
+                return Err(
+                    "not supported: canInterpolateInputs is false (this FMU has no elastodynamic level to extrapolate the inputs in)"
+                        .into(),
+                );
+            }
+            if let Some(t) = &inst.scene
+                && !t.info.can_interpolate_inputs
+            {
+                return Err(format!(
+                    "not supported: canInterpolateInputs is false for {} (its scene has no elastodynamic level driven through shaft.phi)",
+                    t.identifier
+                ));
+            }
+            let vrs = slice(vr, n, "vr")?;
+            let orders = slice(order, n, "order")?;
+            let vals = slice(value, n, "value")?;
+            for ((&vr, &o), &x) in vrs.iter().zip(orders).zip(vals) {
+                if !inst.listed(vr) {
+                    return Err(inst.unlisted(vr));
+                }
+                let o = u32::try_from(o).map_err(|_| {
+                    format!(
+                        "order {o} refused: this FMU takes orders 1..={MAX_INPUT_DERIVATIVE_ORDER}"
+                    )
+                })?;
+                Instance::<M>::check_input_derivative(vr, o, x)?;
+            }
+            let mut unused = Vec::new();
+            for ((&vr, &o), &x) in vrs.iter().zip(orders).zip(vals) {
+                inst.values.set_input_derivative(vr, o as u32, x);
+                if !shaft::uses_input_derivative(vr, o as u32) {
+                    unused.push(format!(
+                        "{} of order {o}",
+                        Instance::<M>::table()[vr as usize].name
+                    ));
+                }
+            }
+            inst.dirty = true;
+            if unused.is_empty() {
+                return Ok(Status::Ok);
+            }
+            inst.logger.emit(
+                Status::Warning,
+                "logStatusWarning",
+                &format!(
+                    "fmi2SetRealInputDerivatives: the derivative of {} is kept but not used: inside a step the shaft angle follows a parabola from shaft.phi and the derivatives of shaft.phi (orders 1, 2) and shaft.w (order 1); other inputs are held",
+                    unused.join(", ")
+                ),
+            );
+            Ok(Status::Warning)
+        })
+    }
+}
+
 /// `fmi2DoStep`: checks the communication point, `h > 0` and the stop time; the outputs at the
 /// new time are computed when read.
 ///
@@ -1319,6 +1552,10 @@ pub unsafe fn do_step<M: Model>(c: Component, t: f64, h: f64, _no_prior: Boolean
             }
             inst.time = t + h;
             inst.dirty = true;
+            // input derivatives apply to the step they were set for (FMI 2.0: "with respect to
+            // the beginning of a communication time step"); the next step falls back to
+            // shaft.w and shaft.a, which the step left at the extrapolated values
+            inst.values.clear_input_derivatives();
             Ok(Status::Ok)
         })
     }
@@ -1553,6 +1790,8 @@ mod tests {
             stop_time: Some(4.0),
             values: vec![1.0, -0.0, f64::MIN_POSITIVE, 3.5],
             model_state: vec![2.0],
+            input_derivatives: vec![(0, 1, 3.25), (1, 1, -0.5)],
+            continuous_time: true,
         };
         let b = s.to_bytes(42);
         let back = Snapshot::from_bytes(&b, 42, 4).unwrap();

@@ -102,8 +102,8 @@ pub enum Call {
     GetIntegerStatus,
     GetBooleanStatus,
     GetStringStatus,
-    // Model Exchange (its event and continuous-time modes run in the state StepComplete; the
-    // runtime's `me` module tells them apart)
+    // Model Exchange (legal per ME_LEGAL; its event and continuous-time modes run in the state
+    // StepComplete, told apart by the runtime's `me` module)
     EnterEventMode,
     NewDiscreteStates,
     EnterContinuousTimeMode,
@@ -182,28 +182,17 @@ pub const LEGAL: &[(Call, u16)] = &[
         Call::GetStringStatus,
         mask(&[StepComplete, StepFailed, StepCanceled, Terminated]),
     ),
-    (Call::EnterEventMode, mask(&[StepComplete])),
-    (Call::NewDiscreteStates, mask(&[StepComplete])),
-    (Call::EnterContinuousTimeMode, mask(&[StepComplete])),
-    (Call::CompletedIntegratorStep, mask(&[StepComplete])),
-    (Call::SetTime, mask(&[StepComplete])),
-    (Call::SetContinuousStates, mask(&[StepComplete])),
-    (
-        Call::GetDerivatives,
-        mask(&[InitializationMode, StepComplete, Terminated, Error]),
-    ),
-    (
-        Call::GetEventIndicators,
-        mask(&[InitializationMode, StepComplete, Terminated, Error]),
-    ),
-    (
-        Call::GetContinuousStates,
-        mask(&[InitializationMode, StepComplete, Terminated, Error]),
-    ),
-    (
-        Call::GetNominalsOfContinuousStates,
-        mask(&[InitializationMode, StepComplete, Terminated, Error]),
-    ),
+    // Model Exchange calls: never on a Co-Simulation instance (their table is ME_LEGAL)
+    (Call::EnterEventMode, 0),
+    (Call::NewDiscreteStates, 0),
+    (Call::EnterContinuousTimeMode, 0),
+    (Call::CompletedIntegratorStep, 0),
+    (Call::SetTime, 0),
+    (Call::SetContinuousStates, 0),
+    (Call::GetDerivatives, 0),
+    (Call::GetEventIndicators, 0),
+    (Call::GetContinuousStates, 0),
+    (Call::GetNominalsOfContinuousStates, 0),
 ];
 
 /// [`LEGAL`] indexed by the call, built at compile time: a call's check is one load and a mask.
@@ -217,12 +206,137 @@ const BY_CALL: [u16; LEGAL.len()] = {
     t
 };
 
-/// Is `call` legal in `state`?
+/// Is `call` legal in `state` of a Co-Simulation instance? (Model Exchange calls never are.)
 #[inline]
 pub fn allowed(call: Call, state: State) -> bool {
     BY_CALL
         .get(call as usize)
         .is_some_and(|m| m & state as u16 != 0)
+}
+
+impl Call {
+    /// A function of the Model Exchange interface only.
+    pub fn is_model_exchange(self) -> bool {
+        matches!(
+            self,
+            Call::EnterEventMode
+                | Call::NewDiscreteStates
+                | Call::EnterContinuousTimeMode
+                | Call::CompletedIntegratorStep
+                | Call::SetTime
+                | Call::SetContinuousStates
+                | Call::GetDerivatives
+                | Call::GetEventIndicators
+                | Call::GetContinuousStates
+                | Call::GetNominalsOfContinuousStates
+        )
+    }
+
+    /// A function of the Co-Simulation interface only.
+    pub fn is_co_simulation(self) -> bool {
+        matches!(
+            self,
+            Call::SetRealInputDerivatives
+                | Call::GetRealOutputDerivatives
+                | Call::DoStep
+                | Call::CancelStep
+                | Call::GetStatus
+                | Call::GetRealStatus
+                | Call::GetIntegerStatus
+                | Call::GetBooleanStatus
+                | Call::GetStringStatus
+        )
+    }
+}
+
+/// States of a Model Exchange instance (FMI 2.0 standard, section 3.2.3). The runtime keeps
+/// one state variable for both interfaces: an initialized Model Exchange instance is in
+/// [`State::StepComplete`] with its mode (event or continuous-time) beside it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[repr(u8)]
+pub enum MeState {
+    Instantiated = 1 << 0,
+    InitializationMode = 1 << 1,
+    EventMode = 1 << 2,
+    ContinuousTimeMode = 1 << 3,
+    Terminated = 1 << 4,
+    Error = 1 << 5,
+}
+
+/// Every Model Exchange state, for tests that walk them all.
+pub const ME_STATES: [MeState; 6] = [
+    MeState::Instantiated,
+    MeState::InitializationMode,
+    MeState::EventMode,
+    MeState::ContinuousTimeMode,
+    MeState::Terminated,
+    MeState::Error,
+];
+
+const fn me_mask(states: &[MeState]) -> u8 {
+    let mut m = 0;
+    let mut i = 0;
+    while i < states.len() {
+        m |= states[i] as u8;
+        i += 1;
+    }
+    m
+}
+
+/// The Model Exchange table: in which states each call is legal (FMI 2.0 section 3.2.3, as
+/// the Reference FMUs' `MASK_` table). Co-Simulation calls are legal in none.
+pub const ME_LEGAL: &[(Call, u8)] = {
+    use MeState::{
+        ContinuousTimeMode as Ct, Error as Er, EventMode as Ev, InitializationMode as In,
+        Instantiated as Is, Terminated as Te,
+    };
+    const ALL: u8 = me_mask(&[Is, In, Ev, Ct, Te, Er]);
+    const READ: u8 = me_mask(&[In, Ev, Ct, Te, Er]);
+    &[
+        (Call::SetDebugLogging, ALL),
+        (Call::SetupExperiment, me_mask(&[Is])),
+        (Call::EnterInitializationMode, me_mask(&[Is])),
+        (Call::ExitInitializationMode, me_mask(&[In])),
+        (Call::Terminate, me_mask(&[Ev, Ct])),
+        (Call::Reset, ALL),
+        (Call::FreeInstance, ALL),
+        (Call::GetReal, READ),
+        (Call::GetInteger, READ),
+        (Call::GetBoolean, READ),
+        (Call::GetString, READ),
+        (Call::SetReal, me_mask(&[Is, In, Ev, Ct])),
+        (Call::SetInteger, me_mask(&[Is, In, Ev])),
+        (Call::SetBoolean, me_mask(&[Is, In, Ev])),
+        (Call::SetString, me_mask(&[Is, In, Ev])),
+        (Call::GetFMUstate, ALL),
+        (Call::SetFMUstate, ALL),
+        (Call::FreeFMUstate, ALL),
+        (Call::SerializedFMUstateSize, ALL),
+        (Call::SerializeFMUstate, ALL),
+        (Call::DeSerializeFMUstate, ALL),
+        (Call::GetDirectionalDerivative, READ),
+        (Call::EnterEventMode, me_mask(&[Ev, Ct])),
+        (Call::NewDiscreteStates, me_mask(&[Ev])),
+        (Call::EnterContinuousTimeMode, me_mask(&[Ev])),
+        (Call::CompletedIntegratorStep, me_mask(&[Ct])),
+        (Call::SetTime, me_mask(&[Ev, Ct])),
+        (Call::SetContinuousStates, me_mask(&[Ct])),
+        (Call::GetEventIndicators, READ),
+        (Call::GetContinuousStates, READ),
+        (Call::GetDerivatives, me_mask(&[Ev, Ct, Te, Er])),
+        (
+            Call::GetNominalsOfContinuousStates,
+            me_mask(&[Is, Ev, Ct, Te, Er]),
+        ),
+    ]
+};
+
+/// Is `call` legal in `state` of a Model Exchange instance?
+pub fn me_allowed(call: Call, state: MeState) -> bool {
+    ME_LEGAL
+        .iter()
+        .find(|(c, _)| *c == call)
+        .is_some_and(|(_, m)| m & state as u8 != 0)
 }
 
 #[cfg(test)]
@@ -245,6 +359,42 @@ mod tests {
                 assert_eq!(allowed(*c, s), m & s as u16 != 0, "{c:?} in {s:?}");
             }
         }
+    }
+
+    #[test]
+    fn model_exchange_table_covers_every_call_but_co_simulation() {
+        for (c, _) in LEGAL {
+            let n = ME_LEGAL.iter().filter(|(d, _)| d == c).count();
+            assert_eq!(n, usize::from(!c.is_co_simulation()), "{c:?}");
+            if c.is_co_simulation() {
+                assert!(ME_STATES.iter().all(|&s| !me_allowed(*c, s)));
+            }
+            if c.is_model_exchange() {
+                assert!(
+                    [
+                        Instantiated,
+                        InitializationMode,
+                        StepComplete,
+                        Terminated,
+                        Error
+                    ]
+                    .iter()
+                    .all(|&s| !allowed(*c, s)),
+                    "{c:?} on a Co-Simulation instance"
+                );
+            }
+        }
+        assert!(me_allowed(Call::SetReal, MeState::ContinuousTimeMode));
+        assert!(!me_allowed(Call::SetInteger, MeState::ContinuousTimeMode));
+        assert!(!me_allowed(Call::SetContinuousStates, MeState::EventMode));
+        assert!(!me_allowed(
+            Call::GetDerivatives,
+            MeState::InitializationMode
+        ));
+        assert!(me_allowed(
+            Call::GetNominalsOfContinuousStates,
+            MeState::Instantiated
+        ));
     }
 
     #[test]

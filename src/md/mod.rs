@@ -37,6 +37,8 @@ pub struct ModelInfo {
     /// Model Exchange: number of event indicators (the interface is declared when some variable
     /// is a state derivative).
     pub event_indicators: u32,
+    /// `canInterpolateInputs` of the Co-Simulation interface.
+    pub can_interpolate_inputs: bool,
 }
 
 impl ModelInfo {
@@ -48,6 +50,7 @@ impl ModelInfo {
             description: M::DESCRIPTION,
             experiment: M::EXPERIMENT,
             event_indicators: M::EVENT_INDICATORS as u32,
+            can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS,
         }
     }
 }
@@ -686,7 +689,7 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             model_identifier: info.identifier.to_string(),
             needs_execution_tool: false,
             variable_step: true,
-            interpolate_inputs: false,
+            interpolate_inputs: info.can_interpolate_inputs,
             max_output_derivative_order: 0,
             async_run: false,
             once_per_process: false,

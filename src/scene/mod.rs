@@ -909,6 +909,11 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         )),
         experiment: scene.experiment.unwrap_or(M::EXPERIMENT),
         event_indicators: M::EVENT_INDICATORS as u32,
+        // input derivatives shape the shaft path of the elastodynamic level only, and need the
+        // shaft angle as an input
+        can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS
+            && fid == Fidelity::Elastodynamic
+            && exposed[shaft::PHI as usize],
     };
     let refs: Vec<(u32, &Var)> = variables.iter().map(|(vr, v)| (*vr, v)).collect();
     let (model_description, guid) = md::describe_vars(&info, &refs);

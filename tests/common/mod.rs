@@ -166,17 +166,21 @@ impl Fmu {
 
     /// A co-simulation instance with the right GUID and a recording logger.
     pub fn slave(&self, name: &str) -> Slave<'_> {
+        self.instance(name, FmuType::CoSimulation)
+    }
+
+    /// A Model Exchange instance (for the FMUs that provide it).
+    pub fn me_instance(&self, name: &str) -> Slave<'_> {
+        self.instance(name, FmuType::ModelExchange)
+    }
+
+    /// An instance of either kind with the right GUID and a recording logger.
+    pub fn instance(&self, name: &str, ty: FmuType) -> Slave<'_> {
         let env = NEXT_ENV.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
         let f = self.callbacks(env);
         let n = CString::new(name).unwrap();
         let g = CString::new(self.guid.clone()).unwrap();
-        let c = self.instantiate_raw(
-            n.as_ptr(),
-            FmuType::CoSimulation,
-            g.as_ptr(),
-            std::ptr::null(),
-            &f,
-        );
+        let c = self.instantiate_raw(n.as_ptr(), ty, g.as_ptr(), std::ptr::null(), &f);
         assert!(!c.is_null(), "instantiate failed: {:?}", logs_of(env));
         Slave { fmu: self, c, env }
     }
@@ -265,6 +269,28 @@ impl Slave<'_> {
         let mut out = vec![0; vrs.len()];
         let s = unsafe { f(self.c, vrs.as_ptr(), vrs.len(), out.as_mut_ptr()) };
         (s, out.into_iter().map(|b| b != 0).collect())
+    }
+    /// `fmi2SetRealInputDerivatives`.
+    pub fn set_input_derivatives(&self, vrs: &[u32], orders: &[i32], vals: &[f64]) -> Status {
+        assert!(vrs.len() == orders.len() && vrs.len() == vals.len());
+        let f: Symbol<
+            unsafe extern "C" fn(
+                Component,
+                *const u32,
+                usize,
+                *const Integer,
+                *const Real,
+            ) -> Status,
+        > = self.fmu.sym("fmi2SetRealInputDerivatives");
+        unsafe {
+            f(
+                self.c,
+                vrs.as_ptr(),
+                vrs.len(),
+                orders.as_ptr(),
+                vals.as_ptr(),
+            )
+        }
     }
     pub fn do_step(&self, t: f64, h: f64) -> Status {
         let f: Symbol<unsafe extern "C" fn(Component, Real, Real, Boolean) -> Status> =

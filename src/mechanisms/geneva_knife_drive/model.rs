@@ -159,7 +159,7 @@ impl Dynamic {
 
     fn save(&self) -> Vec<f64> {
         let h = self.integ.save();
-        vec![
+        let mut s = vec![
             self.started as i32 as f64,
             self.y[0],
             self.y[1],
@@ -174,17 +174,24 @@ impl Dynamic {
             self.integ.stats.steps as f64,
             self.integ.stats.events as f64,
             self.cut_done as i32 as f64,
-        ]
+        ];
+        // Model Exchange: the event indicators of the last event or step (transitions from them
+        // are counted after a restore too)
+        s.extend_from_slice(&self.g_prev);
+        s
     }
 
     fn restore(&mut self, s: &[f64]) -> Result<(), String> {
-        if s.len() != Self::STATE_LEN {
+        let n_ind = <GenevaKnifeDrive as Model>::EVENT_INDICATORS;
+        if s.len() != Self::STATE_LEN && s.len() != Self::STATE_LEN + n_ind {
             return Err(format!(
-                "elastodynamic state has {} numbers, expected {}",
+                "elastodynamic state has {} numbers, expected {} or {}",
                 s.len(),
-                Self::STATE_LEN
+                Self::STATE_LEN,
+                Self::STATE_LEN + n_ind
             ));
         }
+        self.g_prev = s[Self::STATE_LEN..].to_vec();
         self.started = s[0] != 0.0;
         self.y = [s[1], s[2], s[3]];
         self.e0 = s[4];
@@ -204,7 +211,7 @@ impl GenevaKnifeDrive {
         let p = self.params;
         let d = self.dynamic.as_mut()?;
         if !d.started {
-            d.start(&p, path_at(v, time));
+            d.start(&p, shaft::path(v, time));
         }
         Some(d)
     }
@@ -219,12 +226,6 @@ pub fn solver_settings(v: &Values<V>) -> Settings {
         max_step: v[V::solver_max_step],
         ..Settings::default()
     }
-}
-
-/// The shaft path of a step starting at `time`.
-fn path_at(v: &Values<V>, time: f64) -> ShaftPath {
-    let s = shaft::state(v, time);
-    ShaftPath::new(time, s.phi, s.w, s.a)
 }
 
 impl GenevaKnifeDrive {
@@ -314,7 +315,7 @@ impl Model for GenevaKnifeDrive {
         let Some(d) = self.dynamic.as_mut() else {
             return Ok(());
         };
-        let path = path_at(v, time);
+        let path = shaft::path(v, time);
         if !d.started {
             d.start(&self.params, path);
         }
@@ -362,7 +363,7 @@ impl Model for GenevaKnifeDrive {
     fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
         let p = self.params;
         match self.me_dynamic(v, time) {
-            Some(d) => d.ode(&p, path_at(v, time)).rhs(time, &d.y, dx),
+            Some(d) => d.ode(&p, shaft::path(v, time)).rhs(time, &d.y, dx),
             None => dx.fill(0.0),
         }
     }
@@ -370,7 +371,7 @@ impl Model for GenevaKnifeDrive {
     fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
         let p = self.params;
         match self.me_dynamic(v, time) {
-            Some(d) => d.ode(&p, path_at(v, time)).events(time, &d.y, z),
+            Some(d) => d.ode(&p, shaft::path(v, time)).events(time, &d.y, z),
             None => z.fill(1.0),
         }
     }
@@ -378,7 +379,7 @@ impl Model for GenevaKnifeDrive {
     fn me_event(&mut self, v: &Values<V>, time: f64, _log: &mut dyn Log) {
         let p = self.params;
         if let Some(d) = self.me_dynamic(v, time) {
-            let ode = d.ode(&p, path_at(v, time));
+            let ode = d.ode(&p, shaft::path(v, time));
             let mut g = vec![0.0; Self::EVENT_INDICATORS];
             ode.events(time, &d.y, &mut g);
             if d.g_prev.len() == g.len() {
@@ -390,15 +391,24 @@ impl Model for GenevaKnifeDrive {
         }
     }
 
+    /// Also applies a transition of the event indicators since the last call (cut-through,
+    /// back above the stack): hosts such as FMPy call `fmi2CompletedIntegratorStep` at the
+    /// event instant before they enter event mode, so [`Model::me_event`] would find nothing
+    /// changed.
     fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
         let p = self.params;
         if let Some(d) = self.me_dynamic(v, time) {
-            let ode = d.ode(&p, path_at(v, time));
+            let ode = d.ode(&p, shaft::path(v, time));
+            let mut g = vec![0.0; Self::EVENT_INDICATORS];
+            ode.events(time, &d.y, &mut g);
+            if d.g_prev.len() == g.len() {
+                ode.on_event(time, &d.y, &d.g_prev, &g);
+                d.cut_done = ode.cut_done.get();
+                ode.events(time, &d.y, &mut g);
+            }
             ode.on_step(time, &d.y);
             d.peaks = ode.peaks.get();
             d.k_d = ode.k_d.get();
-            let mut g = vec![0.0; Self::EVENT_INDICATORS];
-            ode.events(time, &d.y, &mut g);
             d.g_prev = g;
         }
     }
@@ -430,7 +440,7 @@ impl Model for GenevaKnifeDrive {
         Self::write_kinematics(v, &k);
         v[V::knife_s_kin] = k.s;
         if let Some(d) = self.dynamic.as_ref() {
-            let path = path_at(v, time);
+            let path = shaft::path(v, time);
             let ode = d.ode(p, path);
             let y = if d.started {
                 d.y

@@ -6,7 +6,7 @@ use super::physics::{Kind, Params};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Stages, Values};
-use crate::solver::{Integrator, Method, Settings, ShaftPath};
+use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
 use std::cell::Cell;
 
 /// `law.*` (`motion-laws.md`), shared by SewingTable and Perforators.
@@ -196,6 +196,13 @@ crate::model_variables! {
         contact_F_impact = Var::output("contact.F_impact", "N", "Largest cam force after a landing of the roller on a flank (with play; elastodynamic level)").needs(stage::ELASTIC),
         elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)").needs(stage::ELASTIC),
         solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)").needs(stage::ELASTIC),
+        // ---- Model Exchange states of the elastodynamic level and their derivatives
+        elastic_x = Var::local("elastic.x", "m", "State: table position x (elastodynamic level)").needs(stage::ELASTIC),
+        elastic_xd = Var::local("elastic.xd", "m/s", "State: table velocity (elastodynamic level)").needs(stage::ELASTIC),
+        elastic_W = Var::local("elastic.W", "J", "State: work done on table and follower spring by cam, guides, damping and table.F_ext (for the energy balance)").needs(stage::ELASTIC),
+        der_elastic_x = Var::local("der(elastic.x)", "m/s", "Derivative of elastic.x").derivative_of(V::elastic_x as u32).needs(stage::ELASTIC),
+        der_elastic_xd = Var::local("der(elastic.xd)", "m/s2", "Derivative of elastic.xd").derivative_of(V::elastic_xd as u32).needs(stage::ELASTIC),
+        der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32).needs(stage::ELASTIC),
     }
 }
 
@@ -214,6 +221,8 @@ struct Dynamic {
     liftoffs: f64,
     impact: f64,
     landed: bool,
+    /// Model Exchange: the event indicators at the last event or completed integrator step.
+    g_prev: Vec<f64>,
 }
 
 impl Dynamic {
@@ -235,6 +244,15 @@ impl Dynamic {
         }
     }
 
+    /// Starts the integration at `path.t0`: the table in equilibrium on its rigid motion.
+    fn start(&mut self, p: &Params, path: ShaftPath, f_ext: f64) {
+        let ode = self.ode(p, path, f_ext);
+        self.y = ode.initial_state(path.t0);
+        self.e0 = ode.energy(&ode.point(path.t0, &self.y));
+        self.peaks = (path.cycle(path.t0), 0.0, 0.0);
+        self.started = true;
+    }
+
     fn absorb(&mut self, ode: &TableOde) {
         self.peaks = ode.peaks.get();
         self.k_d = ode.k_d.get();
@@ -245,7 +263,7 @@ impl Dynamic {
 
     fn save(&self) -> Vec<f64> {
         let h = self.integ.save();
-        vec![
+        let mut s = vec![
             self.started as i32 as f64,
             self.y[0],
             self.y[1],
@@ -262,17 +280,24 @@ impl Dynamic {
             self.impact,
             self.landed as i32 as f64,
             self.integ.stats.events as f64,
-        ]
+        ];
+        // Model Exchange: the event indicators of the last event or step (transitions from them
+        // are counted after a restore too)
+        s.extend_from_slice(&self.g_prev);
+        s
     }
 
     fn restore(&mut self, s: &[f64]) -> Result<(), String> {
-        if s.len() != Self::STATE_LEN {
+        let n_ind = <SewingTable as Model>::EVENT_INDICATORS;
+        if s.len() != Self::STATE_LEN && s.len() != Self::STATE_LEN + n_ind {
             return Err(format!(
-                "elastodynamic state has {} numbers, expected {}",
+                "elastodynamic state has {} numbers, expected {} or {}",
                 s.len(),
-                Self::STATE_LEN
+                Self::STATE_LEN,
+                Self::STATE_LEN + n_ind
             ));
         }
+        self.g_prev = s[Self::STATE_LEN..].to_vec();
         self.started = s[0] != 0.0;
         self.y = [s[1], s[2], s[3]];
         self.e0 = s[4];
@@ -288,11 +313,6 @@ impl Dynamic {
     }
 }
 
-fn path_at(v: &Values<V>, time: f64) -> ShaftPath {
-    let s = shaft::state(v, time);
-    ShaftPath::new(time, s.phi, s.w, s.a)
-}
-
 /// The translating sewing table of paper 000 as an FMU model.
 pub struct SewingTable {
     params: Params,
@@ -301,6 +321,36 @@ pub struct SewingTable {
 }
 
 impl SewingTable {
+    /// The elastodynamic state for Model Exchange, started from the inputs at `time` if new.
+    fn me_dynamic(&mut self, v: &Values<V>, time: f64) -> Option<(&Params, &mut Dynamic)> {
+        let d = self.dynamic.as_mut()?;
+        if !d.started {
+            d.start(&self.params, shaft::path(v, time), v[V::table_F_ext]);
+        }
+        Some((&self.params, d))
+    }
+
+    /// Model Exchange: the discrete bookkeeping at an event or a completed integrator step.
+    /// A contact that opened or closed since the last call is counted here, whichever comes
+    /// first: hosts such as FMPy call `fmi2CompletedIntegratorStep` at the event instant
+    /// before they enter event mode, so the event alone would find nothing changed.
+    fn me_transitions(&mut self, v: &Values<V>, time: f64, completed_step: bool) {
+        let f_ext = v[V::table_F_ext];
+        if let Some((p, d)) = self.me_dynamic(v, time) {
+            let ode = d.ode(p, shaft::path(v, time), f_ext);
+            let mut g = vec![0.0; Self::EVENT_INDICATORS];
+            ode.events(time, &d.y, &mut g);
+            if d.g_prev.len() == g.len() {
+                ode.on_event(time, &d.y, &d.g_prev, &g);
+            }
+            if completed_step {
+                ode.on_step(time, &d.y);
+            }
+            d.absorb(&ode);
+            d.g_prev = g;
+        }
+    }
+
     /// The physics parameters from the variables.
     pub fn params(v: &Values<V>) -> Params {
         Params {
@@ -382,6 +432,7 @@ impl Model for SewingTable {
                 liftoffs: 0.0,
                 impact: 0.0,
                 landed: false,
+                g_prev: Vec::new(),
             })
         } else {
             None
@@ -403,14 +454,10 @@ impl Model for SewingTable {
         let Some(d) = self.dynamic.as_mut() else {
             return Ok(());
         };
-        let path = path_at(v, time);
+        let path = shaft::path(v, time);
         let f_ext = v[V::table_F_ext];
         if !d.started {
-            let ode = d.ode(&self.params, path, f_ext);
-            d.y = ode.initial_state(time);
-            d.e0 = ode.energy(&ode.point(time, &d.y));
-            d.peaks = (path.cycle(time), 0.0, 0.0);
-            d.started = true;
+            d.start(&self.params, path, f_ext);
         }
         let ode = d.ode(&self.params, path, f_ext);
         let mut y = d.y;
@@ -428,6 +475,49 @@ impl Model for SewingTable {
             v[V::shaft_a] = a;
         }
         Ok(())
+    }
+
+    const STATES: usize = 3;
+    const EVENT_INDICATORS: usize = 7;
+
+    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
+        match self.me_dynamic(v, time) {
+            Some((_, d)) => x.copy_from_slice(&d.y),
+            None => x.fill(0.0),
+        }
+    }
+
+    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
+        if let Some((_, d)) = self.me_dynamic(v, time) {
+            d.y.copy_from_slice(x);
+        }
+    }
+
+    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
+        let f_ext = v[V::table_F_ext];
+        match self.me_dynamic(v, time) {
+            Some((p, d)) => d.ode(p, shaft::path(v, time), f_ext).rhs(time, &d.y, dx),
+            None => dx.fill(0.0),
+        }
+    }
+
+    /// The cyclogram's phase boundaries, both slot flanks (with clearance) and the rigid
+    /// velocity's sign ([`TableOde`]'s events).
+    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
+        let f_ext = v[V::table_F_ext];
+        match self.me_dynamic(v, time) {
+            Some((p, d)) => d.ode(p, shaft::path(v, time), f_ext).events(time, &d.y, z),
+            None => z.fill(1.0),
+        }
+    }
+
+    /// A flank contact opened or closed: counts the lift-off or marks the landing.
+    fn me_event(&mut self, v: &Values<V>, time: f64, _log: &mut dyn Log) {
+        self.me_transitions(v, time, false);
+    }
+
+    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
+        self.me_transitions(v, time, true);
     }
 
     fn save_state(&self) -> Vec<f64> {
@@ -473,7 +563,7 @@ impl Model for SewingTable {
         v[V::rocking_M_inertia] = if kinetostatic { r.m_inertia } else { 0.0 };
         v[V::table_x_kin] = k.c.x;
         if let Some(d) = self.dynamic.as_ref() {
-            let ode = d.ode(p, path_at(v, time), f_ext);
+            let ode = d.ode(p, shaft::path(v, time), f_ext);
             let y = if d.started {
                 d.y
             } else {
@@ -481,6 +571,12 @@ impl Model for SewingTable {
             };
             let pt = ode.point_at(&k, &y);
             let m = p.table_m;
+            v[V::elastic_x] = y[0];
+            v[V::elastic_xd] = y[1];
+            v[V::elastic_W] = y[2];
+            v[V::der_elastic_x] = y[1];
+            v[V::der_elastic_xd] = pt.xdd;
+            v[V::der_elastic_W] = pt.power;
             v[V::table_x] = pt.x;
             v[V::table_v] = pt.xd;
             v[V::table_a] = pt.xdd;
@@ -596,6 +692,37 @@ mod tests {
         m.evaluate(&mut v, 0.0, &mut NoLog);
         let k = m.params.kinematics(0.5, v[V::shaft_w], 0.0);
         assert!(v[V::shaft_tau] - tau0 > 0.9 * 100.0 * k.c.dx);
+    }
+
+    #[test]
+    fn model_exchange_bookkeeping_travels_with_the_fmu_state() {
+        let mut v = Values::<V>::start();
+        v[V::model_fidelity] = 3.0;
+        let gap = 1e-4;
+        v[V::cam_clearance] = 2.0 * gap;
+        let mut m = SewingTable::prepare(&v).unwrap();
+        m.evaluate(&mut v, 0.0, &mut NoLog);
+        let x_kin = v[V::table_x_kin];
+        // the roller pressed on a flank (deflection 2*gap > gap), a completed step sees it
+        m.me_set_states(&v, 0.0, &[x_kin - 2.0 * gap, 0.0, 0.0]);
+        m.me_completed_step(&v, 0.0);
+        let saved = m.save_state();
+        assert_eq!(
+            saved.len(),
+            Dynamic::STATE_LEN + SewingTable::EVENT_INDICATORS
+        );
+        let bits = |s: &[f64]| s.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        // restored elsewhere, the roller then crosses into the play: one lift-off is counted
+        let mut r = SewingTable::prepare(&v).unwrap();
+        r.restore_state(&saved).unwrap();
+        assert_eq!(bits(&r.save_state()), bits(&saved));
+        r.me_set_states(&v, 0.0, &[x_kin, 0.0, 0.0]);
+        r.me_completed_step(&v, 0.0);
+        assert_eq!(r.dynamic.as_ref().unwrap().liftoffs, 1.0);
+        // a Co-Simulation state (no indicators) is accepted; a truncated one is not
+        let mut c = SewingTable::prepare(&v).unwrap();
+        c.restore_state(&saved[..Dynamic::STATE_LEN]).unwrap();
+        assert!(c.restore_state(&saved[..5]).is_err());
     }
 
     #[test]

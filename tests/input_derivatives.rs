@@ -1,0 +1,235 @@
+//! `canInterpolateInputs` (`interface.md`; `dynamics.md`: "the shaft angle is extrapolated from
+//! shaft.phi, shaft.w, shaft.a (or the input derivatives a host set)"), through the C ABI: a
+//! host that sets only `shaft.phi` at coarse communication points and its time derivatives
+//! with `fmi2SetRealInputDerivatives` gets the same trajectory as one that sets `shaft.w` and
+//! `shaft.a`, and a different one when it sets neither. Run for every FMU of the catalog that
+//! declares the capability, at its elastodynamic level.
+
+mod common;
+
+use bindery_fmu::catalog::{self, Entry};
+use bindery_fmu::fmi2::types::*;
+use bindery_fmu::model::{Causality, VarType};
+use common::*;
+
+fn vr_of(e: &Entry, name: &str) -> u32 {
+    (e.variables)()
+        .into_iter()
+        .find(|(_, v)| v.name == name)
+        .unwrap_or_else(|| panic!("{}: no variable {name}", e.identifier))
+        .0
+}
+
+/// How the host tells the FMU about the shaft between communication points.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Host {
+    /// `shaft.phi`, `shaft.w`, `shaft.a` at every point.
+    Values,
+    /// `shaft.phi` and its derivatives of order 1 and 2.
+    PhiDerivatives,
+    /// `shaft.phi` with its derivative of order 1, and `shaft.w`'s of order 1.
+    PhiAndWDerivatives,
+    /// `shaft.phi` only.
+    PhiOnly,
+}
+
+/// The shaft's motion the host imposes: a run-up at constant acceleration from the nominal
+/// speed, `phi(t) = w0*t + alpha*t^2/2`.
+const ALPHA: f64 = 12.0;
+
+/// Every Real output at every communication point.
+fn run(f: &Fmu, e: &Entry, host: Host, h: f64, n: usize) -> Vec<Vec<f64>> {
+    let s = f.slave("interp");
+    assert_eq!(s.setup(0.0, None), Status::Ok);
+    let fid = vr_of(e, "model.fidelity");
+    assert_eq!(s.set_integer(&[fid], &[3]), Status::Ok);
+    assert_eq!(s.call0("fmi2EnterInitializationMode"), Status::Ok);
+    let (phi, w, a) = (
+        vr_of(e, "shaft.phi"),
+        vr_of(e, "shaft.w"),
+        vr_of(e, "shaft.a"),
+    );
+    let w0 = s.get_real(&[w]).1[0];
+    let at = |t: f64| (w0 * t + 0.5 * ALPHA * t * t, w0 + ALPHA * t);
+    if host == Host::Values {
+        assert_eq!(s.set_real(&[a], &[ALPHA]), Status::Ok);
+    }
+    assert_eq!(s.call0("fmi2ExitInitializationMode"), Status::Ok);
+    // every Real output: positions, forces, the elastodynamic ones (whatever the FMU names them)
+    let outs: Vec<u32> = (e.variables)()
+        .into_iter()
+        .filter(|(_, v)| v.causality == Causality::Output && v.ty == VarType::Real)
+        .map(|(vr, _)| vr)
+        .collect();
+    let mut rows = vec![];
+    for i in 0..n {
+        let t = i as f64 * h;
+        let (p, wt) = at(t);
+        let ok = |st: Status, what: &str| assert_eq!(st, Status::Ok, "{what}: {:?}", s.logs());
+        match host {
+            Host::Values => ok(s.set_real(&[phi, w, a], &[p, wt, ALPHA]), "values"),
+            Host::PhiDerivatives => {
+                ok(s.set_real(&[phi], &[p]), "phi");
+                ok(
+                    s.set_input_derivatives(&[phi, phi], &[1, 2], &[wt, ALPHA]),
+                    "derivatives",
+                );
+            }
+            Host::PhiAndWDerivatives => {
+                // derivatives first, then the value: the order does not matter
+                ok(
+                    s.set_input_derivatives(&[phi, w], &[1, 1], &[wt, ALPHA]),
+                    "derivatives",
+                );
+                ok(s.set_real(&[phi], &[p]), "phi");
+            }
+            Host::PhiOnly => ok(s.set_real(&[phi], &[p]), "phi"),
+        }
+        assert_eq!(s.do_step(t, h), Status::Ok, "{:?}", s.logs());
+        let (st, y) = s.get_real(&outs);
+        assert_eq!(st, Status::Ok);
+        rows.push(y);
+    }
+    rows
+}
+
+/// The largest difference between two runs, relative to each output's range in `b`, the
+/// output where it is, and how many outputs differ by more than 1 % of their range.
+fn max_rel_diff(e: &Entry, a: &[Vec<f64>], b: &[Vec<f64>]) -> (f64, &'static str, usize) {
+    let names: Vec<&'static str> = (e.variables)()
+        .into_iter()
+        .filter(|(_, v)| v.causality == Causality::Output && v.ty == VarType::Real)
+        .map(|(_, v)| v.name)
+        .collect();
+    let mut worst = (0.0, "", 0);
+    for (j, name) in names.iter().enumerate() {
+        let scale = b.iter().fold(0.0f64, |m, r| m.max(r[j].abs())).max(1e-9);
+        let mut off = 0.0f64;
+        for (ra, rb) in a.iter().zip(b) {
+            off = off.max((ra[j] - rb[j]).abs() / scale);
+        }
+        if off > worst.0 {
+            (worst.0, worst.1) = (off, *name);
+        }
+        if off > 1e-2 {
+            worst.2 += 1;
+        }
+    }
+    worst
+}
+
+#[test]
+fn shaft_phi_with_its_derivatives_drives_as_well_as_shaft_w_and_shaft_a() {
+    let mut tested = 0;
+    for e in catalog::all() {
+        if !(e.info)().can_interpolate_inputs {
+            continue;
+        }
+        let f = Fmu::load(e.identifier, &(e.describe)().1);
+        let (h, n) = (0.05, 40);
+        let reference = run(&f, &e, Host::Values, h, n);
+        for host in [Host::PhiDerivatives, Host::PhiAndWDerivatives] {
+            // the same path inside every step: the same run to rounding (the outputs that use
+            // shaft.w read the FMU's extrapolated value instead of the host's)
+            let (d, name, _) = max_rel_diff(&e, &run(&f, &e, host, h, n), &reference);
+            assert!(
+                d <= 1e-9,
+                "{} {host:?}: {name} differs by {d:e} of its range",
+                e.identifier
+            );
+        }
+        let (d, name, n_off) = max_rel_diff(&e, &run(&f, &e, Host::PhiOnly, h, n), &reference);
+        eprintln!(
+            "{}: shaft.phi alone at h = {h} s: {n_off} outputs off by more than 1 % of their range (worst {name}, {d:.3e})",
+            e.identifier
+        );
+        // without derivatives shaft.w stays at its start value: positions, velocities and
+        // forces go wrong, not only one output
+        assert!(
+            n_off >= 5,
+            "{}: without derivatives the run should differ: {n_off} outputs, worst {name} {d:e}",
+            e.identifier
+        );
+        tested += 1;
+    }
+    assert!(tested >= 1, "no FMU declares canInterpolateInputs");
+}
+
+/// Derivatives apply to one step: the step after falls back to `shaft.w`/`shaft.a`, which the
+/// FMU left at the values extrapolated to the end of the step; FMU states carry them.
+#[test]
+fn derivatives_expire_after_the_step_and_travel_with_fmu_states() {
+    for e in catalog::all() {
+        if !(e.info)().can_interpolate_inputs {
+            continue;
+        }
+        let f = Fmu::load(e.identifier, &(e.describe)().1);
+        let s = f.slave("expire");
+        assert_eq!(s.setup(0.0, None), Status::Ok);
+        assert_eq!(
+            s.set_integer(&[vr_of(&e, "model.fidelity")], &[3]),
+            Status::Ok
+        );
+        assert_eq!(s.init(), Status::Ok);
+        let (phi, w, a) = (
+            vr_of(&e, "shaft.phi"),
+            vr_of(&e, "shaft.w"),
+            vr_of(&e, "shaft.a"),
+        );
+        let w0 = s.get_real(&[w]).1[0];
+        assert_eq!(
+            s.set_input_derivatives(&[phi, phi], &[1, 2], &[2.0 * w0, 5.0]),
+            Status::Ok
+        );
+        // saved with the derivatives, restored after a step that consumed them
+        let mut st: FMUstate = std::ptr::null_mut();
+        assert_eq!(s.get_state(&mut st), Status::Ok);
+        let (_, bytes) = s.serialize(st);
+        assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
+        let (_, after) = s.get_real(&[phi, w, a]);
+        assert!(
+            (after[0] - (2.0 * w0 * 0.01 + 0.5 * 5.0 * 1e-4)).abs() < 1e-12,
+            "{}: the step followed the derivatives: {after:?}",
+            e.identifier
+        );
+        assert!((after[1] - (2.0 * w0 + 0.05)).abs() < 1e-12 && after[2] == 5.0);
+        let mut st2: FMUstate = std::ptr::null_mut();
+        assert_eq!(s.get_state(&mut st2), Status::Ok);
+        let (_, consumed) = s.serialize(st2);
+        assert!(consumed.len() < bytes.len(), "expired after the step");
+        // a restored state repeats the step exactly
+        let outs: Vec<u32> = (e.variables)()
+            .into_iter()
+            .filter(|(_, v)| v.causality == Causality::Output && v.ty == VarType::Real)
+            .map(|(vr, _)| vr)
+            .collect();
+        let out = |s: &Slave| {
+            let (st, y) = s.get_real(&outs);
+            assert_eq!(st, Status::Ok);
+            y.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+        };
+        let f1 = out(&s);
+        assert_eq!(s.set_state(st), Status::Ok);
+        assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
+        assert_eq!(out(&s), f1);
+        // also through the serialized bytes
+        let mut st3: FMUstate = std::ptr::null_mut();
+        assert_eq!(s.deserialize(&bytes, &mut st3), Status::Ok);
+        assert_eq!(s.set_state(st3), Status::Ok);
+        assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
+        assert_eq!(out(&s), f1);
+        // reset forgets them: a fresh run equals one that never set any
+        assert_eq!(s.set_input_derivatives(&[phi], &[1], &[3.0]), Status::Ok);
+        assert_eq!(s.call0("fmi2Reset"), Status::Ok);
+        let mut st4: FMUstate = std::ptr::null_mut();
+        assert_eq!(s.get_state(&mut st4), Status::Ok);
+        let fresh = f.slave("fresh");
+        let mut st5: FMUstate = std::ptr::null_mut();
+        assert_eq!(fresh.get_state(&mut st5), Status::Ok);
+        assert_eq!(s.serialize(st4).1, fresh.serialize(st5).1);
+        for p in [&mut st, &mut st2, &mut st3, &mut st4] {
+            assert_eq!(s.free_state(p), Status::Ok);
+        }
+        assert_eq!(fresh.free_state(&mut st5), Status::Ok);
+    }
+}
