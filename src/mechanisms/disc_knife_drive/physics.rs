@@ -525,7 +525,9 @@ impl Params {
     /// `p` along `rod_dir` (from the crank pin B towards C).
     #[inline]
     pub fn crank_torque(&self, k: &Kinematics, p: f64, rod_dir: Vec2) -> f64 {
-        self.inertia_a() * k.eps + p * cross(k.b, rod_dir) + 0.5 * self.rod_m * self.gravity_g * k.b.x
+        self.inertia_a() * k.eps
+            + p * cross(k.b, rod_dir)
+            + 0.5 * self.rod_m * self.gravity_g * k.b.x
     }
 
     /// Signs of the slider velocities, `(sgn ẋ_C, sgn v_D·u)`, from the φ-derivatives and the
