@@ -69,7 +69,6 @@
 use super::physics::{Kinematics, Params, Vec2};
 use crate::mechanics::sgn;
 use crate::solver::{OdeSystem, ShaftPath};
-use nalgebra::SMatrix;
 use num_dual::{Dual2, Dual64, DualNum};
 use std::cell::Cell;
 
@@ -209,28 +208,37 @@ impl RodOde<'_> {
     /// The jamming indicator at slider position `x` with rod direction `rod_dir`: the smallest
     /// ratio of the determinant of the kinetostatic system with friction (every sign
     /// combination of μ5, μ7) to the frictionless one. ≤ 0: self-locking (friction dropped).
+    ///
+    /// Friction changes the frictionless matrix A0 by two rank-one terms, `−k5·e0·e5ᵀ` (row 0,
+    /// column N5) and `−k7·w·e6ᵀ` (w = u_x·e2 + u_y·e3, column N7), so by the matrix determinant
+    /// lemma `det A/det A0 = (1 − k5·p5)·(1 − k7·q6) − k5·k7·q5·p6` with `p = A0⁻¹·e0`,
+    /// `q = A0⁻¹·w`: one LU for all four combinations.
     pub fn lock_indicator(&self, x: f64, rod_dir: [f64; 2]) -> f64 {
         let p = self.p;
         if p.guide_mu == 0.0 && p.support_mu == 0.0 {
             return 1.0;
         }
         let (_, d, s) = p.holder(Dual2::new(x, 0.0, 0.0));
-        let det = |k5: f64, k7: f64| {
-            let a = p.system_matrix(
-                [rod_dir[0], rod_dir[1], 0.0, 0.0, 0.0, 0.0, 0.0],
-                [x, p.crank_e],
-                [d[0].re, d[1].re],
-                [s[0].re, s[1].re],
-                k5,
-                k7,
-            );
-            SMatrix::<f64, 7, 7>::from_row_slice(a.as_flattened()).determinant()
+        let a = p.system_matrix(
+            [rod_dir[0], rod_dir[1], 0.0, 0.0, 0.0, 0.0, 0.0],
+            [x, p.crank_e],
+            [d[0].re, d[1].re],
+            [s[0].re, s[1].re],
+            0.0,
+            0.0,
+        );
+        let u = p.support_dir();
+        let mut e0 = [0.0; 7];
+        e0[0] = 1.0;
+        let mut w = [0.0; 7];
+        (w[2], w[3]) = (u.x, u.y);
+        let (Some(pv), Some(qv)) = (solve7(a, e0), solve7(a, w)) else {
+            return -1.0; // a singular frictionless system: the holder's dead point
         };
-        let d0 = det(0.0, 0.0);
         let (m5, m7) = (p.guide_mu, p.support_mu);
         [(m5, m7), (-m5, m7), (m5, -m7), (-m5, -m7)]
             .iter()
-            .map(|&(a, b)| det(a, b) / d0)
+            .map(|&(k5, k7)| (1.0 - k5 * pv[5]) * (1.0 - k7 * qv[6]) - k5 * k7 * qv[5] * pv[6])
             .fold(f64::INFINITY, f64::min)
     }
 

@@ -1,9 +1,12 @@
 //! The DiscKnifeDrive FMU: its variables, declared once, and the glue from them to
 //! [`super::physics`] (`../shared/spec/disc-knife-drive.md`).
 
+use super::elastic::{Point, RodOde};
 use super::physics::{Forces, Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Severity, Values};
+use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use std::cell::Cell;
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 300.0) {
@@ -56,7 +59,122 @@ crate::model_variables! {
         pinC_F = Var::output("pinC.F", "N", "Magnitude of the hinge force at C, slider 5 - holder (kinetostatic level)").depends(ON_ALL),
         pinD_F = Var::output("pinD.F", "N", "Magnitude of the hinge force at D, slider 7 - holder (kinetostatic level)").depends(ON_ALL),
         sliders_locked = Var::bool_output("sliders.locked", "True where Coulomb friction self-locks a slider (no unique force solution; slider 7: |tan(beta + alpha)| < support.mu); forces are then computed without friction (kinetostatic level)").depends(ON_PHI_W),
+        // ---- elastodynamic level (dynamics.md: rod compliance between crank pin and slider 5)
+        elastic_k = Var::parameter("elastic.k", 2e8, "N/m", "Axial stiffness of rod 4 between crank pin B and slider 5 with its pin bearings (elastodynamic level; assumption: steel shank of 60 mm2 over l2 = 38 mm, EA/l2 = 3.3e8 N/m, in series with two pin bearings of 1e9 N/m)").min(1.0),
+        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the rod, c = 2*zeta*sqrt(k*M_ref), M_ref the reduced mass of the chain behind the rod at the outer dead centre (elastodynamic level; assumption)").min(0.0),
+        solver_method = crate::solver::vars::method(),
+        solver_rtol = crate::solver::vars::rtol(),
+        solver_atol = crate::solver::vars::atol(),
+        solver_max_step = crate::solver::vars::max_step(),
+        slider_x_kin = Var::output("slider.x_kin", "m", "Rigid reference position x_C(phi) of slider 5 (elastodynamic level; equals slider.x at the others)").depends(ON_PHI),
+        elastic_deflection = Var::output("elastic.deflection", "m", "Shortening of rod 4, rigid rod length - |C - B| (elastodynamic level; 0 at the others)").depends(ON_PHI),
+        elastic_F = Var::output("elastic.F", "N", "Dynamic rod force k*deflection + c*deflection rate, compression positive; rod.F equals it at the elastodynamic level (0 at the others)").depends(ON_PHI_W),
+        rod_F_kin = Var::output("rod.F_kin", "N", "Kinetostatic rod force on the rigid motion, the reference of dyn.factor (elastodynamic level; equals rod.F at kinetostatic, 0 at kinematic)").depends(ON_ALL),
+        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak |elastic.F| over the peak kinetostatic rod force, of the last complete shaft turn (the running one until a turn is complete; elastodynamic level, 1 at the others)"),
+        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)"),
+        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)"),
+        // ---- Model Exchange states of the elastodynamic level and their derivatives
+        elastic_x = Var::local("elastic.x", "m", "State: position x of slider 5 along its guide (elastodynamic level)"),
+        elastic_xd = Var::local("elastic.xd", "m/s", "State: velocity of slider 5 (elastodynamic level)"),
+        elastic_W = Var::local("elastic.W", "J", "State: work done on the chain behind the rod and on the rod spring by crank pin, cutting, friction, damping and weights (for the energy balance)"),
+        der_elastic_x = Var::local("der(elastic.x)", "m/s", "Derivative of elastic.x").derivative_of(V::elastic_x as u32),
+        der_elastic_xd = Var::local("der(elastic.xd)", "m/s2", "Derivative of elastic.xd").derivative_of(V::elastic_xd as u32),
+        der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32),
     }
+}
+
+/// What the elastodynamic level carries between steps.
+#[derive(Clone, Debug, PartialEq)]
+struct Dynamic {
+    k: f64,
+    c: f64,
+    integ: Integrator,
+    started: bool,
+    y: [f64; 3],
+    e0: f64,
+    /// (shaft turn, peak |P|, peak |P_rigid|) of the running turn.
+    peaks: (f64, f64, f64),
+    /// K_d of the last complete turn (NaN: none yet).
+    k_d: f64,
+}
+
+impl Dynamic {
+    const STATE_LEN: usize = 13;
+
+    fn ode<'a>(&self, p: &'a Params, path: ShaftPath) -> RodOde<'a> {
+        RodOde {
+            p,
+            k: self.k,
+            c: self.c,
+            path,
+            peaks: Cell::new(self.peaks),
+            k_d: Cell::new(self.k_d),
+        }
+    }
+
+    fn start(&mut self, p: &Params, path: ShaftPath) {
+        let ode = self.ode(p, path);
+        self.y = ode.initial_state(path.t0);
+        self.e0 = ode.energy(&ode.point(path.t0, &self.y));
+        self.peaks = (ode.path.cycle(path.t0), 0.0, 0.0);
+        self.k_d = f64::NAN;
+        self.started = true;
+    }
+
+    fn save(&self) -> Vec<f64> {
+        let h = self.integ.save();
+        vec![
+            f64::from(u8::from(self.started)),
+            self.y[0],
+            self.y[1],
+            self.y[2],
+            self.e0,
+            self.peaks.0,
+            self.peaks.1,
+            self.peaks.2,
+            self.k_d,
+            h[0],
+            h[1],
+            self.integ.stats.steps as f64,
+            self.integ.stats.events as f64,
+        ]
+    }
+
+    fn restore(&mut self, s: &[f64]) -> Result<(), String> {
+        if s.len() != Self::STATE_LEN {
+            return Err(format!(
+                "DiscKnifeDrive elastodynamic state has {} numbers, expected {}",
+                s.len(),
+                Self::STATE_LEN
+            ));
+        }
+        self.started = s[0] != 0.0;
+        self.y = [s[1], s[2], s[3]];
+        self.e0 = s[4];
+        self.peaks = (s[5], s[6], s[7]);
+        self.k_d = s[8];
+        self.integ.restore(&s[9..11]);
+        self.integ.stats.steps = s[11] as usize;
+        self.integ.stats.events = s[12] as usize;
+        Ok(())
+    }
+}
+
+/// The solver settings from the `solver.*` parameters.
+pub fn solver_settings(v: &Values<V>) -> Settings {
+    Settings {
+        method: Method::from_value(v.int(V::solver_method)),
+        rtol: v[V::solver_rtol],
+        atol: v[V::solver_atol],
+        max_step: v[V::solver_max_step],
+        ..Settings::default()
+    }
+}
+
+/// The shaft path of a step starting at `time`.
+fn path_at(v: &Values<V>, time: f64) -> ShaftPath {
+    let s = shaft::state(v, time);
+    ShaftPath::new(time, s.phi, s.w, s.a)
 }
 
 /// The combined crank-slider drive of disc knives (paper 004) as an FMU model.
@@ -64,6 +182,8 @@ pub struct DiscKnifeDrive {
     params: Params,
     /// Whether the previous evaluation was in a self-locking zone (one warning per entry).
     was_locked: bool,
+    /// The elastodynamic level's state (that level only).
+    dynamic: Option<Dynamic>,
 }
 
 impl DiscKnifeDrive {
@@ -139,13 +259,106 @@ impl Model for DiscKnifeDrive {
     };
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
-        shaft::require_level(v, &[Fidelity::Kinematic, Fidelity::Kinetostatic])?;
         let params = Self::params(v);
         params.validate()?;
+        let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
+            let k = v[V::elastic_k];
+            Dynamic {
+                k,
+                c: RodOde::damping(&params, k, v[V::elastic_zeta]),
+                integ: Integrator::new(solver_settings(v)),
+                started: false,
+                y: [0.0; 3],
+                e0: 0.0,
+                peaks: (0.0, 0.0, 0.0),
+                k_d: f64::NAN,
+            }
+        });
         Ok(DiscKnifeDrive {
             params,
             was_locked: false,
+            dynamic,
         })
+    }
+
+    fn do_step(
+        &mut self,
+        v: &mut Values<V>,
+        time: f64,
+        h: f64,
+        _log: &mut dyn Log,
+    ) -> Result<(), String> {
+        let Some(d) = self.dynamic.as_mut() else {
+            return Ok(());
+        };
+        let path = path_at(v, time);
+        if !d.started {
+            d.start(&self.params, path);
+        }
+        let before = d.clone();
+        let ode = d.ode(&self.params, path);
+        let mut y = d.y;
+        match d.integ.integrate(&ode, time, time + h, &mut y) {
+            Ok(_) => {
+                d.y = y;
+                d.peaks = ode.peaks.get();
+                d.k_d = ode.k_d.get();
+                if v.int(V::drive_mode) == 1 {
+                    // the FMU's own extrapolation of the inputs, until the host sets them
+                    let (_, w, a) = path.at(time + h);
+                    v[V::shaft_phi] = path.absolute_phi(time + h);
+                    v[V::shaft_w] = w;
+                    v[V::shaft_a] = a;
+                }
+                Ok(())
+            }
+            Err(why) => {
+                *d = before;
+                Err(why)
+            }
+        }
+    }
+
+    const STATES: usize = 3;
+    const EVENT_INDICATORS: usize = 4;
+
+    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
+        match self.me_dynamic(v, time) {
+            Some(d) => x.copy_from_slice(&d.y),
+            None => x.fill(0.0),
+        }
+    }
+
+    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
+        if let Some(d) = self.me_dynamic(v, time) {
+            d.y.copy_from_slice(x);
+        }
+    }
+
+    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
+        let p = self.params;
+        match self.me_dynamic(v, time) {
+            Some(d) => d.ode(&p, path_at(v, time)).rhs(time, &d.y, dx),
+            None => dx.fill(0.0),
+        }
+    }
+
+    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
+        let p = self.params;
+        match self.me_dynamic(v, time) {
+            Some(d) => d.ode(&p, path_at(v, time)).events(time, &d.y, z),
+            None => z.fill(1.0),
+        }
+    }
+
+    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
+        let p = self.params;
+        if let Some(d) = self.me_dynamic(v, time) {
+            let ode = d.ode(&p, path_at(v, time));
+            ode.on_step(time, &d.y);
+            d.peaks = ode.peaks.get();
+            d.k_d = ode.k_d.get();
+        }
     }
 
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, log: &mut dyn Log) {
@@ -153,23 +366,43 @@ impl Model for DiscKnifeDrive {
         v[V::rod_l2] = p.rod_l2();
         v[V::slider_stroke] = p.stroke();
         let s = shaft::state(v, time);
+        if let Some(d) = self.dynamic.as_ref() {
+            let ode = d.ode(p, path_at(v, time));
+            let y = if d.started {
+                d.y
+            } else {
+                ode.initial_state(time)
+            };
+            let pt = ode.point(time, &y);
+            let e0 = if d.started { d.e0 } else { ode.energy(&pt) };
+            v[V::elastic_E_residual] = ode.energy(&pt) - e0 - y[2];
+            let running = if d.peaks.2 > 0.0 {
+                d.peaks.1 / d.peaks.2
+            } else {
+                1.0
+            };
+            v[V::dyn_factor] = if d.k_d.is_nan() { running } else { d.k_d };
+            v[V::solver_steps] = d.integ.stats.steps as f64;
+            v[V::elastic_x] = y[0];
+            v[V::elastic_xd] = y[1];
+            v[V::elastic_W] = y[2];
+            v[V::der_elastic_x] = y[1];
+            v[V::der_elastic_xd] = pt.eval.xdd;
+            v[V::der_elastic_W] = pt.eval.power;
+            Self::write_elastic(p, v, &pt);
+            self.warn_locked(pt.eval.locked, &pt.kin, time, log);
+            shaft::set_outputs(v, pt.shaft_tau, s.w);
+            return;
+        }
         let k = p.kinematics(s.phi, s.w, s.a);
         Self::write_kinematics(v, &k);
+        v[V::slider_x_kin] = k.x_c;
+        v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic {
             let f = p.kinetostatics(&k);
             Self::write_forces(v, &f);
-            if f.locked && !self.was_locked {
-                log.log(
-                    Severity::Warning,
-                    &format!(
-                        "t = {time}: friction self-locks a slider at crank angle {:.2} deg (|tan(beta + alpha)| = {:.4} < support.mu = {}): no unique force solution; forces computed without friction while sliders.locked",
-                        k.phi.to_degrees(),
-                        (k.beta + p.support_alpha).tan().abs(),
-                        p.support_mu
-                    ),
-                );
-            }
-            self.was_locked = f.locked;
+            v[V::rod_F_kin] = f.rod_f;
+            self.warn_locked(f.locked, &k, time, log);
             f.shaft_tau
         } else {
             0.0
@@ -178,19 +411,80 @@ impl Model for DiscKnifeDrive {
     }
 
     fn save_state(&self) -> Vec<f64> {
-        vec![f64::from(u8::from(self.was_locked))]
+        let mut s = vec![f64::from(u8::from(self.was_locked))];
+        if let Some(d) = self.dynamic.as_ref() {
+            s.extend(d.save());
+        }
+        s
     }
 
     fn restore_state(&mut self, state: &[f64]) -> Result<(), String> {
-        match state {
-            [x] if *x == 0.0 || *x == 1.0 => {
-                self.was_locked = *x == 1.0;
-                Ok(())
-            }
-            _ => Err(format!(
-                "DiscKnifeDrive state: expected [0 or 1], got {state:?}"
-            )),
+        let (first, rest) = state.split_first().ok_or("DiscKnifeDrive state: empty")?;
+        if *first != 0.0 && *first != 1.0 {
+            return Err(format!(
+                "DiscKnifeDrive state: expected the self-locking flag 0 or 1 first, got {state:?}"
+            ));
         }
+        match self.dynamic.as_mut() {
+            Some(d) => d.restore(rest)?,
+            None if rest.is_empty() => {}
+            None => {
+                return Err(format!(
+                    "DiscKnifeDrive state: {} numbers of the elastodynamic level given to another level",
+                    rest.len()
+                ));
+            }
+        }
+        self.was_locked = *first == 1.0;
+        Ok(())
+    }
+}
+
+impl DiscKnifeDrive {
+    /// The elastodynamic state for Model Exchange, started from the inputs at `time` if new.
+    fn me_dynamic(&mut self, v: &Values<V>, time: f64) -> Option<&mut Dynamic> {
+        let p = self.params;
+        let d = self.dynamic.as_mut()?;
+        if !d.started {
+            d.start(&p, path_at(v, time));
+        }
+        Some(d)
+    }
+
+    /// One warning per entry into a self-locking zone.
+    fn warn_locked(&mut self, locked: bool, k: &Kinematics, time: f64, log: &mut dyn Log) {
+        let p = &self.params;
+        if locked && !self.was_locked {
+            log.log(
+                Severity::Warning,
+                &format!(
+                    "t = {time}: friction self-locks a slider at crank angle {:.2} deg (|tan(beta + alpha)| = {:.4} < support.mu = {}): no unique force solution; forces computed without friction while sliders.locked",
+                    k.phi.to_degrees(),
+                    (k.beta + p.support_alpha).tan().abs(),
+                    p.support_mu
+                ),
+            );
+        }
+        self.was_locked = locked;
+    }
+
+    /// The outputs of the elastodynamic level at one point: the chain behind the rod at the
+    /// slider's elastic position, the forces of the swapped 7×7 solve, the dynamic rod force.
+    fn write_elastic(p: &Params, v: &mut Values<V>, pt: &Point) {
+        Self::write_kinematics(v, &pt.kin);
+        let ev = &pt.eval;
+        v[V::slider_x_kin] = pt.rigid.kin.x_c;
+        v[V::elastic_deflection] = ev.delta;
+        v[V::elastic_F] = ev.force;
+        v[V::rod_F] = ev.force;
+        v[V::rod_F_kin] = p.kinetostatics(&pt.rigid.kin).rod_f;
+        v[V::cut_Fx] = pt.rigid.load.x;
+        v[V::cut_Fy] = pt.rigid.load.y;
+        v[V::guide_N] = ev.z[5];
+        v[V::support_N] = ev.z[6];
+        v[V::pinC_F] = ev.z[1].hypot(ev.z[2]);
+        v[V::pinD_F] = ev.z[3].hypot(ev.z[4]);
+        v.set_flag(V::sliders_locked, ev.locked);
     }
 }
 
