@@ -314,13 +314,25 @@ impl Model for DiscKnifeDrive {
             }
             Err(why) => {
                 *d = before;
-                Err(why)
+                // the partial state tells a rod so soft that the slider left the range where the
+                // holder assembles (eq. 5 has no solution there)
+                let c = self.params.assembly_cos(y[0]);
+                Err(if c.abs() >= 1.0 || !c.is_finite() {
+                    format!(
+                        "slider 5 reached x = {:.6} m, where the holder cannot reach EQ (|cos(beta + alpha)| = {:.4} >= 1, eq. 5): the rod (elastic.k = {} N/m) is too soft for this motion; {why}",
+                        y[0],
+                        c.abs(),
+                        d.k
+                    )
+                } else {
+                    why
+                })
             }
         }
     }
 
     const STATES: usize = 3;
-    const EVENT_INDICATORS: usize = 4;
+    const EVENT_INDICATORS: usize = 5;
 
     fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
         match self.me_dynamic(v, time) {

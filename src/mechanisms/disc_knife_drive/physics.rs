@@ -476,8 +476,8 @@ impl Params {
         c: [T; 2],
         d: [T; 2],
         s: [T; 2],
-        k5: f64,
-        k7: f64,
+        k5: T,
+        k7: T,
     ) -> [[T; 7]; 7] {
         let (u, n) = (self.support_dir(), self.support_normal());
         let inv_l4 = 1.0 / self.holder_l4;
@@ -486,10 +486,10 @@ impl Params {
         let (o, l) = (T::zero(), T::one());
         let f = T::from;
         [
-            [col0[0], -l, o, o, o, f(-k5), o],
+            [col0[0], -l, o, o, o, -k5, o],
             [col0[1], o, -l, o, o, l, o],
-            [col0[2], o, o, -l, o, o, f(n.x - k7 * u.x)],
-            [col0[3], o, o, o, -l, o, f(n.y - k7 * u.y)],
+            [col0[2], o, o, -l, o, o, f(n.x) - k7 * u.x],
+            [col0[3], o, o, o, -l, o, f(n.y) - k7 * u.y],
             [col0[4], l, o, l, o, o, o],
             [col0[5], o, l, o, l, o, o],
             [col0[6], -r_c[1], r_c[0], -r_d[1], r_d[0], o, o],
