@@ -137,6 +137,26 @@ pub fn friction_fade<T: DualNum<Primitive = f64> + Copy>(g: T) -> T {
     }
 }
 
+/// How close to the holder's dead point (|cos(β + α)| = 1, eq. 5: CD along EQ's normal, β' and
+/// the reduced mass unbounded) the elastic slider may come, as the fraction of the rigid
+/// motion's own distance `1 − max|c|` that must remain: beyond it the right-hand side is NaN,
+/// the step collapses and the communication step is a Discard naming the dead point. A rod soft
+/// enough for the slider to overrun the rigid motion's range gets there (it would approach the
+/// dead point asymptotically, with ever smaller steps).
+pub const DEAD_POINT_FRACTION: f64 = 0.1;
+
+/// The threshold of |c| for [`DEAD_POINT_FRACTION`]: `1 − 0.1·(1 − max|c|)`, max over the turn
+/// of the rigid motion (3600 samples).
+pub fn dead_point_threshold(p: &Params) -> f64 {
+    let c_max = (0..3600)
+        .map(|j| {
+            let phi = std::f64::consts::TAU * f64::from(j) / 3600.0;
+            p.assembly_cos(p.slider_x(phi).0).abs()
+        })
+        .fold(0.0, f64::max);
+    1.0 - DEAD_POINT_FRACTION * (1.0 - c_max.min(1.0))
+}
+
 /// Reduced (generalized) mass of the downstream chain at slider position `x`, kg:
 /// `M = m5 + m7·|D'|² + m_h·|S'|² + J_h·β'²` (primes: d/dx).
 pub fn reduced_mass(p: &Params, x: f64) -> f64 {
@@ -187,6 +207,8 @@ pub struct RodOde<'a> {
     /// Rod damping c, N.s/m.
     pub c: f64,
     pub path: ShaftPath,
+    /// |c| at which the slider counts as at the holder's dead point ([`dead_point_threshold`]).
+    pub c_dead: f64,
     /// Peak tracking over accepted steps: (shaft turn, peak |P|, peak |P_rigid|).
     pub peaks: Cell<(f64, f64, f64)>,
     /// Dynamic factor of the last complete turn (NaN: none yet).
@@ -348,7 +370,11 @@ impl RodOde<'_> {
             }
             (best.1, best.2, best.3)
         };
-        let xdd = z[0];
+        let xdd = if !(p.assembly_cos(x.re()).abs() < self.c_dead) {
+            T::from(f64::NAN)
+        } else {
+            z[0]
+        };
         // power into chain and spring
         let u = p.support_dir();
         let v_d = [d[0].v1 * xd, d[1].v1 * xd];
@@ -409,21 +435,27 @@ impl RodOde<'_> {
     }
 
     /// The state in equilibrium on the rigid motion at time t: the rod shortened by the
-    /// kinetostatic rod force over k (none where that force is not small against the rod's
-    /// length: a start at the jamming wedge), the slider at the rigid velocity.
+    /// kinetostatic rod force over k (none where that is over 5 % of the rod's length: a
+    /// start at the jamming wedge), the slider at the rigid velocity.
     pub fn initial_state(&self, t: f64) -> [f64; 3] {
         let r = self.rigid(t);
         let p = self.p;
         let f = p.kinetostatics(&r.kin).rod_f;
         let d0 = f / self.k;
-        let d0 = if d0.is_finite() && d0.abs() < 1e-3 * r.l_kin {
+        let d0 = if d0.is_finite() && d0.abs() < 0.05 * r.l_kin {
             d0
         } else {
             0.0
         };
         let ry = p.crank_e - r.kin.b.y;
         let x = r.kin.b.x + ((r.l_kin - d0).powi(2) - ry * ry).sqrt();
-        let x = if x.is_finite() { x } else { r.kin.x_c };
+        // not beyond the holder's dead point (a soft rod at a high speed near the inner dead
+        // centre): then from the rigid position
+        let x = if x.is_finite() && p.assembly_cos(x).abs() < self.c_dead {
+            x
+        } else {
+            r.kin.x_c
+        };
         [x, r.kin.v_c, 0.0]
     }
 }
@@ -504,6 +536,7 @@ mod tests {
             k,
             c: RodOde::damping(p, k, zeta),
             path: ShaftPath::new(0.0, 0.0, w, 0.0),
+            c_dead: dead_point_threshold(p),
             peaks: Cell::new((0.0, 0.0, 0.0)),
             k_d: Cell::new(f64::NAN),
         }
