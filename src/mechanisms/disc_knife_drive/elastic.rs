@@ -178,14 +178,13 @@ fn solve7<T: DualNum<Primitive = f64> + Copy>(mut a: [[T; 7]; 7], mut b: [T; 7])
         }
         a.swap(col, piv);
         b.swap(col, piv);
+        let (pivot, bp) = (a[col], b[col]);
         for r in col + 1..7 {
-            let f = a[r][col] / a[col][col];
-            for c in col..7 {
-                let t = a[col][c];
-                a[r][c] -= f * t;
+            let f = a[r][col] / pivot[col];
+            for (x, &t) in a[r].iter_mut().zip(pivot.iter()).skip(col) {
+                *x -= f * t;
             }
-            let t = b[col];
-            b[r] -= f * t;
+            b[r] -= f * bp;
         }
     }
     let mut z = [T::zero(); 7];
@@ -370,7 +369,8 @@ impl RodOde<'_> {
             }
             (best.1, best.2, best.3)
         };
-        let xdd = if !(p.assembly_cos(x.re()).abs() < self.c_dead) {
+        let c_abs = p.assembly_cos(x.re()).abs();
+        let xdd = if c_abs.is_nan() || c_abs >= self.c_dead {
             T::from(f64::NAN)
         } else {
             z[0]

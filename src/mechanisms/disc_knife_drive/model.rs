@@ -327,7 +327,7 @@ impl Model for DiscKnifeDrive {
                 // holder assembles (eq. 5 has no solution there)
                 let c = self.params.assembly_cos(y[0]);
                 let near = 1.0 - 2.0 * (1.0 - d.c_dead); // well beyond the rigid range
-                Err(if !(c.abs() < near) {
+                Err(if c.is_nan() || c.abs() >= near {
                     format!(
                         "slider 5 reached x = {:.6} m, the dead point of the holder (|cos(beta + alpha)| = {:.7} -> 1, eq. 5: the holder's reduced mass is unbounded there): the rod (elastic.k = {} N/m) is too soft for this motion; {why}",
                         y[0],
