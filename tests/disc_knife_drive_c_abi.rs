@@ -47,6 +47,13 @@ fn real_outputs() -> Vec<V> {
         V::support_N,
         V::pinC_F,
         V::pinD_F,
+        // the elastodynamic level's (at the rigid levels: their rigid values, 0 or 1)
+        V::slider_x_kin,
+        V::elastic_deflection,
+        V::elastic_F,
+        V::rod_F_kin,
+        V::dyn_factor,
+        V::elastic_E_residual,
     ];
     // The list is every Real output the model declares.
     let declared = V::table()

@@ -462,12 +462,31 @@ fn output_not_at_this_fidelity_names_the_levels_that_have_it() {
 }
 
 #[test]
-fn a_level_the_mechanism_lacks_is_refused_at_the_fidelity_key() {
+fn an_elastodynamic_disc_knife_scene_lists_its_dynamic_outputs_and_states() {
+    // (every mechanism now has all three levels: no level is left to refuse)
+    let scene = Scene::parse(
+        "name = \"t\"\nmechanism = \"DiscKnifeDrive\"\nfidelity = \"elastodynamic\"\noutputs = [\"knife.x\", \"elastic.F\"]\n",
+    )
+    .unwrap();
+    let (_, t) = catalog::tailor(&scene).unwrap();
+    for name in [
+        "knife.x",
+        "elastic.F",
+        "elastic.k",
+        "elastic.x",
+        "der(elastic.x)",
+    ] {
+        assert!(
+            t.variables.iter().any(|(_, v)| v.name == name),
+            "{name} missing"
+        );
+    }
+    // a kinematic scene cannot ask for the dynamic force
     assert_refused(
-        "name = \"t\"\nmechanism = \"DiscKnifeDrive\"\nfidelity = \"elastodynamic\"\noutputs = [\"knife.x\"]\n",
-        "fidelity",
-        3,
-        &["not implemented"],
+        "name = \"t\"\nmechanism = \"DiscKnifeDrive\"\nfidelity = \"kinematic\"\noutputs = [\"elastic.F\"]\n",
+        "outputs[0]",
+        4,
+        &["not computed at fidelity \"kinematic\"", "elastodynamic"],
     );
 }
 

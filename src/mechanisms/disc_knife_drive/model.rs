@@ -1,9 +1,12 @@
 //! The DiscKnifeDrive FMU: its variables, declared once, and the glue from them to
 //! [`super::physics`] (`../shared/spec/disc-knife-drive.md`).
 
+use super::elastic::{Point, RodOde, dead_point_threshold};
 use super::physics::{Forces, Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
+use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use std::cell::Cell;
 
 /// The computations a scene may leave out (`scenes.md`); the variables below say which they
 /// need (`.needs`) or feed (`.feeds`). The kinematics always run.
@@ -11,16 +14,29 @@ pub mod stage {
     use crate::model::Stages;
     /// [`super::STAGES`]`[0]`.
     pub const FORCES: Stages = Stages::bit(0);
+    /// [`super::STAGES`]`[1]`.
+    pub const ELASTIC: Stages = Stages::bit(1);
+    /// What the masses, friction and cutting force feed.
+    pub const LOADS: Stages = FORCES.or(ELASTIC);
 }
 
 /// The stages of [`stage`], in bit order.
-pub static STAGES: &[Stage] = &[Stage {
-    name: "forces",
-    description: "Kinetostatic force analysis: cutting force, inertia of holder and sliders, Coulomb friction in both guides (with the self-locking check), rod and hinge forces, shaft torque",
-    levels: &[Fidelity::Kinetostatic],
-    requires: Stages::NONE,
-    always: false,
-}];
+pub static STAGES: &[Stage] = &[
+    Stage {
+        name: "forces",
+        description: "Kinetostatic force analysis: cutting force, inertia of holder and sliders, Coulomb friction in both guides (with the self-locking check), rod and hinge forces, shaft torque",
+        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
+        requires: Stages::NONE,
+        always: false,
+    },
+    Stage {
+        name: "elastic",
+        description: "The ODE of the compliant rod 4 (slider 5 as the degree of freedom, the 7x7 system per evaluation), integrated inside fmi2DoStep",
+        levels: &[Fidelity::Elastodynamic],
+        requires: Stages::NONE,
+        always: true,
+    },
+];
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 300.0, torque_needs = stage::FORCES) {
@@ -35,17 +51,17 @@ crate::model_variables! {
         support_yQ = Var::parameter("support.yQ", 0.010, "m", "y of point Q of the support line EQ (assumption)"),
         assembly_branch = Var::int_parameter("assembly.branch", 1, "Which of the two holder positions: beta = -alpha + branch*acos(c), +1 or -1 (spec)").min(-1.0).max(1.0),
         kinematics_series = Var::bool_parameter("kinematics.series", false, "true: slider C by paper 004's series form (1), x_C = l1*(lambda2 + cos(phi) - sin(phi)^2/(2*lambda2)), e = 0 only; false: exact"),
-        holder_m = Var::parameter("holder.m", 0.8, "kg", "Mass of the holder with its knives, at S (assumption)").min(0.0).feeds(stage::FORCES),
-        holder_J = Var::parameter("holder.J", 0.0, "kg.m2", "Moment of inertia of holder and knives about S (assumption: 0, the spec lumps the holder at S)").min(0.0).feeds(stage::FORCES),
-        slider5_m = Var::parameter("slider5.m", 0.3, "kg", "Mass of slider 5 at C (assumption)").min(0.0).feeds(stage::FORCES),
-        slider7_m = Var::parameter("slider7.m", 0.2, "kg", "Mass of slider 7 at D (assumption)").min(0.0).feeds(stage::FORCES),
-        rod_m = Var::parameter("rod.m", 0.15, "kg", "Rod mass, half lumped at the crank pin and half at C (assumption)").min(0.0).feeds(stage::FORCES),
-        crank_J = Var::parameter("crank.J", 2e-4, "kg.m2", "Moment of inertia of the crank about its axis A, centre of mass on A (assumption)").min(0.0).feeds(stage::FORCES),
-        guide_mu = Var::parameter("guide.mu", 0.1, "", "Coulomb friction coefficient of slider 5 in its guide (assumption)").min(0.0).feeds(stage::FORCES),
-        support_mu = Var::parameter("support.mu", 0.1, "", "Coulomb friction coefficient of slider 7 on EQ (assumption)").min(0.0).feeds(stage::FORCES),
-        cut_F = Var::parameter("cut.F", 150.0, "N", "Cutting force at S in the working stroke, against the velocity of S relative to the block (assumption)").min(0.0).feeds(stage::FORCES),
-        feed_V = Var::parameter("feed.V", 0.2, "m/s", "Feed speed of the book block, along -y (assumption)").feeds(stage::FORCES),
-        gravity_g = Var::parameter("gravity.g", 0.0, "m/s2", "Gravity along -y (assumption: 0, the mechanism works in a horizontal plane; 9.80665 for a vertical one, y up)").feeds(stage::FORCES),
+        holder_m = Var::parameter("holder.m", 0.8, "kg", "Mass of the holder with its knives, at S (assumption)").min(0.0).feeds(stage::LOADS),
+        holder_J = Var::parameter("holder.J", 0.0, "kg.m2", "Moment of inertia of holder and knives about S (assumption: 0, the spec lumps the holder at S)").min(0.0).feeds(stage::LOADS),
+        slider5_m = Var::parameter("slider5.m", 0.3, "kg", "Mass of slider 5 at C (assumption)").min(0.0).feeds(stage::LOADS),
+        slider7_m = Var::parameter("slider7.m", 0.2, "kg", "Mass of slider 7 at D (assumption)").min(0.0).feeds(stage::LOADS),
+        rod_m = Var::parameter("rod.m", 0.15, "kg", "Rod mass, half lumped at the crank pin and half at C (assumption)").min(0.0).feeds(stage::LOADS),
+        crank_J = Var::parameter("crank.J", 2e-4, "kg.m2", "Moment of inertia of the crank about its axis A, centre of mass on A (assumption)").min(0.0).feeds(stage::LOADS),
+        guide_mu = Var::parameter("guide.mu", 0.1, "", "Coulomb friction coefficient of slider 5 in its guide (assumption)").min(0.0).feeds(stage::LOADS),
+        support_mu = Var::parameter("support.mu", 0.1, "", "Coulomb friction coefficient of slider 7 on EQ (assumption)").min(0.0).feeds(stage::LOADS),
+        cut_F = Var::parameter("cut.F", 150.0, "N", "Cutting force at S in the working stroke, against the velocity of S relative to the block (assumption)").min(0.0).feeds(stage::LOADS),
+        feed_V = Var::parameter("feed.V", 0.2, "m/s", "Feed speed of the book block, along -y (assumption)").feeds(stage::LOADS),
+        gravity_g = Var::parameter("gravity.g", 0.0, "m/s2", "Gravity along -y (assumption: 0, the mechanism works in a horizontal plane; 9.80665 for a vertical one, y up)").feeds(stage::LOADS),
         // ---- calculated parameters
         rod_l2 = Var::calculated("rod.l2", "m", "Rod length l2 = lambda2*l1 (paper 004)"),
         slider_stroke = Var::calculated("slider.stroke", "m", "Stroke of slider 5 (2*l1 for e = 0)"),
@@ -73,6 +89,123 @@ crate::model_variables! {
         pinC_F = Var::output("pinC.F", "N", "Magnitude of the hinge force at C, slider 5 - holder (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         pinD_F = Var::output("pinD.F", "N", "Magnitude of the hinge force at D, slider 7 - holder (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         sliders_locked = Var::bool_output("sliders.locked", "True where Coulomb friction self-locks a slider (no unique force solution; slider 7: |tan(beta + alpha)| < support.mu); forces are then computed without friction (kinetostatic level)").depends(ON_PHI_W).needs(stage::FORCES),
+        // ---- elastodynamic level (dynamics.md: rod compliance between crank pin and slider 5)
+        elastic_k = Var::parameter("elastic.k", 2e8, "N/m", "Axial stiffness of rod 4 between crank pin B and slider 5 with its pin bearings (elastodynamic level; assumption: steel shank of 60 mm2 over l2 = 38 mm, EA/l2 = 3.3e8 N/m, in series with two pin bearings of 1e9 N/m)").min(1.0).feeds(stage::ELASTIC),
+        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the rod, c = 2*zeta*sqrt(k*M_ref), M_ref the reduced mass of the chain behind the rod at the outer dead centre (elastodynamic level; assumption)").min(0.0).feeds(stage::ELASTIC),
+        solver_method = crate::solver::vars::method().feeds(stage::ELASTIC),
+        solver_rtol = crate::solver::vars::rtol().feeds(stage::ELASTIC),
+        solver_atol = crate::solver::vars::atol().feeds(stage::ELASTIC),
+        solver_max_step = crate::solver::vars::max_step().feeds(stage::ELASTIC),
+        slider_x_kin = Var::output("slider.x_kin", "m", "Rigid reference position x_C(phi) of slider 5 (elastodynamic level; equals slider.x at the others)").depends(ON_PHI),
+        elastic_deflection = Var::output("elastic.deflection", "m", "Shortening of rod 4, rigid rod length - |C - B| (elastodynamic level; 0 at the others)").depends(ON_PHI).needs(stage::ELASTIC),
+        elastic_F = Var::output("elastic.F", "N", "Dynamic rod force k*deflection + c*deflection rate, compression positive; rod.F equals it at the elastodynamic level (0 at the others)").depends(ON_PHI_W).needs(stage::ELASTIC),
+        rod_F_kin = Var::output("rod.F_kin", "N", "Kinetostatic rod force on the rigid motion, the reference of dyn.factor (elastodynamic level; equals rod.F at kinetostatic, 0 at kinematic)").depends(ON_ALL).needs(stage::FORCES),
+        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak |elastic.F| over the peak kinetostatic rod force, of the last complete shaft turn (the running one until a turn is complete; elastodynamic level, 1 at the others)").needs(stage::ELASTIC),
+        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)").needs(stage::ELASTIC),
+        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)").feeds(stage::ELASTIC),
+        // ---- Model Exchange states of the elastodynamic level and their derivatives
+        elastic_x = Var::local("elastic.x", "m", "State: position x of slider 5 along its guide (elastodynamic level)").needs(stage::ELASTIC),
+        elastic_xd = Var::local("elastic.xd", "m/s", "State: velocity of slider 5 (elastodynamic level)").needs(stage::ELASTIC),
+        elastic_W = Var::local("elastic.W", "J", "State: work done on the chain behind the rod and on the rod spring by crank pin, cutting, friction, damping and weights (for the energy balance)").needs(stage::ELASTIC),
+        der_elastic_x = Var::local("der(elastic.x)", "m/s", "Derivative of elastic.x").derivative_of(V::elastic_x as u32).needs(stage::ELASTIC),
+        der_elastic_xd = Var::local("der(elastic.xd)", "m/s2", "Derivative of elastic.xd").derivative_of(V::elastic_xd as u32).needs(stage::ELASTIC),
+        der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32).needs(stage::ELASTIC),
+    }
+}
+
+/// What the elastodynamic level carries between steps.
+#[derive(Clone, Debug, PartialEq)]
+struct Dynamic {
+    k: f64,
+    c: f64,
+    /// [`dead_point_threshold`].
+    c_dead: f64,
+    integ: Integrator,
+    started: bool,
+    y: [f64; 3],
+    e0: f64,
+    /// (shaft turn, peak |P|, peak |P_rigid|) of the running turn.
+    peaks: (f64, f64, f64),
+    /// K_d of the last complete turn (NaN: none yet).
+    k_d: f64,
+}
+
+impl Dynamic {
+    const STATE_LEN: usize = 13;
+
+    fn ode<'a>(&self, p: &'a Params, path: ShaftPath) -> RodOde<'a> {
+        RodOde {
+            p,
+            k: self.k,
+            c: self.c,
+            path,
+            c_dead: self.c_dead,
+            peaks: Cell::new(self.peaks),
+            k_d: Cell::new(self.k_d),
+        }
+    }
+
+    fn start(&mut self, p: &Params, path: ShaftPath) {
+        let ode = self.ode(p, path);
+        self.y = ode.initial_state(path.t0);
+        self.e0 = ode.energy(&ode.point(path.t0, &self.y));
+        self.peaks = (ode.path.cycle(path.t0), 0.0, 0.0);
+        self.k_d = f64::NAN;
+        self.started = true;
+    }
+
+    fn save(&self) -> Vec<f64> {
+        let h = self.integ.save();
+        vec![
+            f64::from(u8::from(self.started)),
+            self.y[0],
+            self.y[1],
+            self.y[2],
+            self.e0,
+            self.peaks.0,
+            self.peaks.1,
+            self.peaks.2,
+            self.k_d,
+            h[0],
+            h[1],
+            self.integ.stats.steps as f64,
+            self.integ.stats.events as f64,
+        ]
+    }
+
+    fn restore(&mut self, s: &[f64]) -> Result<(), String> {
+        if s.len() != Self::STATE_LEN {
+            return Err(format!(
+                "DiscKnifeDrive elastodynamic state has {} numbers, expected {}",
+                s.len(),
+                Self::STATE_LEN
+            ));
+        }
+        self.started = s[0] != 0.0;
+        self.y = [s[1], s[2], s[3]];
+        self.e0 = s[4];
+        self.peaks = (s[5], s[6], s[7]);
+        self.k_d = s[8];
+        self.integ.restore(&s[9..11]);
+        self.integ.stats.steps = s[11] as usize;
+        self.integ.stats.events = s[12] as usize;
+        Ok(())
+    }
+}
+
+/// Internal steps one communication step may take: the 7×7 solves make an internal step of this
+/// model some 30 µs, so the budget bounds a call to about 1.5 s (an explicit method on a stiff
+/// rod refuses in that time instead of grinding); one shaft turn takes some 1500 steps.
+pub const STEP_BUDGET: usize = 50_000;
+
+/// The solver settings from the `solver.*` parameters.
+pub fn solver_settings(v: &Values<V>) -> Settings {
+    Settings {
+        method: Method::from_value(v.int(V::solver_method)),
+        rtol: v[V::solver_rtol],
+        atol: v[V::solver_atol],
+        max_step: v[V::solver_max_step],
+        max_steps: STEP_BUDGET,
     }
 }
 
@@ -81,6 +214,8 @@ pub struct DiscKnifeDrive {
     params: Params,
     /// Whether the previous evaluation was in a self-locking zone (one warning per entry).
     was_locked: bool,
+    /// The elastodynamic level's state (that level only).
+    dynamic: Option<Dynamic>,
 }
 
 impl DiscKnifeDrive {
@@ -157,13 +292,120 @@ impl Model for DiscKnifeDrive {
     const STAGES: &'static [Stage] = STAGES;
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
-        shaft::require_level(v, &[Fidelity::Kinematic, Fidelity::Kinetostatic])?;
         let params = Self::params(v);
         params.validate()?;
+        let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
+            let k = v[V::elastic_k];
+            Dynamic {
+                k,
+                c: RodOde::damping(&params, k, v[V::elastic_zeta]),
+                c_dead: dead_point_threshold(&params),
+                integ: Integrator::new(solver_settings(v)),
+                started: false,
+                y: [0.0; 3],
+                e0: 0.0,
+                peaks: (0.0, 0.0, 0.0),
+                k_d: f64::NAN,
+            }
+        });
         Ok(DiscKnifeDrive {
             params,
             was_locked: false,
+            dynamic,
         })
+    }
+
+    fn do_step(
+        &mut self,
+        v: &mut Values<V>,
+        time: f64,
+        h: f64,
+        _log: &mut dyn Log,
+    ) -> Result<(), String> {
+        let Some(d) = self.dynamic.as_mut() else {
+            return Ok(());
+        };
+        let path = shaft::path(v, time);
+        if !d.started {
+            d.start(&self.params, path);
+        }
+        let before = d.clone();
+        let ode = d.ode(&self.params, path);
+        let mut y = d.y;
+        match d.integ.integrate(&ode, time, time + h, &mut y) {
+            Ok(_) => {
+                d.y = y;
+                d.peaks = ode.peaks.get();
+                d.k_d = ode.k_d.get();
+                if v.int(V::drive_mode) == 1 {
+                    // the FMU's own extrapolation of the inputs, until the host sets them
+                    let (_, w, a) = path.at(time + h);
+                    v[V::shaft_phi] = path.absolute_phi(time + h);
+                    v[V::shaft_w] = w;
+                    v[V::shaft_a] = a;
+                }
+                Ok(())
+            }
+            Err(why) => {
+                *d = before;
+                // the partial state tells a rod so soft that the slider left the range where the
+                // holder assembles (eq. 5 has no solution there)
+                let c = self.params.assembly_cos(y[0]);
+                let near = 1.0 - 2.0 * (1.0 - d.c_dead); // well beyond the rigid range
+                Err(if c.is_nan() || c.abs() >= near {
+                    format!(
+                        "slider 5 reached x = {:.6} m, the dead point of the holder (|cos(beta + alpha)| = {:.7} -> 1, eq. 5: the holder's reduced mass is unbounded there): the rod (elastic.k = {} N/m) is too soft for this motion; {why}",
+                        y[0],
+                        c.abs(),
+                        d.k
+                    )
+                } else {
+                    why
+                })
+            }
+        }
+    }
+
+    const STATES: usize = 3;
+    const EVENT_INDICATORS: usize = 5;
+
+    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
+        match self.me_dynamic(v, time) {
+            Some(d) => x.copy_from_slice(&d.y),
+            None => x.fill(0.0),
+        }
+    }
+
+    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
+        if let Some(d) = self.me_dynamic(v, time) {
+            d.y.copy_from_slice(x);
+        }
+    }
+
+    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
+        let p = self.params;
+        match self.me_dynamic(v, time) {
+            Some(d) => d.ode(&p, shaft::path(v, time)).rhs(time, &d.y, dx),
+            None => dx.fill(0.0),
+        }
+    }
+
+    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
+        let p = self.params;
+        match self.me_dynamic(v, time) {
+            Some(d) => d.ode(&p, shaft::path(v, time)).events(time, &d.y, z),
+            None => z.fill(1.0),
+        }
+    }
+
+    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
+        let p = self.params;
+        if let Some(d) = self.me_dynamic(v, time) {
+            let ode = d.ode(&p, shaft::path(v, time));
+            ode.on_step(time, &d.y);
+            d.peaks = ode.peaks.get();
+            d.k_d = ode.k_d.get();
+        }
     }
 
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, log: &mut dyn Log) {
@@ -171,23 +413,43 @@ impl Model for DiscKnifeDrive {
         v[V::rod_l2] = p.rod_l2();
         v[V::slider_stroke] = p.stroke();
         let s = shaft::state(v, time);
+        if let Some(d) = self.dynamic.as_ref() {
+            let ode = d.ode(p, shaft::path(v, time));
+            let y = if d.started {
+                d.y
+            } else {
+                ode.initial_state(time)
+            };
+            let pt = ode.point(time, &y);
+            let e0 = if d.started { d.e0 } else { ode.energy(&pt) };
+            v[V::elastic_E_residual] = ode.energy(&pt) - e0 - y[2];
+            let running = if d.peaks.2 > 0.0 {
+                d.peaks.1 / d.peaks.2
+            } else {
+                1.0
+            };
+            v[V::dyn_factor] = if d.k_d.is_nan() { running } else { d.k_d };
+            v[V::solver_steps] = d.integ.stats.steps as f64;
+            v[V::elastic_x] = y[0];
+            v[V::elastic_xd] = y[1];
+            v[V::elastic_W] = y[2];
+            v[V::der_elastic_x] = y[1];
+            v[V::der_elastic_xd] = pt.eval.xdd;
+            v[V::der_elastic_W] = pt.eval.power;
+            Self::write_elastic(p, v, &pt);
+            self.warn_locked(pt.eval.locked, &pt.kin, time, log);
+            shaft::set_outputs(v, pt.shaft_tau, s.w);
+            return;
+        }
         let k = p.kinematics(s.phi, s.w, s.a);
         Self::write_kinematics(v, &k);
+        v[V::slider_x_kin] = k.x_c;
+        v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
             let f = p.kinetostatics(&k);
             Self::write_forces(v, &f);
-            if f.locked && !self.was_locked {
-                log.log(
-                    Severity::Warning,
-                    &format!(
-                        "t = {time}: friction self-locks a slider at crank angle {:.2} deg (|tan(beta + alpha)| = {:.4} < support.mu = {}): no unique force solution; forces computed without friction while sliders.locked",
-                        k.phi.to_degrees(),
-                        (k.beta + p.support_alpha).tan().abs(),
-                        p.support_mu
-                    ),
-                );
-            }
-            self.was_locked = f.locked;
+            v[V::rod_F_kin] = f.rod_f;
+            self.warn_locked(f.locked, &k, time, log);
             f.shaft_tau
         } else {
             0.0
@@ -196,19 +458,80 @@ impl Model for DiscKnifeDrive {
     }
 
     fn save_state(&self) -> Vec<f64> {
-        vec![f64::from(u8::from(self.was_locked))]
+        let mut s = vec![f64::from(u8::from(self.was_locked))];
+        if let Some(d) = self.dynamic.as_ref() {
+            s.extend(d.save());
+        }
+        s
     }
 
     fn restore_state(&mut self, state: &[f64]) -> Result<(), String> {
-        match state {
-            [x] if *x == 0.0 || *x == 1.0 => {
-                self.was_locked = *x == 1.0;
-                Ok(())
-            }
-            _ => Err(format!(
-                "DiscKnifeDrive state: expected [0 or 1], got {state:?}"
-            )),
+        let (first, rest) = state.split_first().ok_or("DiscKnifeDrive state: empty")?;
+        if *first != 0.0 && *first != 1.0 {
+            return Err(format!(
+                "DiscKnifeDrive state: expected the self-locking flag 0 or 1 first, got {state:?}"
+            ));
         }
+        match self.dynamic.as_mut() {
+            Some(d) => d.restore(rest)?,
+            None if rest.is_empty() => {}
+            None => {
+                return Err(format!(
+                    "DiscKnifeDrive state: {} numbers of the elastodynamic level given to another level",
+                    rest.len()
+                ));
+            }
+        }
+        self.was_locked = *first == 1.0;
+        Ok(())
+    }
+}
+
+impl DiscKnifeDrive {
+    /// The elastodynamic state for Model Exchange, started from the inputs at `time` if new.
+    fn me_dynamic(&mut self, v: &Values<V>, time: f64) -> Option<&mut Dynamic> {
+        let p = self.params;
+        let d = self.dynamic.as_mut()?;
+        if !d.started {
+            d.start(&p, shaft::path(v, time));
+        }
+        Some(d)
+    }
+
+    /// One warning per entry into a self-locking zone.
+    fn warn_locked(&mut self, locked: bool, k: &Kinematics, time: f64, log: &mut dyn Log) {
+        let p = &self.params;
+        if locked && !self.was_locked {
+            log.log(
+                Severity::Warning,
+                &format!(
+                    "t = {time}: friction self-locks a slider at crank angle {:.2} deg (|tan(beta + alpha)| = {:.4} < support.mu = {}): no unique force solution; forces computed without friction while sliders.locked",
+                    k.phi.to_degrees(),
+                    (k.beta + p.support_alpha).tan().abs(),
+                    p.support_mu
+                ),
+            );
+        }
+        self.was_locked = locked;
+    }
+
+    /// The outputs of the elastodynamic level at one point: the chain behind the rod at the
+    /// slider's elastic position, the forces of the swapped 7×7 solve, the dynamic rod force.
+    fn write_elastic(p: &Params, v: &mut Values<V>, pt: &Point) {
+        Self::write_kinematics(v, &pt.kin);
+        let ev = &pt.eval;
+        v[V::slider_x_kin] = pt.rigid.kin.x_c;
+        v[V::elastic_deflection] = ev.delta;
+        v[V::elastic_F] = ev.force;
+        v[V::rod_F] = ev.force;
+        v[V::rod_F_kin] = p.kinetostatics(&pt.rigid.kin).rod_f;
+        v[V::cut_Fx] = pt.rigid.load.x;
+        v[V::cut_Fy] = pt.rigid.load.y;
+        v[V::guide_N] = ev.z[5];
+        v[V::support_N] = ev.z[6];
+        v[V::pinC_F] = ev.z[1].hypot(ev.z[2]);
+        v[V::pinD_F] = ev.z[3].hypot(ev.z[4]);
+        v.set_flag(V::sliders_locked, ev.locked);
     }
 }
 

@@ -373,7 +373,16 @@ impl Params {
     #[inline]
     pub fn kinematics(&self, phi: f64, w: f64, eps: f64) -> Kinematics {
         let phi = wrap_angle(phi);
-        let (x, x1, x2) = self.slider_x(phi);
+        self.assemble(phi, self.slider_x(phi), w, eps)
+    }
+
+    /// The kinematics at crank angle `phi` (in one turn) for the slider position `x` with its
+    /// derivatives `x1`, `x2` in a driving variable whose rate is `w` and acceleration `eps`:
+    /// for the rigid drive x_C(φ) with φ-derivatives and the shaft's ω, ε; for the elastic level
+    /// ([`crate::mechanisms::disc_knife_drive::elastic`]) the slider's own x, ẋ, ẍ with w = 1,
+    /// eps = 0 (time itself is the variable). One body of code for both.
+    #[inline]
+    pub fn assemble(&self, phi: f64, (x, x1, x2): (f64, f64, f64), w: f64, eps: f64) -> Kinematics {
         let (beta, d, s) = self.holder(Dual2_64::new(x, x1, x2));
         let c = self.assembly_cos(x);
         let (sp, cp) = phi.sin_cos();
@@ -444,28 +453,87 @@ impl Params {
     /// The 7×7 matrix of the module docs for friction factors `k5`, `k7` (rows as there).
     #[inline]
     fn matrix(&self, k: &Kinematics, k5: f64, k7: f64) -> Matrix7 {
-        let (u, n) = (self.support_dir(), self.support_normal());
         let cd = k.rod_dir;
+        let a = self.system_matrix(
+            [cd.x, cd.y, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [k.x_c, self.crank_e],
+            [k.d.x, k.d.y],
+            [k.s.x, k.s.y],
+            k5,
+            k7,
+        );
+        Matrix7::from_row_slice(a.as_flattened())
+    }
+
+    /// The module docs' 7×7 matrix with the first column `col0` (the rod force P's
+    /// coefficients at the kinetostatic level; the slider's acceleration's at the elastic level)
+    /// and the holder's points C, D, S; generic so that the elastic level differentiates it
+    /// exactly on dual numbers.
+    #[inline]
+    pub fn system_matrix<T: DualNum<Primitive = f64> + Copy>(
+        &self,
+        col0: [T; 7],
+        c: [T; 2],
+        d: [T; 2],
+        s: [T; 2],
+        k5: T,
+        k7: T,
+    ) -> [[T; 7]; 7] {
+        let (u, n) = (self.support_dir(), self.support_normal());
         let inv_l4 = 1.0 / self.holder_l4;
-        let r_c = (Vec2::new(k.x_c, self.crank_e) - k.s) * inv_l4;
-        let r_d = (k.d - k.s) * inv_l4;
-        #[rustfmt::skip]
-        let a = Matrix7::from_row_slice(&[
-            cd.x, -1.0,  0.0,  0.0,  0.0, -k5, 0.0,
-            cd.y,  0.0, -1.0,  0.0,  0.0, 1.0, 0.0,
-            0.0,   0.0,  0.0, -1.0,  0.0, 0.0, n.x - k7 * u.x,
-            0.0,   0.0,  0.0,  0.0, -1.0, 0.0, n.y - k7 * u.y,
-            0.0,   1.0,  0.0,  1.0,  0.0, 0.0, 0.0,
-            0.0,   0.0,  1.0,  0.0,  1.0, 0.0, 0.0,
-            0.0, -r_c.y, r_c.x, -r_d.y, r_d.x, 0.0, 0.0,
-        ]);
-        a
+        let r_c = [(c[0] - s[0]) * inv_l4, (c[1] - s[1]) * inv_l4];
+        let r_d = [(d[0] - s[0]) * inv_l4, (d[1] - s[1]) * inv_l4];
+        let (o, l) = (T::zero(), T::one());
+        let f = T::from;
+        [
+            [col0[0], -l, o, o, o, -k5, o],
+            [col0[1], o, -l, o, o, l, o],
+            [col0[2], o, o, -l, o, o, f(n.x) - k7 * u.x],
+            [col0[3], o, o, o, -l, o, f(n.y) - k7 * u.y],
+            [col0[4], l, o, l, o, o, o],
+            [col0[5], o, l, o, l, o, o],
+            [col0[6], -r_c[1], r_c[0], -r_d[1], r_d[0], o, o],
+        ]
+    }
+
+    /// The module docs' right-hand side: inertia forces of slider 5 (acceleration `a_c` along
+    /// x), slider 7 (`a_d`), the holder (`a_s` at S, `beta_eps`) with the weights and the
+    /// external force `load` at S. Generic (see [`Params::system_matrix`]).
+    #[inline]
+    pub fn system_rhs<T: DualNum<Primitive = f64> + Copy>(
+        &self,
+        a_c: T,
+        a_d: [T; 2],
+        a_s: [T; 2],
+        beta_eps: T,
+        load: Vec2,
+    ) -> [T; 7] {
+        let g = self.gravity_g;
+        let (m5, m7, mh) = (self.mass_c(), self.slider7_m, self.holder_m);
+        [
+            a_c * m5,
+            T::from(m5 * g),
+            a_d[0] * m7,
+            (a_d[1] + g) * m7,
+            a_s[0] * mh - load.x,
+            (a_s[1] + g) * mh - load.y,
+            beta_eps * self.holder_j / self.holder_l4,
+        ]
+    }
+
+    /// Crank torque (module docs): `τ = J_A·ε + P·(B × ĉ) + rod.m/2·g·l1·cos φ` for a rod force
+    /// `p` along `rod_dir` (from the crank pin B towards C).
+    #[inline]
+    pub fn crank_torque(&self, k: &Kinematics, p: f64, rod_dir: Vec2) -> f64 {
+        self.inertia_a() * k.eps
+            + p * cross(k.b, rod_dir)
+            + 0.5 * self.rod_m * self.gravity_g * k.b.x
     }
 
     /// Signs of the slider velocities, `(sgn ẋ_C, sgn v_D·u)`, from the φ-derivatives and the
     /// sign of ω (so the same at every speed of one direction).
     #[inline]
-    fn slip_signs(&self, k: &Kinematics, w_sign: f64) -> (f64, f64) {
+    pub fn slip_signs(&self, k: &Kinematics, w_sign: f64) -> (f64, f64) {
         (
             sgn(k.x_c_d) * w_sign,
             sgn(k.d_d.dot(&self.support_dir())) * w_sign,
@@ -481,17 +549,13 @@ impl Params {
     /// Forces and torques at kinematics `k` with an external force `load` on the holder at S
     /// (the module docs' system). Needs validated parameters.
     pub fn kinetostatics_with_load(&self, k: &Kinematics, load: Vec2) -> Forces {
-        let g = self.gravity_g;
-        let (m5, m7, mh) = (self.mass_c(), self.slider7_m, self.holder_m);
-        let rhs = Vector7::from_column_slice(&[
-            m5 * k.a_c,
-            m5 * g,
-            m7 * k.a_d.x,
-            m7 * (k.a_d.y + g),
-            mh * k.a_s.x - load.x,
-            mh * (k.a_s.y + g) - load.y,
-            self.holder_j * k.beta_eps / self.holder_l4,
-        ]);
+        let rhs = Vector7::from_column_slice(&self.system_rhs(
+            k.a_c,
+            [k.a_d.x, k.a_d.y],
+            [k.a_s.x, k.a_s.y],
+            k.beta_eps,
+            load,
+        ));
         let lu0 = self.matrix(k, 0.0, 0.0).lu();
         let det0 = lu0.determinant();
         let z0 = lu0.solve(&rhs).unwrap_or_else(|| Vector7::repeat(f64::NAN));
@@ -527,8 +591,7 @@ impl Params {
             (best.1, best.2, best.3)
         };
         let (p, n5, n7) = (z[0], z[5], z[6]);
-        let tau =
-            self.inertia_a() * k.eps + p * cross(k.b, k.rod_dir) + 0.5 * self.rod_m * g * k.b.x;
+        let tau = self.crank_torque(k, p, k.rod_dir);
         Forces {
             cut: load,
             rod_f: p,

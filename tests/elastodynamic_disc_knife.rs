@@ -1,0 +1,387 @@
+//! The elastodynamic level of the DiscKnifeDrive (`dynamics.md`: rod compliance between crank
+//! pin and slider 5): the stiff and extreme test matrix, run on the plain Rust model (the FMI
+//! runtime adds nothing to the numerics). Each case asserts no NaN, no panic, a result close to
+//! a tight-tolerance reference and a bounded energy-balance residual, or a Discard (`Err`) with a
+//! reason.
+
+use bindery_fmu::mechanisms::disc_knife_drive::DiscKnifeDrive;
+use bindery_fmu::mechanisms::disc_knife_drive::model::V as D;
+use bindery_fmu::model::{Model, NoLog, Values};
+use std::f64::consts::PI;
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug)]
+struct Case {
+    k: f64,
+    zeta: f64,
+    rpm: f64,
+    dt: f64,
+    phi0: f64,
+    method: i32,
+    rtol: f64,
+    /// `support.mu` (the defaults' 0.1 self-locks slider 7 near the inner dead centre).
+    mu7: f64,
+}
+
+#[derive(Debug, Default)]
+struct Run {
+    x: Vec<f64>,
+    f: Vec<f64>,
+    f_kin: Vec<f64>,
+    residual: f64,
+    energy_scale: f64,
+    steps: f64,
+    k_d: f64,
+    locked: usize,
+}
+
+fn disc(c: &Case, stop: f64) -> Result<Run, String> {
+    disc_with(c, stop, &Values::<D>::start())
+}
+
+/// As [`disc`], from the variables `start` (for settings the case does not name).
+fn disc_with(c: &Case, stop: f64, start: &Values<D>) -> Result<Run, String> {
+    let mut v = start.clone();
+    v[D::model_fidelity] = 3.0;
+    v[D::drive_mode] = 2.0;
+    v[D::drive_n] = c.rpm * PI / 30.0;
+    v[D::drive_phi0] = c.phi0;
+    v[D::elastic_k] = c.k;
+    v[D::elastic_zeta] = c.zeta;
+    v[D::support_mu] = c.mu7;
+    v[D::solver_method] = c.method as f64;
+    v[D::solver_rtol] = c.rtol;
+    // the absolute tolerance resolves the rod's shortening (some 100 N over k)
+    v[D::solver_atol] = (c.rtol * 1e-3).min(1e-2 * 100.0 / c.k).max(1e-13);
+    let mut m = DiscKnifeDrive::prepare(&v).map_err(|e| e.to_string())?;
+    let n = (stop / c.dt).round().max(1.0) as usize;
+    let mut run = Run {
+        energy_scale: 1e-3,
+        ..Run::default()
+    };
+    for i in 0..n {
+        m.do_step(&mut v, i as f64 * c.dt, c.dt, &mut NoLog)?;
+        let t = (i + 1) as f64 * c.dt;
+        m.evaluate(&mut v, t, &mut NoLog);
+        for x in [
+            v[D::slider_x],
+            v[D::knife_x],
+            v[D::elastic_F],
+            v[D::shaft_tau],
+            v[D::elastic_E_residual],
+        ] {
+            assert!(x.is_finite(), "{c:?}: non-finite output at t = {t}");
+        }
+        run.x.push(v[D::slider_x]);
+        run.f.push(v[D::elastic_F]);
+        run.f_kin.push(v[D::rod_F_kin]);
+        run.residual = run.residual.max(v[D::elastic_E_residual].abs());
+        // energy scale: the work of the rod force over the stroke
+        run.energy_scale = run.energy_scale.max(v[D::elastic_F].abs() * 0.038);
+        run.locked += usize::from(v.flag(D::sliders_locked));
+    }
+    run.steps = v[D::solver_steps];
+    run.k_d = v[D::dyn_factor];
+    Ok(run)
+}
+
+const BASE: Case = Case {
+    k: 2e8,
+    zeta: 0.05,
+    rpm: 300.0,
+    dt: 1e-3,
+    phi0: 0.0,
+    method: 1,
+    rtol: 1e-6,
+    mu7: 0.1,
+};
+/// One shaft turn at 300 rpm.
+const TURN: f64 = 0.2;
+
+#[test]
+fn default_rod_one_turn_figures() {
+    for mu7 in [0.1, 0.0] {
+        let c = Case { mu7, ..BASE };
+        let t0 = Instant::now();
+        let r = disc(&c, 1.05 * TURN).unwrap();
+        let took = t0.elapsed();
+        let fmax = r.f.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        let kmax = r.f_kin.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        eprintln!(
+            "mu7 {mu7}: 1.05 turns in {took:?}, steps {}, K_d {}, peak |P| {fmax} N (sampled kinetostatic {kmax} N), residual {} of {} J, locked samples {}",
+            r.steps, r.k_d, r.residual, r.energy_scale, r.locked
+        );
+        assert!(r.residual <= 1e-6 * r.energy_scale);
+        // the defaults' jamming window is flagged (friction dropped), the jam-free set's is not
+        assert_eq!(r.locked > 0, mu7 > 0.0);
+    }
+}
+
+/// Largest difference of two position histories, and of their peak rod forces (relative).
+fn compare(a: &Run, b: &Run) -> (f64, f64) {
+    let dx =
+        a.x.iter()
+            .zip(&b.x)
+            .map(|(p, q)| (p - q).abs())
+            .fold(0.0, f64::max);
+    let pa = a.f.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    let pb = b.f.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    (dx, (pa - pb).abs() / pb.max(1.0))
+}
+
+/// Runs a case and its reference (radau5 at a tight tolerance, outputs at the same instants)
+/// and checks: no NaN (in `disc`), the slider positions within `pos_tol` of the reference, the
+/// peak rod force within `force_tol` (relative), the energy-balance residual within 1e-6 of the
+/// energy scale, no grinding. A Discard is returned as `Err` with its reason.
+fn check(c: Case, stop: f64, pos_tol: f64, force_tol: f64) -> Result<(), String> {
+    let t0 = Instant::now();
+    let r = disc(&c, stop)?;
+    let took = t0.elapsed();
+    let refc = Case {
+        method: 3,
+        rtol: if c.k >= 1e10 { 1e-8 } else { 1e-9 },
+        ..c
+    };
+    let reference = disc(&refc, stop).expect("the reference solves every case that solves");
+    let (dx, df) = compare(&r, &reference);
+    assert!(
+        dx <= pos_tol,
+        "{c:?}: position off the reference by {dx:e} m"
+    );
+    assert!(
+        df <= force_tol,
+        "{c:?}: peak rod force off the reference by {df:e}"
+    );
+    assert!(
+        r.residual <= 1e-5 * r.energy_scale,
+        "{c:?}: energy residual {} J of {} J",
+        r.residual,
+        r.energy_scale
+    );
+    assert!(took.as_secs_f64() < 2.0, "{c:?} ground for {took:?}");
+    Ok(())
+}
+
+/// 175°: the jamming window (to 185.37°), the inner dead centre at 180° (start of the working
+/// stroke and of the cutting force), the wedge after the window and the friction fade.
+const PHI_JAM: f64 = 175.0 * PI / 180.0;
+
+#[test]
+fn stiffness_from_1e4_to_1e12_and_damping_0_to_1() {
+    for k in [1e4, 1e6, 1e8, 1e10, 1e12] {
+        for zeta in [0.0, 0.01, 1.0] {
+            let c = Case {
+                k,
+                zeta,
+                phi0: PHI_JAM,
+                ..BASE
+            };
+            // the stiffest rods over the wedge only (to 187.6°): their reference is dear
+            let window = if k >= 1e12 { 0.007 } else { 0.012 };
+            // an undamped 1e10..1e12 N/m rod rings after the wedge at up to 7e5 rad/s: its
+            // peak is the least determined quantity of the matrix
+            let force_tol = if k >= 1e10 {
+                if zeta < 1.0 { 1e-2 } else { 1e-3 }
+            } else {
+                1e-4
+            };
+            match check(c, window, 1e-7, force_tol) {
+                Ok(()) => assert!(k >= 1e8, "{c:?}"),
+                // a rod this soft lets slider 5 overrun the inner dead centre into the holder's
+                // dead point: a Discard naming it, at once
+                Err(e) => assert!(k <= 1e6 && e.contains("dead point of the holder"), "{e}"),
+            }
+            // away from the inner dead centre the soft rods run, close to their reference
+            if k <= 1e6 {
+                check(Case { phi0: 0.3, ..c }, 0.03, 1e-7, 1e-4).unwrap();
+            }
+        }
+    }
+}
+
+#[test]
+fn shaft_speeds_stopped_slow_nominal_fast_and_reversed() {
+    for rpm in [0.0f64, 1.0, 300.0, 1500.0, 6000.0, -300.0] {
+        // the same crank-angle span at every speed (a tenth of a turn from 175°), at least 1 ms
+        let window = if rpm.abs() > 1.0 {
+            (6.0 / rpm.abs()).clamp(2e-3, 0.02)
+        } else {
+            0.02
+        };
+        let c = Case {
+            rpm,
+            phi0: PHI_JAM,
+            dt: window / 20.0,
+            ..BASE
+        };
+        // (at 1 rpm the rod's start transient is the peak: its ring is resolved to 5e-3)
+        match check(c, window, 1e-7, 5e-3) {
+            Ok(()) => assert!(rpm.abs() < 6000.0),
+            // 20x nominal: the inertia forces (400x) let slider 5 overrun the inner dead centre
+            // into the holder's dead point: a Discard naming it
+            Err(e) => assert!(
+                rpm >= 6000.0 && e.contains("dead point of the holder"),
+                "{c:?}: {e}"
+            ),
+        }
+    }
+}
+
+#[test]
+fn communication_steps_from_1e_6_to_longer_than_a_turn() {
+    // the last: one communication step of 0.25 s, longer than a turn (0.2 s), on the jam-free
+    // set (the defaults' wedge rings the rod for 50 deg: a dear reference over a whole turn)
+    for (dt, stop, mu7) in [
+        (1e-6, 2e-4, 0.1),
+        (1e-4, 0.012, 0.1),
+        (1e-2, 0.03, 0.1),
+        (0.25, 0.25, 0.0),
+    ] {
+        let c = Case {
+            dt,
+            phi0: PHI_JAM,
+            mu7,
+            ..BASE
+        };
+        check(c, stop, 1e-7, 1e-3).unwrap_or_else(|e| panic!("{c:?}: {e}"));
+    }
+}
+
+#[test]
+fn extreme_angles_and_the_crank_dead_centres() {
+    // 1e9 rad: the angle's own rounding (1e-7 rad) must not reach the integrator
+    check(Case { phi0: 1e9, ..BASE }, 0.012, 1e-7, 1e-3).unwrap();
+    // starting exactly at the outer and inner dead centres (start and end of the working
+    // stroke), and a communication point exactly on the inner dead centre
+    for phi0 in [0.0, PI, 2.0 * PI] {
+        check(Case { phi0, ..BASE }, 0.012, 1e-7, 1e-3).unwrap();
+    }
+    let lead = 2.0 * PI / 360.0;
+    check(
+        Case {
+            phi0: PI - lead,
+            dt: lead / BASE.rpm / PI * 30.0 / 4.0,
+            ..BASE
+        },
+        0.01,
+        1e-7,
+        1e-3,
+    )
+    .unwrap();
+}
+
+#[test]
+fn every_method_on_the_default_rod() {
+    for method in [1, 2, 3] {
+        check(
+            Case {
+                method,
+                phi0: PHI_JAM,
+                ..BASE
+            },
+            0.012,
+            1e-7,
+            1e-3,
+        )
+        .unwrap();
+    }
+    // fixed-step rk4 at 2e-6 s (h*omega_n = 0.07): stable and accurate
+    let mut v = Values::<D>::start();
+    v[D::solver_max_step] = 2e-6;
+    let c = Case {
+        method: 4,
+        phi0: PHI_JAM,
+        ..BASE
+    };
+    let r = disc_with(&c, 0.012, &v).unwrap();
+    let reference = disc(
+        &Case {
+            method: 3,
+            rtol: 1e-9,
+            ..c
+        },
+        0.012,
+    )
+    .unwrap();
+    assert!(compare(&r, &reference).0 < 1e-7);
+}
+
+#[test]
+fn explicit_methods_on_a_stiff_rod_refuse_fast_or_switch() {
+    let t0 = Instant::now();
+    // rk4 with its default 1 ms step on a 1e12 N/m rod: h*|lambda| ~ 1e3: a Discard naming the
+    // stable step, at once
+    let e = disc(
+        &Case {
+            method: 4,
+            k: 1e12,
+            ..BASE
+        },
+        0.01,
+    )
+    .unwrap_err();
+    assert!(
+        e.contains("unstable") && e.contains("solver.max_step below"),
+        "{e}"
+    );
+    // dopri5 on a rod so stiff that its stability limit needs more than the step budget in one
+    // communication step of 1 s: a Discard naming the budget
+    let stiff = Case {
+        method: 2,
+        k: 1e16,
+        zeta: 1.0,
+        dt: 1.0,
+        mu7: 0.0,
+        ..BASE
+    };
+    let e = disc(&stiff, 1.0).unwrap_err();
+    assert!(e.contains("budget") && e.contains("stiff"), "{e}");
+    // auto on a 1e12 N/m rod with communication steps of 10 ms completes, close to radau5
+    let auto = Case {
+        method: 1,
+        k: 1e12,
+        zeta: 1.0,
+        dt: 0.01,
+        phi0: 0.3,
+        ..BASE
+    };
+    let a = disc(&auto, 0.03).unwrap();
+    let b = disc(&Case { method: 3, ..auto }, 0.03).unwrap();
+    assert!(compare(&a, &b).0 < 1e-7);
+    assert!(t0.elapsed().as_secs_f64() < 10.0, "{:?}", t0.elapsed());
+}
+
+/// With a very stiff rod at low speed the dynamic rod force is the kinetostatic one: K_d → 1,
+/// for a smooth load. (A load that steps — the cutting force switching on at the inner dead
+/// centre, the guide friction reversing there — is transmitted with the overshoot of the
+/// damped rod whatever its stiffness, and with the defaults' wedge the kinetostatic peak is
+/// unbounded.)
+#[test]
+fn stiff_rod_at_low_speed_gives_the_kinetostatic_force() {
+    let mut smooth = Values::<D>::start();
+    smooth[D::cut_F] = 0.0;
+    smooth[D::guide_mu] = 0.0;
+    smooth[D::gravity_g] = 9.80665;
+    let c = Case {
+        k: 1e10,
+        zeta: 1.0,
+        rpm: 30.0,
+        dt: 0.01,
+        mu7: 0.0,
+        ..BASE
+    };
+    // two turns at 30 rpm: K_d of the first complete turn
+    let r = disc_with(&c, 4.05, &smooth).unwrap();
+    assert!((r.k_d - 1.0).abs() < 1e-3, "K_d = {}", r.k_d);
+    let worst =
+        r.f.iter()
+            .zip(&r.f_kin)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+    let scale = r.f_kin.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    assert!(worst < 1e-3 * scale, "{worst} of {scale}");
+    // the default rod at the nominal speed with the cutting load: its step at the dead centre
+    // rings the rod, K_d well above 1
+    let nominal = disc(&Case { mu7: 0.0, ..BASE }, 0.41).unwrap();
+    assert!(nominal.k_d > 1.2, "K_d = {}", nominal.k_d);
+}
