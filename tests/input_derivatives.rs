@@ -37,12 +37,20 @@ enum Host {
 /// speed, `phi(t) = w0*t + alpha*t^2/2`.
 const ALPHA: f64 = 12.0;
 
+/// Parameters changed from their defaults for this run-up: DiscKnifeDrive's default support
+/// friction self-locks slider 7 near 180 deg (see `sliders.locked`); without it the forces
+/// compared stay regular.
+const RUN_UP_PARAMETERS: &[(&str, &str, f64)] = &[("DiscKnifeDrive", "support.mu", 0.0)];
+
 /// Every Real output at every communication point.
 fn run(f: &Fmu, e: &Entry, host: Host, h: f64, n: usize) -> Vec<Vec<f64>> {
     let s = f.slave("interp");
     assert_eq!(s.setup(0.0, None), Status::Ok);
     let fid = vr_of(e, "model.fidelity");
     assert_eq!(s.set_integer(&[fid], &[3]), Status::Ok);
+    for (_, name, x) in RUN_UP_PARAMETERS.iter().filter(|p| p.0 == e.identifier) {
+        assert_eq!(s.set_real(&[vr_of(e, name)], &[*x]), Status::Ok);
+    }
     assert_eq!(s.call0("fmi2EnterInitializationMode"), Status::Ok);
     let (phi, w, a) = (
         vr_of(e, "shaft.phi"),
@@ -85,7 +93,16 @@ fn run(f: &Fmu, e: &Entry, host: Host, h: f64, n: usize) -> Vec<Vec<f64>> {
             }
             Host::PhiOnly => ok(s.set_real(&[phi], &[p]), "phi"),
         }
-        assert_eq!(s.do_step(t, h), Status::Ok, "{:?}", s.logs());
+        let st = s.do_step(t, h);
+        if host == Host::PhiOnly && st == Status::Discard {
+            // a host that sets the angle alone jerks the rigid path at every communication
+            // point; a mechanism may refuse the step that follows (with a reason): the run
+            // ends there, as wrong as it gets
+            eprintln!("{} {host:?}: {:?}", e.identifier, s.logs().last());
+            rows.push(vec![f64::NAN; outs.len()]);
+            return rows;
+        }
+        assert_eq!(st, Status::Ok, "{} {host:?}: {:?}", e.identifier, s.logs());
         let (st, y) = s.get_real(&outs);
         assert_eq!(st, Status::Ok);
         rows.push(y);
@@ -138,7 +155,13 @@ fn shaft_phi_with_its_derivatives_drives_as_well_as_shaft_w_and_shaft_a() {
                 e.identifier
             );
         }
-        let (d, name, n_off) = max_rel_diff(&e, &run(&f, &e, Host::PhiOnly, h, n), &reference);
+        let phi_only = run(&f, &e, Host::PhiOnly, h, n);
+        if phi_only.len() < n {
+            // refused with a reason (above): different enough
+            tested += 1;
+            continue;
+        }
+        let (d, name, n_off) = max_rel_diff(&e, &phi_only, &reference);
         eprintln!(
             "{}: shaft.phi alone at h = {h} s: {n_off} outputs off by more than 1 % of their range (worst {name}, {d:.3e})",
             e.identifier
