@@ -7,12 +7,15 @@
 //! with a `logWarning` naming the shaft angle where it starts). The step is sampled at most
 //! 0.25° of shaft angle apart, the shaft extrapolated from its inputs (`φ + ω·τ + ε·τ²/2`).
 
+use super::elastic::{Contact, ContactLaw, LeverOde, N_EVENTS, Peaks, Track};
 use super::physics::{Drive, Mode, Params};
 use crate::mechanics::cyclogram::Phase;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Severity, Values};
+use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use std::cell::Cell;
 use std::f64::consts::TAU;
 
 /// `synth.mode`.
@@ -25,6 +28,19 @@ pub static SYNTH_MODE: EnumType = EnumType {
             "paper 000's gamma_sum of eq. (3); the carriage then travels 2.3 % more than lambda_S",
         ),
         ("exact", "the swing that gives exactly lambda_S"),
+    ],
+};
+
+/// `contact.law`.
+pub static CONTACT_LAW: EnumType = EnumType {
+    name: "ContactLaw",
+    description: "Force law of the unilateral ramp contact (dynamics.md)",
+    items: &[
+        (
+            "hertz",
+            "Hertz line contact K*pen^(10/9), K from roller.b and the moduli (Palmgren)",
+        ),
+        ("linear", "linear spring contact.k*pen"),
     ],
 };
 
@@ -100,6 +116,33 @@ crate::model_variables! {
         roller_F_margin = Var::output("roller.F_margin", "N", "Smallest contact force over the last completed shaft turn (during the first turn: so far) (kinetostatic level)").depends(ON_ALL),
         table_x = Var::output("table.x", "m", "Table position x_t: 0 at loading, table.stroke at sewing").depends(ON_PHI),
         table_F = Var::output("table.F", "N", "Force of the perforator drive on the table along +x (towards sewing): wire into SewingTable.table.F_ext").depends(ON_ALL),
+        // ---- elastodynamic level (dynamics.md)
+        contact_law = Var::enum_parameter("contact.law", &CONTACT_LAW, "hertz", "Ramp contact force law of the elastodynamic level: hertz K*pen^(10/9) or linear contact.k*pen, both with damping contact.c and never pulling"),
+        contact_k = Var::parameter("contact.k", 1e8, "N/m", "Stiffness of the linear contact law (elastodynamic level; assumption)").min(1.0),
+        contact_c = Var::parameter("contact.c", 200.0, "N.s/m", "Damping of the ramp contact on the penetration rate, c*d(pen)/dt (elastodynamic level; assumption: about 5 % of critical with the Hertz law at the spring's preload)").min(0.0),
+        solver_method = crate::solver::vars::method(),
+        solver_rtol = crate::solver::vars::rtol(),
+        solver_atol = crate::solver::vars::atol(),
+        solver_max_step = crate::solver::vars::max_step(),
+        contact_K_hertz = Var::calculated("contact.K_hertz", "", "K of the Hertz law F = K*pen^(10/9), in N/m^(10/9) (no FMI unit: fractional exponent), from roller.b, ramp.E, roller.E (Palmgren's line contact)"),
+        contact_m_red = Var::calculated("contact.m_red", "kg", "Effective mass of lever and carriage at the roller along the ramp normal, lowest position: contact.c = 2*zeta*sqrt(k*m_red) gives a damping ratio zeta"),
+        lever_gamma_kin = Var::output("lever.gamma_kin", "rad", "Rigid reference of the lever rotation (equals lever.gamma at the rigid levels)").depends(ON_PHI),
+        elastic_deflection = Var::output("elastic.deflection", "rad", "Lever deflection lever.gamma_kin - lever.gamma: > 0 pressed into the ramp, < 0 lifted off (elastodynamic level)").depends(ON_PHI),
+        contact_pen = Var::output("contact.penetration", "m", "Penetration of the roller into the ramp along its normal; < 0: the gap of a lifted roller (elastodynamic level)").depends(ON_PHI),
+        elastic_F = Var::output("elastic.F", "N", "Dynamic contact force of the ramp on the roller, >= 0 (elastodynamic level; equals roller.F there)").depends(ON_PHI_W),
+        roller_F_kin = Var::output("roller.F_kin", "N", "Kinetostatic contact force on the rigid motion, the reference of elastic.F (elastodynamic level)").depends(ON_ALL),
+        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak elastic.F over the peak |kinetostatic contact force| of the last complete shaft turn (the running one until a turn is complete; elastodynamic level)"),
+        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller lifted off the ramp (elastodynamic level)"),
+        contact_F_impact = Var::output("contact.F_impact", "N", "Largest contact force in the first compression after a landing of the roller (elastodynamic level)"),
+        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)"),
+        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)"),
+        // ---- Model Exchange states of the elastodynamic level and their derivatives
+        elastic_gamma = Var::local("elastic.gamma", "rad", "State: lever rotation (elastodynamic level)"),
+        elastic_w = Var::local("elastic.w", "rad/s", "State: lever angular velocity (elastodynamic level)"),
+        elastic_W = Var::local("elastic.W", "J", "State: work of friction, piercing, table inertia, contact damping and the moving ramp (for the energy balance)"),
+        der_elastic_gamma = Var::local("der(elastic.gamma)", "rad/s", "Derivative of elastic.gamma").derivative_of(V::elastic_gamma as u32),
+        der_elastic_w = Var::local("der(elastic.w)", "rad/s2", "Derivative of elastic.w").derivative_of(V::elastic_w as u32),
+        der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32),
     }
 }
 
@@ -133,10 +176,138 @@ impl Default for CycleState {
     }
 }
 
+/// What the elastodynamic level carries between steps.
+#[derive(Clone, Debug, PartialEq)]
+struct Dynamic {
+    contact: Contact,
+    integ: Integrator,
+    started: bool,
+    /// `[Δγ, Δγ̇, W]`.
+    y: [f64; 3],
+    e0: f64,
+    track: Track,
+    /// The roller lifted off during the last communication step.
+    lost_step: bool,
+    /// Model Exchange: the event indicators at the last completed integrator step.
+    g_prev: Vec<f64>,
+}
+
+impl Dynamic {
+    const STATE_LEN: usize = 21;
+
+    fn ode<'a>(&self, d: &'a Drive, path: ShaftPath) -> LeverOde<'a> {
+        LeverOde {
+            d,
+            contact: self.contact,
+            path,
+            track: Cell::new(self.track),
+        }
+    }
+
+    fn start(&mut self, d: &Drive, path: ShaftPath) {
+        let ode = self.ode(d, path);
+        self.y = ode.initial_state(path.t0);
+        self.e0 = ode.energy(&ode.point(path.t0, &self.y));
+        self.track = Track::new(path.cycle(path.t0));
+        self.lost_step = false;
+        self.started = true;
+    }
+
+    fn save(&self) -> Vec<f64> {
+        let h = self.integ.save();
+        let t = &self.track;
+        vec![
+            self.started as i32 as f64,
+            self.y[0],
+            self.y[1],
+            self.y[2],
+            self.e0,
+            t.peaks.cycle,
+            t.peaks.dyn_max,
+            t.peaks.rigid_max,
+            t.peaks.dyn_min,
+            t.k_d,
+            t.last_min,
+            t.liftoffs,
+            t.lift_phi,
+            t.impact,
+            t.landed as i32 as f64,
+            h[0],
+            h[1],
+            self.integ.stats.steps as f64,
+            self.integ.stats.events as f64,
+            self.lost_step as i32 as f64,
+            self.integ.stats.rejected as f64,
+        ]
+    }
+
+    fn restore(&mut self, s: &[f64]) -> Result<(), String> {
+        if s.len() != Self::STATE_LEN {
+            return Err(format!(
+                "elastodynamic state has {} numbers, expected {}",
+                s.len(),
+                Self::STATE_LEN
+            ));
+        }
+        self.started = s[0] != 0.0;
+        self.y = [s[1], s[2], s[3]];
+        self.e0 = s[4];
+        self.track = Track {
+            peaks: Peaks {
+                cycle: s[5],
+                dyn_max: s[6],
+                rigid_max: s[7],
+                dyn_min: s[8],
+            },
+            k_d: s[9],
+            last_min: s[10],
+            liftoffs: s[11],
+            lift_phi: s[12],
+            impact: s[13],
+            landed: s[14] != 0.0,
+        };
+        self.integ.restore(&s[15..17]);
+        self.integ.stats.steps = s[17] as usize;
+        self.integ.stats.events = s[18] as usize;
+        self.lost_step = s[19] != 0.0;
+        self.integ.stats.rejected = s[20] as usize;
+        self.g_prev.clear();
+        Ok(())
+    }
+}
+
+/// The shaft path of a step starting at `time`.
+fn path_at(v: &Values<V>, time: f64) -> ShaftPath {
+    let s = shaft::state(v, time);
+    ShaftPath::new(time, s.phi, s.w, s.a)
+}
+
+/// The solver settings from the `solver.*` parameters.
+pub fn solver_settings(v: &Values<V>) -> Settings {
+    Settings {
+        method: Method::from_value(v.int(V::solver_method)),
+        rtol: v[V::solver_rtol],
+        atol: v[V::solver_atol],
+        max_step: v[V::solver_max_step],
+        ..Settings::default()
+    }
+}
+
+/// The contact of the elastodynamic level from the `contact.*` parameters.
+pub fn contact_of(d: &Drive, v: &Values<V>) -> Contact {
+    let law = if v.int(V::contact_law) == 2 {
+        ContactLaw::Linear
+    } else {
+        ContactLaw::Hertz
+    };
+    Contact::new(d, law, v[V::contact_k], v[V::contact_c])
+}
+
 /// The perforator drive of paper 000 on the translating table, as an FMU model.
 pub struct Perforators {
     drive: Drive,
     state: CycleState,
+    dynamic: Option<Dynamic>,
 }
 
 impl Perforators {
@@ -198,6 +369,88 @@ impl Perforators {
         &self.drive
     }
 
+    /// The elastodynamic state for Model Exchange, started from the inputs at `time` if new.
+    fn me_dynamic(&mut self, v: &Values<V>, time: f64) -> Option<(&Drive, &mut Dynamic)> {
+        let d = self.dynamic.as_mut()?;
+        if !d.started {
+            d.start(&self.drive, path_at(v, time));
+        }
+        Some((&self.drive, d))
+    }
+
+    /// Outputs of the elastodynamic level; returns the shaft torque.
+    fn evaluate_dynamic(&self, v: &mut Values<V>, time: f64) -> f64 {
+        let d = self.dynamic.as_ref().expect("elastodynamic level");
+        let ode = d.ode(&self.drive, path_at(v, time));
+        let y = if d.started {
+            d.y
+        } else {
+            ode.initial_state(time)
+        };
+        let pt = ode.point(time, &y);
+        let k = &pt.kin;
+        let f = &pt.forces;
+        v[V::perforators_s] = k.s;
+        v[V::perforators_v] = k.v;
+        v[V::perforators_a] = k.a;
+        v[V::lever_gamma] = k.gamma;
+        v[V::lever_w] = k.gamma_w;
+        v[V::lever_a] = k.gamma_a;
+        v[V::rod_nu] = k.nu;
+        v[V::roller_rise] = k.rise;
+        v[V::ramp_theta] = k.theta;
+        v[V::pierce_Q_out] = f.pierce_q;
+        v[V::perforators_F_inertia] = f.f_inertia;
+        v[V::rod_F] = f.rod_f;
+        v[V::spring_M] = f.spring_m;
+        v[V::roller_F] = pt.f_c;
+        v[V::roller_sigma_H] = if pt.f_c > 0.0 && f.roller_f > 0.0 {
+            // Hertz stress grows with the square root of the force
+            f.sigma_h * (pt.f_c / f.roller_f).sqrt()
+        } else {
+            0.0
+        };
+        v[V::table_F] = f.table_f;
+        let lost = !(pt.pen > 0.0 && pt.f_pre > 0.0);
+        v.set_flag(V::roller_lost_contact, d.lost_step || lost);
+        let t = &d.track;
+        v[V::roller_F_margin] = if t.last_min.is_finite() {
+            t.last_min
+        } else {
+            t.peaks.dyn_min.min(pt.f_c)
+        };
+        v[V::elastic_deflection] = pt.rigid.gamma - k.gamma;
+        v[V::contact_pen] = pt.pen;
+        v[V::elastic_F] = pt.f_c;
+        let f_rigid = ode.rigid_force(&pt.rigid);
+        v[V::roller_F_kin] = f_rigid;
+        v[V::dyn_factor] = if t.k_d.is_nan() {
+            let rigid_max = t.peaks.rigid_max.max(f_rigid.abs());
+            if rigid_max > 0.0 {
+                t.peaks.dyn_max.max(pt.f_c) / rigid_max
+            } else {
+                1.0
+            }
+        } else {
+            t.k_d
+        };
+        v[V::contact_liftoffs] = t.liftoffs;
+        v[V::contact_F_impact] = t.impact;
+        v[V::elastic_E_residual] = if d.started {
+            ode.energy(&pt) - d.e0 - y[2]
+        } else {
+            0.0
+        };
+        v[V::solver_steps] = d.integ.stats.steps as f64;
+        v[V::elastic_gamma] = y[0];
+        v[V::elastic_w] = y[1];
+        v[V::elastic_W] = y[2];
+        v[V::der_elastic_gamma] = y[1];
+        v[V::der_elastic_w] = k.gamma_a;
+        v[V::der_elastic_W] = pt.power;
+        f.tau
+    }
+
     fn contact_force(&self, phi: f64, w: f64, eps: f64) -> f64 {
         self.drive
             .forces(&self.drive.kinematics(phi, w, eps))
@@ -218,11 +471,21 @@ impl Model for Perforators {
     };
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
-        shaft::require_level(v, &[Fidelity::Kinematic, Fidelity::Kinetostatic])?;
         let drive = Self::params(v).drive()?;
+        let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| Dynamic {
+            contact: contact_of(&drive, v),
+            integ: Integrator::new(solver_settings(v)),
+            started: false,
+            y: [0.0; 3],
+            e0: 0.0,
+            track: Track::new(0.0),
+            lost_step: false,
+            g_prev: Vec::new(),
+        });
         Ok(Perforators {
             drive,
             state: CycleState::default(),
+            dynamic,
         })
     }
 
@@ -236,8 +499,16 @@ impl Model for Perforators {
         v[V::synth_stroke_error] = d.stroke_error();
         v[V::perforators_stroke] = d.stroke;
         v[V::table_stroke] = d.cyc.h;
+        let c = self
+            .dynamic
+            .as_ref()
+            .map(|dy| dy.contact)
+            .unwrap_or_else(|| contact_of(d, v));
+        v[V::contact_K_hertz] = Contact::new(d, ContactLaw::Hertz, c.k, c.c).k;
+        v[V::contact_m_red] = LeverOde::reduced_mass(d);
         let st = shaft::state(v, time);
         let k = d.kinematics(st.phi, st.w, st.a);
+        v[V::lever_gamma_kin] = k.gamma;
         v[V::perforators_s] = k.s;
         v[V::perforators_v] = k.v;
         v[V::perforators_a] = k.a;
@@ -250,6 +521,14 @@ impl Model for Perforators {
         // a flat stretch (the dwells) has an infinite radius: reported as RHO_FLAT
         v[V::ramp_rho] = k.rho.clamp(-RHO_FLAT, RHO_FLAT);
         v[V::table_x] = k.x_t;
+        if self.dynamic.is_some() {
+            let tau = self.evaluate_dynamic(v, time);
+            shaft::set_outputs(v, tau, st.w);
+            return;
+        }
+        v[V::elastic_deflection] = 0.0;
+        v[V::contact_pen] = 0.0;
+        v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic {
             let f = d.forces(&k);
             v[V::pierce_Q_out] = f.pierce_q;
@@ -283,6 +562,59 @@ impl Model for Perforators {
         h: f64,
         log: &mut dyn Log,
     ) -> Result<(), String> {
+        if let Some(d) = self.dynamic.as_mut() {
+            let path = path_at(v, time);
+            if !d.started {
+                d.start(&self.drive, path);
+            }
+            let before = d.clone();
+            let ode = d.ode(&self.drive, path);
+            let mut y = d.y;
+            return match d.integ.integrate(&ode, time, time + h, &mut y) {
+                Ok(_) => {
+                    d.y = y;
+                    let tr = ode.track.get();
+                    let new = tr.liftoffs - d.track.liftoffs;
+                    d.lost_step = new > 0.0;
+                    if new > 0.0 {
+                        let phi = tr.lift_phi;
+                        let psi = crate::mechanics::wrap_angle(phi - self.drive.cyc.phi0);
+                        let (_, w, _) = path.at(time + h);
+                        log.log(
+                            Severity::Warning,
+                            &format!(
+                                "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn){} in the step from t = {:.6} s, {:.1} rpm (elastodynamic level; {} lift-offs so far): spring.M0 = {} N.m, spring.kt = {} N.m/rad cannot hold it on at this speed",
+                                phi.to_degrees(),
+                                psi.to_degrees(),
+                                if new > 1.0 {
+                                    format!(", the last of {new} in this step,")
+                                } else {
+                                    String::new()
+                                },
+                                time,
+                                w * 30.0 / std::f64::consts::PI,
+                                tr.liftoffs,
+                                self.drive.p.spring_m0,
+                                self.drive.p.spring_kt
+                            ),
+                        );
+                    }
+                    d.track = tr;
+                    if v.int(V::drive_mode) == 1 {
+                        // the FMU's own extrapolation of the inputs, until the host sets them
+                        let (_, w, a) = path.at(time + h);
+                        v[V::shaft_phi] = path.absolute_phi(time + h);
+                        v[V::shaft_w] = w;
+                        v[V::shaft_a] = a;
+                    }
+                    Ok(())
+                }
+                Err(why) => {
+                    *d = before;
+                    Err(why)
+                }
+            };
+        }
         if shaft::fidelity(v) != Fidelity::Kinetostatic {
             return Ok(());
         }
@@ -333,7 +665,78 @@ impl Model for Perforators {
         Ok(())
     }
 
+    const STATES: usize = 3;
+    const EVENT_INDICATORS: usize = N_EVENTS;
+
+    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
+        match self.me_dynamic(v, time) {
+            Some((_, d)) => x.copy_from_slice(&d.y),
+            None => x.fill(0.0),
+        }
+    }
+
+    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
+        if let Some((_, d)) = self.me_dynamic(v, time) {
+            d.y.copy_from_slice(x);
+        }
+    }
+
+    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
+        match self.me_dynamic(v, time) {
+            Some((drive, d)) => d.ode(drive, path_at(v, time)).rhs(time, &d.y, dx),
+            None => dx.fill(0.0),
+        }
+    }
+
+    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
+        match self.me_dynamic(v, time) {
+            Some((drive, d)) => d.ode(drive, path_at(v, time)).events(time, &d.y, z),
+            None => z.fill(1.0),
+        }
+    }
+
+    fn me_event(&mut self, v: &Values<V>, time: f64, log: &mut dyn Log) {
+        let phi0 = self.drive.cyc.phi0;
+        if let Some((drive, d)) = self.me_dynamic(v, time) {
+            let ode = d.ode(drive, path_at(v, time));
+            let mut g = vec![0.0; N_EVENTS];
+            ode.events(time, &d.y, &mut g);
+            if d.g_prev.len() == g.len() {
+                ode.on_event(time, &d.y, &d.g_prev, &g);
+                let tr = ode.track.get();
+                if tr.liftoffs > d.track.liftoffs {
+                    let phi = tr.lift_phi;
+                    log.log(
+                        Severity::Warning,
+                        &format!(
+                            "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn) at t = {time:.6} s (elastodynamic level; {} lift-offs so far)",
+                            phi.to_degrees(),
+                            crate::mechanics::wrap_angle(phi - phi0).to_degrees(),
+                            tr.liftoffs
+                        ),
+                    );
+                }
+                d.track = tr;
+            }
+            d.g_prev = g;
+        }
+    }
+
+    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
+        if let Some((drive, d)) = self.me_dynamic(v, time) {
+            let ode = d.ode(drive, path_at(v, time));
+            ode.on_step(time, &d.y);
+            d.track = ode.track.get();
+            let mut g = vec![0.0; N_EVENTS];
+            ode.events(time, &d.y, &mut g);
+            d.g_prev = g;
+        }
+    }
+
     fn save_state(&self) -> Vec<f64> {
+        if let Some(d) = self.dynamic.as_ref() {
+            return d.save();
+        }
         let s = &self.state;
         vec![
             s.cycle,
@@ -345,6 +748,9 @@ impl Model for Perforators {
     }
 
     fn restore_state(&mut self, state: &[f64]) -> Result<(), String> {
+        if let Some(d) = self.dynamic.as_mut() {
+            return d.restore(state);
+        }
         match *state {
             [] => {
                 self.state = CycleState::default();

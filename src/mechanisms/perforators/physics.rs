@@ -538,12 +538,18 @@ impl Drive {
 
     /// Forces (kinetostatic level) for kinematics `k`.
     pub fn forces(&self, k: &Kinematics) -> Forces {
+        self.forces_dir(k, sgn(k.v), sgn(k.gamma_w))
+    }
+
+    /// As [`Drive::forces`], with the directions of the friction and piercing loads given: `sv`
+    /// of the perforators' motion, `sw` of the lever's (the elastodynamic level takes them from
+    /// the rigid motion, `elastic.rs`).
+    pub fn forces_dir(&self, k: &Kinematics, sv: f64, sw: f64) -> Forces {
         let p = &self.p;
         let m = p.perf_m;
         let g = STANDARD_GRAVITY;
         let (sa, ca) = p.alpha.sin_cos();
-        let sv = sgn(k.v);
-        let qt = self.pierce_load(k.s, k.v, k.phase);
+        let qt = self.pierce_load(k.s, sv, k.phase);
         // carriage along u
         let (a, a1, _) = p.joint_a(k.gamma);
         let pose = p.carriage(k.gamma);
@@ -569,7 +575,6 @@ impl Drive {
         let bu = self.line.u();
         let e1 = ((pose.ds * bu.0 - a1.0) / l1, (pose.ds * bu.1 - a1.1) / l1);
         let th = cross(e, e1);
-        let sw = sgn(k.gamma_w);
         let mut joint_m = 0.0;
         let mut fc = 0.0;
         for _ in 0..4 {
