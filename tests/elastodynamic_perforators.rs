@@ -125,26 +125,363 @@ fn run(c: &Case, stop: f64) -> Result<Run, String> {
     Ok(r)
 }
 
-/// One shaft turn at 100 rpm.
-const TURN: f64 = 0.6;
+/// Largest difference of two lever histories (rad), and of their peak contact forces (relative).
+fn compare(a: &Run, b: &Run) -> (f64, f64) {
+    let dg = a
+        .gamma
+        .iter()
+        .zip(&b.gamma)
+        .map(|(x, y)| (x - y).abs())
+        .fold(0.0, f64::max);
+    let pa = a.f.iter().cloned().fold(0.0, f64::max);
+    let pb = b.f.iter().cloned().fold(0.0, f64::max);
+    (dg, (pa - pb).abs() / pb.max(1.0))
+}
+
+/// Runs a case and its reference (radau5 at a tight tolerance, output at the same instants) and
+/// checks: no NaN (in `run`), the lever within `dg_tol` rad of the reference, the peak contact
+/// force within `df_tol` (relative), the energy-balance residual within `res_tol` of the energy
+/// scale (the peak contact force over the roller's rise).
+fn check(c: Case, stop: f64, dg_tol: f64, df_tol: f64, res_tol: f64) -> Run {
+    let t0 = Instant::now();
+    let r = run(&c, stop).unwrap_or_else(|e| panic!("{c:?}: {e}"));
+    let took = t0.elapsed();
+    // the stiffest contacts' reference at 1e-8: at 1e-9 it costs seconds per case
+    let reference = run(
+        &Case {
+            method: 3,
+            rtol: if c.k >= 1e12 && c.law == 2 {
+                1e-8
+            } else {
+                1e-9
+            },
+            ..c
+        },
+        stop,
+    )
+    .expect("the reference solves every case");
+    let (dg, df) = compare(&r, &reference);
+    assert!(dg <= dg_tol, "{c:?}: lever off the reference by {dg:e} rad");
+    assert!(
+        df <= df_tol,
+        "{c:?}: peak contact force off the reference by {df:e}"
+    );
+    assert!(
+        r.residual <= res_tol * r.energy_scale,
+        "{c:?}: energy residual {} J of {} J",
+        r.residual,
+        r.energy_scale
+    );
+    assert!(took.as_secs_f64() < 5.0, "{c:?} ground for {took:?}");
+    eprintln!(
+        "{c:?}: {} steps in {took:?}, reference in {:?}",
+        r.steps,
+        t0.elapsed() - took
+    );
+    r
+}
+
+/// The start of the forward travel at 100 rpm: the end of the loading dwell, the needles' rise,
+/// piercing from pierce.s_in on (0.03 s), the top at half the travel (0.068 s).
+const WINDOW: f64 = 0.075;
 
 #[test]
-fn explore() {
-    for rpm in [100.0, 110.0, 113.0, 115.0, 120.0, 130.0] {
-        let t0 = Instant::now();
-        let r = run(&Case { rpm, ..BASE }, 2.0 * 60.0 / rpm).unwrap();
-        let fmax = r.f.iter().cloned().fold(0.0, f64::max);
-        let fk = r.f_kin.iter().cloned().fold(0.0, f64::max);
-        eprintln!(
-            "rpm {rpm}: liftoffs {} impact {:.1} K_d {:.4} fmax {fmax:.1} fkin {fk:.1} residual {:.3e} of {:.3e} steps {} in {:?}; {:?}",
-            r.liftoffs,
-            r.impact,
-            r.k_d,
-            r.residual,
-            r.energy_scale,
-            r.steps,
-            t0.elapsed(),
-            r.warnings.first()
+fn contact_stiffness_1e4_to_1e12_and_damping_0_to_1() {
+    // 1e4 N/m: the preload alone would press the roller 15 mm into the ramp: refused, naming it
+    for zeta in [0.0, 0.01, 1.0] {
+        let e = run(
+            &Case {
+                law: 2,
+                k: 1e4,
+                zeta,
+                ..BASE
+            },
+            WINDOW,
+        )
+        .unwrap_err();
+        assert!(e.contains("contact.k") && e.contains("too soft"), "{e}");
+    }
+    for k in [1e6, 1e8, 1e10] {
+        for zeta in [0.0, 0.01, 1.0] {
+            check(
+                Case {
+                    law: 2,
+                    k,
+                    zeta,
+                    ..BASE
+                },
+                WINDOW,
+                1e-6,
+                1e-3,
+                1e-4,
+            );
+        }
+    }
+}
+
+#[test]
+fn the_stiffest_contact_1e12() {
+    // omega_n = 6e5 rad/s: omega_n*h = 600 at the 1 ms communication step; the end of the
+    // loading dwell and the start of the rise
+    for zeta in [0.0, 0.01, 1.0] {
+        check(
+            Case {
+                law: 2,
+                k: 1e12,
+                zeta,
+                ..BASE
+            },
+            0.02,
+            1e-6,
+            1e-3,
+            1e-4,
         );
     }
+}
+
+#[test]
+fn shaft_speeds_stopped_slow_nominal_fast_and_reversed() {
+    for rpm in [0.0, 1.0, 100.0, -100.0] {
+        let r = check(Case { rpm, ..BASE }, WINDOW, 1e-6, 1e-3, 1e-4);
+        assert_eq!(r.liftoffs, 0, "{rpm} rpm");
+    }
+    // 5x nominal: the roller flies off the ramp and lands, bouncing; the bounces agree with the
+    // reference, the flight to a few hundredths of a degree
+    let c = Case { rpm: 500.0, ..BASE };
+    let r = run(&c, 0.06).unwrap();
+    let reference = run(
+        &Case {
+            method: 3,
+            rtol: 1e-9,
+            ..c
+        },
+        0.06,
+    )
+    .unwrap();
+    assert!(r.liftoffs >= 1 && r.impact > 0.0, "{r:?}");
+    assert_eq!(r.liftoffs, reference.liftoffs);
+    // the impact force is tracked at every internal step, not sampled at the 1 ms points
+    assert!(
+        (r.impact - reference.impact).abs() < 2e-2 * reference.impact,
+        "{} vs {}",
+        r.impact,
+        reference.impact
+    );
+    assert!(compare(&r, &reference).0 < 1e-3);
+    assert!(r.residual <= 1e-3 * r.energy_scale);
+    // 20x nominal: the roller is thrown so far off the ramp that the lever leaves the linkage's
+    // range: a Discard saying so, quickly
+    let t0 = Instant::now();
+    match run(
+        &Case {
+            rpm: 2000.0,
+            ..BASE
+        },
+        0.03,
+    ) {
+        Err(e) => assert!(e.contains("lever reached") && e.contains("rpm"), "{e}"),
+        Ok(r) => assert!(r.residual <= 1e-3 * r.energy_scale),
+    }
+    assert!(t0.elapsed().as_secs_f64() < 5.0);
+}
+
+#[test]
+fn communication_steps_from_1e_6_to_longer_than_a_turn() {
+    check(Case { dt: 1e-6, ..BASE }, 2e-3, 1e-6, 1e-3, 1e-4);
+    check(Case { dt: 1e-4, ..BASE }, WINDOW, 1e-6, 1e-3, 1e-4);
+    check(Case { dt: 1e-2, ..BASE }, WINDOW, 1e-6, 1e-3, 1e-4);
+    // one step of 1 s: longer than the 0.6 s turn
+    check(Case { dt: 1.0, ..BASE }, 1.0, 1e-6, 1e-3, 1e-4);
+}
+
+#[test]
+fn extreme_angles_and_the_cyclogram_phase_boundaries() {
+    // 1e9 rad: the angle's own rounding (1e-7 rad) must not reach the integrator
+    check(Case { phi0: 1e9, ..BASE }, WINDOW, 1e-6, 1e-3, 1e-4);
+    // starting exactly on each phase boundary: forward travel, sewing dwell, return, loading dwell
+    let f = 82f64.to_radians();
+    let ds = 110f64.to_radians();
+    let r = 90f64.to_radians();
+    for phi0 in [0.0, f, f + ds, f + ds + r] {
+        check(Case { phi0, ..BASE }, 0.05, 1e-6, 1e-3, 1e-4);
+    }
+    // a communication point exactly on the end of the forward travel
+    let w = 100.0 * std::f64::consts::PI / 30.0;
+    check(
+        Case {
+            dt: f / w / 50.0,
+            ..BASE
+        },
+        f / w * 1.1,
+        1e-6,
+        1e-3,
+        1e-4,
+    );
+}
+
+#[test]
+fn explicit_methods_on_a_stiff_contact_refuse_fast_or_complete_instead_of_grinding() {
+    let stiff = Case {
+        law: 2,
+        k: 1e12,
+        zeta: 0.01,
+        ..BASE
+    };
+    let t0 = Instant::now();
+    // rk4 with its default 1 ms step: h*|lambda| = 600: a Discard with the stable step, at once
+    let e = run(&Case { method: 4, ..stiff }, 0.01).unwrap_err();
+    assert!(
+        e.contains("unstable") && e.contains("solver.max_step below"),
+        "{e}"
+    );
+    eprintln!("rk4 refused in {:?}", t0.elapsed());
+    // dopri5 forced on it holds its stability limit (h*|lambda| < 3.3) and completes; auto
+    // switches to radau5; both close to the reference
+    let reference = run(
+        &Case {
+            method: 3,
+            rtol: 1e-8,
+            ..stiff
+        },
+        0.01,
+    )
+    .unwrap();
+    for method in [2, 1] {
+        let t1 = Instant::now();
+        let r = run(&Case { method, ..stiff }, 0.01).unwrap();
+        let (dg, df) = compare(&r, &reference);
+        assert!(dg < 1e-6 && df < 1e-3, "method {method}: {dg:e} {df:e}");
+        eprintln!("method {method}: {} steps in {:?}", r.steps, t1.elapsed());
+    }
+    assert!(t0.elapsed().as_secs_f64() < 10.0, "{:?}", t0.elapsed());
+}
+
+// ---- lift-off physics ---------------------------------------------------------------------
+
+#[test]
+fn no_liftoff_at_the_nominal_speed_liftoffs_and_impacts_above_the_rigid_threshold() {
+    // nominal 100 rpm, default Hertz contact, two turns: the roller stays on
+    let r = run(&BASE, 1.2).unwrap();
+    assert_eq!(r.liftoffs, 0);
+    assert_eq!(r.impact, 0.0);
+    assert!(r.warnings.is_empty(), "{:?}", r.warnings);
+    // just below the rigid threshold (113.65 rpm): still on; above it: off and landing again
+    let below = run(&Case { rpm: 112.0, ..BASE }, 2.0 * 60.0 / 112.0).unwrap();
+    assert_eq!(below.liftoffs, 0);
+    let above = run(&Case { rpm: 116.0, ..BASE }, 2.0 * 60.0 / 116.0).unwrap();
+    assert!(above.liftoffs >= 1, "{above:?}");
+    // 130 rpm: lift-offs every turn, the landings hit harder than anything the rigid drive sees
+    let r = run(&Case { rpm: 130.0, ..BASE }, 2.0 * 60.0 / 130.0).unwrap();
+    let rigid_peak = r.f_kin.iter().cloned().fold(0.0, f64::max);
+    assert!(r.liftoffs >= 2, "{}", r.liftoffs);
+    assert!(r.impact > rigid_peak, "{} vs {rigid_peak}", r.impact);
+    assert!(r.k_d > 1.5, "{}", r.k_d);
+    // each lift-off is logged with the shaft angle
+    assert!(!r.warnings.is_empty());
+    assert!(
+        r.warnings[0].contains("lifts off") && r.warnings[0].contains("shaft angle"),
+        "{}",
+        r.warnings[0]
+    );
+    eprintln!(
+        "130 rpm: {} lift-offs, largest impact {:.0} N (rigid peak {rigid_peak:.0} N), K_d {:.2}",
+        r.liftoffs, r.impact, r.k_d
+    );
+}
+
+#[test]
+fn a_stiff_contact_follows_the_kinetostatic_force() {
+    // 1e10 N/m, 5 % damping, 20 rpm, one turn: K_d = 1 to within a percent, and the dynamic
+    // contact force follows the kinetostatic one sample by sample
+    let rpm = 20.0;
+    let c = Case {
+        law: 2,
+        k: 1e10,
+        zeta: 0.05,
+        rpm,
+        dt: 1e-2,
+        ..BASE
+    };
+    let r = run(&c, 60.0 / rpm + 0.05).unwrap();
+    assert!((r.k_d - 1.0).abs() < 1e-2, "K_d {}", r.k_d);
+    let peak = r.f_kin.iter().cloned().fold(0.0, f64::max);
+    let dev =
+        r.f.iter()
+            .zip(&r.f_kin)
+            .map(|(a, b)| (a - b).abs())
+            .fold(0.0, f64::max);
+    assert!(dev < 2e-2 * peak, "{dev} of {peak}");
+    // and at the nominal speed with the default contact K_d stays near 1 (no lift-off)
+    let r = run(&BASE, 1.2).unwrap();
+    assert!(r.k_d > 1.0 && r.k_d < 1.2, "K_d {}", r.k_d);
+    eprintln!("K_d at 100 rpm, default contact: {:.4}", r.k_d);
+}
+
+#[test]
+fn the_fmu_state_round_trips_through_save_and_restore() {
+    let c = Case { rpm: 130.0, ..BASE };
+    let mut v = values(&c);
+    let mut m = Perforators::prepare(&v).unwrap();
+    let dt = 2e-3;
+    for i in 0..20 {
+        m.do_step(&mut v, i as f64 * dt, dt, &mut NoLog).unwrap();
+    }
+    let saved = m.save_state();
+    let v_saved = v.raw().to_vec();
+    let go = |m: &mut Perforators, v: &mut Values<P>| {
+        for i in 20..60 {
+            m.do_step(v, i as f64 * dt, dt, &mut NoLog).unwrap();
+        }
+        m.evaluate(v, 60.0 * dt, &mut NoLog);
+        v.raw().to_vec()
+    };
+    let first = go(&mut m, &mut v);
+    m.restore_state(&saved).unwrap();
+    v.raw_mut().copy_from_slice(&v_saved);
+    let second = go(&mut m, &mut v);
+    assert_eq!(
+        first.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
+        second.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+    );
+    // a state of the wrong length is refused with a reason
+    assert!(
+        m.restore_state(&[1.0, 2.0])
+            .unwrap_err()
+            .contains("expected")
+    );
+}
+
+#[test]
+fn model_exchange_hooks_give_the_integrators_right_hand_side() {
+    use bindery_fmu::solver::OdeSystem;
+    let mut v = values(&BASE);
+    let mut m = Perforators::prepare(&v).unwrap();
+    for i in 0..30 {
+        m.do_step(&mut v, i as f64 * 1e-3, 1e-3, &mut NoLog)
+            .unwrap();
+    }
+    let t = 0.03;
+    let mut x = [0.0; 3];
+    m.me_states(&v, t, &mut x);
+    let mut dx = [0.0; 3];
+    m.me_derivatives(&v, t, &mut dx);
+    m.evaluate(&mut v, t, &mut NoLog);
+    assert_eq!(x[0], v[P::elastic_q]);
+    assert_eq!(dx[1], v[P::der_elastic_qd]);
+    assert_eq!(x[0], v[P::elastic_deflection]);
+    // a nudged state changes the derivative the way the contact's stiffness says
+    let mut x2 = x;
+    x2[0] += 1e-9;
+    m.me_set_states(&v, t, &x2);
+    let mut dx2 = [0.0; 3];
+    m.me_derivatives(&v, t, &mut dx2);
+    assert!(
+        dx2[1] < dx[1],
+        "more deflection, more contact force, less lever acceleration"
+    );
+    let mut z = [0.0; 10];
+    m.me_event_indicators(&v, t, &mut z);
+    assert!(z.iter().all(|g| g.is_finite()));
+    assert!(z[4] > 0.0, "pressed into the ramp");
+    let _ = <dyn OdeSystem>::dim;
 }

@@ -10,8 +10,8 @@
 //!
 //! `δ = n·(R(Δγ_r) − R(Δγ))`  (> 0: pressed in; < 0: lifted off by −δ),
 //!
-//! its rate `δ̇ = a_r·Δγ̇_r − a·Δγ̇` with the lever arms of the normal `a = n·R'(Δγ)` (the ramp is
-//! fixed: the normal approach is the roller centre's velocity against n). Contact force
+//! its rate `δ̇ = ṅ·(R(Δγ_r) − R(Δγ)) + a_r·Δγ̇_r − a·Δγ̇` with the lever arms of the normal
+//! `a = n·R'(Δγ)` and `ṅ = dn/dx_t·ẋ_t` (the contact point moves along the ramp with the table). Contact force
 //! (`contact.law`): Hertz line contact `K·δ^(10/9)` ([`crate::mechanics::hertz`], K from the
 //! roller width and moduli) or linear `contact.k·δ`, plus the damping `contact.c·δ̇`, and never
 //! pulling: `F_c = max(0, F_el(δ) + c·δ̇)` for δ > 0, 0 otherwise. The lever's angular
@@ -23,8 +23,10 @@
 //!
 //! Energy balance: `E = ½·J_eff·Δγ̇² + M0·Δγ + ½·kt·Δγ² + m·g·cos α·s + V_c(δ)` in the table
 //! frame, and W the work of friction, piercing, the table's inertial force on the carriage, the
-//! contact damping and the moving ramp (`F_el·a_r·Δγ̇_r`): `E − E0 − W` is the integration's
-//! residual. States `y = [Δγ, Δγ̇, W]`.
+//! contact damping and the moving ramp (`F_el·(δ̇ + a·Δγ̇)`): `E − E0 − W` is the integration's
+//! residual. States `y = [q, q̇, W]` with the deflection `q = Δγ_r − Δγ` from the rigid rotation
+//! (not Δγ itself: a stiff contact's force then stays continuous through the implicit method's
+//! Newton iterates, which start from a constant state while the ramp moves on).
 //!
 //! Events: the four cyclogram phase boundaries, contact opening and closing (δ = 0), the contact
 //! force reaching zero while pressed in (released by the damping), the rigid lever velocity's
@@ -160,6 +162,8 @@ pub struct LeverOde<'a> {
     pub contact: Contact,
     pub path: ShaftPath,
     pub track: Cell<Track>,
+    /// The first lever angle met outside the linkage's range (NaN: none), for the error message.
+    pub out_of_range: Cell<f64>,
 }
 
 /// Everything at one instant.
@@ -184,6 +188,8 @@ pub struct Point {
     pub arm_r: f64,
     /// Reduced inertia J + m·s'², kg·m².
     pub j_eff: f64,
+    /// `∂Δγ̈/∂F_c` of the balance (friction included), rad/(s²·N).
+    pub ga_fc: f64,
     /// dW/dt, W.
     pub power: f64,
 }
@@ -239,14 +245,15 @@ impl LeverOde<'_> {
     pub fn point_at(&self, rigid: &Kinematics, y: &[f64]) -> Point {
         let d = self.d;
         let p = &d.p;
-        let (g, gw) = (y[0], y[1]);
+        let (g, gw) = (rigid.gamma - y[0], rigid.gamma_w - y[1]);
         let n = rigid.normal;
         let (rr, rr1, _) = p.roller(rigid.gamma);
         let (r, r1, _) = p.roller(g);
         let arm = dot(n, r1);
         let arm_r = dot(n, rr1);
         let pen = dot(n, (rr.0 - r.0, rr.1 - r.1));
-        let pen_d = arm_r * rigid.gamma_w - arm * gw;
+        let n_t = (rigid.normal_x.0 * rigid.v_t, rigid.normal_x.1 * rigid.v_t);
+        let pen_d = dot(n_t, (rr.0 - r.0, rr.1 - r.1)) + arm_r * rigid.gamma_w - arm * gw;
         let (f_el, k_c) = self.contact.elastic(pen);
         let f_pre = if pen > 0.0 {
             f_el + self.contact.c * pen_d
@@ -258,6 +265,9 @@ impl LeverOde<'_> {
         let sv = sgn(rigid.v);
         let sw = sgn(rigid.gamma_w);
         let j_eff = Self::j_eff(d, g);
+        if !j_eff.is_finite() && self.out_of_range.get().is_nan() {
+            self.out_of_range.set(g);
+        }
         // the balance is affine in the lever acceleration but for the friction's corners:
         // a Newton step with the frictionless slope J_eff/a, then secant steps
         let resid = |ga: f64| {
@@ -267,17 +277,21 @@ impl LeverOde<'_> {
         };
         let a0 = rigid.gamma_a;
         let (r0, mut kin, mut forces) = resid(a0);
+        let mut ga_fc = arm / j_eff;
         if r0 != 0.0 && r0.is_finite() {
             let (mut a0, mut r0) = (a0, r0);
-            let mut a1 = a0 - r0 * arm / j_eff;
+            let mut a1 = a0 - r0 * ga_fc;
             for _ in 0..4 {
                 let (r1, k1, f1) = resid(a1);
                 kin = k1;
                 forces = f1;
+                if r1 != r0 && r1.is_finite() {
+                    ga_fc = (a1 - a0) / (r1 - r0);
+                }
                 if r1.abs() <= 1e-12 * f_c.max(1.0) || r1 == r0 || !r1.is_finite() {
                     break;
                 }
-                let a2 = a1 - r1 * (a1 - a0) / (r1 - r0);
+                let a2 = a1 - r1 * ga_fc;
                 (a0, r0) = (a1, r1);
                 a1 = a2;
             }
@@ -287,7 +301,7 @@ impl LeverOde<'_> {
         let q_fr = forces.joint_m - ds * (forces.pierce_q + p.guide_mu * forces.guide_n) * sv;
         let power = gw * (q_fr - p.perf_m * ds * rigid.a_t * sa)
             + (f_c - f_el) * arm * gw
-            + f_el * arm_r * rigid.gamma_w;
+            + f_el * (pen_d + arm * gw);
         Point {
             rigid: *rigid,
             kin,
@@ -301,6 +315,7 @@ impl LeverOde<'_> {
             arm,
             arm_r,
             j_eff,
+            ga_fc,
             power,
         }
     }
@@ -317,18 +332,25 @@ impl LeverOde<'_> {
     }
 
     /// The lever in equilibrium on its rigid motion at time t: pressed in by the kinetostatic
-    /// contact force (on the ramp without force if that is negative), at the rigid speed.
+    /// contact force (on the ramp without force if that is negative), at the rigid normal speed.
     pub fn initial_state(&self, t: f64) -> [f64; 3] {
         let (phi, w, a) = self.path.at(t);
         let rigid = self.d.kinematics(phi, w, a);
         let f = self.d.forces(&rigid).roller_f;
         let pen = self.contact.penetration_of(f);
-        let (_, rr1, _) = self.d.p.roller(rigid.gamma);
-        let arm_r = dot(rigid.normal, rr1);
-        let g = rigid.gamma - pen / arm_r;
-        let (_, r1, _) = self.d.p.roller(g);
-        let arm = dot(rigid.normal, r1);
-        [g, rigid.gamma_w * arm_r / arm, 0.0]
+        let p = &self.d.p;
+        let n = rigid.normal;
+        let (rr, rr1, _) = p.roller(rigid.gamma);
+        let arm_r = dot(n, rr1);
+        // Newton on n·(R(Δγ_r) − R(Δγ_r − q)) = δ
+        let mut q = pen / arm_r;
+        for _ in 0..3 {
+            let (r, r1, _) = p.roller(rigid.gamma - q);
+            q -= (dot(n, (rr.0 - r.0, rr.1 - r.1)) - pen) / dot(n, r1);
+        }
+        let (_, r1, _) = p.roller(rigid.gamma - q);
+        let arm = dot(n, r1);
+        [q, rigid.gamma_w * (1.0 - arm_r / arm), 0.0]
     }
 
     /// Kinetostatic (rigid) contact force at time t.
@@ -363,20 +385,27 @@ impl OdeSystem for LeverOde<'_> {
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
         let pt = self.point(t, y);
         dy[0] = y[1];
-        dy[1] = pt.kin.gamma_a;
+        dy[1] = pt.rigid.gamma_a - pt.kin.gamma_a;
         dy[2] = pt.power;
     }
     fn jacobian(&self, t: f64, y: &[f64], j: &mut [f64]) {
-        // the contact (the stiff part) exactly, spring 13; the linkage's slow terms left out
+        // the contact (the stiff part) through the balance's own ∂Δγ̈/∂F_c; spring 13 and the
+        // arm's turning; the linkage's slow terms left out
+        // (q̈ = Δγ̈_r − Δγ̈ and Δγ = Δγ_r − q: ∂q̈/∂q = ∂Δγ̈/∂Δγ, ∂q̈/∂q̇ = ∂Δγ̈/∂Δγ̇)
         let pt = self.point(t, y);
-        let (dg, dw) = if pt.f_pre > 0.0 {
-            (
-                -(pt.k_c * pt.arm * pt.arm + self.d.p.spring_kt) / pt.j_eff,
-                -self.contact.c * pt.arm * pt.arm / pt.j_eff,
-            )
-        } else {
-            (-self.d.p.spring_kt / pt.j_eff, 0.0)
-        };
+        let p = &self.d.p;
+        let (_, _, r2) = p.roller(pt.kin.gamma);
+        let arm_g = dot(pt.rigid.normal, r2);
+        let mut dg = (pt.f_c * arm_g - p.spring_kt) / pt.j_eff;
+        let mut dw = 0.0;
+        if pt.f_pre > 0.0 {
+            let c = self.contact.c;
+            let (_, r1, _) = p.roller(pt.kin.gamma);
+            let n_x = pt.rigid.normal_x;
+            let n_t_r1 = (n_x.0 * r1.0 + n_x.1 * r1.1) * pt.rigid.v_t;
+            dg += pt.ga_fc * (-pt.k_c * pt.arm - c * (arm_g * pt.kin.gamma_w + n_t_r1));
+            dw = pt.ga_fc * (-c * pt.arm);
+        }
         j.copy_from_slice(&[0.0, 1.0, 0.0, dg, dw, 0.0, 0.0, 0.0, 0.0]);
     }
     fn n_events(&self) -> usize {
@@ -391,18 +420,21 @@ impl OdeSystem for LeverOde<'_> {
         let rigid = self.d.kinematics(phi, w, a);
         let p = &self.d.p;
         let n = rigid.normal;
+        let (g_el, w_el) = (rigid.gamma - y[0], rigid.gamma_w - y[1]);
         let (rr, rr1, _) = p.roller(rigid.gamma);
-        let (r, r1, _) = p.roller(y[0]);
+        let (r, r1, _) = p.roller(g_el);
         let pen = dot(n, (rr.0 - r.0, rr.1 - r.1));
         g[4] = pen;
         g[5] = if pen > 0.0 {
-            let pen_d = dot(n, rr1) * rigid.gamma_w - dot(n, r1) * y[1];
+            let n_t = (rigid.normal_x.0 * rigid.v_t, rigid.normal_x.1 * rigid.v_t);
+            let pen_d = dot(n_t, (rr.0 - r.0, rr.1 - r.1)) + dot(n, rr1) * rigid.gamma_w
+                - dot(n, r1) * w_el;
             self.contact.elastic(pen).0 + self.contact.c * pen_d
         } else {
             1.0
         };
         g[6] = rigid.gamma_w;
-        let q = (p.carriage(y[0]).s - self.d.s0) / self.d.stroke;
+        let q = (p.carriage(g_el).s - self.d.s0) / self.d.stroke;
         g[7] = q - p.pierce_s_in;
         g[8] = q - 0.5 * (p.pierce_s_in + p.pierce_s_out);
         g[9] = q - p.pierce_s_out;

@@ -137,11 +137,11 @@ crate::model_variables! {
         elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)"),
         solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)"),
         // ---- Model Exchange states of the elastodynamic level and their derivatives
-        elastic_gamma = Var::local("elastic.gamma", "rad", "State: lever rotation (elastodynamic level)"),
-        elastic_w = Var::local("elastic.w", "rad/s", "State: lever angular velocity (elastodynamic level)"),
+        elastic_q = Var::local("elastic.q", "rad", "State: lever deflection from its rigid rotation, lever.gamma_kin - lever.gamma (elastodynamic level)"),
+        elastic_qd = Var::local("elastic.qd", "rad/s", "State: rate of the lever deflection (elastodynamic level)"),
         elastic_W = Var::local("elastic.W", "J", "State: work of friction, piercing, table inertia, contact damping and the moving ramp (for the energy balance)"),
-        der_elastic_gamma = Var::local("der(elastic.gamma)", "rad/s", "Derivative of elastic.gamma").derivative_of(V::elastic_gamma as u32),
-        der_elastic_w = Var::local("der(elastic.w)", "rad/s2", "Derivative of elastic.w").derivative_of(V::elastic_w as u32),
+        der_elastic_q = Var::local("der(elastic.q)", "rad/s", "Derivative of elastic.q").derivative_of(V::elastic_q as u32),
+        der_elastic_qd = Var::local("der(elastic.qd)", "rad/s2", "Derivative of elastic.qd").derivative_of(V::elastic_qd as u32),
         der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32),
     }
 }
@@ -182,7 +182,7 @@ struct Dynamic {
     contact: Contact,
     integ: Integrator,
     started: bool,
-    /// `[Δγ, Δγ̇, W]`.
+    /// `[q, q̇, W]`, q the lever's deflection from its rigid rotation.
     y: [f64; 3],
     e0: f64,
     track: Track,
@@ -201,6 +201,7 @@ impl Dynamic {
             contact: self.contact,
             path,
             track: Cell::new(self.track),
+            out_of_range: Cell::new(f64::NAN),
         }
     }
 
@@ -301,6 +302,32 @@ pub fn contact_of(d: &Drive, v: &Values<V>) -> Contact {
         ContactLaw::Hertz
     };
     Contact::new(d, law, v[V::contact_k], v[V::contact_c])
+}
+
+/// Refuses a contact so soft that the spring's preload alone (the contact force at rest in the
+/// loading dwell) presses the roller more than a tenth of its radius into the ramp: the contact
+/// laws are laws of small penetrations, and the lever would leave its linkage.
+fn check_contact(d: &Drive, v: &Values<V>) -> Result<(), ParamError> {
+    let c = contact_of(d, v);
+    let f = d.forces(&d.kinematics(d.cyc.phi0 - 0.1, 0.0, 0.0)).roller_f;
+    let pen = c.penetration_of(f);
+    let limit = 0.1 * d.p.roller_r;
+    if pen > limit {
+        let (param, value) = match c.law {
+            ContactLaw::Linear => ("contact.k", v[V::contact_k]),
+            ContactLaw::Hertz => ("roller.b", d.p.roller_b),
+        };
+        return Err(ParamError::new(
+            param,
+            value,
+            format!(
+                "the spring's preload of {f:.1} N presses the roller {:.3} mm into the ramp, more than a tenth of roller.r ({:.3} mm): the contact is too soft for a small-penetration contact law",
+                1000.0 * pen,
+                1000.0 * limit
+            ),
+        ));
+    }
+    Ok(())
 }
 
 /// The perforator drive of paper 000 on the translating table, as an FMU model.
@@ -419,7 +446,7 @@ impl Perforators {
         } else {
             t.peaks.dyn_min.min(pt.f_c)
         };
-        v[V::elastic_deflection] = pt.rigid.gamma - k.gamma;
+        v[V::elastic_deflection] = y[0];
         v[V::contact_pen] = pt.pen;
         v[V::elastic_F] = pt.f_c;
         let f_rigid = ode.rigid_force(&pt.rigid);
@@ -442,11 +469,11 @@ impl Perforators {
             0.0
         };
         v[V::solver_steps] = d.integ.stats.steps as f64;
-        v[V::elastic_gamma] = y[0];
-        v[V::elastic_w] = y[1];
+        v[V::elastic_q] = y[0];
+        v[V::elastic_qd] = y[1];
         v[V::elastic_W] = y[2];
-        v[V::der_elastic_gamma] = y[1];
-        v[V::der_elastic_w] = k.gamma_a;
+        v[V::der_elastic_q] = y[1];
+        v[V::der_elastic_qd] = pt.rigid.gamma_a - k.gamma_a;
         v[V::der_elastic_W] = pt.power;
         f.tau
     }
@@ -472,6 +499,9 @@ impl Model for Perforators {
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
         let drive = Self::params(v).drive()?;
+        if shaft::fidelity(v) == Fidelity::Elastodynamic {
+            check_contact(&drive, v)?;
+        }
         let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| Dynamic {
             contact: contact_of(&drive, v),
             integ: Integrator::new(solver_settings(v)),
@@ -611,7 +641,16 @@ impl Model for Perforators {
                 }
                 Err(why) => {
                     *d = before;
-                    Err(why)
+                    let g = ode.out_of_range.get();
+                    Err(if g.is_nan() {
+                        why
+                    } else {
+                        format!(
+                            "{why}: the lever reached {:.1} deg, where the rod cannot hold the carriage (the linkage has no position there): at {:.0} rpm the roller is thrown that far off the ramp; lower the speed or stiffen spring.M0, spring.kt",
+                            g.to_degrees(),
+                            path.w * 30.0 / std::f64::consts::PI
+                        )
+                    })
                 }
             };
         }
