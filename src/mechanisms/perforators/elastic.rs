@@ -162,7 +162,9 @@ pub struct LeverOde<'a> {
     pub contact: Contact,
     pub path: ShaftPath,
     pub track: Cell<Track>,
-    /// The first lever angle met outside the linkage's range (NaN: none), for the error message.
+    /// The lever angles the linkage has a position for ([`LeverOde::linkage_range`]).
+    pub range: (f64, f64),
+    /// The first lever angle met outside that range (NaN: none), for the error message.
     pub out_of_range: Cell<f64>,
 }
 
@@ -203,6 +205,26 @@ impl LeverOde<'_> {
     pub fn j_eff(d: &Drive, g: f64) -> f64 {
         let ds = d.p.carriage(g).ds;
         d.p.lever_j + d.p.perf_m * ds * ds
+    }
+
+    /// The lever angles the linkage works in: from the lowest position down and up to where the
+    /// rod cannot hold the carriage any more (no position, or the carriage turning back), less
+    /// 0.02 rad.
+    pub fn linkage_range(d: &Drive) -> (f64, f64) {
+        let ok = |g: f64| {
+            let c = d.p.carriage(g);
+            c.s.is_finite() && c.ds > 0.0
+        };
+        let step = 1e-3;
+        let mut hi = 0.0;
+        while hi < std::f64::consts::PI && ok(hi + step) {
+            hi += step;
+        }
+        let mut lo = 0.0;
+        while lo > -std::f64::consts::PI && ok(lo - step) {
+            lo -= step;
+        }
+        (lo + 0.02, hi - 0.02)
     }
 
     /// Effective mass at the roller along the ramp normal in the lowest position (dwell at
@@ -265,9 +287,7 @@ impl LeverOde<'_> {
         let sv = sgn(rigid.v);
         let sw = sgn(rigid.gamma_w);
         let j_eff = Self::j_eff(d, g);
-        if !j_eff.is_finite() && self.out_of_range.get().is_nan() {
-            self.out_of_range.set(g);
-        }
+        let outside = !(g >= self.range.0 && g <= self.range.1);
         // the balance is affine in the lever acceleration but for the friction's corners:
         // a Newton step with the frictionless slope J_eff/a, then secant steps
         let resid = |ga: f64| {
@@ -295,6 +315,14 @@ impl LeverOde<'_> {
                 (a0, r0) = (a1, r1);
                 a1 = a2;
             }
+        }
+        if outside {
+            // no position of the linkage: the integrator meets a non-finite derivative and
+            // fails the step; the model names the angle
+            if self.out_of_range.get().is_nan() {
+                self.out_of_range.set(g);
+            }
+            kin.gamma_a = f64::NAN;
         }
         let (sa, _) = p.alpha.sin_cos();
         let ds = p.carriage(g).ds;

@@ -180,6 +180,8 @@ impl Default for CycleState {
 #[derive(Clone, Debug, PartialEq)]
 struct Dynamic {
     contact: Contact,
+    /// The lever angles the linkage works in.
+    range: (f64, f64),
     integ: Integrator,
     started: bool,
     /// `[q, q̇, W]`, q the lever's deflection from its rigid rotation.
@@ -201,6 +203,7 @@ impl Dynamic {
             contact: self.contact,
             path,
             track: Cell::new(self.track),
+            range: self.range,
             out_of_range: Cell::new(f64::NAN),
         }
     }
@@ -504,6 +507,7 @@ impl Model for Perforators {
         }
         let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| Dynamic {
             contact: contact_of(&drive, v),
+            range: LeverOde::linkage_range(&drive),
             integ: Integrator::new(solver_settings(v)),
             started: false,
             y: [0.0; 3],
@@ -646,8 +650,10 @@ impl Model for Perforators {
                         why
                     } else {
                         format!(
-                            "{why}: the lever reached {:.1} deg, where the rod cannot hold the carriage (the linkage has no position there): at {:.0} rpm the roller is thrown that far off the ramp; lower the speed or stiffen spring.M0, spring.kt",
+                            "{why}: the lever reached {:.1} deg, outside the {:.1} .. {:.1} deg where the rod holds the carriage: at {:.0} rpm the roller is thrown that far off the ramp; lower the speed or stiffen spring.M0, spring.kt",
                             g.to_degrees(),
+                            d.range.0.to_degrees(),
+                            d.range.1.to_degrees(),
                             path.w * 30.0 / std::f64::consts::PI
                         )
                     })
