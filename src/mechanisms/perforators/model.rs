@@ -190,7 +190,8 @@ struct Dynamic {
     track: Track,
     /// The roller lifted off during the last communication step.
     lost_step: bool,
-    /// Model Exchange: the event indicators at the last completed integrator step.
+    /// Model Exchange: the event indicators just after the last event (or at the start): the
+    /// contact mode the host's integration is in.
     g_prev: Vec<f64>,
 }
 
@@ -744,8 +745,15 @@ impl Model for Perforators {
         let phi0 = self.drive.cyc.phi0;
         if let Some((drive, d)) = self.me_dynamic(v, time) {
             let ode = d.ode(drive, path_at(v, time));
+            // the host stops at the root, where the crossing indicator is zero to its tolerance
+            // with either sign: the mode after the event is that of the state an instant later
+            // (an Euler step of 1 ns along the right-hand side)
+            let dt = 1e-9 * time.abs().max(1.0);
+            let mut dy = [0.0; 3];
+            ode.rhs(time, &d.y, &mut dy);
+            let y_after: Vec<f64> = d.y.iter().zip(&dy).map(|(y, f)| y + dt * f).collect();
             let mut g = vec![0.0; N_EVENTS];
-            ode.events(time, &d.y, &mut g);
+            ode.events(time + dt, &y_after, &mut g);
             if d.g_prev.len() == g.len() {
                 ode.on_event(time, &d.y, &d.g_prev, &g);
                 let tr = ode.track.get();
@@ -772,9 +780,13 @@ impl Model for Perforators {
             let ode = d.ode(drive, path_at(v, time));
             ode.on_step(time, &d.y);
             d.track = ode.track.get();
-            let mut g = vec![0.0; N_EVENTS];
-            ode.events(time, &d.y, &mut g);
-            d.g_prev = g;
+            // the contact mode changes at events only (a host completes its step at the root,
+            // before the event): the indicators of the mode are kept from the last event
+            if d.g_prev.is_empty() {
+                let mut g = vec![0.0; N_EVENTS];
+                ode.events(time, &d.y, &mut g);
+                d.g_prev = g;
+            }
         }
     }
 
