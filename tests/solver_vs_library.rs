@@ -163,7 +163,7 @@ fn perforators_radau5_and_auto_agree_with_differential_equations_on_stiff_contac
                     .method(ImplicitRungeKutta::radau5().rtol(1e-10).atol(1e-4 * scale))
                     .solve()
                     .unwrap_or_else(|e| panic!("library radau5 k = {k}, zeta = {zeta}: {e:?}"));
-                yl = *sol.iter().last().expect("a solution").1;
+                yl = *sol.iter().next_back().expect("a solution").1;
                 lib_q.push((i + 1, yl[0]));
             }
             for method in [Method::Radau5, Method::Auto] {
