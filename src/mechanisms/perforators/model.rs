@@ -119,7 +119,7 @@ crate::model_variables! {
         // ---- elastodynamic level (dynamics.md)
         contact_law = Var::enum_parameter("contact.law", &CONTACT_LAW, "hertz", "Ramp contact force law of the elastodynamic level: hertz K*pen^(10/9) or linear contact.k*pen, both with damping contact.c and never pulling"),
         contact_k = Var::parameter("contact.k", 1e8, "N/m", "Stiffness of the linear contact law (elastodynamic level; assumption)").min(1.0),
-        contact_c = Var::parameter("contact.c", 200.0, "N.s/m", "Damping of the ramp contact on the penetration rate, c*d(pen)/dt (elastodynamic level; assumption: about 5 % of critical with the Hertz law at the spring's preload)").min(0.0),
+        contact_c = Var::parameter("contact.c", 3400.0, "N.s/m", "Damping of the ramp contact on the penetration rate, c*d(pen)/dt (elastodynamic level; assumption: 5 % of critical, 2*0.05*sqrt(k*m_red), with the Hertz law's stiffness 3.0e8 N/m at the spring's preload of 150 N and m_red = 3.83 kg)").min(0.0),
         solver_method = crate::solver::vars::method(),
         solver_rtol = crate::solver::vars::rtol(),
         solver_atol = crate::solver::vars::atol(),
