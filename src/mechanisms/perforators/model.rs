@@ -127,7 +127,7 @@ crate::model_variables! {
         contact_K_hertz = Var::calculated("contact.K_hertz", "", "K of the Hertz law F = K*pen^(10/9), in N/m^(10/9) (no FMI unit: fractional exponent), from roller.b, ramp.E, roller.E (Palmgren's line contact)"),
         contact_m_red = Var::calculated("contact.m_red", "kg", "Effective mass of lever and carriage at the roller along the ramp normal, lowest position: contact.c = 2*zeta*sqrt(k*m_red) gives a damping ratio zeta"),
         lever_gamma_kin = Var::output("lever.gamma_kin", "rad", "Rigid reference of the lever rotation (equals lever.gamma at the rigid levels)").depends(ON_PHI),
-        elastic_deflection = Var::output("elastic.deflection", "rad", "Lever deflection lever.gamma_kin - lever.gamma: > 0 pressed into the ramp, < 0 lifted off (elastodynamic level)").depends(ON_PHI),
+        elastic_deflection = Var::output("elastic.deflection", "rad", "Lever deflection lever.gamma_kin - lever.gamma: > 0 pressed into the ramp, < 0 lifted off (elastodynamic level; a state)"),
         contact_pen = Var::output("contact.penetration", "m", "Penetration of the roller into the ramp along its normal; < 0: the gap of a lifted roller (elastodynamic level)").depends(ON_PHI),
         elastic_F = Var::output("elastic.F", "N", "Dynamic contact force of the ramp on the roller, >= 0 (elastodynamic level; equals roller.F there)").depends(ON_PHI_W),
         roller_F_kin = Var::output("roller.F_kin", "N", "Kinetostatic contact force on the rigid motion, the reference of elastic.F (elastodynamic level)").depends(ON_ALL),
