@@ -110,10 +110,10 @@ crate::model_variables! {
         perforators_F_inertia = Var::output("perforators.F_inertia", "N", "Inertia force of the carriage along its line, incl. the table's acceleration (kinetostatic level)").depends(ON_ALL),
         rod_F = Var::output("rod.F", "N", "Rod force, compression positive (kinetostatic level)").depends(ON_ALL),
         spring_M = Var::output("spring.M", "N.m", "Spring moment on the lever, -(M0 + kt*gamma) (kinetostatic level)").depends(ON_PHI),
-        roller_F = Var::output("roller.F", "N", "Contact force the ramp must push the roller with; < 0: the spring cannot hold it (kinetostatic level)").depends(ON_ALL),
+        roller_F = Var::output("roller.F", "N", "Contact force the ramp must push the roller with; < 0: the spring cannot hold it (kinetostatic level; at the elastodynamic level the dynamic force elastic.F, >= 0)").depends(ON_ALL),
         roller_sigma_H = Var::output("roller.sigma_H", "Pa", "Hertz stress roller - ramp, paper 002 eq. 8 (kinetostatic level)").depends(ON_ALL),
-        roller_lost_contact = Var::bool_output("roller.lost_contact", "True if the ramp would have to pull the roller now or during the last communication step (kinetostatic level)").depends(ON_ALL),
-        roller_F_margin = Var::output("roller.F_margin", "N", "Smallest contact force over the last completed shaft turn (during the first turn: so far) (kinetostatic level)").depends(ON_ALL),
+        roller_lost_contact = Var::bool_output("roller.lost_contact", "True if the ramp would have to pull the roller now or during the last communication step (kinetostatic level; elastodynamic: the roller is off the ramp now or lifted off during the last step)").depends(ON_ALL),
+        roller_F_margin = Var::output("roller.F_margin", "N", "Smallest contact force over the last completed shaft turn (during the first turn: so far) (kinetostatic level; elastodynamic: of elastic.F, 0 when the roller lifted off)").depends(ON_ALL),
         table_x = Var::output("table.x", "m", "Table position x_t: 0 at loading, table.stroke at sewing").depends(ON_PHI),
         table_F = Var::output("table.F", "N", "Force of the perforator drive on the table along +x (towards sewing): wire into SewingTable.table.F_ext").depends(ON_ALL),
         // ---- elastodynamic level (dynamics.md)
