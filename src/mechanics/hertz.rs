@@ -1,4 +1,5 @@
-//! Hertz line contact (roller on cam or ramp), paper 002 eq. 8 and `sewing-table.md`.
+//! Hertz line contact (roller on cam or ramp), paper 002 eq. 8 and `sewing-table.md`; and the
+//! unilateral force law `F = K·δ^(10/9)` of a line contact (`dynamics.md`, Palmgren's approach).
 //!
 //! `σH = 0.418·√(q·E/ρ)`, with the load per unit length `q = F/b`, the reduced modulus
 //! `E = 2·E1·E2/(E1 + E2)` and the reduced radius `1/ρ = 1/r1 ± 1/r2` (+ for a convex
@@ -99,6 +100,44 @@ pub fn line_contact_stress(
     Ok(HERTZ_FACTOR * (q * reduced_modulus(e1, e2) * inv_rho).sqrt())
 }
 
+/// Palmgren's line-contact approach of a steel roller, `δ = 3.84e-5·Q^0.9/l^0.8` (δ in mm, Q in
+/// N, l the contact length in mm; A. Palmgren, *Ball and Roller Bearing Engineering*), in SI
+/// units: `δ = PALMGREN_SI·Q^0.9·l^-0.8`.
+pub const PALMGREN_SI: f64 = 3.84e-5 * 1e-3 * 0.003_981_071_705_534_972; // × 1000^-0.8
+
+/// The modulus Palmgren's constant holds for (steel), Pa.
+pub const PALMGREN_E: f64 = 2.1e11;
+
+/// Stiffness constant `K` of the unilateral Hertz line contact `F = K·δ^(10/9)` (`dynamics.md`:
+/// "force ∝ penetration^(10/9)"), N/m^(10/9): Palmgren's approach inverted,
+/// `K = b^(8/9)·PALMGREN_SI^(-10/9)`, scaled to other materials by the reduced modulus
+/// (`δ` depends on the load through `Q/(E·b)`): `K·E/PALMGREN_E`.
+pub fn line_contact_stiffness(b: f64, e1: f64, e2: f64) -> f64 {
+    reduced_modulus(e1, e2) / PALMGREN_E * b.powf(8.0 / 9.0) * PALMGREN_SI.powf(-10.0 / 9.0)
+}
+
+/// Force of the Hertz line contact at penetration `pen` (m): `K·pen^(10/9)`, 0 when `pen ≤ 0`
+/// (the contact cannot pull); with `dF/dpen`.
+#[inline]
+pub fn line_contact_force(k: f64, pen: f64) -> (f64, f64) {
+    if pen > 0.0 {
+        let p19 = pen.powf(1.0 / 9.0);
+        (k * pen * p19, 10.0 / 9.0 * k * p19)
+    } else {
+        (0.0, 0.0)
+    }
+}
+
+/// Elastic energy stored in the Hertz line contact at penetration `pen`: `9/19·K·pen^(19/9)`, J.
+#[inline]
+pub fn line_contact_energy(k: f64, pen: f64) -> f64 {
+    if pen > 0.0 {
+        9.0 / 19.0 * k * pen.powf(19.0 / 9.0)
+    } else {
+        0.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -185,5 +224,24 @@ mod tests {
             line_contact_stress(0.0, 0.01, 2e11, 2e11, 0.015, 0.1, Surface::Convex),
             Ok(0.0)
         );
+    }
+    /// Palmgren's formula by hand: a 10 mm steel roller under 1000 N approaches by
+    /// 3.84e-5·1000^0.9/10^0.8 = 3.84e-5·501.19/6.3096 = 3.0503e-3 mm; the force law gives the
+    /// load back, its slope is 10/9·F/δ, its energy the integral of the force.
+    #[test]
+    fn palmgren_line_contact_force_law() {
+        let k = line_contact_stiffness(0.010, 2.1e11, 2.1e11);
+        let d = 3.0503e-6;
+        let (f, df) = line_contact_force(k, d);
+        assert_relative_eq!(f, 1000.0, max_relative = 2e-4);
+        assert_relative_eq!(df, 10.0 / 9.0 * f / d, max_relative = 1e-12);
+        assert_eq!(line_contact_force(k, -1e-6), (0.0, 0.0));
+        // the energy's derivative is the force
+        let h = 1e-12;
+        let de = (line_contact_energy(k, d + h) - line_contact_energy(k, d - h)) / (2.0 * h);
+        assert_relative_eq!(de, f, max_relative = 1e-5);
+        // a softer material: the same load needs more approach
+        let k2 = line_contact_stiffness(0.010, 2.1e11, 1.1e11);
+        assert!(k2 < k);
     }
 }

@@ -4,6 +4,7 @@
 
 #[cfg(feature = "tools")]
 pub mod docs;
+pub mod elastic;
 pub mod model;
 pub mod physics;
 

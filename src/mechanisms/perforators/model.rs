@@ -7,12 +7,15 @@
 //! with a `logWarning` naming the shaft angle where it starts). The step is sampled at most
 //! 0.25° of shaft angle apart, the shaft extrapolated from its inputs (`φ + ω·τ + ε·τ²/2`).
 
+use super::elastic::{Contact, ContactLaw, LeverOde, N_EVENTS, Peaks, Track};
 use super::physics::{Drive, Mode, Params};
 use crate::mechanics::cyclogram::Phase;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
+use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use std::cell::Cell;
 use std::f64::consts::TAU;
 
 /// `synth.mode`.
@@ -40,8 +43,10 @@ pub mod stage {
     pub const WATCH: Stages = Stages::bit(2);
     /// [`super::STAGES`]`[3]`.
     pub const SYNTHESIS: Stages = Stages::bit(3);
+    /// [`super::STAGES`]`[4]`.
+    pub const ELASTIC: Stages = Stages::bit(4);
     /// What the loads, masses and spring feed.
-    pub const LOADS: Stages = FORCES.or(HERTZ).or(WATCH);
+    pub const LOADS: Stages = FORCES.or(HERTZ).or(WATCH).or(ELASTIC);
 }
 
 /// The stages of [`stage`], in bit order.
@@ -49,21 +54,21 @@ pub static STAGES: &[Stage] = &[
     Stage {
         name: "forces",
         description: "Kinetostatic force analysis: piercing load, carriage inertia and guide friction, rod, lever with spring and hinge friction, ramp contact force, table reaction, shaft torque",
-        levels: &[Fidelity::Kinetostatic],
+        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
         requires: Stages::NONE,
         always: false,
     },
     Stage {
         name: "hertz",
         description: "Hertz contact stress roller - ramp (paper 002 eq. 8)",
-        levels: &[Fidelity::Kinetostatic],
+        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
         requires: stage::FORCES,
         always: false,
     },
     Stage {
         name: "contact_watch",
         description: "Inside fmi2DoStep, the ramp contact force sampled every 0.25 deg of shaft angle: lift-off detection and warning, smallest force per turn",
-        levels: &[Fidelity::Kinetostatic],
+        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
         requires: stage::FORCES,
         always: false,
     },
@@ -78,7 +83,27 @@ pub static STAGES: &[Stage] = &[
         requires: Stages::NONE,
         always: false,
     },
+    Stage {
+        name: "elastic",
+        description: "The ODE of the lever on the ramp through the unilateral contact (lift-off and landing), integrated inside fmi2DoStep",
+        levels: &[Fidelity::Elastodynamic],
+        requires: Stages::NONE,
+        always: true,
+    },
 ];
+
+/// `contact.law`.
+pub static CONTACT_LAW: EnumType = EnumType {
+    name: "ContactLaw",
+    description: "Force law of the unilateral ramp contact (dynamics.md)",
+    items: &[
+        (
+            "hertz",
+            "Hertz line contact K*pen^(10/9), K from roller.b and the moduli (Palmgren)",
+        ),
+        ("linear", "linear spring contact.k*pen"),
+    ],
+};
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 100.0, torque_needs = stage::FORCES) {
@@ -146,12 +171,39 @@ crate::model_variables! {
         perforators_F_inertia = Var::output("perforators.F_inertia", "N", "Inertia force of the carriage along its line, incl. the table's acceleration (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         rod_F = Var::output("rod.F", "N", "Rod force, compression positive (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         spring_M = Var::output("spring.M", "N.m", "Spring moment on the lever, -(M0 + kt*gamma) (kinetostatic level)").depends(ON_PHI).needs(stage::FORCES),
-        roller_F = Var::output("roller.F", "N", "Contact force the ramp must push the roller with; < 0: the spring cannot hold it (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        roller_F = Var::output("roller.F", "N", "Contact force the ramp must push the roller with; < 0: the spring cannot hold it (kinetostatic level; at the elastodynamic level the dynamic force elastic.F, >= 0)").depends(ON_ALL).needs(stage::FORCES),
         roller_sigma_H = Var::output("roller.sigma_H", "Pa", "Hertz stress roller - ramp, paper 002 eq. 8 (kinetostatic level)").depends(ON_ALL).needs(stage::HERTZ),
-        roller_lost_contact = Var::bool_output("roller.lost_contact", "True if the ramp would have to pull the roller now or during the last communication step (kinetostatic level)").depends(ON_ALL).needs(stage::WATCH),
-        roller_F_margin = Var::output("roller.F_margin", "N", "Smallest contact force over the last completed shaft turn (during the first turn: so far) (kinetostatic level)").depends(ON_ALL).needs(stage::WATCH),
+        roller_lost_contact = Var::bool_output("roller.lost_contact", "True if the ramp would have to pull the roller now or during the last communication step (kinetostatic level; elastodynamic: the roller is off the ramp now or lifted off during the last step)").depends(ON_ALL).needs(stage::WATCH),
+        roller_F_margin = Var::output("roller.F_margin", "N", "Smallest contact force over the last completed shaft turn (during the first turn: so far) (kinetostatic level; elastodynamic: of elastic.F, 0 when the roller lifted off)").depends(ON_ALL).needs(stage::WATCH),
         table_x = Var::output("table.x", "m", "Table position x_t: 0 at loading, table.stroke at sewing").depends(ON_PHI),
         table_F = Var::output("table.F", "N", "Force of the perforator drive on the table along +x (towards sewing): wire into SewingTable.table.F_ext").depends(ON_ALL).needs(stage::FORCES),
+        // ---- elastodynamic level (dynamics.md)
+        contact_law = Var::enum_parameter("contact.law", &CONTACT_LAW, "hertz", "Ramp contact force law of the elastodynamic level: hertz K*pen^(10/9) or linear contact.k*pen, both with damping contact.c and never pulling").feeds(stage::ELASTIC),
+        contact_k = Var::parameter("contact.k", 1e8, "N/m", "Stiffness of the linear contact law (elastodynamic level; assumption)").min(1.0).feeds(stage::ELASTIC),
+        contact_c = Var::parameter("contact.c", 3400.0, "N.s/m", "Damping of the ramp contact on the penetration rate, c*d(pen)/dt (elastodynamic level; assumption: 5 % of critical, 2*0.05*sqrt(k*m_red), with the Hertz law's stiffness 3.0e8 N/m at the spring's preload of 150 N and m_red = 3.83 kg)").min(0.0).feeds(stage::ELASTIC),
+        solver_method = crate::solver::vars::method().feeds(stage::ELASTIC),
+        solver_rtol = crate::solver::vars::rtol().feeds(stage::ELASTIC),
+        solver_atol = crate::solver::vars::atol().feeds(stage::ELASTIC),
+        solver_max_step = crate::solver::vars::max_step().feeds(stage::ELASTIC),
+        contact_K_hertz = Var::calculated("contact.K_hertz", "", "K of the Hertz law F = K*pen^(10/9), in N/m^(10/9) (no FMI unit: fractional exponent), from roller.b, ramp.E, roller.E (Palmgren's line contact)"),
+        contact_m_red = Var::calculated("contact.m_red", "kg", "Effective mass of lever and carriage at the roller along the ramp normal, lowest position: contact.c = 2*zeta*sqrt(k*m_red) gives a damping ratio zeta"),
+        lever_gamma_kin = Var::output("lever.gamma_kin", "rad", "Rigid reference of the lever rotation (equals lever.gamma at the rigid levels)").depends(ON_PHI),
+        elastic_deflection = Var::output("elastic.deflection", "rad", "Lever deflection lever.gamma_kin - lever.gamma: > 0 pressed into the ramp, < 0 lifted off (elastodynamic level; a state)").needs(stage::ELASTIC),
+        contact_pen = Var::output("contact.penetration", "m", "Penetration of the roller into the ramp along its normal; < 0: the gap of a lifted roller (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
+        elastic_F = Var::output("elastic.F", "N", "Dynamic contact force of the ramp on the roller, >= 0 (elastodynamic level; equals roller.F there)").depends(ON_PHI_W).needs(stage::ELASTIC),
+        roller_F_kin = Var::output("roller.F_kin", "N", "Kinetostatic contact force on the rigid motion, the reference of elastic.F (elastodynamic level)").depends(ON_ALL).needs(stage::FORCES),
+        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak elastic.F over the peak |kinetostatic contact force| of the last complete shaft turn (the running one until a turn is complete; elastodynamic level)").needs(stage::ELASTIC),
+        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller lifted off the ramp (elastodynamic level)").needs(stage::ELASTIC),
+        contact_F_impact = Var::output("contact.F_impact", "N", "Largest contact force in the first compression after a landing of the roller (elastodynamic level)").needs(stage::ELASTIC),
+        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)").needs(stage::ELASTIC),
+        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)").feeds(stage::ELASTIC),
+        // ---- Model Exchange states of the elastodynamic level and their derivatives
+        elastic_q = Var::local("elastic.q", "rad", "State: lever deflection from its rigid rotation, lever.gamma_kin - lever.gamma (elastodynamic level)").needs(stage::ELASTIC),
+        elastic_qd = Var::local("elastic.qd", "rad/s", "State: rate of the lever deflection (elastodynamic level)").needs(stage::ELASTIC),
+        elastic_W = Var::local("elastic.W", "J", "State: work of friction, piercing, table inertia, contact damping and the moving ramp (for the energy balance)").needs(stage::ELASTIC),
+        der_elastic_q = Var::local("der(elastic.q)", "rad/s", "Derivative of elastic.q").derivative_of(V::elastic_q as u32).needs(stage::ELASTIC),
+        der_elastic_qd = Var::local("der(elastic.qd)", "rad/s2", "Derivative of elastic.qd").derivative_of(V::elastic_qd as u32).needs(stage::ELASTIC),
+        der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32).needs(stage::ELASTIC),
     }
 }
 
@@ -185,10 +237,163 @@ impl Default for CycleState {
     }
 }
 
+/// What the elastodynamic level carries between steps.
+#[derive(Clone, Debug, PartialEq)]
+struct Dynamic {
+    contact: Contact,
+    /// The lever angles the linkage works in.
+    range: (f64, f64),
+    integ: Integrator,
+    started: bool,
+    /// `[q, q̇, W]`, q the lever's deflection from its rigid rotation.
+    y: [f64; 3],
+    e0: f64,
+    track: Track,
+    /// The roller lifted off during the last communication step.
+    lost_step: bool,
+    /// Model Exchange: the event indicators just after the last event (or at the start): the
+    /// contact mode the host's integration is in.
+    g_prev: Vec<f64>,
+}
+
+impl Dynamic {
+    const STATE_LEN: usize = 21;
+
+    fn ode<'a>(&self, d: &'a Drive, path: ShaftPath) -> LeverOde<'a> {
+        LeverOde {
+            d,
+            contact: self.contact,
+            path,
+            track: Cell::new(self.track),
+            range: self.range,
+            out_of_range: Cell::new(f64::NAN),
+        }
+    }
+
+    fn start(&mut self, d: &Drive, path: ShaftPath) {
+        let ode = self.ode(d, path);
+        self.y = ode.initial_state(path.t0);
+        self.e0 = ode.energy(&ode.point(path.t0, &self.y));
+        self.track = Track::new(path.cycle(path.t0));
+        self.lost_step = false;
+        self.started = true;
+    }
+
+    fn save(&self) -> Vec<f64> {
+        let h = self.integ.save();
+        let t = &self.track;
+        vec![
+            self.started as i32 as f64,
+            self.y[0],
+            self.y[1],
+            self.y[2],
+            self.e0,
+            t.peaks.cycle,
+            t.peaks.dyn_max,
+            t.peaks.rigid_max,
+            t.peaks.dyn_min,
+            t.k_d,
+            t.last_min,
+            t.liftoffs,
+            t.lift_phi,
+            t.impact,
+            t.landed as i32 as f64,
+            h[0],
+            h[1],
+            self.integ.stats.steps as f64,
+            self.integ.stats.events as f64,
+            self.lost_step as i32 as f64,
+            self.integ.stats.rejected as f64,
+        ]
+    }
+
+    fn restore(&mut self, s: &[f64]) -> Result<(), String> {
+        if s.len() != Self::STATE_LEN {
+            return Err(format!(
+                "elastodynamic state has {} numbers, expected {}",
+                s.len(),
+                Self::STATE_LEN
+            ));
+        }
+        self.started = s[0] != 0.0;
+        self.y = [s[1], s[2], s[3]];
+        self.e0 = s[4];
+        self.track = Track {
+            peaks: Peaks {
+                cycle: s[5],
+                dyn_max: s[6],
+                rigid_max: s[7],
+                dyn_min: s[8],
+            },
+            k_d: s[9],
+            last_min: s[10],
+            liftoffs: s[11],
+            lift_phi: s[12],
+            impact: s[13],
+            landed: s[14] != 0.0,
+        };
+        self.integ.restore(&s[15..17]);
+        self.integ.stats.steps = s[17] as usize;
+        self.integ.stats.events = s[18] as usize;
+        self.lost_step = s[19] != 0.0;
+        self.integ.stats.rejected = s[20] as usize;
+        self.g_prev.clear();
+        Ok(())
+    }
+}
+
+/// The solver settings from the `solver.*` parameters.
+pub fn solver_settings(v: &Values<V>) -> Settings {
+    Settings {
+        method: Method::from_value(v.int(V::solver_method)),
+        rtol: v[V::solver_rtol],
+        atol: v[V::solver_atol],
+        max_step: v[V::solver_max_step],
+        ..Settings::default()
+    }
+}
+
+/// The contact of the elastodynamic level from the `contact.*` parameters.
+pub fn contact_of(d: &Drive, v: &Values<V>) -> Contact {
+    let law = if v.int(V::contact_law) == 2 {
+        ContactLaw::Linear
+    } else {
+        ContactLaw::Hertz
+    };
+    Contact::new(d, law, v[V::contact_k], v[V::contact_c])
+}
+
+/// Refuses a contact so soft that the spring's preload alone (the contact force at rest in the
+/// loading dwell) presses the roller more than a tenth of its radius into the ramp: the contact
+/// laws are laws of small penetrations, and the lever would leave its linkage.
+fn check_contact(d: &Drive, v: &Values<V>) -> Result<(), ParamError> {
+    let c = contact_of(d, v);
+    let f = d.forces(&d.kinematics(d.cyc.phi0 - 0.1, 0.0, 0.0)).roller_f;
+    let pen = c.penetration_of(f);
+    let limit = 0.1 * d.p.roller_r;
+    if pen > limit {
+        let (param, value) = match c.law {
+            ContactLaw::Linear => ("contact.k", v[V::contact_k]),
+            ContactLaw::Hertz => ("roller.b", d.p.roller_b),
+        };
+        return Err(ParamError::new(
+            param,
+            value,
+            format!(
+                "the spring's preload of {f:.1} N presses the roller {:.3} mm into the ramp, more than a tenth of roller.r ({:.3} mm): the contact is too soft for a small-penetration contact law",
+                1000.0 * pen,
+                1000.0 * limit
+            ),
+        ));
+    }
+    Ok(())
+}
+
 /// The perforator drive of paper 000 on the translating table, as an FMU model.
 pub struct Perforators {
     drive: Drive,
     state: CycleState,
+    dynamic: Option<Dynamic>,
 }
 
 impl Perforators {
@@ -250,6 +455,88 @@ impl Perforators {
         &self.drive
     }
 
+    /// The elastodynamic state for Model Exchange, started from the inputs at `time` if new.
+    fn me_dynamic(&mut self, v: &Values<V>, time: f64) -> Option<(&Drive, &mut Dynamic)> {
+        let d = self.dynamic.as_mut()?;
+        if !d.started {
+            d.start(&self.drive, shaft::path(v, time));
+        }
+        Some((&self.drive, d))
+    }
+
+    /// Outputs of the elastodynamic level; returns the shaft torque.
+    fn evaluate_dynamic(&self, v: &mut Values<V>, time: f64) -> f64 {
+        let d = self.dynamic.as_ref().expect("elastodynamic level");
+        let ode = d.ode(&self.drive, shaft::path(v, time));
+        let y = if d.started {
+            d.y
+        } else {
+            ode.initial_state(time)
+        };
+        let pt = ode.point(time, &y);
+        let k = &pt.kin;
+        let f = &pt.forces;
+        v[V::perforators_s] = k.s;
+        v[V::perforators_v] = k.v;
+        v[V::perforators_a] = k.a;
+        v[V::lever_gamma] = k.gamma;
+        v[V::lever_w] = k.gamma_w;
+        v[V::lever_a] = k.gamma_a;
+        v[V::rod_nu] = k.nu;
+        v[V::roller_rise] = k.rise;
+        v[V::ramp_theta] = k.theta;
+        v[V::pierce_Q_out] = f.pierce_q;
+        v[V::perforators_F_inertia] = f.f_inertia;
+        v[V::rod_F] = f.rod_f;
+        v[V::spring_M] = f.spring_m;
+        v[V::roller_F] = pt.f_c;
+        v[V::roller_sigma_H] = if pt.f_c > 0.0 && f.roller_f > 0.0 {
+            // Hertz stress grows with the square root of the force
+            f.sigma_h * (pt.f_c / f.roller_f).sqrt()
+        } else {
+            0.0
+        };
+        v[V::table_F] = f.table_f;
+        let lost = !(pt.pen > 0.0 && pt.f_pre > 0.0);
+        v.set_flag(V::roller_lost_contact, d.lost_step || lost);
+        let t = &d.track;
+        v[V::roller_F_margin] = if t.last_min.is_finite() {
+            t.last_min
+        } else {
+            t.peaks.dyn_min.min(pt.f_c)
+        };
+        v[V::elastic_deflection] = y[0];
+        v[V::contact_pen] = pt.pen;
+        v[V::elastic_F] = pt.f_c;
+        let f_rigid = ode.rigid_force(&pt.rigid);
+        v[V::roller_F_kin] = f_rigid;
+        v[V::dyn_factor] = if t.k_d.is_nan() {
+            let rigid_max = t.peaks.rigid_max.max(f_rigid.abs());
+            if rigid_max > 0.0 {
+                t.peaks.dyn_max.max(pt.f_c) / rigid_max
+            } else {
+                1.0
+            }
+        } else {
+            t.k_d
+        };
+        v[V::contact_liftoffs] = t.liftoffs;
+        v[V::contact_F_impact] = t.impact;
+        v[V::elastic_E_residual] = if d.started {
+            ode.energy(&pt) - d.e0 - y[2]
+        } else {
+            0.0
+        };
+        v[V::solver_steps] = d.integ.stats.steps as f64;
+        v[V::elastic_q] = y[0];
+        v[V::elastic_qd] = y[1];
+        v[V::elastic_W] = y[2];
+        v[V::der_elastic_q] = y[1];
+        v[V::der_elastic_qd] = pt.rigid.gamma_a - k.gamma_a;
+        v[V::der_elastic_W] = pt.power;
+        f.tau
+    }
+
     fn contact_force(&self, phi: f64, w: f64, eps: f64) -> f64 {
         self.drive
             .forces(&self.drive.kinematics(phi, w, eps))
@@ -271,11 +558,25 @@ impl Model for Perforators {
     const STAGES: &'static [Stage] = STAGES;
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
-        shaft::require_level(v, &[Fidelity::Kinematic, Fidelity::Kinetostatic])?;
         let drive = Self::params(v).drive()?;
+        if shaft::fidelity(v) == Fidelity::Elastodynamic {
+            check_contact(&drive, v)?;
+        }
+        let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| Dynamic {
+            contact: contact_of(&drive, v),
+            range: LeverOde::linkage_range(&drive),
+            integ: Integrator::new(solver_settings(v)),
+            started: false,
+            y: [0.0; 3],
+            e0: 0.0,
+            track: Track::new(0.0),
+            lost_step: false,
+            g_prev: Vec::new(),
+        });
         Ok(Perforators {
             drive,
             state: CycleState::default(),
+            dynamic,
         })
     }
 
@@ -291,8 +592,16 @@ impl Model for Perforators {
             v[V::perforators_stroke] = d.stroke;
             v[V::table_stroke] = d.cyc.h;
         }
+        let c = self
+            .dynamic
+            .as_ref()
+            .map(|dy| dy.contact)
+            .unwrap_or_else(|| contact_of(d, v));
+        v[V::contact_K_hertz] = Contact::new(d, ContactLaw::Hertz, c.k, c.c).k;
+        v[V::contact_m_red] = LeverOde::reduced_mass(d);
         let st = shaft::state(v, time);
         let k = d.kinematics(st.phi, st.w, st.a);
+        v[V::lever_gamma_kin] = k.gamma;
         v[V::perforators_s] = k.s;
         v[V::perforators_v] = k.v;
         v[V::perforators_a] = k.a;
@@ -305,6 +614,14 @@ impl Model for Perforators {
         // a flat stretch (the dwells) has an infinite radius: reported as RHO_FLAT
         v[V::ramp_rho] = k.rho.clamp(-RHO_FLAT, RHO_FLAT);
         v[V::table_x] = k.x_t;
+        if self.dynamic.is_some() {
+            let tau = self.evaluate_dynamic(v, time);
+            shaft::set_outputs(v, tau, st.w);
+            return;
+        }
+        v[V::elastic_deflection] = 0.0;
+        v[V::contact_pen] = 0.0;
+        v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS) {
             let f = d.forces_with(&k, v.wants(stage::HERTZ));
             v[V::pierce_Q_out] = f.pierce_q;
@@ -338,6 +655,70 @@ impl Model for Perforators {
         h: f64,
         log: &mut dyn Log,
     ) -> Result<(), String> {
+        if let Some(d) = self.dynamic.as_mut() {
+            let path = shaft::path(v, time);
+            if !d.started {
+                d.start(&self.drive, path);
+            }
+            let before = d.clone();
+            let ode = d.ode(&self.drive, path);
+            let mut y = d.y;
+            return match d.integ.integrate(&ode, time, time + h, &mut y) {
+                Ok(_) => {
+                    d.y = y;
+                    let tr = ode.track.get();
+                    let new = tr.liftoffs - d.track.liftoffs;
+                    d.lost_step = new > 0.0;
+                    if new > 0.0 {
+                        let phi = tr.lift_phi;
+                        let psi = crate::mechanics::wrap_angle(phi - self.drive.cyc.phi0);
+                        let (_, w, _) = path.at(time + h);
+                        log.log(
+                            Severity::Warning,
+                            &format!(
+                                "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn){} in the step from t = {:.6} s, {:.1} rpm (elastodynamic level; {} lift-offs so far): spring.M0 = {} N.m, spring.kt = {} N.m/rad cannot hold it on at this speed",
+                                phi.to_degrees(),
+                                psi.to_degrees(),
+                                if new > 1.0 {
+                                    format!(", the last of {new} in this step,")
+                                } else {
+                                    String::new()
+                                },
+                                time,
+                                w * 30.0 / std::f64::consts::PI,
+                                tr.liftoffs,
+                                self.drive.p.spring_m0,
+                                self.drive.p.spring_kt
+                            ),
+                        );
+                    }
+                    d.track = tr;
+                    if v.int(V::drive_mode) == 1 {
+                        // the FMU's own extrapolation of the inputs, until the host sets them
+                        let (_, w, a) = path.at(time + h);
+                        v[V::shaft_phi] = path.absolute_phi(time + h);
+                        v[V::shaft_w] = w;
+                        v[V::shaft_a] = a;
+                    }
+                    Ok(())
+                }
+                Err(why) => {
+                    *d = before;
+                    let g = ode.out_of_range.get();
+                    Err(if g.is_nan() {
+                        why
+                    } else {
+                        format!(
+                            "{why}: the lever reached {:.1} deg, outside the {:.1} .. {:.1} deg where the rod holds the carriage: at {:.0} rpm the roller is thrown that far off the ramp; lower the speed or stiffen spring.M0, spring.kt",
+                            g.to_degrees(),
+                            d.range.0.to_degrees(),
+                            d.range.1.to_degrees(),
+                            path.w * 30.0 / std::f64::consts::PI
+                        )
+                    })
+                }
+            };
+        }
         if shaft::fidelity(v) != Fidelity::Kinetostatic || !v.wants(stage::WATCH) {
             return Ok(());
         }
@@ -388,7 +769,89 @@ impl Model for Perforators {
         Ok(())
     }
 
+    const STATES: usize = 3;
+    const EVENT_INDICATORS: usize = N_EVENTS;
+
+    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
+        match self.me_dynamic(v, time) {
+            Some((_, d)) => x.copy_from_slice(&d.y),
+            None => x.fill(0.0),
+        }
+    }
+
+    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
+        if let Some((_, d)) = self.me_dynamic(v, time) {
+            d.y.copy_from_slice(x);
+        }
+    }
+
+    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
+        match self.me_dynamic(v, time) {
+            Some((drive, d)) => d.ode(drive, shaft::path(v, time)).rhs(time, &d.y, dx),
+            None => dx.fill(0.0),
+        }
+    }
+
+    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
+        match self.me_dynamic(v, time) {
+            Some((drive, d)) => d.ode(drive, shaft::path(v, time)).events(time, &d.y, z),
+            None => z.fill(1.0),
+        }
+    }
+
+    fn me_event(&mut self, v: &Values<V>, time: f64, log: &mut dyn Log) {
+        let phi0 = self.drive.cyc.phi0;
+        if let Some((drive, d)) = self.me_dynamic(v, time) {
+            let ode = d.ode(drive, shaft::path(v, time));
+            // the host stops at the root, where the crossing indicator is zero to its tolerance
+            // with either sign: the mode after the event is that of the state an instant later
+            // (an Euler step of 1 ns along the right-hand side)
+            let dt = 1e-9 * time.abs().max(1.0);
+            let mut dy = [0.0; 3];
+            ode.rhs(time, &d.y, &mut dy);
+            let y_after: Vec<f64> = d.y.iter().zip(&dy).map(|(y, f)| y + dt * f).collect();
+            let mut g = vec![0.0; N_EVENTS];
+            ode.events(time + dt, &y_after, &mut g);
+            if d.g_prev.len() == g.len() {
+                ode.on_event(time, &d.y, &d.g_prev, &g);
+                let tr = ode.track.get();
+                if tr.liftoffs > d.track.liftoffs {
+                    let phi = tr.lift_phi;
+                    log.log(
+                        Severity::Warning,
+                        &format!(
+                            "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn) at t = {time:.6} s (elastodynamic level; {} lift-offs so far)",
+                            phi.to_degrees(),
+                            crate::mechanics::wrap_angle(phi - phi0).to_degrees(),
+                            tr.liftoffs
+                        ),
+                    );
+                }
+                d.track = tr;
+            }
+            d.g_prev = g;
+        }
+    }
+
+    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
+        if let Some((drive, d)) = self.me_dynamic(v, time) {
+            let ode = d.ode(drive, shaft::path(v, time));
+            ode.on_step(time, &d.y);
+            d.track = ode.track.get();
+            // the contact mode changes at events only (a host completes its step at the root,
+            // before the event): the indicators of the mode are kept from the last event
+            if d.g_prev.is_empty() {
+                let mut g = vec![0.0; N_EVENTS];
+                ode.events(time, &d.y, &mut g);
+                d.g_prev = g;
+            }
+        }
+    }
+
     fn save_state(&self) -> Vec<f64> {
+        if let Some(d) = self.dynamic.as_ref() {
+            return d.save();
+        }
         let s = &self.state;
         vec![
             s.cycle,
@@ -400,6 +863,9 @@ impl Model for Perforators {
     }
 
     fn restore_state(&mut self, state: &[f64]) -> Result<(), String> {
+        if let Some(d) = self.dynamic.as_mut() {
+            return d.restore(state);
+        }
         match *state {
             [] => {
                 self.state = CycleState::default();

@@ -180,6 +180,8 @@ pub struct Kinematics {
     pub rise: f64,
     /// Ramp: upward unit normal (ground frame), `ramp.theta`, `ramp.rho` (profile, + convex).
     pub normal: (f64, f64),
+    /// `dn/dx_t` of that normal, 1/m (the elastodynamic level's penetration rate).
+    pub normal_x: (f64, f64),
     pub theta: f64,
     pub rho: f64,
 }
@@ -427,16 +429,26 @@ impl Drive {
     /// Ramp at x_t: upward normal, signed profile curvature radius (+ convex hill, − concave
     /// valley), and whether the profile is convex.
     pub fn ramp_geometry(&self, x_t: f64) -> ((f64, f64), f64, bool) {
+        let (n, rho, convex, _) = self.ramp_frame(x_t);
+        (n, rho, convex)
+    }
+
+    /// As [`Drive::ramp_geometry`], with the normal's rate `dn/dx_t`: with the unit tangent
+    /// `t = C'/|C'|`, `dt/dx = (C'' − t·(t·C''))/|C'|` and `n = (t_y, −t_x)`.
+    pub fn ramp_frame(&self, x_t: f64) -> ((f64, f64), f64, bool, (f64, f64)) {
         let (_, c1, c2) = self.ramp(x_t);
         let len = dot(c1, c1).sqrt();
         let t = (c1.0 / len, c1.1 / len);
         let n = (t.1, -t.0);
+        let tc = dot(t, c2);
+        let dt = ((c2.0 - t.0 * tc) / len, (c2.1 - t.1 * tc) / len);
+        let n_x = (dt.1, -dt.0);
         let rho_pitch = len * len * len / cross(c1, c2).abs();
         let valley = dot(c2, n) > 0.0;
         if valley {
-            (n, -(rho_pitch + self.p.roller_r), false)
+            (n, -(rho_pitch + self.p.roller_r), false, n_x)
         } else {
-            (n, rho_pitch - self.p.roller_r, true)
+            (n, rho_pitch - self.p.roller_r, true, n_x)
         }
     }
 
@@ -482,7 +494,7 @@ impl Drive {
         let s_d = sx * c.dx;
         let s_dd = sxx * c.dx * c.dx + sx * c.ddx;
         let pose = self.p.carriage(g);
-        let (n, rho, _) = self.ramp_geometry(c.x);
+        let (n, rho, _, n_x) = self.ramp_frame(c.x);
         let (_, r1, _) = self.p.roller(g);
         let l4 = self.p.lambda4 * self.p.unit;
         let tr = (r1.0 / l4, r1.1 / l4);
@@ -503,6 +515,7 @@ impl Drive {
             nu: pose.sin_nu.asin(),
             rise: l4 * (self.p.gamma1.cos() - (self.p.gamma1 + g).cos()),
             normal: n,
+            normal_x: n_x,
             theta: cross(tr, n).atan2(dot(tr, n)),
             rho,
         }
@@ -543,12 +556,23 @@ impl Drive {
 
     /// As [`Drive::forces`]; with `hertz` false the Hertz stress is not computed (`sigma_h` 0).
     pub fn forces_with(&self, k: &Kinematics, hertz: bool) -> Forces {
+        self.forces_full(k, sgn(k.v), sgn(k.gamma_w), hertz)
+    }
+
+    /// As [`Drive::forces`], with the directions of the friction and piercing loads given: `sv`
+    /// of the perforators' motion, `sw` of the lever's (the elastodynamic level takes them from
+    /// the rigid motion, `elastic.rs`).
+    pub fn forces_dir(&self, k: &Kinematics, sv: f64, sw: f64) -> Forces {
+        self.forces_full(k, sv, sw, true)
+    }
+
+    /// [`Drive::forces_dir`] with the Hertz stress optional (`sigma_h` 0 without it).
+    fn forces_full(&self, k: &Kinematics, sv: f64, sw: f64, hertz: bool) -> Forces {
         let p = &self.p;
         let m = p.perf_m;
         let g = STANDARD_GRAVITY;
         let (sa, ca) = p.alpha.sin_cos();
-        let sv = sgn(k.v);
-        let qt = self.pierce_load(k.s, k.v, k.phase);
+        let qt = self.pierce_load(k.s, sv, k.phase);
         // carriage along u
         let (a, a1, _) = p.joint_a(k.gamma);
         let pose = p.carriage(k.gamma);
@@ -574,7 +598,6 @@ impl Drive {
         let bu = self.line.u();
         let e1 = ((pose.ds * bu.0 - a1.0) / l1, (pose.ds * bu.1 - a1.1) / l1);
         let th = cross(e, e1);
-        let sw = sgn(k.gamma_w);
         let mut joint_m = 0.0;
         let mut fc = 0.0;
         for _ in 0..4 {

@@ -1,0 +1,510 @@
+//! Elastodynamic level of the perforator drive (`dynamics.md`, Perforators bullet): the lever
+//! rotation Δγ is the degree of freedom, its inertia the lever's `lever.J` plus the carriage
+//! reduced to it (`J_eff = J + m·s'(Δγ)²`, as the kinetostatic level's rod and carriage balance
+//! has it), closed on the fixed ramp by spring 13 through a **unilateral** contact.
+//!
+//! The table is rigid and moves with the shaft (`x_t(φ)` of the cyclogram). At table position
+//! x_t the roller centre can only move on its circle about the pivot O1, which crosses the ramp's
+//! pitch curve at the rigid lever angle Δγ_r(x_t); the penetration of the roller into the ramp
+//! along the ramp's upward normal n at that point is
+//!
+//! `δ = n·(R(Δγ_r) − R(Δγ))`  (> 0: pressed in; < 0: lifted off by −δ),
+//!
+//! its rate `δ̇ = ṅ·(R(Δγ_r) − R(Δγ)) + a_r·Δγ̇_r − a·Δγ̇` with the lever arms of the normal
+//! `a = n·R'(Δγ)` and `ṅ = dn/dx_t·ẋ_t` (the contact point moves along the ramp with the table). Contact force
+//! (`contact.law`): Hertz line contact `K·δ^(10/9)` ([`crate::mechanics::hertz`], K from the
+//! roller width and moduli) or linear `contact.k·δ`, plus the damping `contact.c·δ̇`, and never
+//! pulling: `F_c = max(0, F_el(δ) + c·δ̇)` for δ > 0, 0 otherwise. The lever's angular
+//! acceleration follows from the kinetostatic level's own balance
+//! ([`super::physics::Drive::forces_dir`], rod, carriage, spring, gravity, piercing, guide and
+//! hinge friction, the table's acceleration) solved for Δγ̈ with the contact force given. The
+//! friction and piercing loads take their directions from the rigid motion (assumption, as in
+//! the Geneva drive: the lever's ringing does not reverse the sliding; no chattering at rest).
+//!
+//! Energy balance: `E = ½·J_eff·Δγ̇² + M0·Δγ + ½·kt·Δγ² + m·g·cos α·s + V_c(δ)` in the table
+//! frame, and W the work of friction, piercing, the table's inertial force on the carriage, the
+//! contact damping and the moving ramp (`F_el·(δ̇ + a·Δγ̇)`): `E − E0 − W` is the integration's
+//! residual. States `y = [q, q̇, W]` with the deflection `q = Δγ_r − Δγ` from the rigid rotation
+//! (not Δγ itself: a stiff contact's force then stays continuous through the implicit method's
+//! Newton iterates, which start from a constant state while the ramp moves on).
+//!
+//! Events: the four cyclogram phase boundaries, contact opening and closing (δ = 0), the contact
+//! force reaching zero while pressed in (released by the damping), the rigid lever velocity's
+//! sign (friction and piercing direction), and the piercing load's corners (`pierce.s_in`, their
+//! middle, `pierce.s_out`, at the elastic needle position).
+
+#![allow(clippy::neg_cmp_op_on_partial_ord)]
+
+use super::physics::{Drive, Forces, Kinematics};
+use crate::mechanics::hertz::{line_contact_energy, line_contact_force, line_contact_stiffness};
+use crate::mechanics::{STANDARD_GRAVITY, sgn};
+use crate::solver::{OdeSystem, ShaftPath};
+use std::cell::Cell;
+use std::f64::consts::TAU;
+
+/// `contact.law`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum ContactLaw {
+    /// Hertz line contact, `F = K·δ^(10/9)`.
+    Hertz = 1,
+    /// Linear spring `contact.k·δ`.
+    Linear = 2,
+}
+
+/// The contact: law, its stiffness constant (K in N/m^(10/9) for Hertz, N/m for linear), the
+/// damping `contact.c`, N·s/m.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Contact {
+    pub law: ContactLaw,
+    pub k: f64,
+    pub c: f64,
+}
+
+impl Contact {
+    /// The contact of a drive: Hertz takes K from `roller.b`, `ramp.E`, `roller.E`.
+    pub fn new(d: &Drive, law: ContactLaw, k_linear: f64, c: f64) -> Contact {
+        let k = match law {
+            ContactLaw::Hertz => {
+                line_contact_stiffness(d.p.roller_b, d.p.ramp_e_mod, d.p.roller_e_mod)
+            }
+            ContactLaw::Linear => k_linear,
+        };
+        Contact { law, k, c }
+    }
+
+    /// Elastic force at penetration δ and its slope.
+    #[inline]
+    pub fn elastic(&self, pen: f64) -> (f64, f64) {
+        match self.law {
+            ContactLaw::Hertz => line_contact_force(self.k, pen),
+            ContactLaw::Linear if pen > 0.0 => (self.k * pen, self.k),
+            ContactLaw::Linear => (0.0, 0.0),
+        }
+    }
+
+    /// Elastic energy at penetration δ.
+    pub fn energy(&self, pen: f64) -> f64 {
+        match self.law {
+            ContactLaw::Hertz => line_contact_energy(self.k, pen),
+            ContactLaw::Linear if pen > 0.0 => 0.5 * self.k * pen * pen,
+            ContactLaw::Linear => 0.0,
+        }
+    }
+
+    /// Penetration at which the elastic force is `f` (≥ 0).
+    pub fn penetration_of(&self, f: f64) -> f64 {
+        if !(f > 0.0 && self.k > 0.0) {
+            return 0.0;
+        }
+        match self.law {
+            ContactLaw::Hertz => (f / self.k).powf(0.9),
+            ContactLaw::Linear => f / self.k,
+        }
+    }
+}
+
+/// Per-turn tracking over accepted steps.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Peaks {
+    /// Index of the shaft turn.
+    pub cycle: f64,
+    /// Peak dynamic contact force, peak |kinetostatic contact force|, smallest dynamic force.
+    pub dyn_max: f64,
+    pub rigid_max: f64,
+    pub dyn_min: f64,
+}
+
+impl Peaks {
+    pub fn new(cycle: f64) -> Peaks {
+        Peaks {
+            cycle,
+            dyn_max: 0.0,
+            rigid_max: 0.0,
+            dyn_min: f64::INFINITY,
+        }
+    }
+}
+
+/// What the ODE tracks through its steps and events (interior mutability).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Track {
+    pub peaks: Peaks,
+    /// K_d of the last complete turn (NaN: none yet).
+    pub k_d: f64,
+    /// Smallest dynamic contact force of the last complete turn (+inf: none yet).
+    pub last_min: f64,
+    /// Lift-offs so far, and the absolute shaft angle of the last.
+    pub liftoffs: f64,
+    pub lift_phi: f64,
+    /// Largest contact force in the first compression after a landing, N.
+    pub impact: f64,
+    /// In the first compression after a landing.
+    pub landed: bool,
+}
+
+impl Track {
+    pub fn new(cycle: f64) -> Track {
+        Track {
+            peaks: Peaks::new(cycle),
+            k_d: f64::NAN,
+            last_min: f64::INFINITY,
+            liftoffs: 0.0,
+            lift_phi: f64::NAN,
+            impact: 0.0,
+            landed: false,
+        }
+    }
+}
+
+/// The ODE of one communication step.
+pub struct LeverOde<'a> {
+    pub d: &'a Drive,
+    pub contact: Contact,
+    pub path: ShaftPath,
+    pub track: Cell<Track>,
+    /// The lever angles the linkage has a position for ([`LeverOde::linkage_range`]).
+    pub range: (f64, f64),
+    /// The first lever angle met outside that range (NaN: none), for the error message.
+    pub out_of_range: Cell<f64>,
+}
+
+/// Everything at one instant.
+#[derive(Clone, Copy, Debug)]
+pub struct Point {
+    /// Rigid kinematics (the reference) at the shaft state.
+    pub rigid: Kinematics,
+    /// Kinematics of the elastic lever (table motion as the rigid one).
+    pub kin: Kinematics,
+    /// Forces of the kinetostatic balance at the elastic state, with the dynamic contact force.
+    pub forces: Forces,
+    /// Penetration δ, m, and its rate, m/s.
+    pub pen: f64,
+    pub pen_d: f64,
+    /// Elastic contact force F_el(δ), its slope, the force before the clamp, the contact force.
+    pub f_el: f64,
+    pub k_c: f64,
+    pub f_pre: f64,
+    pub f_c: f64,
+    /// Lever arms of the normal at the elastic and the rigid lever angle, m.
+    pub arm: f64,
+    pub arm_r: f64,
+    /// Reduced inertia J + m·s'², kg·m².
+    pub j_eff: f64,
+    /// `∂Δγ̈/∂F_c` of the balance (friction included), rad/(s²·N).
+    pub ga_fc: f64,
+    /// dW/dt, W.
+    pub power: f64,
+}
+
+fn dot(a: (f64, f64), b: (f64, f64)) -> f64 {
+    a.0 * b.0 + a.1 * b.1
+}
+
+impl LeverOde<'_> {
+    /// Reduced inertia at lever angle Δγ.
+    pub fn j_eff(d: &Drive, g: f64) -> f64 {
+        let ds = d.p.carriage(g).ds;
+        d.p.lever_j + d.p.perf_m * ds * ds
+    }
+
+    /// The lever angles the linkage works in: from the lowest position down and up to where the
+    /// rod cannot hold the carriage any more (no position, or the carriage turning back), less
+    /// 0.02 rad.
+    pub fn linkage_range(d: &Drive) -> (f64, f64) {
+        let ok = |g: f64| {
+            let c = d.p.carriage(g);
+            c.s.is_finite() && c.ds > 0.0
+        };
+        let step = 1e-3;
+        let mut hi = 0.0;
+        while hi < std::f64::consts::PI && ok(hi + step) {
+            hi += step;
+        }
+        let mut lo = 0.0;
+        while lo > -std::f64::consts::PI && ok(lo - step) {
+            lo -= step;
+        }
+        (lo + 0.02, hi - 0.02)
+    }
+
+    /// Effective mass at the roller along the ramp normal in the lowest position (dwell at
+    /// loading): `J_eff/a²`, kg; `c = 2·ζ·√(k·m)` gives a damping ratio ζ.
+    pub fn reduced_mass(d: &Drive) -> f64 {
+        let k = d.kinematics(d.cyc.phi0 - 0.1, 0.0, 0.0);
+        let (_, r1, _) = d.p.roller(k.gamma);
+        let a = dot(k.normal, r1);
+        Self::j_eff(d, k.gamma) / (a * a)
+    }
+
+    pub fn point(&self, t: f64, y: &[f64]) -> Point {
+        let (phi, w, a) = self.path.at(t);
+        let rigid = self.d.kinematics(phi, w, a);
+        self.point_at(&rigid, y)
+    }
+
+    /// The kinematics of the elastic lever at Δγ, Δγ̇, Δγ̈ on the table of `rigid`.
+    fn kin_at(&self, rigid: &Kinematics, g: f64, gw: f64, ga: f64) -> Kinematics {
+        let p = &self.d.p;
+        let pose = p.carriage(g);
+        let (_, r1, _) = p.roller(g);
+        let l4 = p.lambda4 * p.unit;
+        let tr = (r1.0 / l4, r1.1 / l4);
+        let n = rigid.normal;
+        Kinematics {
+            s: pose.s - self.d.s0,
+            v: pose.ds * gw,
+            a: pose.dds * gw * gw + pose.ds * ga,
+            gamma: g,
+            gamma_w: gw,
+            gamma_a: ga,
+            nu: pose.sin_nu.asin(),
+            rise: l4 * (p.gamma1.cos() - (p.gamma1 + g).cos()),
+            theta: (tr.0 * n.1 - tr.1 * n.0).atan2(dot(tr, n)),
+            ..*rigid
+        }
+    }
+
+    pub fn point_at(&self, rigid: &Kinematics, y: &[f64]) -> Point {
+        let d = self.d;
+        let p = &d.p;
+        let (g, gw) = (rigid.gamma - y[0], rigid.gamma_w - y[1]);
+        let n = rigid.normal;
+        let (rr, rr1, _) = p.roller(rigid.gamma);
+        let (r, r1, _) = p.roller(g);
+        let arm = dot(n, r1);
+        let arm_r = dot(n, rr1);
+        let pen = dot(n, (rr.0 - r.0, rr.1 - r.1));
+        let n_t = (rigid.normal_x.0 * rigid.v_t, rigid.normal_x.1 * rigid.v_t);
+        let pen_d = dot(n_t, (rr.0 - r.0, rr.1 - r.1)) + arm_r * rigid.gamma_w - arm * gw;
+        let (f_el, k_c) = self.contact.elastic(pen);
+        let f_pre = if pen > 0.0 {
+            f_el + self.contact.c * pen_d
+        } else {
+            0.0
+        };
+        let f_c = f_pre.max(0.0);
+        // directions of friction and piercing from the rigid motion
+        let sv = sgn(rigid.v);
+        let sw = sgn(rigid.gamma_w);
+        let j_eff = Self::j_eff(d, g);
+        let outside = !(g >= self.range.0 && g <= self.range.1);
+        // the balance is affine in the lever acceleration but for the friction's corners:
+        // a Newton step with the frictionless slope J_eff/a, then secant steps
+        let resid = |ga: f64| {
+            let k = self.kin_at(rigid, g, gw, ga);
+            let f = d.forces_dir(&k, sv, sw);
+            (f.roller_f - f_c, k, f)
+        };
+        let a0 = rigid.gamma_a;
+        let (r0, mut kin, mut forces) = resid(a0);
+        let mut ga_fc = arm / j_eff;
+        if r0 != 0.0 && r0.is_finite() {
+            let (mut a0, mut r0) = (a0, r0);
+            let mut a1 = a0 - r0 * ga_fc;
+            for _ in 0..4 {
+                let (r1, k1, f1) = resid(a1);
+                kin = k1;
+                forces = f1;
+                if r1 != r0 && r1.is_finite() {
+                    ga_fc = (a1 - a0) / (r1 - r0);
+                }
+                if r1.abs() <= 1e-12 * f_c.max(1.0) || r1 == r0 || !r1.is_finite() {
+                    break;
+                }
+                let a2 = a1 - r1 * ga_fc;
+                (a0, r0) = (a1, r1);
+                a1 = a2;
+            }
+        }
+        if outside {
+            // no position of the linkage: the integrator meets a non-finite derivative and
+            // fails the step; the model names the angle
+            if self.out_of_range.get().is_nan() {
+                self.out_of_range.set(g);
+            }
+            kin.gamma_a = f64::NAN;
+        }
+        let (sa, _) = p.alpha.sin_cos();
+        let ds = p.carriage(g).ds;
+        let q_fr = forces.joint_m - ds * (forces.pierce_q + p.guide_mu * forces.guide_n) * sv;
+        let power = gw * (q_fr - p.perf_m * ds * rigid.a_t * sa)
+            + (f_c - f_el) * arm * gw
+            + f_el * (pen_d + arm * gw);
+        Point {
+            rigid: *rigid,
+            kin,
+            forces,
+            pen,
+            pen_d,
+            f_el,
+            k_c,
+            f_pre,
+            f_c,
+            arm,
+            arm_r,
+            j_eff,
+            ga_fc,
+            power,
+        }
+    }
+
+    /// Energy of lever, carriage, spring 13, weight and contact, table frame, J.
+    pub fn energy(&self, pt: &Point) -> f64 {
+        let p = &self.d.p;
+        let g = pt.kin.gamma;
+        0.5 * pt.j_eff * pt.kin.gamma_w * pt.kin.gamma_w
+            + p.spring_m0 * g
+            + 0.5 * p.spring_kt * g * g
+            + p.perf_m * STANDARD_GRAVITY * p.alpha.cos() * pt.kin.s
+            + self.contact.energy(pt.pen)
+    }
+
+    /// The lever in equilibrium on its rigid motion at time t: pressed in by the kinetostatic
+    /// contact force (on the ramp without force if that is negative), at the rigid normal speed.
+    pub fn initial_state(&self, t: f64) -> [f64; 3] {
+        let (phi, w, a) = self.path.at(t);
+        let rigid = self.d.kinematics(phi, w, a);
+        let f = self.d.forces(&rigid).roller_f;
+        let pen = self.contact.penetration_of(f);
+        let p = &self.d.p;
+        let n = rigid.normal;
+        let (rr, rr1, _) = p.roller(rigid.gamma);
+        let arm_r = dot(n, rr1);
+        // Newton on n·(R(Δγ_r) − R(Δγ_r − q)) = δ
+        let mut q = pen / arm_r;
+        for _ in 0..3 {
+            let (r, r1, _) = p.roller(rigid.gamma - q);
+            q -= (dot(n, (rr.0 - r.0, rr.1 - r.1)) - pen) / dot(n, r1);
+        }
+        let (_, r1, _) = p.roller(rigid.gamma - q);
+        let arm = dot(n, r1);
+        [q, rigid.gamma_w * (1.0 - arm_r / arm), 0.0]
+    }
+
+    /// Kinetostatic (rigid) contact force at time t.
+    pub fn rigid_force(&self, rigid: &Kinematics) -> f64 {
+        self.d.forces(rigid).roller_f
+    }
+
+    fn boundaries(&self) -> [f64; 4] {
+        let c = &self.d.cyc;
+        let b0 = c.phi0;
+        [
+            b0,
+            b0 + c.forward,
+            b0 + c.forward + c.dwell_far,
+            b0 + c.forward + c.dwell_far + c.ret,
+        ]
+    }
+
+    /// In contact for the event functions `g`: pressed in, and pressing.
+    pub fn in_contact(g: &[f64]) -> bool {
+        g[4] > 0.0 && g[5] > 0.0
+    }
+}
+
+/// Number of event functions.
+pub const N_EVENTS: usize = 10;
+
+impl OdeSystem for LeverOde<'_> {
+    fn dim(&self) -> usize {
+        3
+    }
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        let pt = self.point(t, y);
+        dy[0] = y[1];
+        dy[1] = pt.rigid.gamma_a - pt.kin.gamma_a;
+        dy[2] = pt.power;
+    }
+    fn jacobian(&self, t: f64, y: &[f64], j: &mut [f64]) {
+        // the contact (the stiff part) through the balance's own ∂Δγ̈/∂F_c; spring 13 and the
+        // arm's turning; the linkage's slow terms left out
+        // (q̈ = Δγ̈_r − Δγ̈ and Δγ = Δγ_r − q: ∂q̈/∂q = ∂Δγ̈/∂Δγ, ∂q̈/∂q̇ = ∂Δγ̈/∂Δγ̇)
+        let pt = self.point(t, y);
+        let p = &self.d.p;
+        let (_, _, r2) = p.roller(pt.kin.gamma);
+        let arm_g = dot(pt.rigid.normal, r2);
+        let mut dg = (pt.f_c * arm_g - p.spring_kt) / pt.j_eff;
+        let mut dw = 0.0;
+        if pt.f_pre > 0.0 {
+            let c = self.contact.c;
+            let (_, r1, _) = p.roller(pt.kin.gamma);
+            let n_x = pt.rigid.normal_x;
+            let n_t_r1 = (n_x.0 * r1.0 + n_x.1 * r1.1) * pt.rigid.v_t;
+            dg += pt.ga_fc * (-pt.k_c * pt.arm - c * (arm_g * pt.kin.gamma_w + n_t_r1));
+            dw = pt.ga_fc * (-c * pt.arm);
+        }
+        j.copy_from_slice(&[0.0, 1.0, 0.0, dg, dw, 0.0, 0.0, 0.0, 0.0]);
+    }
+    fn n_events(&self) -> usize {
+        N_EVENTS
+    }
+    fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
+        let (phi, w, a) = self.path.at(t);
+        let abs_phi = phi + self.path.turns * TAU;
+        for (i, b) in self.boundaries().iter().enumerate() {
+            g[i] = ((abs_phi - b) * 0.5).sin();
+        }
+        let rigid = self.d.kinematics(phi, w, a);
+        let p = &self.d.p;
+        let n = rigid.normal;
+        let (g_el, w_el) = (rigid.gamma - y[0], rigid.gamma_w - y[1]);
+        let (rr, rr1, _) = p.roller(rigid.gamma);
+        let (r, r1, _) = p.roller(g_el);
+        let pen = dot(n, (rr.0 - r.0, rr.1 - r.1));
+        g[4] = pen;
+        g[5] = if pen > 0.0 {
+            let n_t = (rigid.normal_x.0 * rigid.v_t, rigid.normal_x.1 * rigid.v_t);
+            let pen_d = dot(n_t, (rr.0 - r.0, rr.1 - r.1)) + dot(n, rr1) * rigid.gamma_w
+                - dot(n, r1) * w_el;
+            self.contact.elastic(pen).0 + self.contact.c * pen_d
+        } else {
+            1.0
+        };
+        g[6] = rigid.gamma_w;
+        let q = (p.carriage(g_el).s - self.d.s0) / self.d.stroke;
+        g[7] = q - p.pierce_s_in;
+        g[8] = q - 0.5 * (p.pierce_s_in + p.pierce_s_out);
+        g[9] = q - p.pierce_s_out;
+    }
+    fn on_event(&self, t: f64, _y: &[f64], before: &[f64], after: &[f64]) {
+        let mut tr = self.track.get();
+        match (Self::in_contact(before), Self::in_contact(after)) {
+            (true, false) => {
+                tr.liftoffs += 1.0;
+                tr.lift_phi = self.path.absolute_phi(t);
+                tr.landed = false;
+            }
+            (false, true) => tr.landed = true,
+            _ => {}
+        }
+        self.track.set(tr);
+    }
+    fn error_weight(&self, i: usize) -> f64 {
+        if i == 2 { 0.0 } else { 1.0 }
+    }
+    fn on_step(&self, t: f64, y: &[f64]) {
+        let pt = self.point(t, y);
+        let mut tr = self.track.get();
+        if tr.landed {
+            tr.impact = tr.impact.max(pt.f_c);
+            if pt.pen_d < 0.0 {
+                tr.landed = false; // past the largest compression
+            }
+        }
+        let f_rigid = self.rigid_force(&pt.rigid).abs();
+        let cyc = self.path.cycle(t);
+        if cyc != tr.peaks.cycle {
+            if tr.peaks.rigid_max > 0.0 {
+                tr.k_d = tr.peaks.dyn_max / tr.peaks.rigid_max;
+            }
+            tr.last_min = tr.peaks.dyn_min;
+            tr.peaks = Peaks::new(cyc);
+        }
+        let pk = &mut tr.peaks;
+        pk.dyn_max = pk.dyn_max.max(pt.f_c);
+        pk.rigid_max = pk.rigid_max.max(f_rigid);
+        pk.dyn_min = pk.dyn_min.min(pt.f_c);
+        self.track.set(tr);
+    }
+}
