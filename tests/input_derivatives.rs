@@ -37,6 +37,17 @@ enum Host {
 /// speed, `phi(t) = w0*t + alpha*t^2/2`.
 const ALPHA: f64 = 12.0;
 
+/// The run-up's acceleration for one FMU: Perforators' roller lifts off above 113.6 rpm and is
+/// thrown off its linkage near 160 rpm (a Discard), so its run-up over the 2 s stays below
+/// 140 rpm.
+fn alpha(e: &Entry) -> f64 {
+    if e.identifier == "Perforators" {
+        2.0
+    } else {
+        ALPHA
+    }
+}
+
 /// Parameters changed from their defaults for this run-up: DiscKnifeDrive's default support
 /// friction self-locks slider 7 near 180 deg (see `sliders.locked`); without it the forces
 /// compared stay regular.
@@ -58,9 +69,10 @@ fn run(f: &Fmu, e: &Entry, host: Host, h: f64, n: usize) -> Vec<Vec<f64>> {
         vr_of(e, "shaft.a"),
     );
     let w0 = s.get_real(&[w]).1[0];
-    let at = |t: f64| (w0 * t + 0.5 * ALPHA * t * t, w0 + ALPHA * t);
+    let alpha = alpha(e);
+    let at = |t: f64| (w0 * t + 0.5 * alpha * t * t, w0 + alpha * t);
     if host == Host::Values {
-        assert_eq!(s.set_real(&[a], &[ALPHA]), Status::Ok);
+        assert_eq!(s.set_real(&[a], &[alpha]), Status::Ok);
     }
     assert_eq!(s.call0("fmi2ExitInitializationMode"), Status::Ok);
     // every Real output: positions, forces, the elastodynamic ones (whatever the FMU names them)
@@ -75,18 +87,18 @@ fn run(f: &Fmu, e: &Entry, host: Host, h: f64, n: usize) -> Vec<Vec<f64>> {
         let (p, wt) = at(t);
         let ok = |st: Status, what: &str| assert_eq!(st, Status::Ok, "{what}: {:?}", s.logs());
         match host {
-            Host::Values => ok(s.set_real(&[phi, w, a], &[p, wt, ALPHA]), "values"),
+            Host::Values => ok(s.set_real(&[phi, w, a], &[p, wt, alpha]), "values"),
             Host::PhiDerivatives => {
                 ok(s.set_real(&[phi], &[p]), "phi");
                 ok(
-                    s.set_input_derivatives(&[phi, phi], &[1, 2], &[wt, ALPHA]),
+                    s.set_input_derivatives(&[phi, phi], &[1, 2], &[wt, alpha]),
                     "derivatives",
                 );
             }
             Host::PhiAndWDerivatives => {
                 // derivatives first, then the value: the order does not matter
                 ok(
-                    s.set_input_derivatives(&[phi, w], &[1, 1], &[wt, ALPHA]),
+                    s.set_input_derivatives(&[phi, w], &[1, 1], &[wt, alpha]),
                     "derivatives",
                 );
                 ok(s.set_real(&[phi], &[p]), "phi");
