@@ -69,5 +69,13 @@ pub fn all() -> Vec<Entry> {
             variables: variables_of::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
             documentation: crate::mechanisms::disc_knife_drive::docs::documentation,
         },
+        Entry {
+            identifier: "MainShaft",
+            package: "main-shaft-fmu",
+            describe: crate::md::describe::<crate::mechanisms::main_shaft::MainShaft>,
+            info: ModelInfo::of::<crate::mechanisms::main_shaft::MainShaft>,
+            variables: variables_of::<crate::mechanisms::main_shaft::MainShaft>,
+            documentation: crate::mechanisms::main_shaft::docs::documentation,
+        },
     ]
 }
