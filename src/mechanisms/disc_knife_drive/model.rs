@@ -7,6 +7,9 @@ use crate::model::{Experiment, Log, Model, ParamError, Severity, Values};
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 300.0) {
+        // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
+        shaft_J_red = shaft::j_red_var(ON_PHI_W),
+        shaft_tau0 = shaft::tau0_var(ON_PHI_W),
         // ---- parameters (paper 004 where it gives them, else documented assumptions)
         crank_l1 = Var::parameter("crank.l1", 0.019, "m", "Crank length l1 (assumption: paper 004 gives relative sizes only)").min(0.0),
         rod_lambda2 = Var::parameter("rod.lambda2", 2.0, "", "lambda2 = l2/l1, rod over crank (paper 004: 2)").min(1.0),
@@ -156,6 +159,8 @@ impl Model for DiscKnifeDrive {
         let k = p.kinematics(s.phi, s.w, s.a);
         Self::write_kinematics(v, &k);
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic {
+            let r = shaft::reduce(|a| p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau);
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             let f = p.kinetostatics(&k);
             Self::write_forces(v, &f);
             if f.locked && !self.was_locked {
@@ -172,6 +177,7 @@ impl Model for DiscKnifeDrive {
             self.was_locked = f.locked;
             f.shaft_tau
         } else {
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, shaft::Reduced::default());
             0.0
         };
         shaft::set_outputs(v, tau, s.w);

@@ -79,6 +79,7 @@ pub fn figures() -> Vec<Figure> {
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
     let vars = variables_of::<MainShaft>();
-    let files = crate::docs::documentation(&ModelInfo::of::<MainShaft>(), &vars, INTRO, &figures())?;
+    let files =
+        crate::docs::documentation(&ModelInfo::of::<MainShaft>(), &vars, INTRO, &figures())?;
     Ok((files, icon_png("Main shaft")?))
 }

@@ -290,7 +290,11 @@ mod tests {
         run(&mut v, &mut m, 8.0, 1e-2);
         let p = MainShaft::params(&v);
         let w_ss = p.steady_speed(30.0).unwrap();
-        assert!((v[V::shaft_w] - w_ss).abs() < 1e-6 * w_ss, "{} vs {w_ss}", v[V::shaft_w]);
+        assert!(
+            (v[V::shaft_w] - w_ss).abs() < 1e-6 * w_ss,
+            "{} vs {w_ss}",
+            v[V::shaft_w]
+        );
         assert!(v[V::shaft_a].abs() < 1e-5);
         assert!(v[V::motor_s] > 0.0 && v[V::motor_s] < v[V::motor_s_rated]);
         // the shaft turned: its angle is the integral of the speed
@@ -306,7 +310,8 @@ mod tests {
         let mut dx = [0.0; 2];
         m.me_derivatives(&v, 0.0, &mut dx);
         let p = MainShaft::params(&v);
-        let expected = (p.gear_i * p.motor.torque(p.gear_i * 5.0) - p.friction(5.0) - 12.0) / p.j_drive();
+        let expected =
+            (p.gear_i * p.motor.torque(p.gear_i * 5.0) - p.friction(5.0) - 12.0) / p.j_drive();
         assert_eq!(dx[0], 5.0);
         assert!((dx[1] - expected).abs() < 1e-12 * expected.abs());
         m.evaluate(&mut v, 0.0, &mut NoLog);

@@ -256,7 +256,8 @@ impl Params {
     /// the root of `i·M(i·ω) = M_f(ω) + τ` on the stable branch (between the breakdown speed and
     /// the synchronous speed), by bisection. `None` if the load exceeds the breakdown torque.
     pub fn steady_speed(&self, tau: f64) -> Option<f64> {
-        let net = |w: f64| self.gear_i * self.motor.torque(self.gear_i * w) - self.friction(w) - tau;
+        let net =
+            |w: f64| self.gear_i * self.motor.torque(self.gear_i * w) - self.friction(w) - tau;
         let w_break = self.motor.w_sync() * (1.0 - self.motor.s_break()) / self.gear_i;
         let (mut lo, mut hi) = (w_break.max(0.0), self.w_sync_shaft());
         if net(lo) < 0.0 || net(hi) > 0.0 {
@@ -315,7 +316,16 @@ mod tests {
         assert!((lhs - rhs).abs() < 1e-12 * rhs.abs());
         // the load torque the shaft sees includes the load's inertia torque
         assert!((pt.load_tau - (43.0 + 1.5 * pt.eps)).abs() < 1e-12);
-        assert!(p.point(w, &Load { j_red: -10.0, ..load }).is_err());
+        assert!(
+            p.point(
+                w,
+                &Load {
+                    j_red: -10.0,
+                    ..load
+                }
+            )
+            .is_err()
+        );
     }
 
     #[test]
@@ -323,10 +333,21 @@ mod tests {
         let p = Params::default();
         let w = p.steady_speed(50.0).unwrap();
         assert!(w < p.w_sync_shaft() && w > 0.9 * p.w_sync_shaft());
-        let pt = p.point(w, &Load { tau: 50.0, ..Load::default() }).unwrap();
+        let pt = p
+            .point(
+                w,
+                &Load {
+                    tau: 50.0,
+                    ..Load::default()
+                },
+            )
+            .unwrap();
         assert!(pt.eps.abs() < 1e-9);
         // more than the breakdown torque at the shaft: no steady speed
-        assert!(p.steady_speed(2.0 * p.gear_i * p.motor.tau_break()).is_none());
+        assert!(
+            p.steady_speed(2.0 * p.gear_i * p.motor.tau_break())
+                .is_none()
+        );
     }
 
     #[test]

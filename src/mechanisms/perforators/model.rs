@@ -30,6 +30,9 @@ pub static SYNTH_MODE: EnumType = EnumType {
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 100.0) {
+        // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
+        shaft_J_red = shaft::j_red_var(ON_PHI_W),
+        shaft_tau0 = shaft::tau0_var(ON_PHI_W),
         // ---- linkage synthesis (paper 000)
         synth_lambda_S = Var::parameter("synth.lambda_S", 1.0, "", "lambda_S: perforator stroke, the relative unit (paper 000: 1.0)").min(0.0),
         synth_lambda1 = Var::parameter("synth.lambda1", 1.07, "", "lambda1: rod length, relative (paper 000: 1.07)").min(0.0),
@@ -251,6 +254,8 @@ impl Model for Perforators {
         v[V::ramp_rho] = k.rho.clamp(-RHO_FLAT, RHO_FLAT);
         v[V::table_x] = k.x_t;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic {
+            let r = shaft::reduce(|a| d.forces(&d.kinematics(st.phi, st.w, a)).tau);
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             let f = d.forces(&k);
             v[V::pierce_Q_out] = f.pierce_q;
             v[V::perforators_F_inertia] = f.f_inertia;
@@ -271,6 +276,7 @@ impl Model for Perforators {
             f.tau
         } else {
             v.set_flag(V::roller_lost_contact, false);
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, shaft::Reduced::default());
             0.0
         };
         shaft::set_outputs(v, tau, st.w);
