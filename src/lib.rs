@@ -8,12 +8,15 @@
 //! - [`solver`]: the integrators of the elastodynamic level (inside `fmi2DoStep`); know no mechanism.
 //! - [`md`]: the modelDescription.xml writer and GUID, generated from those declarations.
 //! - [`fmi2`]: the FMI 2.0 C ABI runtime; knows no mechanism.
+//! - `ssp` (feature `tools`): the machines as SSP 1.0 systems of these FMUs.
 //! - `docs` (feature `tools`): the FMU's `documentation/` page, figures and icon; knows no mechanism.
 #[cfg(feature = "tools")]
 pub mod catalog;
 #[cfg(feature = "tools")]
 pub mod docs;
 pub mod fmi2;
+#[cfg(feature = "tools")]
+pub mod machines;
 pub mod md;
 pub mod mechanics;
 pub mod mechanisms;
@@ -21,3 +24,5 @@ pub mod model;
 #[cfg(feature = "tools")]
 pub mod package;
 pub mod solver;
+#[cfg(feature = "tools")]
+pub mod ssp;

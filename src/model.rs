@@ -697,7 +697,7 @@ pub mod shaft {
                 "drive.phi0",
                 0.0,
                 "rad",
-                "Shaft angle at time 0 in constant_speed mode",
+                "Phase of the mechanism on its shaft: in constant_speed mode the shaft angle at time 0; in input mode added to shaft.phi (a mechanism mounted phase-shifted on a main shaft)",
             ),
             Var::enum_parameter(
                 "model.fidelity",
@@ -716,7 +716,8 @@ pub mod shaft {
         pub a: f64,
     }
 
-    /// The shaft state at `time`: the inputs, or the constant-speed drive.
+    /// The shaft state at `time`: the inputs (the angle shifted by `drive.phi0`, the phase the
+    /// mechanism is mounted with on a main shaft), or the constant-speed drive.
     pub fn state<V: VarSet>(values: &Values<V>, time: f64) -> ShaftState {
         let raw = values.raw();
         if raw[MODE as usize] == 2.0 {
@@ -728,7 +729,7 @@ pub mod shaft {
             }
         } else {
             ShaftState {
-                phi: raw[PHI as usize],
+                phi: raw[PHI as usize] + raw[PHI0 as usize],
                 w: raw[W as usize],
                 a: raw[A as usize],
             }

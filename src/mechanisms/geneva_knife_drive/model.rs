@@ -295,7 +295,7 @@ impl Model for GenevaKnifeDrive {
                 if v.int(V::drive_mode) == 1 {
                     // the FMU's own extrapolation of the inputs, until the host sets them
                     let (_, w, a) = path.at(time + h);
-                    v[V::shaft_phi] = path.absolute_phi(time + h);
+                    v[V::shaft_phi] = path.absolute_phi(time + h) - v[V::drive_phi0];
                     v[V::shaft_w] = w;
                     v[V::shaft_a] = a;
                 }

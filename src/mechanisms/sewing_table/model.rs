@@ -345,7 +345,7 @@ impl Model for SewingTable {
         d.absorb(&ode);
         if v.int(V::drive_mode) == 1 {
             let (_, w, a) = path.at(time + h);
-            v[V::shaft_phi] = path.absolute_phi(time + h);
+            v[V::shaft_phi] = path.absolute_phi(time + h) - v[V::drive_phi0];
             v[V::shaft_w] = w;
             v[V::shaft_a] = a;
         }
