@@ -944,6 +944,35 @@ mod tests {
     }
 
     #[test]
+    fn phi0_phases_the_mechanism_on_its_shaft_in_input_mode() {
+        let mut v = Values::<T>::start();
+        v[T::shaft_phi] = 2.0;
+        v[T::shaft_w] = 3.0;
+        v[T::drive_phi0] = 0.5;
+        let s = shaft::state(&v, 7.0);
+        assert_eq!((s.phi, s.w), (2.5, 3.0));
+    }
+
+    #[test]
+    fn reduce_splits_an_affine_torque_exactly() {
+        let r = shaft::reduce(|a| 12.5 + 3.25 * a);
+        assert_eq!((r.tau0, r.j_red), (12.5, 3.25));
+        assert_eq!(r.torque(2.0), 12.5 + 6.5);
+    }
+
+    #[test]
+    fn standalone_models_have_no_common_variables() {
+        crate::model_variables! {
+            enum D (standalone) {
+                y = Var::output("shaft.phi", "rad", "y").depends(&[]),
+                u = Var::input("load.tau", 0.0, "N.m", "u"),
+            }
+        }
+        assert_eq!(D::table().len(), 2);
+        assert_eq!(D::u.vr(), 1);
+    }
+
+    #[test]
     fn settable_rules_follow_fmi2() {
         let t = T::table();
         let p = &t[T::p.vr() as usize];
