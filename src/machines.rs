@@ -260,7 +260,8 @@ mod tests {
         assert!((s.delta - 0.2).abs() < 1e-4, "{s:?}");
         assert!((s.w_mean - 10.0).abs() < 1e-2);
         assert_eq!((s.tau_peak, s.tau_rms), (2.0, 2.0));
-        assert_eq!(startup_time(&tr, 0.95, 11.0 / 0.95), Some(tr.t[125]));
+        // 10 + sin(8πk/1000) first reaches 10.5 at k = 21 (sin ≥ 1/2 from 8πk/1000 ≥ π/6)
+        assert_eq!(startup_time(&tr, 0.5, 21.0), Some(tr.t[21]));
     }
 
     #[test]

@@ -29,6 +29,9 @@ pub struct Component {
     pub record: Vec<&'static str>,
 }
 
+/// A connection `((element, output), (element, input))`.
+pub type Wire = ((&'static str, &'static str), (&'static str, &'static str));
+
 /// A machine: its components and connections `((element, output), (element, input))`.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Machine {
@@ -36,7 +39,7 @@ pub struct Machine {
     pub name: &'static str,
     pub description: &'static str,
     pub components: Vec<Component>,
-    pub connections: Vec<((&'static str, &'static str), (&'static str, &'static str))>,
+    pub connections: Vec<Wire>,
     /// Nominal main-shaft speed, rad/s (for reports).
     pub nominal_w: f64,
     /// `DefaultExperiment` stop time, s.
@@ -46,10 +49,7 @@ pub struct Machine {
 const RPM: f64 = PI / 30.0;
 
 /// Connections of the main shaft `drive` to a mechanism `m`, its loads to input pair `k`.
-fn shaft_to(
-    m: &'static str,
-    k: usize,
-) -> Vec<((&'static str, &'static str), (&'static str, &'static str))> {
+fn shaft_to(m: &'static str, k: usize) -> Vec<Wire> {
     let (j, t) = match k {
         1 => ("load1.J_red", "load1.tau0"),
         2 => ("load2.J_red", "load2.tau0"),

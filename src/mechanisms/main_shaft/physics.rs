@@ -110,7 +110,7 @@ impl Motor {
                 "the breakdown torque must exceed the rated torque (lambda > 1)",
             ));
         }
-        if !(self.j >= 0.0) {
+        if self.j.is_nan() || self.j < 0.0 {
             return Err(ParamError::new("motor.J", self.j, "must not be negative"));
         }
         Ok(())
@@ -195,14 +195,14 @@ impl Params {
                 return Err(ParamError::new(name, x, "must not be negative"));
             }
         }
-        if !(self.bearing_w_s > 0.0) {
+        if self.bearing_w_s.is_nan() || self.bearing_w_s <= 0.0 {
             return Err(ParamError::new(
                 "bearing.w_s",
                 self.bearing_w_s,
                 "must be positive",
             ));
         }
-        if !(self.j_drive() > 0.0) {
+        if self.j_drive().is_nan() || self.j_drive() <= 0.0 {
             return Err(ParamError::new(
                 "fly.J",
                 self.fly_j,
@@ -232,7 +232,7 @@ impl Params {
     /// `Err` if the total inertia is not positive (a negative `load*.J_red`).
     pub fn point(&self, w: f64, load: &Load) -> Result<Point, String> {
         let j_total = self.j_drive() + load.j_red;
-        if !(j_total > 0.0) {
+        if j_total.is_nan() || j_total <= 0.0 {
             return Err(format!(
                 "total moment of inertia fly.J + gear.i^2*motor.J + sum of load*.J_red = {j_total} kg.m2 is not positive"
             ));
@@ -358,11 +358,15 @@ mod tests {
         let mut p = Params::default();
         p.motor.s_rated = 1.0;
         assert_eq!(p.validate().unwrap_err().param, "motor.s_rated");
-        let mut p = Params::default();
-        p.gear_i = 0.0;
+        let p = Params {
+            gear_i: 0.0,
+            ..Params::default()
+        };
         assert_eq!(p.validate().unwrap_err().param, "gear.i");
-        let mut p = Params::default();
-        p.fly_j = 0.0;
+        let mut p = Params {
+            fly_j: 0.0,
+            ..Params::default()
+        };
         p.motor.j = 0.0;
         assert_eq!(p.validate().unwrap_err().param, "fly.J");
     }
