@@ -112,7 +112,7 @@ pub fn machines(out: &Path) -> Result<(), String> {
             st.delta,
             1.0 / st.delta,
             j40.map_or("not below 1e5".into(), |j| format!(
-                "{j:.0} ({:.2} at the motor)",
+                "{j:.1} ({:.3} at the motor)",
                 j / (i2 * i2)
             )),
             st.tau_peak,
