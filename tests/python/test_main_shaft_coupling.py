@@ -105,3 +105,16 @@ def test_both_couplings_agree_when_the_flywheel_dominates():
     plain = co_simulate("plain", 1e-3, 200.0)
     assert not diverged(plain, 2.0, 1e-3)
     assert np.max(np.abs(split[:, 1] - plain[:, 1])) < 1e-3 * W
+
+
+def test_model_exchange_with_cvode_matches_the_independent_start_up():
+    """The same binary as Model Exchange: FMPy integrates shaft.phi, shaft.w with CVode."""
+    from main_shaft_reference import LOAD, startup
+
+    ex = Extracted.of(FMU_DIR / "MainShaft.fmu")
+    assert ex.md.modelExchange is not None
+    r = ex.simulate(fmi_type="ModelExchange", start_values=dict(LOAD), stop_time=3.0, output_interval=0.01,
+                    relative_tolerance=1e-8, output=["shaft.phi", "shaft.w", "shaft.a"])
+    phi, w = startup(r["time"][::30])
+    np.testing.assert_allclose(r["shaft.w"][::30], w, rtol=1e-5, atol=1e-5 * np.max(w))
+    np.testing.assert_allclose(r["shaft.phi"][::30], phi, rtol=1e-5, atol=1e-5 * np.max(phi))
