@@ -1,10 +1,11 @@
-"""Error against wall time of the elastodynamic GenevaKnifeDrive: the FMU's internal solvers in
-Co-Simulation and FMPy's CVode on the Model Exchange interface, in the same process and host
-loop (FMPy's simulate_fmu), against a tight-tolerance reference (dopri5, rtol 1e-11; radau5's
+"""Error against wall time of an elastodynamic FMU (default GenevaKnifeDrive): the FMU's internal
+solvers in Co-Simulation and FMPy's CVode on the Model Exchange interface, in the same process and
+host loop (FMPy's simulate_fmu), against a tight-tolerance reference (dopri5, rtol 1e-11; radau5's
 error estimate filters the stiff ringing of an undamped 1e12 N/m chain, Dormand-Prince resolves it).
 
-usage: .venv/bin/python scripts/work_precision.py [--k 5e7] [--zeta 0.05] [--stop 2.0]
-Prints one JSON object per run: method, tol, error (max |knife.s - ref| in m over the output
+usage: .venv/bin/python scripts/work_precision.py [--fmu GenevaKnifeDrive] [--x knife.s]
+       [--k-name elastic.k] [--k 5e7] [--zeta 0.05] [--rpm 30] [--stop 2.0]
+Prints one JSON object per run: method, tol, error (max |x - ref| in m over the output
 grid), seconds (median of 3)."""
 
 from __future__ import annotations
@@ -20,21 +21,28 @@ import numpy as np
 from fmpy import extract, simulate_fmu
 
 ROOT = Path(__file__).resolve().parents[1]
-FMU = str(ROOT / "out" / "fmus" / "GenevaKnifeDrive.fmu")
 METHODS = {"auto": 1, "dopri5": 2, "radau5": 3, "rk4": 4}
 
 
 def main() -> None:
     ap = argparse.ArgumentParser()
+    ap.add_argument("--fmu", default="GenevaKnifeDrive", help="modelIdentifier in out/fmus/")
+    ap.add_argument("--x", default="knife.s", help="the position output compared")
+    ap.add_argument("--k-name", default="elastic.k", help="the stiffness parameter")
     ap.add_argument("--k", type=float, default=5e7)
-    ap.add_argument("--zeta", type=float, default=0.05)
+    ap.add_argument("--rpm", type=float, default=None, help="shaft speed (default: nominal)")
+    ap.add_argument("--zeta", type=float, default=None, help="elastic.zeta (default: the FMU's)")
     ap.add_argument("--stop", type=float, default=2.0)
     ap.add_argument("--dt", type=float, default=1e-3)
     ap.add_argument("--repeat", type=int, default=3)
     ap.add_argument("--only", default="", help="comma-separated methods (auto, dopri5, radau5, rk4, fmpy-cvode-me)")
     a = ap.parse_args()
-    unzip = extract(FMU)
-    base = {"model.fidelity": 3, "drive.mode": 2, "elastic.k": a.k, "elastic.zeta": a.zeta}
+    unzip = extract(str(ROOT / "out" / "fmus" / f"{a.fmu}.fmu"))
+    base = {"model.fidelity": 3, "drive.mode": 2, a.k_name: a.k}
+    if a.zeta is not None:
+        base["elastic.zeta"] = a.zeta
+    if a.rpm is not None:
+        base["drive.n"] = a.rpm * np.pi / 30.0
 
     def run(fmi_type, start, **kw):
         times, res = [], None
@@ -42,7 +50,7 @@ def main() -> None:
             t0 = time.perf_counter()
             res = simulate_fmu(unzip, fmi_type=fmi_type, start_time=0.0, stop_time=a.stop,
                                output_interval=a.dt, start_values=dict(base, **start),
-                               output=["knife.s"], **kw)
+                               output=[a.x], **kw)
             times.append(time.perf_counter() - t0)
         return res, statistics.median(times)
 
@@ -50,7 +58,7 @@ def main() -> None:
     grid = ref["time"]
 
     def err(r):
-        return float(np.max(np.abs(np.interp(grid, r["time"], r["knife.s"]) - ref["knife.s"])))
+        return float(np.max(np.abs(np.interp(grid, r["time"], r[a.x]) - ref[a.x])))
 
     only = set(filter(None, a.only.split(",")))
     for name, m in METHODS.items():

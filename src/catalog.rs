@@ -4,9 +4,13 @@
 
 use crate::md::ModelInfo;
 use crate::model::{Model, Var, VarSet};
+use crate::scene::{Scene, SceneError, Tailored};
 
 /// An FMU's `documentation/` files (index.html first, then figures) and its `model.png` icon.
 pub type Documentation = (Vec<(String, Vec<u8>)>, Vec<u8>);
+
+/// Files by name, e.g. of `documentation/`.
+pub type Files = Vec<(String, Vec<u8>)>;
 
 /// One FMU of the catalog.
 pub struct Entry {
@@ -22,6 +26,10 @@ pub struct Entry {
     pub variables: fn() -> Vec<(u32, &'static Var)>,
     /// `documentation/` files (index.html and figures) and the `model.png` icon.
     pub documentation: fn() -> Result<Documentation, String>,
+    /// The FMU tailored to a scene of this mechanism (`scenes.md`).
+    pub tailor: fn(&Scene) -> Result<Tailored, SceneError>,
+    /// The `documentation/` files of such an FMU (what it leaves out, and why).
+    pub scene_documentation: fn(&Tailored) -> Result<Files, String>,
 }
 
 /// The variables of a model type, by value reference.
@@ -44,6 +52,8 @@ pub fn all() -> Vec<Entry> {
             info: ModelInfo::of::<geneva::GenevaKnifeDrive>,
             variables: variables_of::<geneva::GenevaKnifeDrive>,
             documentation: geneva::docs::documentation,
+            tailor: crate::scene::tailor::<geneva::GenevaKnifeDrive>,
+            scene_documentation: crate::scene::docs::documentation::<geneva::GenevaKnifeDrive>,
         },
         Entry {
             identifier: "SewingTable",
@@ -52,6 +62,10 @@ pub fn all() -> Vec<Entry> {
             info: ModelInfo::of::<crate::mechanisms::sewing_table::SewingTable>,
             variables: variables_of::<crate::mechanisms::sewing_table::SewingTable>,
             documentation: crate::mechanisms::sewing_table::docs::documentation,
+            tailor: crate::scene::tailor::<crate::mechanisms::sewing_table::SewingTable>,
+            scene_documentation: crate::scene::docs::documentation::<
+                crate::mechanisms::sewing_table::SewingTable,
+            >,
         },
         Entry {
             identifier: "Perforators",
@@ -60,6 +74,10 @@ pub fn all() -> Vec<Entry> {
             info: ModelInfo::of::<crate::mechanisms::perforators::Perforators>,
             variables: variables_of::<crate::mechanisms::perforators::Perforators>,
             documentation: crate::mechanisms::perforators::docs::documentation,
+            tailor: crate::scene::tailor::<crate::mechanisms::perforators::Perforators>,
+            scene_documentation: crate::scene::docs::documentation::<
+                crate::mechanisms::perforators::Perforators,
+            >,
         },
         Entry {
             identifier: "DiscKnifeDrive",
@@ -68,6 +86,10 @@ pub fn all() -> Vec<Entry> {
             info: ModelInfo::of::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
             variables: variables_of::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
             documentation: crate::mechanisms::disc_knife_drive::docs::documentation,
+            tailor: crate::scene::tailor::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
+            scene_documentation: crate::scene::docs::documentation::<
+                crate::mechanisms::disc_knife_drive::DiscKnifeDrive,
+            >,
         },
         Entry {
             identifier: "MainShaft",
@@ -76,6 +98,31 @@ pub fn all() -> Vec<Entry> {
             info: ModelInfo::of::<crate::mechanisms::main_shaft::MainShaft>,
             variables: variables_of::<crate::mechanisms::main_shaft::MainShaft>,
             documentation: crate::mechanisms::main_shaft::docs::documentation,
+            // scenes tailor a mechanism driven through the shaft connector; the drive has none
+            tailor: |_| {
+                Err(crate::scene::SceneError {
+                    key: "mechanism".into(),
+                    line: None,
+                    message:
+                        "MainShaft drives the main shaft: scenes tailor the mechanism FMUs only"
+                            .into(),
+                })
+            },
+            scene_documentation: crate::scene::docs::documentation::<
+                crate::mechanisms::main_shaft::MainShaft,
+            >,
         },
     ]
+}
+
+/// The catalog entry of a scene's mechanism and the FMU tailored to the scene; an unknown
+/// mechanism is refused with the list of known ones.
+pub fn tailor(scene: &Scene) -> Result<(Entry, Tailored), SceneError> {
+    let all = all();
+    let known: Vec<&str> = all.iter().map(|e| e.identifier).collect();
+    let Some(entry) = all.into_iter().find(|e| e.identifier == scene.mechanism) else {
+        return Err(scene.unknown_mechanism(&known));
+    };
+    let t = (entry.tailor)(scene)?;
+    Ok((entry, t))
 }

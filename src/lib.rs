@@ -9,6 +9,7 @@
 //! - [`md`]: the modelDescription.xml writer and GUID, generated from those declarations.
 //! - [`fmi2`]: the FMI 2.0 C ABI runtime; knows no mechanism.
 //! - `ssp` (feature `tools`): the machines as SSP 1.0 systems of these FMUs.
+//! - [`scene`]: scene files and the FMU tailored to one (`scenes.md`); knows no mechanism.
 //! - `docs` (feature `tools`): the FMU's `documentation/` page, figures and icon; knows no mechanism.
 #[cfg(feature = "tools")]
 pub mod catalog;
@@ -23,6 +24,7 @@ pub mod mechanisms;
 pub mod model;
 #[cfg(feature = "tools")]
 pub mod package;
+pub mod scene;
 pub mod solver;
 #[cfg(feature = "tools")]
 pub mod ssp;

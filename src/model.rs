@@ -101,6 +101,12 @@ pub struct Var {
     pub depends: &'static [u32],
     /// For a state derivative (Model Exchange): the value reference of its state.
     pub derivative: Option<u32>,
+    /// For outputs and locals: the computation stages ([`Model::STAGES`]) that produce it,
+    /// beyond what always runs. A scene that does not ask for it may skip them (`scenes.md`).
+    pub needs: Stages,
+    /// For parameters: the stages whose results it influences ([`Stages::ALL`]: everything,
+    /// the default). A scene keeps a parameter only if it feeds a stage the scene needs.
+    pub feeds: Stages,
 }
 
 /// Units and their FMI display units (`interface.md`: deg for rad, mm for m, rpm for rad/s,
@@ -136,6 +142,8 @@ impl Var {
             description: "",
             depends: &[],
             derivative: None,
+            needs: Stages::NONE,
+            feeds: Stages::ALL,
         }
     }
 
@@ -328,6 +336,20 @@ impl Var {
         self
     }
 
+    /// The stages ([`Model::STAGES`]) that compute this output or local (declared once, here,
+    /// next to the variable: a scene leaves them out when it does not ask for the variable).
+    pub fn needs(mut self, stages: Stages) -> Self {
+        self.needs = stages;
+        self
+    }
+
+    /// The stages this parameter influences (default: all). A scene whose outputs need none of
+    /// them leaves the parameter out of its FMU (it keeps its default or scene value inside).
+    pub fn feeds(mut self, stages: Stages) -> Self {
+        self.feeds = stages;
+        self
+    }
+
     /// Is this variable one a host may set in the given phase?
     pub fn settable(&self, phase: SetPhase) -> bool {
         match phase {
@@ -352,6 +374,54 @@ impl Var {
     }
 }
 
+/// A set of computation stages of one model: bit `i` is [`Model::STAGES`]`[i]`. What always
+/// runs (the kinematics every output rests on) is no stage.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Stages(pub u32);
+
+impl Stages {
+    /// Nothing beyond what always runs.
+    pub const NONE: Stages = Stages(0);
+    /// Every stage.
+    pub const ALL: Stages = Stages(u32::MAX);
+    /// The stage with index `i` in [`Model::STAGES`].
+    pub const fn bit(i: u32) -> Stages {
+        Stages(1 << i)
+    }
+    /// Union.
+    pub const fn or(self, other: Stages) -> Stages {
+        Stages(self.0 | other.0)
+    }
+    /// Does it share a stage with `other`?
+    pub const fn intersects(self, other: Stages) -> bool {
+        self.0 & other.0 != 0
+    }
+    /// Does it hold every stage of `other`?
+    pub const fn contains(self, other: Stages) -> bool {
+        self.0 & other.0 == other.0
+    }
+    /// The indices of its stages among `n`.
+    pub fn indices(self, n: usize) -> impl Iterator<Item = usize> {
+        (0..n.min(32)).filter(move |&i| self.0 & (1 << i) != 0)
+    }
+}
+
+/// One computation of a model that a scene may leave out (`scenes.md`), e.g. the force analysis.
+#[derive(Debug)]
+pub struct Stage {
+    /// Short name, e.g. `forces`.
+    pub name: &'static str,
+    /// What it computes and what it costs, for the tailored FMU's documentation.
+    pub description: &'static str,
+    /// The fidelity levels that compute it (an output that needs it exists only there).
+    pub levels: &'static [shaft::Fidelity],
+    /// Stages it needs the results of (they run whenever it runs).
+    pub requires: Stages,
+    /// It runs whenever its level is chosen, whatever the outputs (the level rests on it, as
+    /// the elastodynamic level on its ODE).
+    pub always: bool,
+}
+
 /// When a host tries to set a variable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum SetPhase {
@@ -374,6 +444,10 @@ pub trait VarSet: Copy + 'static {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Values<V: VarSet> {
     data: Vec<f64>,
+    /// The computation stages the outputs in use need ([`Stages::ALL`] in the full FMU; a
+    /// scene's tailored FMU narrows it). [`Model::prepare`] and [`Model::evaluate`] skip what is
+    /// not in it.
+    pub stages: Stages,
     _v: PhantomData<V>,
 }
 
@@ -388,8 +462,14 @@ impl<V: VarSet> Values<V> {
     pub fn start() -> Self {
         Values {
             data: V::table().iter().map(|v| v.start.unwrap_or(0.0)).collect(),
+            stages: Stages::ALL,
             _v: PhantomData,
         }
+    }
+    /// Is anything that reads the results of these stages in use? (The full FMU: always.)
+    #[inline]
+    pub fn wants(&self, stages: Stages) -> bool {
+        self.stages.intersects(stages)
     }
     /// An Integer or Enumeration value.
     pub fn int(&self, v: V) -> i32 {
@@ -512,6 +592,11 @@ pub trait Model: Sized + Send + 'static {
     const DESCRIPTION: &'static str;
     /// `DefaultExperiment`.
     const EXPERIMENT: Experiment;
+
+    /// The computations a scene may leave out, in bit order of [`Stages`] (`scenes.md`); the
+    /// variables say which they need ([`Var::needs`]) or feed ([`Var::feeds`]). None: every
+    /// output is computed whenever the fidelity level computes it.
+    const STAGES: &'static [Stage] = &[];
 
     /// Checks the parameters and derives what stays fixed during a run.
     fn prepare(values: &Values<Self::Var>) -> Result<Self, ParamError>;
@@ -844,7 +929,18 @@ pub mod shaft {
 macro_rules! model_variables {
     ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
         $crate::model_variables! {
-            $vis enum $name (nominal_rpm = $rpm, torque_depends = $crate::model::shaft::ON_ALL) { $( $id = $decl ),* }
+            $vis enum $name (nominal_rpm = $rpm, torque_depends = $crate::model::shaft::ON_ALL, torque_needs = $crate::model::Stages::NONE) { $( $id = $decl ),* }
+        }
+    };
+    // `torque_needs`: the stages that compute `shaft.tau` and `shaft.P` (`Var::needs`).
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_needs = $needs:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+        $crate::model_variables! {
+            $vis enum $name (nominal_rpm = $rpm, torque_depends = $crate::model::shaft::ON_ALL, torque_needs = $needs) { $( $id = $decl ),* }
+        }
+    };
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_depends = $dep:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+        $crate::model_variables! {
+            $vis enum $name (nominal_rpm = $rpm, torque_depends = $dep, torque_needs = $crate::model::Stages::NONE) { $( $id = $decl ),* }
         }
     };
     // A model that drives a shaft instead of being driven by one (MainShaft): no shaft connector
@@ -873,7 +969,7 @@ macro_rules! model_variables {
     };
     // `torque_depends`: the inputs `shaft.tau` and `shaft.P` depend on, when a model has inputs
     // besides the shaft connector (e.g. an external force on a member).
-    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_depends = $dep:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_depends = $dep:expr, torque_needs = $needs:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
         #[allow(non_camel_case_types, dead_code)]
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         #[repr(u32)]
@@ -891,6 +987,8 @@ macro_rules! model_variables {
                     t.extend([$( $decl ),*]);
                     t[shaft::TAU as usize].depends = $dep;
                     t[shaft::P as usize].depends = $dep;
+                    t[shaft::TAU as usize].needs = $needs;
+                    t[shaft::P as usize].needs = $needs;
                     t
                 })
             }

@@ -3,11 +3,15 @@
 //! - `bindery build`: compiles every FMU's cdylib (release) and writes `out/fmus/<id>.fmu`.
 //! - `bindery describe`: writes `modelDescription/<id>.xml`; `--check` fails if one is stale.
 //! - `bindery ssp`: the two machines as SSP 1.0 files of the built FMUs, `out/ssp/<machine>.ssp`.
+//! - `bindery scene [FILE...]`: exports the FMU tailored to each scene (default: every
+//!   `scenes/*.toml`) into `out/scenes/`.
 
 #[path = "bindery/machines.rs"]
 mod machines;
 #[path = "bindery/report.rs"]
 mod report;
+#[path = "bindery/scene.rs"]
+mod scene;
 
 use bindery_fmu::catalog::{self, Entry};
 use bindery_fmu::package::FmuContents;
@@ -87,6 +91,14 @@ enum Cmd {
         #[arg(long, default_value = "out/machines")]
         out: PathBuf,
     },
+    /// Export the FMU tailored to each scene file (scenes.md) into out/scenes/<modelIdentifier>.fmu
+    Scene {
+        /// Scene files (TOML); none: every scenes/*.toml
+        files: Vec<PathBuf>,
+        /// Output folder
+        #[arg(long, default_value = "out/scenes")]
+        out: PathBuf,
+    },
     /// Write modelDescription/<id>.xml for every FMU
     Describe {
         /// Do not write; fail if a committed file differs from the generated one
@@ -123,13 +135,13 @@ fn selected(models: &[String]) -> Result<Vec<Entry>, String> {
         .collect())
 }
 
-fn build(models: &[String], out: &Path) -> Result<(), String> {
-    let entries = selected(models)?;
+/// Compiles the FMU binaries of these entries (release).
+fn compile(entries: &[Entry]) -> Result<(), String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut cmd = Command::new(cargo);
     cmd.current_dir(root())
         .args(["build", "--release", "--lib"]);
-    for e in &entries {
+    for e in entries {
         cmd.args(["-p", e.package]);
     }
     eprintln!("compiling {} FMU binaries (release)...", entries.len());
@@ -137,6 +149,20 @@ fn build(models: &[String], out: &Path) -> Result<(), String> {
     if !status.success() {
         return Err("cargo build of the FMU binaries failed".into());
     }
+    Ok(())
+}
+
+/// The built binary of a modelIdentifier.
+fn binary_of(identifier: &str) -> Result<Vec<u8>, String> {
+    let so = target_dir()
+        .join("release")
+        .join(format!("lib{identifier}.so"));
+    std::fs::read(&so).map_err(|err| format!("{}: {err}", so.display()))
+}
+
+fn build(models: &[String], out: &Path) -> Result<(), String> {
+    let entries = selected(models)?;
+    compile(&entries)?;
     let out = if out.is_absolute() {
         out.to_path_buf()
     } else {
@@ -149,10 +175,7 @@ fn build(models: &[String], out: &Path) -> Result<(), String> {
     );
     for e in &entries {
         bar.set_message(e.identifier);
-        let so = target_dir()
-            .join("release")
-            .join(format!("lib{}.so", e.identifier));
-        let binary = std::fs::read(&so).map_err(|err| format!("{}: {err}", so.display()))?;
+        let binary = binary_of(e.identifier)?;
         let (model_description, _guid) = (e.describe)();
         let (documentation, icon) = (e.documentation)()?;
         let fmu = FmuContents {
@@ -173,6 +196,40 @@ fn build(models: &[String], out: &Path) -> Result<(), String> {
         eprintln!(
             "warning: {stale}; run `cargo run --release -- describe` and commit modelDescription/"
         );
+    }
+    Ok(())
+}
+
+/// Exports every scene (all of `scenes/` when none is named): checks every file first, then
+/// compiles the mechanisms' binaries and writes the FMUs.
+fn scenes(files: &[PathBuf], out: &Path) -> Result<(), String> {
+    let files = if files.is_empty() {
+        scene::scene_files(&root().join("scenes"))?
+    } else {
+        files.to_vec()
+    };
+    let mut mechanisms: Vec<String> = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).map_err(|e| format!("{}: {e}", f.display()))?;
+        let s =
+            bindery_fmu::scene::Scene::parse(&text).map_err(|e| format!("{}: {e}", f.display()))?;
+        catalog::tailor(&s).map_err(|e| format!("{}: {e}", f.display()))?;
+        if !mechanisms.contains(&s.mechanism) {
+            mechanisms.push(s.mechanism);
+        }
+    }
+    compile(&selected(&mechanisms)?)?;
+    let out = if out.is_absolute() {
+        out.to_path_buf()
+    } else {
+        root().join(out)
+    };
+    std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    for f in &files {
+        let (id, bytes) = scene::export(f, &binary_of)?;
+        let path = out.join(format!("{id}.fmu"));
+        std::fs::write(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+        eprintln!("wrote {} ({})", path.display(), f.display());
     }
     Ok(())
 }
@@ -288,6 +345,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         Cmd::Build { models, out } => build(&models, &out),
         Cmd::Docs { out } => docs(&out),
+        Cmd::Scene { files, out } => scenes(&files, &out),
         Cmd::Describe { check } => check_descriptions(&catalog::all(), check),
         Cmd::Liftoff { from, to, m0, kt } => liftoff(from, to, m0, kt),
         Cmd::Report { out, no_fmpy } => report::report(&root(), &out, !no_fmpy),

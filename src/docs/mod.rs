@@ -11,7 +11,7 @@ mod html;
 mod plot;
 
 pub use html::{escape, index_html};
-pub use plot::{FIGURE_SIZE, ICON_SIZE, icon_png, render_png};
+pub use plot::{FIGURE_SIZE, ICON_SIZE, icon_png, render_png, render_svg};
 
 use crate::md::ModelInfo;
 use crate::model::Var;

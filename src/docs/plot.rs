@@ -210,9 +210,11 @@ pub fn render_png(fig: &Figure) -> Result<Vec<u8>, String> {
     ))
 }
 
-/// The pixels of [`render_png`]: RGB rows, top to bottom.
-fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
-    fonts()?;
+/// A range of an axis, (low, high).
+type Span = (f64, f64);
+
+/// Axis ranges of a figure: its finite points' extent, padded.
+fn ranges(fig: &Figure) -> Result<(Span, Span), String> {
     let finite = || {
         fig.series
             .iter()
@@ -231,146 +233,20 @@ fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
     };
     let (x_lo, x_hi) = min_max(|p| p.0);
     let (y_lo, y_hi) = min_max(|p| p.1);
-    let (mut xr, mut yr) = (
+    Ok((
         padded(x_lo, x_hi, if fig.equal_axes { 0.05 } else { 0.0 }),
         padded(y_lo, y_hi, 0.05),
-    );
+    ))
+}
 
-    let s = |v: u32| v * SS;
-    let sf = |v: f64| v * f64::from(SS);
-    let (w, h) = (s(FIGURE_SIZE.0), s(FIGURE_SIZE.1));
+/// The pixels of [`render_png`]: RGB rows, top to bottom.
+fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
+    fonts()?;
+    let (w, h) = (FIGURE_SIZE.0 * SS, FIGURE_SIZE.1 * SS);
     let mut buf = vec![0u8; (w * h * 3) as usize];
     {
         let root = BitMapBackend::with_buffer(&mut buf, (w, h)).into_drawing_area();
-        root.fill(&WHITE).map_err(err)?;
-        let root_m = root.margin(s(6), 0, 0, 0);
-        let title_size = fit(
-            &root_m,
-            &fig.title,
-            w - s(40),
-            sf(20.0),
-            sf(11.0),
-            FontStyle::Bold,
-        )?;
-        let area = root_m
-            .titled(&fig.title, font(title_size, FontStyle::Bold))
-            .map_err(err)?;
-        let builder = || {
-            let mut b = ChartBuilder::on(&area);
-            b.margin_left(s(12))
-                .margin_right(s(28))
-                .margin_top(s(4))
-                .margin_bottom(s(10))
-                .x_label_area_size(s(52))
-                .y_label_area_size(s(84));
-            b
-        };
-        let (pw, ph) = builder()
-            .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
-            .map_err(err)?
-            .plotting_area()
-            .dim_in_pixel();
-        let (pw, ph) = (f64::from(pw.max(1)), f64::from(ph.max(1)));
-        if fig.equal_axes {
-            // Same data units per pixel on both axes: widen the range that has more pixels
-            // per unit, about its center.
-            let upp = ((xr.1 - xr.0) / pw).max((yr.1 - yr.0) / ph);
-            let widen = |r: (f64, f64), px: f64| {
-                let c = 0.5 * (r.0 + r.1);
-                (c - 0.5 * upp * px, c + 0.5 * upp * px)
-            };
-            xr = widen(xr, pw);
-            yr = widen(yr, ph);
-        }
-
-        let legend_font = font(sf(14.0), FontStyle::Normal);
-        let (lmargin, lsym) = (s(8), s(34));
-        let legend = if fig.series.len() > 1 {
-            let mut text = MultiLineText::<(i32, i32), &str>::new((0, 0), &legend_font);
-            for sr in &fig.series {
-                text.push_line(sr.label.as_str());
-            }
-            let (tw, th) = text.estimate_dimension().map_err(err)?;
-            // Box plus its 5 px offset from the plot's edge plus clearance, as fractions.
-            let (lw, lh) = (
-                f64::from(tw) + f64::from(lsym + 2 * lmargin) + sf(12.0),
-                f64::from(th) + f64::from(2 * lmargin) + sf(12.0),
-            );
-            let (fw, fh) = ((lw / pw).min(0.9), (lh / ph).min(0.9));
-            Some(match free_corner(fig, xr, yr, (fw, fh)) {
-                Some(pos) => pos,
-                None => {
-                    // Headroom above the data for the legend; keeps equal axes equal.
-                    let grow = 1.0 / (1.0 - fh);
-                    yr.1 = yr.0 + (yr.1 - yr.0) * grow;
-                    if fig.equal_axes {
-                        let (c, half) = (0.5 * (xr.0 + xr.1), 0.5 * (xr.1 - xr.0) * grow);
-                        xr = (c - half, c + half);
-                    }
-                    SeriesLabelPosition::UpperRight
-                }
-            })
-        } else {
-            None
-        };
-
-        let mut chart = builder()
-            .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
-            .map_err(err)?;
-        let fx = tick_format(xr.0, xr.1, X_TICKS);
-        let fy = tick_format(yr.0, yr.1, Y_TICKS);
-        chart
-            .configure_mesh()
-            .bold_line_style(RGBColor(222, 222, 222).stroke_width(s(1)))
-            .light_line_style(RGBColor(244, 244, 244).stroke_width(s(1)))
-            .max_light_lines(4)
-            .axis_style(RGBColor(90, 90, 90).stroke_width(s(1)))
-            .set_all_tick_mark_size(s(5))
-            .x_labels(X_TICKS)
-            .y_labels(Y_TICKS)
-            .x_label_formatter(&fx)
-            .y_label_formatter(&fy)
-            .label_style(font(sf(14.0), FontStyle::Normal))
-            .axis_desc_style(font(sf(16.0), FontStyle::Normal))
-            .x_desc(fig.x_label.as_str())
-            .y_desc(fig.y_label.as_str())
-            .draw()
-            .map_err(err)?;
-        for (i, sr) in fig.series.iter().enumerate() {
-            let color = COLORS[i % COLORS.len()];
-            for (k, seg) in segments(&sr.points).into_iter().enumerate() {
-                let drawn = if seg.len() == 1 {
-                    chart
-                        .draw_series(
-                            seg.into_iter()
-                                .map(|p| Circle::new(p, s(3), color.filled())),
-                        )
-                        .map_err(err)?
-                } else {
-                    chart
-                        .draw_series(LineSeries::new(seg, color.stroke_width(s(2))))
-                        .map_err(err)?
-                };
-                if k == 0 && legend.is_some() {
-                    let len = (lsym - s(10)) as i32;
-                    drawn.label(sr.label.as_str()).legend(move |(x, y)| {
-                        PathElement::new(vec![(x, y), (x + len, y)], color.stroke_width(s(3)))
-                    });
-                }
-            }
-        }
-        if let Some(pos) = legend {
-            chart
-                .configure_series_labels()
-                .position(pos)
-                .margin(lmargin)
-                .legend_area_size(lsym)
-                .background_style(WHITE.mix(0.9))
-                .border_style(RGBColor(170, 170, 170).stroke_width(s(1)))
-                .label_font(legend_font.clone())
-                .draw()
-                .map_err(err)?;
-        }
+        draw_chart(&root, fig, SS)?;
         root.present().map_err(err)?;
     }
     Ok(downsample(
@@ -379,6 +255,163 @@ fn draw_figure(fig: &Figure) -> Result<Vec<u8>, String> {
         FIGURE_SIZE.1 as usize,
         SS as usize,
     ))
+}
+
+/// The same figure as [`render_png`], as an SVG document of [`FIGURE_SIZE`] (vector lines,
+/// text as text: the font is named "DejaVu Sans" with sans-serif as fallback).
+/// Deterministic: same figure, same bytes.
+pub fn render_svg(fig: &Figure) -> Result<String, String> {
+    fonts()?;
+    let mut out = String::new();
+    {
+        let root = SVGBackend::with_string(&mut out, FIGURE_SIZE).into_drawing_area();
+        draw_chart(&root, fig, 1)?;
+        root.present().map_err(err)?;
+    }
+    Ok(out.replace(FAMILY, "DejaVu Sans, sans-serif"))
+}
+
+/// Draws `fig` on `root` (of [`FIGURE_SIZE`] times `scale` pixels): title, light grid, axis
+/// labels, one color per series and a legend when there is more than one.
+fn draw_chart<DB: DrawingBackend>(
+    root: &DrawingArea<DB, Shift>,
+    fig: &Figure,
+    scale: u32,
+) -> Result<(), String> {
+    let (mut xr, mut yr) = ranges(fig)?;
+    let s = |v: u32| v * scale;
+    let sf = |v: f64| v * f64::from(scale);
+    let w = s(FIGURE_SIZE.0);
+    root.fill(&WHITE).map_err(err)?;
+    let root_m = root.margin(s(6), 0, 0, 0);
+    let title_size = fit(
+        &root_m,
+        &fig.title,
+        w - s(40),
+        sf(20.0),
+        sf(11.0),
+        FontStyle::Bold,
+    )?;
+    let area = root_m
+        .titled(&fig.title, font(title_size, FontStyle::Bold))
+        .map_err(err)?;
+    let builder = || {
+        let mut b = ChartBuilder::on(&area);
+        b.margin_left(s(12))
+            .margin_right(s(28))
+            .margin_top(s(4))
+            .margin_bottom(s(10))
+            .x_label_area_size(s(52))
+            .y_label_area_size(s(84));
+        b
+    };
+    let (pw, ph) = builder()
+        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+        .map_err(err)?
+        .plotting_area()
+        .dim_in_pixel();
+    let (pw, ph) = (f64::from(pw.max(1)), f64::from(ph.max(1)));
+    if fig.equal_axes {
+        // Same data units per pixel on both axes: widen the range that has more pixels
+        // per unit, about its center.
+        let upp = ((xr.1 - xr.0) / pw).max((yr.1 - yr.0) / ph);
+        let widen = |r: (f64, f64), px: f64| {
+            let c = 0.5 * (r.0 + r.1);
+            (c - 0.5 * upp * px, c + 0.5 * upp * px)
+        };
+        xr = widen(xr, pw);
+        yr = widen(yr, ph);
+    }
+
+    let legend_font = font(sf(14.0), FontStyle::Normal);
+    let (lmargin, lsym) = (s(8), s(34));
+    let legend = if fig.series.len() > 1 {
+        let mut text = MultiLineText::<(i32, i32), &str>::new((0, 0), &legend_font);
+        for sr in &fig.series {
+            text.push_line(sr.label.as_str());
+        }
+        let (tw, th) = text.estimate_dimension().map_err(err)?;
+        // Box plus its 5 px offset from the plot's edge plus clearance, as fractions.
+        let (lw, lh) = (
+            f64::from(tw) + f64::from(lsym + 2 * lmargin) + sf(12.0),
+            f64::from(th) + f64::from(2 * lmargin) + sf(12.0),
+        );
+        let (fw, fh) = ((lw / pw).min(0.9), (lh / ph).min(0.9));
+        Some(match free_corner(fig, xr, yr, (fw, fh)) {
+            Some(pos) => pos,
+            None => {
+                // Headroom above the data for the legend; keeps equal axes equal.
+                let grow = 1.0 / (1.0 - fh);
+                yr.1 = yr.0 + (yr.1 - yr.0) * grow;
+                if fig.equal_axes {
+                    let (c, half) = (0.5 * (xr.0 + xr.1), 0.5 * (xr.1 - xr.0) * grow);
+                    xr = (c - half, c + half);
+                }
+                SeriesLabelPosition::UpperRight
+            }
+        })
+    } else {
+        None
+    };
+
+    let mut chart = builder()
+        .build_cartesian_2d(xr.0..xr.1, yr.0..yr.1)
+        .map_err(err)?;
+    let fx = tick_format(xr.0, xr.1, X_TICKS);
+    let fy = tick_format(yr.0, yr.1, Y_TICKS);
+    chart
+        .configure_mesh()
+        .bold_line_style(RGBColor(222, 222, 222).stroke_width(s(1)))
+        .light_line_style(RGBColor(244, 244, 244).stroke_width(s(1)))
+        .max_light_lines(4)
+        .axis_style(RGBColor(90, 90, 90).stroke_width(s(1)))
+        .set_all_tick_mark_size(s(5))
+        .x_labels(X_TICKS)
+        .y_labels(Y_TICKS)
+        .x_label_formatter(&fx)
+        .y_label_formatter(&fy)
+        .label_style(font(sf(14.0), FontStyle::Normal))
+        .axis_desc_style(font(sf(16.0), FontStyle::Normal))
+        .x_desc(fig.x_label.as_str())
+        .y_desc(fig.y_label.as_str())
+        .draw()
+        .map_err(err)?;
+    for (i, sr) in fig.series.iter().enumerate() {
+        let color = COLORS[i % COLORS.len()];
+        for (k, seg) in segments(&sr.points).into_iter().enumerate() {
+            let drawn = if seg.len() == 1 {
+                chart
+                    .draw_series(
+                        seg.into_iter()
+                            .map(|p| Circle::new(p, s(3), color.filled())),
+                    )
+                    .map_err(err)?
+            } else {
+                chart
+                    .draw_series(LineSeries::new(seg, color.stroke_width(s(2))))
+                    .map_err(err)?
+            };
+            if k == 0 && legend.is_some() {
+                let len = (lsym - s(10)) as i32;
+                drawn.label(sr.label.as_str()).legend(move |(x, y)| {
+                    PathElement::new(vec![(x, y), (x + len, y)], color.stroke_width(s(3)))
+                });
+            }
+        }
+    }
+    if let Some(pos) = legend {
+        chart
+            .configure_series_labels()
+            .position(pos)
+            .margin(lmargin)
+            .legend_area_size(lsym)
+            .background_style(WHITE.mix(0.9))
+            .border_style(RGBColor(170, 170, 170).stroke_width(s(1)))
+            .label_font(legend_font.clone())
+            .draw()
+            .map_err(err)?;
+    }
+    Ok(())
 }
 
 /// A 128×128 PNG icon (`model.png`): a Geneva wheel with its drive pin above `title`
@@ -947,6 +980,26 @@ mod tests {
             caption: "A test figure.".into(),
             equal_axes: false,
         }
+    }
+
+    #[test]
+    fn figure_svg_is_deterministic_vector_and_names_a_real_font() {
+        let fig = sample();
+        let a = render_svg(&fig).unwrap();
+        assert_eq!(a, render_svg(&fig).unwrap(), "same figure, same text");
+        assert!(a.starts_with("<svg") && a.trim_end().ends_with("</svg>"));
+        assert!(a.contains(&format!(
+            "width=\"{}\" height=\"{}\"",
+            FIGURE_SIZE.0, FIGURE_SIZE.1
+        )));
+        // both series as lines in their colors, text as text, no private font name left
+        for c in [COLORS[0], COLORS[1]] {
+            let hex = format!("#{:02X}{:02X}{:02X}", c.0, c.1, c.2);
+            assert!(a.contains(&hex), "color {hex} missing");
+        }
+        assert!(a.contains("<polyline"));
+        assert!(a.contains("Knife motion over one shaft turn"));
+        assert!(a.contains("DejaVu Sans, sans-serif") && !a.contains(FAMILY));
     }
 
     #[test]

@@ -239,6 +239,19 @@ pub mod access {
     }
 }
 
+/// The [`access`] bits of every variable of `M`; 0 for those a tailored FMU leaves out, so the
+/// per-call checks refuse them without looking at the scene.
+fn access_table<M: Model>(scene: Option<&crate::scene::Tailored>) -> Box<[u8]> {
+    <M::Var as VarSet>::table()
+        .iter()
+        .enumerate()
+        .map(|(i, v)| match scene {
+            Some(t) if !t.exposed.get(i).copied().unwrap_or(false) => 0,
+            _ => access::of(v),
+        })
+        .collect()
+}
+
 /// One FMU instance.
 pub struct Instance<M: Model> {
     magic: u64,
@@ -262,18 +275,26 @@ pub struct Instance<M: Model> {
     pub me: me::MeMode,
     /// Per value reference, what a host may do with it ([`access`]; 0: not visible).
     access: Box<[u8]>,
+    /// The scene this FMU is tailored to (`resources/scene.toml`), if any: its variables are
+    /// the only ones a host may address, its start values and stages are the instance's.
+    pub scene: Option<std::sync::Arc<crate::scene::Tailored>>,
 }
 
 type Outcome = Result<Status, String>;
 
 impl<M: Model> Instance<M> {
-    fn new(logger: Logger, resources: Option<PathBuf>, guid: &str) -> Self {
+    fn new(
+        logger: Logger,
+        resources: Option<PathBuf>,
+        guid: &str,
+        scene: Option<std::sync::Arc<crate::scene::Tailored>>,
+    ) -> Self {
         Instance {
             magic: MAGIC,
             guid_hash: md::fnv1a_128(guid.as_bytes()),
             logger,
             state: State::Instantiated,
-            values: Values::start(),
+            values: start_values::<M>(scene.as_deref()),
             model: None,
             dirty: true,
             params_changed: true,
@@ -283,7 +304,31 @@ impl<M: Model> Instance<M> {
             resources,
             snapshots: Vec::new(),
             me: me::MeMode::default(),
-            access: <M::Var as VarSet>::table().iter().map(access::of).collect(),
+            access: access_table::<M>(scene.as_deref()),
+            scene,
+        }
+    }
+
+    /// Is this value reference one this FMU lists? (All of the model's, unless tailored.)
+    #[inline]
+    fn listed(&self, vr: ValueReference) -> bool {
+        match &self.scene {
+            None => true,
+            Some(t) => t.exposed.get(vr as usize).copied().unwrap_or(false),
+        }
+    }
+
+    /// The refusal of a value reference this FMU does not list.
+    #[cold]
+    fn unlisted(&self, vr: ValueReference) -> String {
+        match &self.scene {
+            Some(t) if (vr as usize) < t.exposed.len() => format!(
+                "unknown value reference {vr}: {} is left out of {} (scene {:?})",
+                Self::table()[vr as usize].name,
+                t.identifier,
+                t.scene.name
+            ),
+            _ => format!("unknown value reference {vr}"),
         }
     }
 
@@ -375,8 +420,8 @@ impl<M: Model> Instance<M> {
         for (&vr, &x) in vrs.iter().zip(vals) {
             let v = table
                 .get(vr as usize)
-                .filter(|_| self.access[vr as usize] != 0)
-                .ok_or_else(|| format!("unknown value reference {vr}"))?;
+                .filter(|_| self.listed(vr))
+                .ok_or_else(|| self.unlisted(vr))?;
             if !(kind.ok)(v.ty) {
                 return Err(format!("{} (vr {vr}) is not of type {}", v.name, kind.name));
             }
@@ -434,10 +479,7 @@ impl<M: Model> Instance<M> {
         let table = Self::table();
         for &vr in vrs {
             match table.get(vr as usize) {
-                Some(v) if self.access[vr as usize] == 0 => {
-                    let _ = v;
-                    return Err(format!("unknown value reference {vr}"));
-                }
+                Some(_) if !self.listed(vr) => return Err(self.unlisted(vr)),
                 Some(v) if (kind.ok)(v.ty) => {}
                 Some(v) => {
                     return Err(format!("{} (vr {vr}) is not of type {}", v.name, kind.name));
@@ -486,7 +528,7 @@ impl<M: Model> Instance<M> {
                 return Err(format!("FMU state refused: {} = {x} is not finite", v.name));
             }
         }
-        let mut values = Values::<M::Var>::start();
+        let mut values = start_values::<M>(self.scene.as_deref());
         values.raw_mut().copy_from_slice(&s.values);
         if !matches!(s.state, State::Instantiated | State::InitializationMode) {
             check_bounds(&values).map_err(|e| format!("FMU state refused: {e}"))?;
@@ -635,6 +677,33 @@ unsafe fn c_str<'a>(s: FmiString) -> Option<&'a str> {
     (!s.is_null())
         .then(|| unsafe { CStr::from_ptr(s) }.to_str().ok())
         .flatten()
+}
+
+/// The start values of an instance: the model's, or those of the scene it is tailored to (with
+/// the stages the scene's outputs need).
+fn start_values<M: Model>(scene: Option<&crate::scene::Tailored>) -> Values<M::Var> {
+    let mut v = Values::start();
+    if let Some(t) = scene {
+        v.raw_mut().copy_from_slice(&t.start);
+        v.stages = t.stages;
+    }
+    v
+}
+
+/// The scene an FMU is tailored to: `scene.toml` in its resources, if there is one.
+fn load_scene<M: Model>(
+    resources: Option<&PathBuf>,
+) -> Result<Option<std::sync::Arc<crate::scene::Tailored>>, String> {
+    let Some(path) = resources.map(|r| r.join(crate::scene::RESOURCE_NAME)) else {
+        return Ok(None);
+    };
+    match std::fs::read_to_string(&path) {
+        Ok(text) => crate::scene::cached::<M>(&text)
+            .map(Some)
+            .map_err(|e| format!("{}: {e}", path.display())),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(format!("{}: {e}", path.display())),
+    }
 }
 
 /// Turns an FMI resource location (`file:/...`, `file:///...`, percent-encoded) into a path.
@@ -796,7 +865,26 @@ pub unsafe fn instantiate<M: Model>(
                 fmu_type as i32
             ));
         }
-        let our_guid = guid_of::<M>();
+        // SAFETY: NULL or valid C string.
+        let resources = unsafe { c_str(resource_location) }.and_then(resource_path);
+        let scene = match load_scene::<M>(resources.as_ref()) {
+            Ok(s) => s,
+            Err(why) => return refuse(format!("scene refused: {why}")),
+        };
+        if model_exchange
+            && scene
+                .as_ref()
+                .is_some_and(|t| !t.variables.iter().any(|(_, v)| v.derivative.is_some()))
+        {
+            return refuse(
+                "fmuType 0 (ModelExchange) requested; this scene's FMU has no states and provides Co-Simulation (1) only"
+                    .into(),
+            );
+        }
+        let our_guid = match &scene {
+            Some(t) => t.guid.as_str(),
+            None => guid_of::<M>(),
+        };
         // SAFETY: NULL or valid C string.
         match unsafe { c_str(guid) } {
             Some(g) if g == our_guid => {}
@@ -807,9 +895,12 @@ pub unsafe fn instantiate<M: Model>(
                 ));
             }
         }
-        // SAFETY: NULL or valid C string.
-        let resources = unsafe { c_str(resource_location) }.and_then(resource_path);
-        let mut inst = Box::new(Instance::<M>::new(logger, resources, our_guid));
+        let mut inst = Box::new(Instance::<M>::new(
+            logger,
+            resources,
+            our_guid,
+            scene.clone(),
+        ));
         inst.me.is_me = model_exchange;
         Box::into_raw(inst) as Component
     }));
@@ -958,7 +1049,7 @@ pub unsafe fn reset<M: Model>(c: Component) -> Status {
     unsafe {
         entry::<M>(c, Call::Reset, |inst| {
             inst.state = State::Instantiated;
-            inst.values = Values::start();
+            inst.values = start_values::<M>(inst.scene.as_deref());
             inst.model = None;
             inst.dirty = true;
             inst.params_changed = true;

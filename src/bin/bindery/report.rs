@@ -1,55 +1,77 @@
 //! `bindery report`: error against wall time of the elastodynamic level (`dynamics.md`, "Error
-//! against run time"). For GenevaKnifeDrive and SewingTable, at a non-stiff and a stiff chain,
-//! every internal method over a ladder of tolerances (rk4: of steps), `auto` also over a ladder
-//! of communication steps, all in this process (median of 3 runs) on the plain Rust models,
-//! against a Dormand–Prince reference at rtol 1e-11; and the baseline, FMPy + CVode on the Model
-//! Exchange interface (GenevaKnifeDrive), with the FMU's own `auto` through the same FMPy loop
-//! for a like-for-like ratio, measured in the same run by `scripts/work_precision.py`.
-//! Writes `report.md` and one work-precision PNG per case (log10 axes).
+//! against run time"). For every mechanism in [`CASES`], at a non-stiff and a stiff chain, every
+//! internal method over a ladder of tolerances (rk4: of steps), `auto` also over a ladder of
+//! communication steps, all in this process (median of 3 runs) on the plain Rust models, against
+//! a Dormand–Prince reference at rtol 1e-11; and the baseline, FMPy + CVode on the Model Exchange
+//! interface of the built FMU, with the FMU's own `auto` through the same FMPy loop for a
+//! like-for-like ratio, measured in the same run by `scripts/work_precision.py`.
+//! Writes `report.md` and one work-precision plot per case (log10 axes), as PNG and SVG.
 
-use bindery_fmu::docs::{Figure, Series, render_png};
+use bindery_fmu::docs::{Figure, Series, render_png, render_svg};
 use bindery_fmu::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
-use bindery_fmu::mechanisms::geneva_knife_drive::model::V as G;
 use bindery_fmu::mechanisms::sewing_table::SewingTable;
-use bindery_fmu::mechanisms::sewing_table::model::V as S;
-use bindery_fmu::model::{Model, NoLog, Values};
+use bindery_fmu::model::{Model, NoLog, Values, VarSet};
 use indicatif::{ProgressBar, ProgressStyle};
 use std::fmt::Write as _;
 use std::path::Path;
 use std::time::Instant;
 
+/// One mechanism at one chain stiffness, described by its variables' names, so a mechanism
+/// joins the report with one entry here and one arm in [`simulate`].
 #[derive(Clone, Copy)]
 struct Case {
+    /// modelIdentifier.
     mech: &'static str,
     label: &'static str,
+    /// The stiffness parameter and its value, N/m.
+    k_name: &'static str,
     k: f64,
+    /// The main outputs: a position (m) and the dynamic force (N).
+    x: &'static str,
+    f: &'static str,
+    /// Shaft speed, rpm; simulated time, s.
+    rpm: f64,
     stop: f64,
+}
+
+const fn case(mech: &'static str, label: &'static str, k: f64, x: &'static str) -> Case {
+    Case {
+        mech,
+        label,
+        k_name: "elastic.k",
+        k,
+        x,
+        f: "elastic.F",
+        rpm: 0.0,
+        stop: 0.0,
+    }
 }
 
 const CASES: [Case; 4] = [
     Case {
-        mech: "GenevaKnifeDrive",
-        label: "non-stiff (k = 5e7 N/m)",
-        k: 5e7,
+        rpm: 30.0,
         stop: 0.5,
+        ..case(
+            "GenevaKnifeDrive",
+            "non-stiff (k = 5e7 N/m)",
+            5e7,
+            "knife.s",
+        )
     },
     Case {
-        mech: "GenevaKnifeDrive",
-        label: "stiff (k = 1e12 N/m)",
-        k: 1e12,
+        rpm: 30.0,
         stop: 0.5,
+        ..case("GenevaKnifeDrive", "stiff (k = 1e12 N/m)", 1e12, "knife.s")
     },
     Case {
-        mech: "SewingTable",
-        label: "non-stiff (k = 1e7 N/m)",
-        k: 1e7,
+        rpm: 100.0,
         stop: 0.6,
+        ..case("SewingTable", "non-stiff (k = 1e7 N/m)", 1e7, "table.x")
     },
     Case {
-        mech: "SewingTable",
-        label: "stiff (k = 1e12 N/m)",
-        k: 1e12,
+        rpm: 100.0,
         stop: 0.6,
+        ..case("SewingTable", "stiff (k = 1e12 N/m)", 1e12, "table.x")
     },
 ];
 
@@ -57,42 +79,55 @@ const CASES: [Case; 4] = [
 type Trace = (Vec<f64>, Vec<f64>);
 
 fn simulate(c: &Case, method: i32, tol: f64, dt: f64) -> Result<Trace, String> {
+    match c.mech {
+        "GenevaKnifeDrive" => run::<GenevaKnifeDrive>(c, method, tol, dt),
+        "SewingTable" => run::<SewingTable>(c, method, tol, dt),
+        m => Err(format!("no report case for {m}")),
+    }
+}
+
+/// The value reference of a variable of `M`, by name.
+fn vr<M: Model>(name: &str) -> Result<usize, String> {
+    <M::Var as VarSet>::table()
+        .iter()
+        .position(|v| v.name == name)
+        .ok_or_else(|| format!("{} has no variable {name}", M::IDENTIFIER))
+}
+
+/// The elastodynamic level of `M` at a constant speed, sampled on a 1 ms grid.
+fn run<M: Model>(c: &Case, method: i32, tol: f64, dt: f64) -> Result<Trace, String> {
     let grid = 1e-3;
     let per = (grid / dt).round().max(1.0) as usize;
     let dt = grid / per as f64;
     let n = (c.stop / grid).round() as usize;
     let (mut xs, mut fs) = (Vec::with_capacity(n), Vec::with_capacity(n));
-    macro_rules! run {
-        ($m:ty, $v:ident, $x:expr, $f:expr, $rpm:expr) => {{
-            let mut v = Values::<$v>::start();
-            v[$v::model_fidelity] = 3.0;
-            v[$v::drive_mode] = 2.0;
-            v[$v::drive_n] = $rpm * std::f64::consts::PI / 30.0;
-            v[$v::elastic_k] = c.k;
-            v[$v::solver_method] = method as f64;
-            if method == 4 {
-                v[$v::solver_max_step] = tol;
-            } else {
-                v[$v::solver_rtol] = tol;
-                v[$v::solver_atol] = (tol * 1e-3).min(3.0 / c.k);
-            }
-            let mut m = <$m>::prepare(&v).map_err(|e| e.to_string())?;
-            let mut t = 0.0;
-            for i in 0..n {
-                for j in 0..per {
-                    m.do_step(&mut v, t, dt, &mut NoLog)?;
-                    t = (i * per + j + 1) as f64 * dt;
-                }
-                m.evaluate(&mut v, t, &mut NoLog);
-                xs.push(v[$x]);
-                fs.push(v[$f]);
-            }
-        }};
-    }
-    if c.mech == "GenevaKnifeDrive" {
-        run!(GenevaKnifeDrive, G, G::knife_s, G::elastic_F, 30.0);
+    let mut v = Values::<M::Var>::start();
+    let mut set = |name: &str, x: f64| -> Result<(), String> {
+        v.raw_mut()[vr::<M>(name)?] = x;
+        Ok(())
+    };
+    set("model.fidelity", 3.0)?;
+    set("drive.mode", 2.0)?;
+    set("drive.n", c.rpm * std::f64::consts::PI / 30.0)?;
+    set(c.k_name, c.k)?;
+    set("solver.method", method as f64)?;
+    if method == 4 {
+        set("solver.max_step", tol)?;
     } else {
-        run!(SewingTable, S, S::table_x, S::elastic_F, 100.0);
+        set("solver.rtol", tol)?;
+        set("solver.atol", (tol * 1e-3).min(3.0 / c.k))?;
+    }
+    let (ix, iff) = (vr::<M>(c.x)?, vr::<M>(c.f)?);
+    let mut m = M::prepare(&v).map_err(|e| e.to_string())?;
+    let mut t = 0.0;
+    for i in 0..n {
+        for j in 0..per {
+            m.do_step(&mut v, t, dt, &mut NoLog)?;
+            t = (i * per + j + 1) as f64 * dt;
+        }
+        m.evaluate(&mut v, t, &mut NoLog);
+        xs.push(v.raw()[ix]);
+        fs.push(v.raw()[iff]);
     }
     Ok((xs, fs))
 }
@@ -144,15 +179,24 @@ fn measure(
     (last, times[1], String::new())
 }
 
-/// FMPy's lines (GenevaKnifeDrive): JSON lines of scripts/work_precision.py.
-fn fmpy_baseline(root: &Path, k: f64, stop: f64) -> Vec<Point> {
+/// FMPy's lines: JSON lines of scripts/work_precision.py on the case's FMU (Model Exchange
+/// with CVode, and the FMU's own `auto` through the same host loop).
+fn fmpy_baseline(root: &Path, c: &Case) -> Vec<Point> {
     let out = std::process::Command::new(root.join(".venv/bin/python"))
         .arg(root.join("scripts/work_precision.py"))
         .args([
+            "--fmu",
+            c.mech,
+            "--x",
+            c.x,
+            "--k-name",
+            c.k_name,
             "--k",
-            &k.to_string(),
+            &c.k.to_string(),
+            "--rpm",
+            &c.rpm.to_string(),
             "--stop",
-            &stop.to_string(),
+            &c.stop.to_string(),
             "--only",
             "auto,fmpy-cvode-me",
         ])
@@ -195,6 +239,86 @@ fn fmpy_baseline(root: &Path, k: f64, stop: f64) -> Vec<Point> {
     pts
 }
 
+/// Per method, its time at the target error.
+type MethodTimes = Vec<(String, Option<f64>)>;
+
+/// The error at which methods are compared (`dynamics.md` benchmark: equal error 1e-6), m.
+const TARGET: f64 = 1e-6;
+
+/// Per method line, the wall time at which its position error reaches `target`, interpolated
+/// log–log between the two runs of its ladder that bracket it (None: no run that reaches it).
+fn equal_error_times(pts: &[Point], target: f64) -> MethodTimes {
+    let mut names: Vec<&str> = vec![];
+    for p in pts {
+        if !names.contains(&p.method.as_str()) && !p.method.contains("ladder") {
+            names.push(&p.method);
+        }
+    }
+    names
+        .into_iter()
+        .map(|n| {
+            let mut run: Vec<(f64, f64)> = pts
+                .iter()
+                .filter(|p| p.method == n && p.secs.is_finite())
+                .filter_map(|p| p.err.map(|(e, _)| (p.secs, e)))
+                .collect();
+            run.sort_by(|a, b| a.0.total_cmp(&b.0));
+            (n.to_string(), time_at(&run, target))
+        })
+        .collect()
+}
+
+/// The time at which a work-precision line `(seconds, error)` (sorted by time) first reaches
+/// `target`, log–log interpolated.
+fn time_at(run: &[(f64, f64)], target: f64) -> Option<f64> {
+    let first = run.iter().position(|&(_, e)| e <= target)?;
+    if first == 0 {
+        return Some(run[0].0);
+    }
+    let ((t0, e0), (t1, e1)) = (run[first - 1], run[first]);
+    let (l0, l1, lt) = (e0.max(1e-300).ln(), e1.max(1e-300).ln(), target.ln());
+    let u = if l0 == l1 { 1.0 } else { (l0 - lt) / (l0 - l1) };
+    Some((t0.ln() + u * (t1.ln() - t0.ln())).exp())
+}
+
+/// The benchmark figures of issue 5: at equal error, FMPy + CVode on the Model Exchange
+/// interface against the FMU's own `auto` in the same FMPy loop, and `auto` against the best
+/// fixed internal method.
+fn summary_table(summary: &[(Case, MethodTimes)]) -> String {
+    let mut md = format!(
+        "\n## At equal error ({TARGET:e} m in position)\n\nWall time at which each method's error reaches {TARGET:e} m (log–log interpolation on its ladder; – where none does).\n\n| case | auto | dopri5 | radau5 | rk4 | best fixed ÷ auto | FMPy: CS auto | FMPy: CVode on ME | CVode ÷ our CS (FMPy loop) |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
+    );
+    let fmt = |t: Option<f64>| t.map_or("–".to_string(), |t| format!("{t:.4} s"));
+    for (c, times) in summary {
+        let get = |n: &str| times.iter().find(|(m, _)| m == n).and_then(|(_, t)| *t);
+        let auto = get("auto");
+        let best_fixed = ["dopri5", "radau5", "rk4"]
+            .iter()
+            .filter_map(|n| get(n))
+            .min_by(f64::total_cmp);
+        let ratio = |a: Option<f64>, b: Option<f64>| match (a, b) {
+            (Some(a), Some(b)) => format!("{:.2}", a / b),
+            _ => "–".into(),
+        };
+        let (fa, fc) = (get("FMPy: CS auto"), get("FMPy: CVode on ME"));
+        let _ = writeln!(
+            md,
+            "| {} {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            c.mech,
+            c.label,
+            fmt(auto),
+            fmt(get("dopri5")),
+            fmt(get("radau5")),
+            fmt(get("rk4")),
+            ratio(best_fixed, auto),
+            fmt(fa),
+            fmt(fc),
+            ratio(fc, fa)
+        );
+    }
+    md
+}
+
 pub fn report(root: &Path, out: &Path, with_fmpy: bool) -> Result<(), String> {
     std::fs::create_dir_all(out).map_err(|e| format!("{}: {e}", out.display()))?;
     let tols = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8];
@@ -209,6 +333,7 @@ pub fn report(root: &Path, out: &Path, with_fmpy: bool) -> Result<(), String> {
     let mut md = String::from(
         "# Error against run time (elastodynamic level)\n\nGenerated by `cargo run --release -- report`. Error: largest |position − reference| on the 1 ms output grid (m), and relative error of the peak chain force; reference: dopri5 at rtol 1e-11. Time: median of 3 runs in this process (plain Rust model, no FMI host); the FMPy lines run through FMPy's host loop (Python per output step), with the FMU's own `auto` through the same loop for the like-for-like ratio.\n",
     );
+    let mut summary = vec![];
     for c in CASES {
         bar.set_message(format!("{} {}", c.mech, c.label));
         let reference = simulate(&c, 2, 1e-11, 1e-3)?;
@@ -249,9 +374,9 @@ pub fn report(root: &Path, out: &Path, with_fmpy: bool) -> Result<(), String> {
             });
             bar.inc(1);
         }
-        if with_fmpy && c.mech == "GenevaKnifeDrive" {
+        if with_fmpy {
             bar.set_message(format!("{} {}: FMPy", c.mech, c.label));
-            pts.extend(fmpy_baseline(root, c.k, c.stop));
+            pts.extend(fmpy_baseline(root, &c));
         }
         // table
         let _ = write!(
@@ -296,11 +421,12 @@ pub fn report(root: &Path, out: &Path, with_fmpy: bool) -> Result<(), String> {
                 Series::new(*n, v)
             })
             .collect();
-        let file = format!(
-            "{}_{}.png",
+        let stem = format!(
+            "{}_{}",
             c.mech,
             if c.k > 1e9 { "stiff" } else { "nonstiff" }
         );
+        let file = format!("{stem}.png");
         let fig = Figure {
             file: file.clone(),
             title: format!("{} {}: work-precision", c.mech, c.label),
@@ -311,10 +437,33 @@ pub fn report(root: &Path, out: &Path, with_fmpy: bool) -> Result<(), String> {
             equal_axes: false,
         };
         std::fs::write(out.join(&file), render_png(&fig)?).map_err(|e| e.to_string())?;
-        let _ = writeln!(md, "\n![{}]({file})", fig.title);
+        std::fs::write(out.join(format!("{stem}.svg")), render_svg(&fig)?)
+            .map_err(|e| e.to_string())?;
+        let _ = writeln!(md, "\n![{}]({file}) ([SVG]({stem}.svg))", fig.title);
+        summary.push((c, equal_error_times(&pts, TARGET)));
     }
     bar.finish_with_message("done");
+    md.push_str(&summary_table(&summary));
     std::fs::write(out.join("report.md"), md).map_err(|e| e.to_string())?;
     eprintln!("wrote {}", out.join("report.md").display());
     Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::time_at;
+
+    #[test]
+    fn equal_error_time_is_interpolated_log_log_between_the_bracketing_runs() {
+        // error ∝ time^-2: 1e-4 at 1 ms, 1e-8 at 100 ms → 1e-6 at 10 ms
+        let run = [(1e-3, 1e-4), (1e-1, 1e-8)];
+        let t = time_at(&run, 1e-6).unwrap();
+        assert!((t / 1e-2 - 1.0).abs() < 1e-12, "{t}");
+        // the first run already reaches it; none reaches it
+        assert_eq!(time_at(&[(0.5, 1e-7)], 1e-6), Some(0.5));
+        assert_eq!(time_at(&[(0.5, 1e-5), (1.0, 2e-6)], 1e-6), None);
+        // a non-monotone ladder: the first run at or below the target counts
+        let t = time_at(&[(1.0, 1e-5), (2.0, 3e-5), (4.0, 1e-7)], 1e-6).unwrap();
+        assert!(t > 2.0 && t < 4.0, "{t}");
+    }
 }

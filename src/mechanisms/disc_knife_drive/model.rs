@@ -3,13 +3,30 @@
 
 use super::physics::{Forces, Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
-use crate::model::{Experiment, Log, Model, ParamError, Severity, Values};
+use crate::model::{Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
+
+/// The computations a scene may leave out (`scenes.md`); the variables below say which they
+/// need (`.needs`) or feed (`.feeds`). The kinematics always run.
+pub mod stage {
+    use crate::model::Stages;
+    /// [`super::STAGES`]`[0]`.
+    pub const FORCES: Stages = Stages::bit(0);
+}
+
+/// The stages of [`stage`], in bit order.
+pub static STAGES: &[Stage] = &[Stage {
+    name: "forces",
+    description: "Kinetostatic force analysis: cutting force, inertia of holder and sliders, Coulomb friction in both guides (with the self-locking check), rod and hinge forces, shaft torque",
+    levels: &[Fidelity::Kinetostatic],
+    requires: Stages::NONE,
+    always: false,
+}];
 
 crate::model_variables! {
-    pub enum V (nominal_rpm = 300.0) {
+    pub enum V (nominal_rpm = 300.0, torque_needs = stage::FORCES) {
         // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
-        shaft_J_red = shaft::j_red_var(ON_PHI_W),
-        shaft_tau0 = shaft::tau0_var(ON_PHI_W),
+        shaft_J_red = shaft::j_red_var(ON_PHI_W).needs(stage::FORCES),
+        shaft_tau0 = shaft::tau0_var(ON_PHI_W).needs(stage::FORCES),
         // ---- parameters (paper 004 where it gives them, else documented assumptions)
         crank_l1 = Var::parameter("crank.l1", 0.019, "m", "Crank length l1 (assumption: paper 004 gives relative sizes only)").min(0.0),
         rod_lambda2 = Var::parameter("rod.lambda2", 2.0, "", "lambda2 = l2/l1, rod over crank (paper 004: 2)").min(1.0),
@@ -21,17 +38,17 @@ crate::model_variables! {
         support_yQ = Var::parameter("support.yQ", 0.010, "m", "y of point Q of the support line EQ (assumption)"),
         assembly_branch = Var::int_parameter("assembly.branch", 1, "Which of the two holder positions: beta = -alpha + branch*acos(c), +1 or -1 (spec)").min(-1.0).max(1.0),
         kinematics_series = Var::bool_parameter("kinematics.series", false, "true: slider C by paper 004's series form (1), x_C = l1*(lambda2 + cos(phi) - sin(phi)^2/(2*lambda2)), e = 0 only; false: exact"),
-        holder_m = Var::parameter("holder.m", 0.8, "kg", "Mass of the holder with its knives, at S (assumption)").min(0.0),
-        holder_J = Var::parameter("holder.J", 0.0, "kg.m2", "Moment of inertia of holder and knives about S (assumption: 0, the spec lumps the holder at S)").min(0.0),
-        slider5_m = Var::parameter("slider5.m", 0.3, "kg", "Mass of slider 5 at C (assumption)").min(0.0),
-        slider7_m = Var::parameter("slider7.m", 0.2, "kg", "Mass of slider 7 at D (assumption)").min(0.0),
-        rod_m = Var::parameter("rod.m", 0.15, "kg", "Rod mass, half lumped at the crank pin and half at C (assumption)").min(0.0),
-        crank_J = Var::parameter("crank.J", 2e-4, "kg.m2", "Moment of inertia of the crank about its axis A, centre of mass on A (assumption)").min(0.0),
-        guide_mu = Var::parameter("guide.mu", 0.1, "", "Coulomb friction coefficient of slider 5 in its guide (assumption)").min(0.0),
-        support_mu = Var::parameter("support.mu", 0.1, "", "Coulomb friction coefficient of slider 7 on EQ (assumption)").min(0.0),
-        cut_F = Var::parameter("cut.F", 150.0, "N", "Cutting force at S in the working stroke, against the velocity of S relative to the block (assumption)").min(0.0),
-        feed_V = Var::parameter("feed.V", 0.2, "m/s", "Feed speed of the book block, along -y (assumption)"),
-        gravity_g = Var::parameter("gravity.g", 0.0, "m/s2", "Gravity along -y (assumption: 0, the mechanism works in a horizontal plane; 9.80665 for a vertical one, y up)"),
+        holder_m = Var::parameter("holder.m", 0.8, "kg", "Mass of the holder with its knives, at S (assumption)").min(0.0).feeds(stage::FORCES),
+        holder_J = Var::parameter("holder.J", 0.0, "kg.m2", "Moment of inertia of holder and knives about S (assumption: 0, the spec lumps the holder at S)").min(0.0).feeds(stage::FORCES),
+        slider5_m = Var::parameter("slider5.m", 0.3, "kg", "Mass of slider 5 at C (assumption)").min(0.0).feeds(stage::FORCES),
+        slider7_m = Var::parameter("slider7.m", 0.2, "kg", "Mass of slider 7 at D (assumption)").min(0.0).feeds(stage::FORCES),
+        rod_m = Var::parameter("rod.m", 0.15, "kg", "Rod mass, half lumped at the crank pin and half at C (assumption)").min(0.0).feeds(stage::FORCES),
+        crank_J = Var::parameter("crank.J", 2e-4, "kg.m2", "Moment of inertia of the crank about its axis A, centre of mass on A (assumption)").min(0.0).feeds(stage::FORCES),
+        guide_mu = Var::parameter("guide.mu", 0.1, "", "Coulomb friction coefficient of slider 5 in its guide (assumption)").min(0.0).feeds(stage::FORCES),
+        support_mu = Var::parameter("support.mu", 0.1, "", "Coulomb friction coefficient of slider 7 on EQ (assumption)").min(0.0).feeds(stage::FORCES),
+        cut_F = Var::parameter("cut.F", 150.0, "N", "Cutting force at S in the working stroke, against the velocity of S relative to the block (assumption)").min(0.0).feeds(stage::FORCES),
+        feed_V = Var::parameter("feed.V", 0.2, "m/s", "Feed speed of the book block, along -y (assumption)").feeds(stage::FORCES),
+        gravity_g = Var::parameter("gravity.g", 0.0, "m/s2", "Gravity along -y (assumption: 0, the mechanism works in a horizontal plane; 9.80665 for a vertical one, y up)").feeds(stage::FORCES),
         // ---- calculated parameters
         rod_l2 = Var::calculated("rod.l2", "m", "Rod length l2 = lambda2*l1 (paper 004)"),
         slider_stroke = Var::calculated("slider.stroke", "m", "Stroke of slider 5 (2*l1 for e = 0)"),
@@ -51,14 +68,14 @@ crate::model_variables! {
         support_x = Var::output("support.x", "m", "x of hinge D, slider 7 on EQ (eq. 6)").depends(ON_PHI),
         support_y = Var::output("support.y", "m", "y of hinge D, slider 7 on EQ (eq. 6)").depends(ON_PHI),
         knife_working = Var::bool_output("knife.working", "True in the working stroke: slider C moves to +x").depends(ON_PHI_W),
-        cut_Fx = Var::output("cut.Fx", "N", "Cutting force on the holder at S, x: cut.F against the velocity of S relative to the block, working stroke only (kinetostatic level)").depends(ON_PHI_W),
-        cut_Fy = Var::output("cut.Fy", "N", "Cutting force on the holder at S, y (kinetostatic level)").depends(ON_PHI_W),
-        rod_F = Var::output("rod.F", "N", "Rod force P, compression positive (kinetostatic level)").depends(ON_ALL),
-        guide_N = Var::output("guide.N", "N", "Normal force of its guide on slider 5, along +y (kinetostatic level)").depends(ON_ALL),
-        support_N = Var::output("support.N", "N", "Normal force of EQ on slider 7, along (cos(alpha), -sin(alpha)) (kinetostatic level)").depends(ON_ALL),
-        pinC_F = Var::output("pinC.F", "N", "Magnitude of the hinge force at C, slider 5 - holder (kinetostatic level)").depends(ON_ALL),
-        pinD_F = Var::output("pinD.F", "N", "Magnitude of the hinge force at D, slider 7 - holder (kinetostatic level)").depends(ON_ALL),
-        sliders_locked = Var::bool_output("sliders.locked", "True where Coulomb friction self-locks a slider (no unique force solution; slider 7: |tan(beta + alpha)| < support.mu); forces are then computed without friction (kinetostatic level)").depends(ON_PHI_W),
+        cut_Fx = Var::output("cut.Fx", "N", "Cutting force on the holder at S, x: cut.F against the velocity of S relative to the block, working stroke only (kinetostatic level)").depends(ON_PHI_W).needs(stage::FORCES),
+        cut_Fy = Var::output("cut.Fy", "N", "Cutting force on the holder at S, y (kinetostatic level)").depends(ON_PHI_W).needs(stage::FORCES),
+        rod_F = Var::output("rod.F", "N", "Rod force P, compression positive (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        guide_N = Var::output("guide.N", "N", "Normal force of its guide on slider 5, along +y (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        support_N = Var::output("support.N", "N", "Normal force of EQ on slider 7, along (cos(alpha), -sin(alpha)) (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        pinC_F = Var::output("pinC.F", "N", "Magnitude of the hinge force at C, slider 5 - holder (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        pinD_F = Var::output("pinD.F", "N", "Magnitude of the hinge force at D, slider 7 - holder (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        sliders_locked = Var::bool_output("sliders.locked", "True where Coulomb friction self-locks a slider (no unique force solution; slider 7: |tan(beta + alpha)| < support.mu); forces are then computed without friction (kinetostatic level)").depends(ON_PHI_W).needs(stage::FORCES),
     }
 }
 
@@ -140,6 +157,7 @@ impl Model for DiscKnifeDrive {
         step: 1e-3,
         tolerance: None,
     };
+    const STAGES: &'static [Stage] = STAGES;
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
         shaft::require_level(v, &[Fidelity::Kinematic, Fidelity::Kinetostatic])?;
@@ -158,7 +176,7 @@ impl Model for DiscKnifeDrive {
         let s = shaft::state(v, time);
         let k = p.kinematics(s.phi, s.w, s.a);
         Self::write_kinematics(v, &k);
-        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic {
+        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
             let r = shaft::reduce(|a| p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau);
             shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             let f = p.kinetostatics(&k);

@@ -3,33 +3,64 @@
 
 use super::elastic::{KnifeOde, Point};
 use super::physics::{Kinematics, Params};
+use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
-use crate::model::{Experiment, Log, Model, ParamError, Values};
+use crate::model::{Experiment, Log, Model, ParamError, Stage, Stages, Values};
 use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
 use std::cell::Cell;
 
+/// The computations a scene may leave out (`scenes.md`); the variables below say which they
+/// need (`.needs`) or feed (`.feeds`). The kinematics always run.
+pub mod stage {
+    use crate::model::Stages;
+    /// [`super::STAGES`]`[0]`.
+    pub const FORCES: Stages = Stages::bit(0);
+    /// [`super::STAGES`]`[1]`.
+    pub const ELASTIC: Stages = Stages::bit(1);
+    /// What the loads and masses feed.
+    pub const LOADS: Stages = FORCES.or(ELASTIC);
+}
+
+/// The stages of [`stage`], in bit order.
+pub static STAGES: &[Stage] = &[
+    Stage {
+        name: "forces",
+        description: "Kinetostatic force analysis: Newton-Euler on slider, rod, crank, gear pair, cross and driver, with cutting resistance and guide friction",
+        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
+        requires: Stages::NONE,
+        always: false,
+    },
+    Stage {
+        name: "elastic",
+        description: "The ODE of the compliant drive chain, integrated inside fmi2DoStep, with its energy balance and dynamic factor",
+        levels: &[Fidelity::Elastodynamic],
+        requires: Stages::NONE,
+        always: true,
+    },
+];
+
 crate::model_variables! {
-    pub enum V (nominal_rpm = 30.0) {
+    pub enum V (nominal_rpm = 30.0, torque_needs = stage::FORCES) {
         // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
-        shaft_J_red = shaft::j_red_var(ON_PHI_W),
-        shaft_tau0 = shaft::tau0_var(ON_PHI_W),
+        shaft_J_red = shaft::j_red_var(ON_PHI_W).needs(stage::FORCES),
+        shaft_tau0 = shaft::tau0_var(ON_PHI_W).needs(stage::FORCES),
         // ---- parameters (paper 003 where it gives them, else documented assumptions)
         geneva_Z = Var::int_parameter("geneva.Z", 4, "Number of slots of the Geneva cross Z (paper 003: 4)").min(3.0).max(36.0),
         geneva_r1 = Var::parameter("geneva.r1", 0.08, "m", "Driver radius r1: crank pin (roller) to driver axis (assumption)").min(0.0),
         gear_i = Var::int_parameter("gear.i", 4, "Crank turns per cross turn; a whole multiple of Z so the crank turns 360 deg per index (paper 003: 4)").min(1.0),
-        gear_eta = Var::parameter("gear.eta", 0.98, "", "Mesh efficiency of the gear pair 3-4 (assumption)").min(0.0).max(1.0),
+        gear_eta = Var::parameter("gear.eta", 0.98, "", "Mesh efficiency of the gear pair 3-4 (assumption)").min(0.0).max(1.0).feeds(stage::LOADS),
         crank_r = Var::parameter("crank.r", 0.07, "m", "Crank radius r2 (assumption)").min(0.0),
         rod_l = Var::parameter("rod.l", 0.35, "m", "Rod length l; paper 003: lambda2 = l/r2 = 5").min(0.0),
-        knife_m = Var::parameter("knife.m", 12.0, "kg", "Mass of slider, knife housing and knife (assumption)").min(0.0),
-        rod_m = Var::parameter("rod.m", 3.0, "kg", "Rod mass, half at the crank pin and half at the slider (assumption)").min(0.0),
-        crank_J = Var::parameter("crank.J", 0.05, "kg.m2", "Moment of inertia of crank 5 and gear 4 (assumption)").min(0.0),
-        cross_J = Var::parameter("cross.J", 0.08, "kg.m2", "Moment of inertia of cross 2 and gear 3 (assumption)").min(0.0),
-        driver_J = Var::parameter("driver.J", 0.03, "kg.m2", "Moment of inertia of driver 1 (assumption)").min(0.0),
-        guide_mu = Var::parameter("guide.mu", 0.1, "", "Coulomb friction coefficient of the slider guides 8 (assumption)").min(0.0),
-        cut_F_max = Var::parameter("cut.F_max", 15000.0, "N", "Cutting resistance at full engagement (assumption)").min(0.0),
-        cut_s_start = Var::parameter("cut.s_start", 0.070, "m", "Knife position where it meets the stack (assumption: 65 mm stack)").min(0.0),
-        cut_s_full = Var::parameter("cut.s_full", 0.075, "m", "Knife position where the cutting force is full (assumption)").min(0.0),
-        cut_s_end = Var::parameter("cut.s_end", 0.135, "m", "Knife position where the stack is cut through (assumption)").min(0.0),
+        knife_m = Var::parameter("knife.m", 12.0, "kg", "Mass of slider, knife housing and knife (assumption)").min(0.0).feeds(stage::LOADS),
+        rod_m = Var::parameter("rod.m", 3.0, "kg", "Rod mass, half at the crank pin and half at the slider (assumption)").min(0.0).feeds(stage::LOADS),
+        crank_J = Var::parameter("crank.J", 0.05, "kg.m2", "Moment of inertia of crank 5 and gear 4 (assumption)").min(0.0).feeds(stage::LOADS),
+        cross_J = Var::parameter("cross.J", 0.08, "kg.m2", "Moment of inertia of cross 2 and gear 3 (assumption)").min(0.0).feeds(stage::LOADS),
+        driver_J = Var::parameter("driver.J", 0.03, "kg.m2", "Moment of inertia of driver 1 (assumption)").min(0.0).feeds(stage::LOADS),
+        guide_mu = Var::parameter("guide.mu", 0.1, "", "Coulomb friction coefficient of the slider guides 8 (assumption)").min(0.0).feeds(stage::LOADS),
+        cut_F_max = Var::parameter("cut.F_max", 15000.0, "N", "Cutting resistance at full engagement (assumption)").min(0.0).feeds(stage::LOADS),
+        cut_s_start = Var::parameter("cut.s_start", 0.070, "m", "Knife position where it meets the stack (assumption: 65 mm stack)").min(0.0).feeds(stage::LOADS),
+        cut_s_full = Var::parameter("cut.s_full", 0.075, "m", "Knife position where the cutting force is full (assumption)").min(0.0).feeds(stage::LOADS),
+        cut_s_end = Var::parameter("cut.s_end", 0.135, "m", "Knife position where the stack is cut through (assumption)").min(0.0).feeds(stage::LOADS),
         // ---- calculated parameters
         geneva_a = Var::calculated("geneva.a", "m", "Centre distance a = r1/sin(pi/Z) (paper 003: lambda = a/r1 = 1.414 for Z = 4)"),
         geneva_lambda = Var::calculated("geneva.lambda", "", "lambda = a/r1 = 1/sin(pi/Z) (paper 003)"),
@@ -47,39 +78,41 @@ crate::model_variables! {
         knife_v = Var::output("knife.v", "m/s", "Knife velocity, down positive").depends(ON_PHI_W),
         knife_a = Var::output("knife.a", "m/s2", "Knife acceleration, down positive").depends(ON_ALL),
         knife_dwell = Var::bool_output("knife.dwell", "True while the roller is out of the slots: cross locked, knife stopped at the top").depends(ON_PHI),
-        knife_F_cut = Var::output("knife.F_cut", "N", "Cutting resistance on the knife, >= 0, only while descending through the stack (kinetostatic level; 0 at kinematic)").depends(ON_PHI_W),
-        knife_F_inertia = Var::output("knife.F_inertia", "N", "Inertia force of the slider mass m_s = knife.m + rod.m/2, -m_s*a, down positive (kinetostatic level)").depends(ON_ALL),
-        rod_F = Var::output("rod.F", "N", "Rod force P along the rod, positive when it pulls the knife down towards the crank (tension: with s = r2 + l - x_C the crank lies below the knife, so the spec's P*cos(nu) along +s is a pull) (kinetostatic level)").depends(ON_ALL),
-        guide_N = Var::output("guide.N", "N", "Normal force of the guides on the slider, P*sin(nu) (kinetostatic level)").depends(ON_ALL),
-        crank_tau = Var::output("crank.tau", "N.m", "Torque on the crank shaft (gear 4) (kinetostatic level)").depends(ON_ALL),
-        cross_tau = Var::output("cross.tau", "N.m", "Torque on the cross shaft (gear 3), with mesh losses and cross inertia (kinetostatic level)").depends(ON_ALL),
-        geneva_F = Var::output("geneva.F", "N", "Contact force between roller and slot flank, cross.tau/rho (kinetostatic level)").depends(ON_ALL),
+        knife_F_cut = Var::output("knife.F_cut", "N", "Cutting resistance on the knife, >= 0, only while descending through the stack (kinetostatic level; 0 at kinematic)").depends(ON_PHI_W).needs(stage::FORCES),
+        knife_F_inertia = Var::output("knife.F_inertia", "N", "Inertia force of the slider mass m_s = knife.m + rod.m/2, -m_s*a, down positive (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        rod_F = Var::output("rod.F", "N", "Rod force P along the rod, positive when it pulls the knife down towards the crank (tension: with s = r2 + l - x_C the crank lies below the knife, so the spec's P*cos(nu) along +s is a pull) (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        guide_N = Var::output("guide.N", "N", "Normal force of the guides on the slider, P*sin(nu) (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        crank_tau = Var::output("crank.tau", "N.m", "Torque on the crank shaft (gear 4) (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        cross_tau = Var::output("cross.tau", "N.m", "Torque on the cross shaft (gear 3), with mesh losses and cross inertia (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        geneva_F = Var::output("geneva.F", "N", "Contact force between roller and slot flank, cross.tau/rho (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         // ---- elastodynamic level (dynamics.md)
-        elastic_k = Var::parameter("elastic.k", 5e7, "N/m", "Stiffness of the drive chain between the rigid knife position and the knife (elastodynamic level; assumption, dynamics.md)").min(1.0),
-        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the drive chain, c = 2*zeta*sqrt(k*m_s) (elastodynamic level; assumption)").min(0.0),
-        solver_method = crate::solver::vars::method(),
-        solver_rtol = crate::solver::vars::rtol(),
-        solver_atol = crate::solver::vars::atol(),
-        solver_max_step = crate::solver::vars::max_step(),
+        elastic_k = Var::parameter("elastic.k", 5e7, "N/m", "Stiffness of the drive chain between the rigid knife position and the knife (elastodynamic level; assumption, dynamics.md)").min(1.0).feeds(stage::ELASTIC),
+        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the drive chain, c = 2*zeta*sqrt(k*m_s) (elastodynamic level; assumption)").min(0.0).feeds(stage::ELASTIC),
+        solver_method = crate::solver::vars::method().feeds(stage::ELASTIC),
+        solver_rtol = crate::solver::vars::rtol().feeds(stage::ELASTIC),
+        solver_atol = crate::solver::vars::atol().feeds(stage::ELASTIC),
+        solver_max_step = crate::solver::vars::max_step().feeds(stage::ELASTIC),
         knife_s_kin = Var::output("knife.s_kin", "m", "Rigid reference position of the knife s(phi) (elastodynamic level; equals knife.s at the others)").depends(ON_PHI),
-        elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the drive chain knife.s_kin - knife.s (elastodynamic level)").depends(ON_PHI),
-        elastic_F = Var::output("elastic.F", "N", "Dynamic chain force on the knife along s, k*deflection + c*deflection rate (elastodynamic level)").depends(ON_PHI_W),
-        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) chain force, of the last complete driver turn (the running one until a turn is complete; elastodynamic level)"),
-        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)"),
-        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)"),
+        elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the drive chain knife.s_kin - knife.s (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
+        elastic_F = Var::output("elastic.F", "N", "Dynamic chain force on the knife along s, k*deflection + c*deflection rate (elastodynamic level)").depends(ON_PHI_W).needs(stage::ELASTIC),
+        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) chain force, of the last complete driver turn (the running one until a turn is complete; elastodynamic level)").needs(stage::ELASTIC),
+        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)").needs(stage::ELASTIC),
+        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)").needs(stage::ELASTIC),
         // ---- Model Exchange states of the elastodynamic level and their derivatives
-        elastic_x = Var::local("elastic.x", "m", "State: knife position x, down positive (elastodynamic level)"),
-        elastic_xd = Var::local("elastic.xd", "m/s", "State: knife velocity (elastodynamic level)"),
-        elastic_W = Var::local("elastic.W", "J", "State: work done on knife and chain spring by drive, gravity, cutting, friction and damping (for the energy balance)"),
-        der_elastic_x = Var::local("der(elastic.x)", "m/s", "Derivative of elastic.x").derivative_of(V::elastic_x as u32),
-        der_elastic_xd = Var::local("der(elastic.xd)", "m/s2", "Derivative of elastic.xd").derivative_of(V::elastic_xd as u32),
-        der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32),
+        elastic_x = Var::local("elastic.x", "m", "State: knife position x, down positive (elastodynamic level)").needs(stage::ELASTIC),
+        elastic_xd = Var::local("elastic.xd", "m/s", "State: knife velocity (elastodynamic level)").needs(stage::ELASTIC),
+        elastic_W = Var::local("elastic.W", "J", "State: work done on knife and chain spring by drive, gravity, cutting, friction and damping (for the energy balance)").needs(stage::ELASTIC),
+        der_elastic_x = Var::local("der(elastic.x)", "m/s", "Derivative of elastic.x").derivative_of(V::elastic_x as u32).needs(stage::ELASTIC),
+        der_elastic_xd = Var::local("der(elastic.xd)", "m/s2", "Derivative of elastic.xd").derivative_of(V::elastic_xd as u32).needs(stage::ELASTIC),
+        der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32).needs(stage::ELASTIC),
     }
 }
 
 /// The Geneva-mechanism knife drive of a three-knife trimmer (paper 003) as an FMU model.
 pub struct GenevaKnifeDrive {
     params: Params,
+    /// The Geneva pair of `params`, built once per prepare.
+    geneva: Geneva,
     dynamic: Option<Dynamic>,
 }
 
@@ -247,6 +280,7 @@ impl Model for GenevaKnifeDrive {
         step: 1e-3,
         tolerance: None,
     };
+    const STAGES: &'static [Stage] = STAGES;
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
         let params = Self::params(v);
@@ -266,7 +300,11 @@ impl Model for GenevaKnifeDrive {
                 g_prev: Vec::new(),
             }
         });
-        Ok(GenevaKnifeDrive { params, dynamic })
+        Ok(GenevaKnifeDrive {
+            geneva: params.geneva(),
+            params,
+            dynamic,
+        })
     }
 
     fn do_step(
@@ -391,7 +429,7 @@ impl Model for GenevaKnifeDrive {
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
         let p = &self.params;
         let s = shaft::state(v, time);
-        let k = p.kinematics(s.phi, s.w, s.a);
+        let k = p.kinematics_of(&self.geneva, s.phi, s.w, s.a);
         Self::write_kinematics(v, &k);
         v[V::knife_s_kin] = k.s;
         if let Some(d) = self.dynamic.as_ref() {
@@ -428,7 +466,7 @@ impl Model for GenevaKnifeDrive {
         v[V::elastic_deflection] = 0.0;
         v[V::elastic_F] = 0.0;
         v[V::dyn_factor] = 1.0;
-        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic {
+        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
             let r = shaft::reduce(|a| {
                 p.kinetostatics(&p.kinematics(s.phi, s.w, a), s.w, a)
                     .shaft_tau

@@ -350,7 +350,14 @@ impl Params {
     /// (rad/s) and acceleration `eps` (rad/s²). Exact closed forms (spec section Kinematics).
     #[inline]
     pub fn kinematics(&self, phi: f64, w: f64, eps: f64) -> Kinematics {
-        let g = self.geneva().at(phi);
+        self.kinematics_of(&self.geneva(), phi, w, eps)
+    }
+
+    /// As [`Params::kinematics`], with the Geneva pair built once (it costs a sine: the FMU
+    /// builds it when it prepares the model, not in every step).
+    #[inline]
+    pub fn kinematics_of(&self, geneva: &Geneva, phi: f64, w: f64, eps: f64) -> Kinematics {
+        let g = geneva.at(phi);
         let i = f64::from(self.gear_i);
         // θ = i·γ, θ' = i·γ', θ'' = i·γ'' (paper 003 leaves i out of the velocity: erratum).
         // In the dwell θ = i·2π/Z is a whole number of turns: exactly 0.

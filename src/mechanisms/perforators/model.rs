@@ -12,7 +12,7 @@ use crate::mechanics::cyclogram::Phase;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
-use crate::model::{EnumType, Experiment, Log, Model, ParamError, Severity, Values};
+use crate::model::{EnumType, Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
 use std::f64::consts::TAU;
 
 /// `synth.mode`.
@@ -28,11 +28,63 @@ pub static SYNTH_MODE: EnumType = EnumType {
     ],
 };
 
+/// The computations a scene may leave out (`scenes.md`); the variables below say which they
+/// need (`.needs`) or feed (`.feeds`). The kinematics always run.
+pub mod stage {
+    use crate::model::Stages;
+    /// [`super::STAGES`]`[0]`.
+    pub const FORCES: Stages = Stages::bit(0);
+    /// [`super::STAGES`]`[1]`.
+    pub const HERTZ: Stages = Stages::bit(1);
+    /// [`super::STAGES`]`[2]`.
+    pub const WATCH: Stages = Stages::bit(2);
+    /// [`super::STAGES`]`[3]`.
+    pub const SYNTHESIS: Stages = Stages::bit(3);
+    /// What the loads, masses and spring feed.
+    pub const LOADS: Stages = FORCES.or(HERTZ).or(WATCH);
+}
+
+/// The stages of [`stage`], in bit order.
+pub static STAGES: &[Stage] = &[
+    Stage {
+        name: "forces",
+        description: "Kinetostatic force analysis: piercing load, carriage inertia and guide friction, rod, lever with spring and hinge friction, ramp contact force, table reaction, shaft torque",
+        levels: &[Fidelity::Kinetostatic],
+        requires: Stages::NONE,
+        always: false,
+    },
+    Stage {
+        name: "hertz",
+        description: "Hertz contact stress roller - ramp (paper 002 eq. 8)",
+        levels: &[Fidelity::Kinetostatic],
+        requires: stage::FORCES,
+        always: false,
+    },
+    Stage {
+        name: "contact_watch",
+        description: "Inside fmi2DoStep, the ramp contact force sampled every 0.25 deg of shaft angle: lift-off detection and warning, smallest force per turn",
+        levels: &[Fidelity::Kinetostatic],
+        requires: stage::FORCES,
+        always: false,
+    },
+    Stage {
+        name: "synthesis",
+        description: "Paper 000's linkage synthesis reported as calculated parameters (rewritten at every evaluation)",
+        levels: &[
+            Fidelity::Kinematic,
+            Fidelity::Kinetostatic,
+            Fidelity::Elastodynamic,
+        ],
+        requires: Stages::NONE,
+        always: false,
+    },
+];
+
 crate::model_variables! {
-    pub enum V (nominal_rpm = 100.0) {
+    pub enum V (nominal_rpm = 100.0, torque_needs = stage::FORCES) {
         // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
-        shaft_J_red = shaft::j_red_var(ON_PHI_W),
-        shaft_tau0 = shaft::tau0_var(ON_PHI_W),
+        shaft_J_red = shaft::j_red_var(ON_PHI_W).needs(stage::FORCES),
+        shaft_tau0 = shaft::tau0_var(ON_PHI_W).needs(stage::FORCES),
         // ---- linkage synthesis (paper 000)
         synth_lambda_S = Var::parameter("synth.lambda_S", 1.0, "", "lambda_S: perforator stroke, the relative unit (paper 000: 1.0)").min(0.0),
         synth_lambda1 = Var::parameter("synth.lambda1", 1.07, "", "lambda1: rod length, relative (paper 000: 1.07)").min(0.0),
@@ -59,29 +111,29 @@ crate::model_variables! {
         law_rise = Var::enum_parameter("law.rise", &MOTION_LAW, "cycloidal", "Needle law of the rise over the table position (paper 002: 'Co' on the working stroke)"),
         law_fall = Var::enum_parameter("law.fall", &MOTION_LAW, "cycloidal", "Needle law of the fall over the table position"),
         // ---- loads and masses
-        pierce_Q = Var::parameter("pierce.Q", 22.0 * crate::mechanics::STANDARD_GRAVITY, "N", "Piercing load of 12 needles in a 16-page signature of paper No. 2: 22 kgf (paper 002)").min(0.0),
-        pierce_s_in = Var::parameter("pierce.s_in", 0.55, "", "Fraction of the stroke where the needles meet the fold (assumption)").min(0.0).max(1.0),
-        pierce_s_out = Var::parameter("pierce.s_out", 0.75, "", "Fraction of the stroke where they are through (assumption)").min(0.0).max(1.0),
-        pierce_k_f = Var::parameter("pierce.k_f", 0.15, "", "Needle friction after piercing, fraction of pierce.Q (assumption)").min(0.0),
-        perf_m = Var::parameter("perf.m", 0.6, "kg", "Mass of carriage and perforators (assumption)").min(0.0),
-        guide_mu = Var::parameter("guide.mu", 0.1, "", "Friction coefficient of the carriage guides (assumption)").min(0.0),
-        lever_J = Var::parameter("lever.J", 0.002, "kg.m2", "Lever's moment of inertia about its pivot (assumption)").min(0.0),
-        spring_M0 = Var::parameter("spring.M0", 6.0, "N.m", "Spring moment on the lever in the lowest position (assumption)").min(0.0),
-        spring_kt = Var::parameter("spring.kt", 20.0, "N.m/rad", "Spring rate about the pivot (assumption)").min(0.0),
-        joint_f = Var::parameter("joint.f", 0.05, "", "Hinge friction coefficient, moment f*r*|F| in O1, A and B (as paper 002; 0 disables)").min(0.0),
-        joint_r = Var::parameter("joint.r", 0.006, "m", "Hinge pin radius (assumption)").min(0.0),
+        pierce_Q = Var::parameter("pierce.Q", 22.0 * crate::mechanics::STANDARD_GRAVITY, "N", "Piercing load of 12 needles in a 16-page signature of paper No. 2: 22 kgf (paper 002)").min(0.0).feeds(stage::LOADS),
+        pierce_s_in = Var::parameter("pierce.s_in", 0.55, "", "Fraction of the stroke where the needles meet the fold (assumption)").min(0.0).max(1.0).feeds(stage::LOADS),
+        pierce_s_out = Var::parameter("pierce.s_out", 0.75, "", "Fraction of the stroke where they are through (assumption)").min(0.0).max(1.0).feeds(stage::LOADS),
+        pierce_k_f = Var::parameter("pierce.k_f", 0.15, "", "Needle friction after piercing, fraction of pierce.Q (assumption)").min(0.0).feeds(stage::LOADS),
+        perf_m = Var::parameter("perf.m", 0.6, "kg", "Mass of carriage and perforators (assumption)").min(0.0).feeds(stage::LOADS),
+        guide_mu = Var::parameter("guide.mu", 0.1, "", "Friction coefficient of the carriage guides (assumption)").min(0.0).feeds(stage::LOADS),
+        lever_J = Var::parameter("lever.J", 0.002, "kg.m2", "Lever's moment of inertia about its pivot (assumption)").min(0.0).feeds(stage::LOADS),
+        spring_M0 = Var::parameter("spring.M0", 6.0, "N.m", "Spring moment on the lever in the lowest position (assumption)").min(0.0).feeds(stage::LOADS),
+        spring_kt = Var::parameter("spring.kt", 20.0, "N.m/rad", "Spring rate about the pivot (assumption)").min(0.0).feeds(stage::LOADS),
+        joint_f = Var::parameter("joint.f", 0.05, "", "Hinge friction coefficient, moment f*r*|F| in O1, A and B (as paper 002; 0 disables)").min(0.0).feeds(stage::LOADS),
+        joint_r = Var::parameter("joint.r", 0.006, "m", "Hinge pin radius (assumption)").min(0.0).feeds(stage::LOADS),
         roller_r = Var::parameter("roller.r", 0.010, "m", "Ramp roller radius (assumption)").min(0.0),
-        roller_b = Var::parameter("roller.b", 0.010, "m", "Ramp roller width (assumption)").min(0.0),
-        ramp_E = Var::parameter("ramp.E", 2.1e11, "Pa", "Young's modulus of the ramp (assumption: steel)").min(0.0),
-        roller_E = Var::parameter("roller.E", 2.1e11, "Pa", "Young's modulus of the roller (assumption: steel)").min(0.0),
+        roller_b = Var::parameter("roller.b", 0.010, "m", "Ramp roller width (assumption)").min(0.0).feeds(stage::HERTZ),
+        ramp_E = Var::parameter("ramp.E", 2.1e11, "Pa", "Young's modulus of the ramp (assumption: steel)").min(0.0).feeds(stage::HERTZ),
+        roller_E = Var::parameter("roller.E", 2.1e11, "Pa", "Young's modulus of the roller (assumption: steel)").min(0.0).feeds(stage::HERTZ),
         // ---- calculated parameters
-        synth_nu = Var::calculated("synth.nu", "rad", "nu: rod to carriage line in the lowest position, eq. (2) (paper 000: 28.79 deg)"),
-        synth_gamma_paper = Var::calculated("synth.gamma_paper", "rad", "The paper's lever swing gamma_sum, eq. (3) (28.93 deg)"),
-        synth_gamma_sum = Var::calculated("synth.gamma_sum", "rad", "Lever swing the ramp is built for (synth.mode: paper 28.93 deg, exact 28.27 deg)"),
-        synth_S_sum = Var::calculated("synth.S_sum", "", "S_sum: vertical rise of the roller over the swing, eq. (4) with the paper's swing (paper 000: 0.7023)"),
-        synth_stroke_error = Var::calculated("synth.stroke_error", "", "Carriage travel with the paper's swing over lambda_S, minus 1 (+2.3 %)"),
-        perforators_stroke = Var::calculated("perforators.stroke", "m", "Perforator stroke with the swing chosen by synth.mode"),
-        table_stroke = Var::calculated("table.stroke", "m", "Table travel h (as SewingTable)"),
+        synth_nu = Var::calculated("synth.nu", "rad", "nu: rod to carriage line in the lowest position, eq. (2) (paper 000: 28.79 deg)").needs(stage::SYNTHESIS),
+        synth_gamma_paper = Var::calculated("synth.gamma_paper", "rad", "The paper's lever swing gamma_sum, eq. (3) (28.93 deg)").needs(stage::SYNTHESIS),
+        synth_gamma_sum = Var::calculated("synth.gamma_sum", "rad", "Lever swing the ramp is built for (synth.mode: paper 28.93 deg, exact 28.27 deg)").needs(stage::SYNTHESIS),
+        synth_S_sum = Var::calculated("synth.S_sum", "", "S_sum: vertical rise of the roller over the swing, eq. (4) with the paper's swing (paper 000: 0.7023)").needs(stage::SYNTHESIS),
+        synth_stroke_error = Var::calculated("synth.stroke_error", "", "Carriage travel with the paper's swing over lambda_S, minus 1 (+2.3 %)").needs(stage::SYNTHESIS),
+        perforators_stroke = Var::calculated("perforators.stroke", "m", "Perforator stroke with the swing chosen by synth.mode").needs(stage::SYNTHESIS),
+        table_stroke = Var::calculated("table.stroke", "m", "Table travel h (as SewingTable)").needs(stage::SYNTHESIS),
         // ---- outputs
         perforators_s = Var::output("perforators.s", "m", "Perforator displacement s_p from the lowest position, along the carriage line").depends(ON_PHI),
         perforators_v = Var::output("perforators.v", "m/s", "Perforator velocity").depends(ON_PHI_W),
@@ -93,16 +145,16 @@ crate::model_variables! {
         roller_rise = Var::output("roller.rise", "m", "Vertical rise of the roller centre above its lowest position").depends(ON_PHI),
         ramp_theta = Var::output("ramp.theta", "rad", "Pressure angle: ramp normal against the roller centre's direction of motion on the lever").depends(ON_PHI),
         ramp_rho = Var::output("ramp.rho", "m", "Curvature radius of the ramp profile at the contact, + convex, - concave (a flat stretch: 1000 m)").depends(ON_PHI),
-        pierce_Q_out = Var::output("pierce.Q_T", "N", "Piercing load on the needles, against their motion (kinetostatic level)").depends(ON_PHI_W),
-        perforators_F_inertia = Var::output("perforators.F_inertia", "N", "Inertia force of the carriage along its line, incl. the table's acceleration (kinetostatic level)").depends(ON_ALL),
-        rod_F = Var::output("rod.F", "N", "Rod force, compression positive (kinetostatic level)").depends(ON_ALL),
-        spring_M = Var::output("spring.M", "N.m", "Spring moment on the lever, -(M0 + kt*gamma) (kinetostatic level)").depends(ON_PHI),
-        roller_F = Var::output("roller.F", "N", "Contact force the ramp must push the roller with; < 0: the spring cannot hold it (kinetostatic level)").depends(ON_ALL),
-        roller_sigma_H = Var::output("roller.sigma_H", "Pa", "Hertz stress roller - ramp, paper 002 eq. 8 (kinetostatic level)").depends(ON_ALL),
-        roller_lost_contact = Var::bool_output("roller.lost_contact", "True if the ramp would have to pull the roller now or during the last communication step (kinetostatic level)").depends(ON_ALL),
-        roller_F_margin = Var::output("roller.F_margin", "N", "Smallest contact force over the last completed shaft turn (during the first turn: so far) (kinetostatic level)").depends(ON_ALL),
+        pierce_Q_out = Var::output("pierce.Q_T", "N", "Piercing load on the needles, against their motion (kinetostatic level)").depends(ON_PHI_W).needs(stage::FORCES),
+        perforators_F_inertia = Var::output("perforators.F_inertia", "N", "Inertia force of the carriage along its line, incl. the table's acceleration (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        rod_F = Var::output("rod.F", "N", "Rod force, compression positive (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        spring_M = Var::output("spring.M", "N.m", "Spring moment on the lever, -(M0 + kt*gamma) (kinetostatic level)").depends(ON_PHI).needs(stage::FORCES),
+        roller_F = Var::output("roller.F", "N", "Contact force the ramp must push the roller with; < 0: the spring cannot hold it (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        roller_sigma_H = Var::output("roller.sigma_H", "Pa", "Hertz stress roller - ramp, paper 002 eq. 8 (kinetostatic level)").depends(ON_ALL).needs(stage::HERTZ),
+        roller_lost_contact = Var::bool_output("roller.lost_contact", "True if the ramp would have to pull the roller now or during the last communication step (kinetostatic level)").depends(ON_ALL).needs(stage::WATCH),
+        roller_F_margin = Var::output("roller.F_margin", "N", "Smallest contact force over the last completed shaft turn (during the first turn: so far) (kinetostatic level)").depends(ON_ALL).needs(stage::WATCH),
         table_x = Var::output("table.x", "m", "Table position x_t: 0 at loading, table.stroke at sewing").depends(ON_PHI),
-        table_F = Var::output("table.F", "N", "Force of the perforator drive on the table along +x (towards sewing): wire into SewingTable.table.F_ext").depends(ON_ALL),
+        table_F = Var::output("table.F", "N", "Force of the perforator drive on the table along +x (towards sewing): wire into SewingTable.table.F_ext").depends(ON_ALL).needs(stage::FORCES),
     }
 }
 
@@ -219,6 +271,7 @@ impl Model for Perforators {
         step: 1e-3,
         tolerance: None,
     };
+    const STAGES: &'static [Stage] = STAGES;
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
         shaft::require_level(v, &[Fidelity::Kinematic, Fidelity::Kinetostatic])?;
@@ -231,14 +284,16 @@ impl Model for Perforators {
 
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
         let d = &self.drive;
-        let syn = d.p.synthesis();
-        v[V::synth_nu] = syn.nu;
-        v[V::synth_gamma_paper] = d.gamma_paper;
-        v[V::synth_gamma_sum] = d.gamma_sw;
-        v[V::synth_S_sum] = syn.s_sum;
-        v[V::synth_stroke_error] = d.stroke_error();
-        v[V::perforators_stroke] = d.stroke;
-        v[V::table_stroke] = d.cyc.h;
+        if v.wants(stage::SYNTHESIS) {
+            let syn = d.p.synthesis();
+            v[V::synth_nu] = syn.nu;
+            v[V::synth_gamma_paper] = d.gamma_paper;
+            v[V::synth_gamma_sum] = d.gamma_sw;
+            v[V::synth_S_sum] = syn.s_sum;
+            v[V::synth_stroke_error] = d.stroke_error();
+            v[V::perforators_stroke] = d.stroke;
+            v[V::table_stroke] = d.cyc.h;
+        }
         let st = shaft::state(v, time);
         let k = d.kinematics(st.phi, st.w, st.a);
         v[V::perforators_s] = k.s;
@@ -253,10 +308,10 @@ impl Model for Perforators {
         // a flat stretch (the dwells) has an infinite radius: reported as RHO_FLAT
         v[V::ramp_rho] = k.rho.clamp(-RHO_FLAT, RHO_FLAT);
         v[V::table_x] = k.x_t;
-        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic {
-            let r = shaft::reduce(|a| d.forces(&d.kinematics(st.phi, st.w, a)).tau);
+        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS) {
+            let r = shaft::reduce(|a| d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau);
             shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
-            let f = d.forces(&k);
+            let f = d.forces_with(&k, v.wants(stage::HERTZ));
             v[V::pierce_Q_out] = f.pierce_q;
             v[V::perforators_F_inertia] = f.f_inertia;
             v[V::rod_F] = f.rod_f;
@@ -289,7 +344,7 @@ impl Model for Perforators {
         h: f64,
         log: &mut dyn Log,
     ) -> Result<(), String> {
-        if shaft::fidelity(v) != Fidelity::Kinetostatic {
+        if shaft::fidelity(v) != Fidelity::Kinetostatic || !v.wants(stage::WATCH) {
             return Ok(());
         }
         let st = shaft::state(v, time);

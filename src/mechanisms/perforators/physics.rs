@@ -538,6 +538,11 @@ impl Drive {
 
     /// Forces (kinetostatic level) for kinematics `k`.
     pub fn forces(&self, k: &Kinematics) -> Forces {
+        self.forces_with(k, true)
+    }
+
+    /// As [`Drive::forces`]; with `hertz` false the Hertz stress is not computed (`sigma_h` 0).
+    pub fn forces_with(&self, k: &Kinematics, hertz: bool) -> Forces {
         let p = &self.p;
         let m = p.perf_m;
         let g = STANDARD_GRAVITY;
@@ -580,7 +585,7 @@ impl Drive {
                 * p.joint_r
                 * (dot(fo, fo).sqrt() + rod.abs() * ((1.0 - th).abs() + th.abs()));
         }
-        let sigma_h = if fc > 0.0 {
+        let sigma_h = if hertz && fc > 0.0 {
             let surface = if k.rho > 0.0 {
                 Surface::Convex
             } else {

@@ -98,7 +98,7 @@ impl TableOde<'_> {
             self.p.guide_f * (m * STANDARD_GRAVITY + (f_c * kin.theta.tan()).abs()) * sgn(kin.v);
         let xdd = (f_c - f_fr + self.f_ext) / m;
         let power = self.k * pen * kin.v + (f_c - self.k * pen) * xd + (self.f_ext - f_fr) * xd;
-        let f_rigid = self.p.forces(kin, 0.0, self.f_ext).f_x;
+        let f_rigid = self.p.forces_with(kin, 0.0, self.f_ext, false).f_x;
         Point {
             kin: *kin,
             x,
@@ -122,7 +122,7 @@ impl TableOde<'_> {
     pub fn initial_state(&self, t: f64) -> [f64; 3] {
         let (phi, w, a) = self.path.at(t);
         let kin = self.p.kinematics(phi, w, a);
-        let f = self.p.forces(&kin, a, self.f_ext).f_x;
+        let f = self.p.forces_with(&kin, a, self.f_ext, false).f_x;
         let side = if f >= 0.0 { 1.0 } else { -1.0 };
         [kin.c.x - f / self.k - side * self.gap, kin.v, 0.0]
     }

@@ -5,7 +5,7 @@ use super::elastic::TableOde;
 use super::physics::{Kind, Params};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
-use crate::model::{EnumType, Experiment, Log, Model, ParamError, Values};
+use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Stages, Values};
 use crate::solver::{Integrator, Method, Settings, ShaftPath};
 use std::cell::Cell;
 
@@ -50,11 +50,89 @@ const ON_ALL_F: &[u32] = &[shaft::PHI, shaft::W, shaft::A, V::table_F_ext as u32
 /// ... and of `shaft.tau0`, `shaft.J_red`.
 const ON_PHI_W_F: &[u32] = &[shaft::PHI, shaft::W, V::table_F_ext as u32];
 
+/// The computations a scene may leave out (`scenes.md`); the variables below say which they
+/// need (`.needs`) or feed (`.feeds`). The table's kinematics always run.
+pub mod stage {
+    use crate::model::Stages;
+    /// [`super::STAGES`]`[0]`.
+    pub const FLANK: Stages = Stages::bit(0);
+    /// [`super::STAGES`]`[1]`.
+    pub const FORCES: Stages = Stages::bit(1);
+    /// [`super::STAGES`]`[2]`.
+    pub const HERTZ: Stages = Stages::bit(2);
+    /// [`super::STAGES`]`[3]`.
+    pub const ROCKING: Stages = Stages::bit(3);
+    /// [`super::STAGES`]`[4]`.
+    pub const SYNTHESIS: Stages = Stages::bit(4);
+    /// [`super::STAGES`]`[5]`.
+    pub const ELASTIC: Stages = Stages::bit(5);
+    /// What the table's mass and guide friction feed.
+    pub const LOADS: Stages = FLANK.or(FORCES).or(HERTZ).or(ELASTIC);
+}
+
+/// The stages of [`stage`], in bit order.
+pub static STAGES: &[Stage] = &[
+    Stage {
+        name: "flank",
+        description: "Force solution for the loaded slot flank and its curvature radius (cam.rho)",
+        levels: &[
+            Fidelity::Kinematic,
+            Fidelity::Kinetostatic,
+            Fidelity::Elastodynamic,
+        ],
+        requires: Stages::NONE,
+        always: false,
+    },
+    Stage {
+        name: "forces",
+        description: "Kinetostatic force analysis: inertia, guide friction, cam force, shaft torque",
+        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
+        requires: Stages::NONE,
+        always: false,
+    },
+    Stage {
+        name: "hertz",
+        description: "Hertz contact stress at the loaded flank (paper 002 eq. 8)",
+        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
+        requires: stage::FLANK,
+        always: false,
+    },
+    Stage {
+        name: "rocking",
+        description: "The BNSh-6A's rocking table, computed alongside for comparison (rocking.*)",
+        levels: &[
+            Fidelity::Kinematic,
+            Fidelity::Kinetostatic,
+            Fidelity::Elastodynamic,
+        ],
+        requires: Stages::NONE,
+        always: false,
+    },
+    Stage {
+        name: "synthesis",
+        description: "Paper 000's synthesis reported as calculated parameters (rewritten at every evaluation), and the smallest base radius without undercut (a search at initialization)",
+        levels: &[
+            Fidelity::Kinematic,
+            Fidelity::Kinetostatic,
+            Fidelity::Elastodynamic,
+        ],
+        requires: Stages::NONE,
+        always: false,
+    },
+    Stage {
+        name: "elastic",
+        description: "The ODE of the compliant cam-follower chain (with slot play), integrated inside fmi2DoStep",
+        levels: &[Fidelity::Elastodynamic],
+        requires: Stages::NONE,
+        always: true,
+    },
+];
+
 crate::model_variables! {
-    pub enum V (nominal_rpm = 100.0, torque_depends = ON_ALL_F) {
+    pub enum V (nominal_rpm = 100.0, torque_depends = ON_ALL_F, torque_needs = stage::FORCES) {
         // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
-        shaft_J_red = shaft::j_red_var(ON_PHI_W_F),
-        shaft_tau0 = shaft::tau0_var(ON_PHI_W_F),
+        shaft_J_red = shaft::j_red_var(ON_PHI_W_F).needs(stage::FORCES),
+        shaft_tau0 = shaft::tau0_var(ON_PHI_W_F).needs(stage::FORCES),
         // ---- synthesis (paper 000)
         synth_l1 = Var::parameter("synth.l1", 1.0, "", "l1: rocking axis to the table top in the sewing position, relative (paper 000: 1.0)").min(0.0),
         synth_R = Var::parameter("synth.R", 11.0, "", "R: diagonal OA from the rocking axis to the top, relative (paper 000: 11.0)").min(0.0),
@@ -71,58 +149,58 @@ crate::model_variables! {
         // ---- cam and forces
         cam_R0 = Var::parameter("cam.R0", 0.10, "m", "Base (pitch) radius of the slot cam (assumption; tune against the pressure angle)").min(0.0),
         cam_e = Var::parameter("cam.e", 0.0, "m", "Offset of the follower line from the cam axis (assumption)"),
-        roller_r = Var::parameter("roller.r", 0.015, "m", "Cam roller radius (assumption)").min(0.0),
-        roller_b = Var::parameter("roller.b", 0.015, "m", "Cam roller width (assumption)").min(0.0),
-        cam_E = Var::parameter("cam.E", 2.1e11, "Pa", "Young's modulus of the cam (assumption: steel)").min(0.0),
-        roller_E = Var::parameter("roller.E", 2.1e11, "Pa", "Young's modulus of the roller (assumption: steel)").min(0.0),
-        table_m = Var::parameter("table.m", 8.0, "kg", "Mass of table, saddle, signature and perforator assembly (assumption)").min(0.0),
-        guide_f = Var::parameter("guide.f", 0.005, "", "Rolling friction coefficient of the guide rollers on the load m*g + |Fn*sin(theta_p)| (assumption)").min(0.0),
-        cam_J = Var::parameter("cam.J", 0.02, "kg.m2", "Moment of inertia of the cam on the main shaft (assumption)").min(0.0),
-        rocking_J = Var::parameter("rocking.J", 0.8712, "kg.m2", "Rocking table's moment of inertia about its axis (assumption: table.m at the saddle radius R*unit = 0.33 m)").min(0.0),
+        roller_r = Var::parameter("roller.r", 0.015, "m", "Cam roller radius (assumption)").min(0.0).feeds(stage::FLANK.or(stage::HERTZ).or(stage::SYNTHESIS)),
+        roller_b = Var::parameter("roller.b", 0.015, "m", "Cam roller width (assumption)").min(0.0).feeds(stage::HERTZ),
+        cam_E = Var::parameter("cam.E", 2.1e11, "Pa", "Young's modulus of the cam (assumption: steel)").min(0.0).feeds(stage::HERTZ),
+        roller_E = Var::parameter("roller.E", 2.1e11, "Pa", "Young's modulus of the roller (assumption: steel)").min(0.0).feeds(stage::HERTZ),
+        table_m = Var::parameter("table.m", 8.0, "kg", "Mass of table, saddle, signature and perforator assembly (assumption)").min(0.0).feeds(stage::LOADS),
+        guide_f = Var::parameter("guide.f", 0.005, "", "Rolling friction coefficient of the guide rollers on the load m*g + |Fn*sin(theta_p)| (assumption)").min(0.0).feeds(stage::LOADS),
+        cam_J = Var::parameter("cam.J", 0.02, "kg.m2", "Moment of inertia of the cam on the main shaft (assumption)").min(0.0).feeds(stage::FORCES.or(stage::ELASTIC)),
+        rocking_J = Var::parameter("rocking.J", 0.8712, "kg.m2", "Rocking table's moment of inertia about its axis (assumption: table.m at the saddle radius R*unit = 0.33 m)").min(0.0).feeds(stage::ROCKING.or(stage::FORCES)),
         // ---- input besides the shaft
         table_F_ext = Var::input("table.F_ext", 0.0, "N", "Force on the table along +x (towards sewing) from outside, e.g. Perforators.table.F"),
         // ---- calculated parameters (paper 000's synthesis)
-        synth_alpha1 = Var::calculated("synth.alpha1", "rad", "alpha1 = arcsin(l1/R) (paper 000: 5.22 deg)"),
-        synth_A1A2 = Var::calculated("synth.A1A2", "", "A1A2 = 2R*sin(alpha2/2) (paper 000: 3.82)"),
-        synth_k1 = Var::calculated("synth.k1", "", "k1 = R*cos(alpha2/2) (paper 000: 10.83)"),
-        synth_alpha3 = Var::calculated("synth.alpha3", "rad", "alpha3 = 90 deg - (alpha1 + alpha2) (paper 000: 64.78 deg)"),
-        synth_k2 = Var::calculated("synth.k2", "", "k2 = R*sin(alpha3) (paper 000: 9.95)"),
-        synth_k0 = Var::calculated("synth.k0", "", "k0 = k1 - k2, vertical offset of the rocking saddle, eq. (1) (paper 000: 0.88)"),
-        synth_l2 = Var::calculated("synth.l2", "", "l2 = sqrt(A1A2^2 - k0^2): travel of the translating table, relative (paper 000: 3.72)"),
-        table_stroke = Var::calculated("table.stroke", "m", "Table travel l2*unit (0.11152 m)"),
-        cycle_dwell_load = Var::calculated("cycle.dwell_load", "rad", "Dwell at loading: 360 deg minus the other phases"),
-        cam_R0_min = Var::calculated("cam.R0_min", "m", "Smallest base radius without an undercut slot flank, for these laws and roller"),
+        synth_alpha1 = Var::calculated("synth.alpha1", "rad", "alpha1 = arcsin(l1/R) (paper 000: 5.22 deg)").needs(stage::SYNTHESIS),
+        synth_A1A2 = Var::calculated("synth.A1A2", "", "A1A2 = 2R*sin(alpha2/2) (paper 000: 3.82)").needs(stage::SYNTHESIS),
+        synth_k1 = Var::calculated("synth.k1", "", "k1 = R*cos(alpha2/2) (paper 000: 10.83)").needs(stage::SYNTHESIS),
+        synth_alpha3 = Var::calculated("synth.alpha3", "rad", "alpha3 = 90 deg - (alpha1 + alpha2) (paper 000: 64.78 deg)").needs(stage::SYNTHESIS),
+        synth_k2 = Var::calculated("synth.k2", "", "k2 = R*sin(alpha3) (paper 000: 9.95)").needs(stage::SYNTHESIS),
+        synth_k0 = Var::calculated("synth.k0", "", "k0 = k1 - k2, vertical offset of the rocking saddle, eq. (1) (paper 000: 0.88)").needs(stage::SYNTHESIS),
+        synth_l2 = Var::calculated("synth.l2", "", "l2 = sqrt(A1A2^2 - k0^2): travel of the translating table, relative (paper 000: 3.72)").needs(stage::SYNTHESIS),
+        table_stroke = Var::calculated("table.stroke", "m", "Table travel l2*unit (0.11152 m)").needs(stage::SYNTHESIS),
+        cycle_dwell_load = Var::calculated("cycle.dwell_load", "rad", "Dwell at loading: 360 deg minus the other phases").needs(stage::SYNTHESIS),
+        cam_R0_min = Var::calculated("cam.R0_min", "m", "Smallest base radius without an undercut slot flank, for these laws and roller").needs(stage::SYNTHESIS),
         // ---- outputs
         table_x = Var::output("table.x", "m", "Table position: 0 at loading, table.stroke at sewing (rocking: the saddle's horizontal displacement)").depends(ON_PHI),
         table_v = Var::output("table.v", "m/s", "Table velocity").depends(ON_PHI_W),
         table_a = Var::output("table.a", "m/s2", "Table acceleration").depends(ON_ALL),
         table_phase = Var::int_output("table.phase", "0 forward travel, 1 dwell at sewing, 2 return, 3 dwell at loading").depends(ON_PHI),
-        table_F_inertia = Var::output("table.F_inertia", "N", "Inertia force -m*a of the translating table (kinetostatic level)").depends(ON_ALL),
-        table_F_friction = Var::output("table.F_friction", "N", "Guide friction on the table along +x, -f*N*sgn(v) (kinetostatic level; 0 for rocking)").depends(ON_ALL_F),
+        table_F_inertia = Var::output("table.F_inertia", "N", "Inertia force -m*a of the translating table (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        table_F_friction = Var::output("table.F_friction", "N", "Guide friction on the table along +x, -f*N*sgn(v) (kinetostatic level; 0 for rocking)").depends(ON_ALL_F).needs(stage::FORCES),
         cam_theta = Var::output("cam.theta", "rad", "Pressure angle theta_p of the slot cam (translating table)").depends(ON_PHI),
-        cam_rho = Var::output("cam.rho", "m", "Curvature radius of the loaded slot flank, + convex, - concave (translating table; an inflection: 1000 m)").depends(ON_ALL_F),
-        cam_F = Var::output("cam.F", "N", "Normal contact force cam - roller, + when pushing towards sewing (kinetostatic level)").depends(ON_ALL_F),
-        cam_sigma_H = Var::output("cam.sigma_H", "Pa", "Hertz stress at the loaded flank, paper 002 eq. 8 (kinetostatic level)").depends(ON_ALL_F),
-        rocking_beta = Var::output("rocking.beta", "rad", "Rocking table for comparison: swing from loading, 0 .. alpha2").depends(ON_PHI),
-        rocking_x = Var::output("rocking.x", "m", "Rocking table's saddle: horizontal displacement from loading towards sewing").depends(ON_PHI),
-        rocking_y = Var::output("rocking.y", "m", "Rocking table's saddle: vertical displacement from loading, up positive").depends(ON_PHI),
-        rocking_M_inertia = Var::output("rocking.M_inertia", "N.m", "Rocking table's inertia torque -J*beta'' about its axis").depends(ON_ALL),
+        cam_rho = Var::output("cam.rho", "m", "Curvature radius of the loaded slot flank, + convex, - concave (translating table; an inflection: 1000 m)").depends(ON_ALL_F).needs(stage::FLANK),
+        cam_F = Var::output("cam.F", "N", "Normal contact force cam - roller, + when pushing towards sewing (kinetostatic level)").depends(ON_ALL_F).needs(stage::FORCES),
+        cam_sigma_H = Var::output("cam.sigma_H", "Pa", "Hertz stress at the loaded flank, paper 002 eq. 8 (kinetostatic level)").depends(ON_ALL_F).needs(stage::HERTZ),
+        rocking_beta = Var::output("rocking.beta", "rad", "Rocking table for comparison: swing from loading, 0 .. alpha2").depends(ON_PHI).needs(stage::ROCKING),
+        rocking_x = Var::output("rocking.x", "m", "Rocking table's saddle: horizontal displacement from loading towards sewing").depends(ON_PHI).needs(stage::ROCKING),
+        rocking_y = Var::output("rocking.y", "m", "Rocking table's saddle: vertical displacement from loading, up positive").depends(ON_PHI).needs(stage::ROCKING),
+        rocking_M_inertia = Var::output("rocking.M_inertia", "N.m", "Rocking table's inertia torque -J*beta'' about its axis").depends(ON_ALL).needs(stage::ROCKING.or(stage::FORCES)),
         // ---- elastodynamic level (dynamics.md; translating table)
-        elastic_k = Var::parameter("elastic.k", 1e7, "N/m", "Stiffness of the cam-follower chain between the rigid table position and the table (elastodynamic level; assumption, dynamics.md)").min(1.0),
-        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the follower chain, c = 2*zeta*sqrt(k*m) (elastodynamic level; assumption)").min(0.0),
-        cam_clearance = Var::parameter("cam.clearance", 0.0, "m", "Play of the roller in the cam slot (total); with play the roller crosses it and impacts the other flank (elastodynamic level; dynamics.md)").min(0.0),
-        solver_method = crate::solver::vars::method(),
-        solver_rtol = crate::solver::vars::rtol(),
-        solver_atol = crate::solver::vars::atol(),
-        solver_max_step = crate::solver::vars::max_step(),
+        elastic_k = Var::parameter("elastic.k", 1e7, "N/m", "Stiffness of the cam-follower chain between the rigid table position and the table (elastodynamic level; assumption, dynamics.md)").min(1.0).feeds(stage::ELASTIC),
+        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the follower chain, c = 2*zeta*sqrt(k*m) (elastodynamic level; assumption)").min(0.0).feeds(stage::ELASTIC),
+        cam_clearance = Var::parameter("cam.clearance", 0.0, "m", "Play of the roller in the cam slot (total); with play the roller crosses it and impacts the other flank (elastodynamic level; dynamics.md)").min(0.0).feeds(stage::ELASTIC),
+        solver_method = crate::solver::vars::method().feeds(stage::ELASTIC),
+        solver_rtol = crate::solver::vars::rtol().feeds(stage::ELASTIC),
+        solver_atol = crate::solver::vars::atol().feeds(stage::ELASTIC),
+        solver_max_step = crate::solver::vars::max_step().feeds(stage::ELASTIC),
         table_x_kin = Var::output("table.x_kin", "m", "Rigid reference position of the table (elastodynamic level; equals table.x at the others)").depends(ON_PHI),
-        elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the follower chain table.x_kin - table.x, play included (elastodynamic level)").depends(ON_PHI),
-        elastic_F = Var::output("elastic.F", "N", "Dynamic force of the cam on the table along +x (0 while the roller crosses the play; elastodynamic level)").depends(ON_PHI_W),
-        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) cam force along x, of the last complete shaft turn (the running one before; elastodynamic level)"),
-        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller left a slot flank (with play; elastodynamic level)"),
-        contact_F_impact = Var::output("contact.F_impact", "N", "Largest cam force after a landing of the roller on a flank (with play; elastodynamic level)"),
-        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)"),
-        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)"),
+        elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the follower chain table.x_kin - table.x, play included (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
+        elastic_F = Var::output("elastic.F", "N", "Dynamic force of the cam on the table along +x (0 while the roller crosses the play; elastodynamic level)").depends(ON_PHI_W).needs(stage::ELASTIC),
+        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) cam force along x, of the last complete shaft turn (the running one before; elastodynamic level)").needs(stage::ELASTIC),
+        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller left a slot flank (with play; elastodynamic level)").needs(stage::ELASTIC),
+        contact_F_impact = Var::output("contact.F_impact", "N", "Largest cam force after a landing of the roller on a flank (with play; elastodynamic level)").needs(stage::ELASTIC),
+        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)").needs(stage::ELASTIC),
+        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)").needs(stage::ELASTIC),
     }
 }
 
@@ -271,11 +349,16 @@ impl Model for SewingTable {
         step: 1e-3,
         tolerance: None,
     };
+    const STAGES: &'static [Stage] = STAGES;
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
         let params = Self::params(v);
         params.validate()?;
-        let r0_min = params.smallest_r0();
+        let r0_min = if v.wants(stage::SYNTHESIS) {
+            params.smallest_r0()
+        } else {
+            f64::NAN
+        };
         let dynamic = if shaft::fidelity(v) == Fidelity::Elastodynamic {
             if params.kind == Kind::Rocking {
                 return Err(ParamError {
@@ -366,22 +449,28 @@ impl Model for SewingTable {
 
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
         let p = &self.params;
-        let s = p.synthesis();
-        v[V::synth_alpha1] = s.alpha1;
-        v[V::synth_A1A2] = s.a1a2;
-        v[V::synth_k1] = s.k1;
-        v[V::synth_alpha3] = s.alpha3;
-        v[V::synth_k2] = s.k2;
-        v[V::synth_k0] = s.k0;
-        v[V::synth_l2] = s.l2;
-        v[V::table_stroke] = p.stroke();
-        v[V::cycle_dwell_load] = p.cyclogram().dwell_near();
-        v[V::cam_R0_min] = self.r0_min;
+        if v.wants(stage::SYNTHESIS) {
+            let s = p.synthesis();
+            v[V::synth_alpha1] = s.alpha1;
+            v[V::synth_A1A2] = s.a1a2;
+            v[V::synth_k1] = s.k1;
+            v[V::synth_alpha3] = s.alpha3;
+            v[V::synth_k2] = s.k2;
+            v[V::synth_k0] = s.k0;
+            v[V::synth_l2] = s.l2;
+            v[V::table_stroke] = p.stroke();
+            v[V::cycle_dwell_load] = p.cyclogram().dwell_near();
+            v[V::cam_R0_min] = self.r0_min;
+        }
         let st = shaft::state(v, time);
         let f_ext = v[V::table_F_ext];
         let kinetostatic = shaft::fidelity(v) == Fidelity::Kinetostatic;
         let k = p.kinematics(st.phi, st.w, st.a);
-        let r = p.rocking(st.phi, st.w, st.a);
+        let r = if p.kind == Kind::Rocking || v.wants(stage::ROCKING) {
+            p.rocking(st.phi, st.w, st.a)
+        } else {
+            Default::default()
+        };
         v[V::table_phase] = f64::from(Params::phase_index(k.c.phase));
         v[V::rocking_beta] = r.beta;
         v[V::rocking_x] = r.x;
@@ -403,7 +492,11 @@ impl Model for SewingTable {
             v[V::cam_theta] = k.theta;
             v[V::elastic_deflection] = pt.delta;
             v[V::elastic_F] = pt.f_c;
-            let rigid = p.forces(&k, st.a, f_ext);
+            let rigid = if v.wants(stage::FLANK.or(stage::HERTZ)) {
+                p.forces_with(&k, st.a, f_ext, v.wants(stage::HERTZ))
+            } else {
+                Default::default()
+            };
             v[V::cam_rho] = rigid.rho_flank.clamp(-1000.0, 1000.0);
             v[V::table_F_inertia] = -m * pt.xdd;
             v[V::table_F_friction] = m * pt.xdd - pt.f_c - f_ext;
@@ -447,7 +540,11 @@ impl Model for SewingTable {
                 v[V::table_v] = k.v;
                 v[V::table_a] = k.a;
                 v[V::cam_theta] = k.theta;
-                let f = p.forces(&k, st.a, f_ext);
+                let f = if v.wants(stage::FLANK.or(stage::FORCES).or(stage::HERTZ)) {
+                    p.forces_with(&k, st.a, f_ext, v.wants(stage::HERTZ))
+                } else {
+                    Default::default()
+                };
                 // at an inflection of the pitch curve the radius is infinite: reported as 1000 m
                 v[V::cam_rho] = f.rho_flank.clamp(-1000.0, 1000.0);
                 if kinetostatic {

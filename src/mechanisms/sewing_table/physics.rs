@@ -141,7 +141,7 @@ pub struct Kinematics {
 
 /// The rocking table with the same cyclogram applied to its swing (`sewing-table.md`, last
 /// section).
-#[derive(Clone, Copy, Debug, PartialEq)]
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Rocking {
     /// `rocking.beta`: swing from the loading position, 0 → α2, rad.
     pub beta: f64,
@@ -417,6 +417,12 @@ impl Params {
     /// `F_x = m·a + f·N·sgn v − F_ext` with `N = m·g + |F_x·tan θp|` is solved exactly:
     /// `F_x = F0/(1 − f·sgn v·|tan θp|·sgn F0)`, `F0 = m·a − F_ext + f·sgn v·m·g`.
     pub fn forces(&self, k: &Kinematics, eps: f64, f_ext: f64) -> Forces {
+        self.forces_with(k, eps, f_ext, true)
+    }
+
+    /// As [`Params::forces`]; with `hertz` false the Hertz stress is not computed (`sigma_h` is
+    /// NaN), for what does not read it.
+    pub fn forces_with(&self, k: &Kinematics, eps: f64, f_ext: f64, hertz: bool) -> Forces {
         let m = self.table_m;
         let sv = sgn(k.v);
         let t = k.theta.tan().abs();
@@ -435,16 +441,20 @@ impl Params {
         } else {
             (-(rp + self.roller_r), Surface::Concave)
         };
-        let sigma_h = line_contact_stress(
-            cam_f,
-            self.roller_b,
-            self.cam_e_mod,
-            self.roller_e_mod,
-            self.roller_r,
-            rho_flank.abs(),
-            surface,
-        )
-        .unwrap_or(f64::NAN);
+        let sigma_h = if hertz {
+            line_contact_stress(
+                cam_f,
+                self.roller_b,
+                self.cam_e_mod,
+                self.roller_e_mod,
+                self.roller_r,
+                rho_flank.abs(),
+                surface,
+            )
+            .unwrap_or(f64::NAN)
+        } else {
+            f64::NAN
+        };
         Forces {
             f_inertia: -m * k.a,
             f_friction: -self.guide_f * guide_n * sv,

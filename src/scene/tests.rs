@@ -1,0 +1,539 @@
+//! Tests of scene files and tailoring: every example scene in `scenes/` tailors, its outputs equal
+//! the full model's bit for bit, and bad scenes are refused naming the key, its line and the
+//! valid choices.
+
+use super::*;
+use crate::catalog;
+use crate::mechanisms::disc_knife_drive::DiscKnifeDrive;
+use crate::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
+use crate::mechanisms::perforators::Perforators;
+use crate::mechanisms::sewing_table::SewingTable;
+use crate::model::NoLog;
+use std::path::PathBuf;
+
+fn examples() -> Vec<(PathBuf, String)> {
+    let dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("scenes");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(&dir)
+        .expect("scenes/")
+        .map(|e| e.unwrap().path())
+        .filter(|p| p.extension().is_some_and(|x| x == "toml"))
+        .collect();
+    files.sort();
+    files
+        .into_iter()
+        .map(|p| {
+            let t = std::fs::read_to_string(&p).unwrap();
+            (p, t)
+        })
+        .collect()
+}
+
+/// The text of `scenes/<file>`.
+fn example(file: &str) -> String {
+    examples()
+        .into_iter()
+        .find(|(p, _)| p.file_name().unwrap() == file)
+        .unwrap_or_else(|| panic!("scenes/{file}"))
+        .1
+}
+
+const GENEVA: &str = r#"name = "t"
+mechanism = "GenevaKnifeDrive"
+fidelity = "kinematic"
+outputs = ["knife.s"]
+"#;
+
+/// The error of `text` held against its mechanism.
+fn refusal(text: &str) -> SceneError {
+    let scene = match Scene::parse(text) {
+        Ok(s) => s,
+        Err(e) => return e,
+    };
+    match catalog::tailor(&scene) {
+        Ok(_) => panic!("accepted:\n{text}"),
+        Err(e) => e,
+    }
+}
+
+#[track_caller]
+fn assert_refused(text: &str, key: &str, line: usize, parts: &[&str]) {
+    let e = refusal(text);
+    assert_eq!(e.key, key, "{e}");
+    assert_eq!(e.line, Some(line), "{e}");
+    for p in parts {
+        assert!(e.message.contains(p), "{p:?} not in: {e}");
+    }
+}
+
+#[test]
+fn every_example_scene_tailors_and_covers_every_level() {
+    let ex = examples();
+    let mut covered = Vec::new();
+    for (path, text) in &ex {
+        let scene = Scene::parse(text).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        let (entry, t) =
+            catalog::tailor(&scene).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+        assert_eq!(t.identifier, identifier(entry.identifier, &scene.name));
+        // what the description lists: the scene's outputs, nothing else of causality output
+        let outs: Vec<&str> = t
+            .variables
+            .iter()
+            .filter(|(_, v)| v.causality == Causality::Output)
+            .map(|(_, v)| v.name)
+            .collect();
+        let mut asked: Vec<&str> = scene.outputs.iter().map(|o| o.0.as_str()).collect();
+        asked.sort();
+        let mut outs_sorted = outs.clone();
+        outs_sorted.sort();
+        assert_eq!(outs_sorted, asked, "{}", path.display());
+        assert!(t.model_description.contains(&t.guid));
+        assert!(
+            t.model_description
+                .contains(&format!("modelIdentifier=\"{}\"", t.identifier))
+        );
+        covered.push((scene.mechanism.clone(), scene.fidelity));
+    }
+    for (m, levels) in [
+        ("GenevaKnifeDrive", FIDELITIES),
+        ("SewingTable", FIDELITIES),
+        ("Perforators", &FIDELITIES[..2]),
+        ("DiscKnifeDrive", &FIDELITIES[..2]),
+    ] {
+        for (n, f) in levels {
+            assert!(
+                covered.contains(&(m.to_string(), *f)),
+                "no example scene of {m} at {n}"
+            );
+        }
+    }
+}
+
+#[test]
+fn the_tailored_description_is_the_one_the_binary_computes() {
+    // the CLI and the binary both call `tailor`; the GUID is the hash of the description
+    let t = tailor_text::<GenevaKnifeDrive>(&example("geneva-chain-dynamics.toml")).unwrap();
+    let refs: Vec<(u32, &Var)> = t.variables.iter().map(|(vr, v)| (*vr, v)).collect();
+    assert_eq!(
+        md::describe_vars(&t.info, &refs),
+        (t.model_description.clone(), t.guid.clone())
+    );
+    assert_ne!(t.guid, md::describe::<GenevaKnifeDrive>().1);
+}
+
+#[test]
+fn a_kinematic_scene_with_its_own_drive_leaves_out_forces_inputs_and_loads() {
+    let t = tailor_text::<GenevaKnifeDrive>(
+        &(GENEVA.to_string() + "[drive]\nmode = \"constant_speed\"\nn = 30\n"),
+    )
+    .unwrap();
+    let names: Vec<&str> = t.variables.iter().map(|(_, v)| v.name).collect();
+    for kept in [
+        "knife.s",
+        "crank.r",
+        "rod.l",
+        "geneva.Z",
+        "drive.n",
+        "drive.phi0",
+    ] {
+        assert!(names.contains(&kept), "{kept} missing from {names:?}");
+    }
+    for gone in [
+        "shaft.phi",
+        "shaft.w",
+        "shaft.a",
+        "shaft.tau",
+        "knife.m",
+        "cut.F_max",
+        "elastic.k",
+        "solver.rtol",
+        "drive.mode",
+        "model.fidelity",
+        "knife.F_cut",
+        "elastic.x",
+    ] {
+        assert!(!names.contains(&gone), "{gone} listed: {names:?}");
+    }
+    assert_eq!(t.stages, Stages::NONE, "no force analysis, no ODE");
+    assert!(!t.model_description.contains("<ModelExchange"));
+    // the drive and the level are start values inside
+    assert_eq!(t.start[shaft::MODE as usize], 2.0);
+    assert_eq!(t.start[shaft::FIDELITY as usize], 1.0);
+    assert_eq!(t.start[shaft::N as usize], std::f64::consts::PI);
+}
+
+#[test]
+fn an_input_driven_scene_lists_the_inputs_its_outputs_depend_on() {
+    let t = tailor_text::<GenevaKnifeDrive>(GENEVA).unwrap();
+    let inputs: Vec<&str> = t
+        .variables
+        .iter()
+        .filter(|(_, v)| v.causality == Causality::Input)
+        .map(|(_, v)| v.name)
+        .collect();
+    assert_eq!(
+        inputs,
+        ["shaft.phi"],
+        "a position depends on the angle only"
+    );
+    let t = tailor_text::<SewingTable>(
+        "name = \"f\"\nmechanism = \"SewingTable\"\nfidelity = \"kinetostatic\"\noutputs = [\"cam.F\"]\n",
+    )
+    .unwrap();
+    let inputs: Vec<&str> = t
+        .variables
+        .iter()
+        .filter(|(_, v)| v.causality == Causality::Input)
+        .map(|(_, v)| v.name)
+        .collect();
+    assert_eq!(inputs, ["shaft.phi", "shaft.w", "shaft.a", "table.F_ext"]);
+    // Hertz stress and the rocking table are skipped; its moduli are left out
+    let names: Vec<&str> = t.variables.iter().map(|(_, v)| v.name).collect();
+    assert!(!names.contains(&"cam.E") && !names.contains(&"roller.b"));
+    // rocking.J feeds the torque of the rocking kind (a parameter's value): kept, conservatively
+    assert!(names.contains(&"rocking.J"));
+    assert!(names.contains(&"table.m") && names.contains(&"guide.f"));
+    use crate::mechanisms::sewing_table::model::stage;
+    assert_eq!(t.stages, stage::FORCES);
+}
+
+#[test]
+fn an_elastodynamic_scene_keeps_its_states_and_model_exchange() {
+    let t = tailor_text::<GenevaKnifeDrive>(
+        "name = \"e\"\nmechanism = \"GenevaKnifeDrive\"\nfidelity = \"elastodynamic\"\noutputs = [\"knife.s\"]\n",
+    )
+    .unwrap();
+    let names: Vec<&str> = t.variables.iter().map(|(_, v)| v.name).collect();
+    for kept in [
+        "elastic.x",
+        "der(elastic.x)",
+        "elastic.k",
+        "solver.method",
+        "knife.m",
+        "shaft.w",
+    ] {
+        assert!(names.contains(&kept), "{kept} missing from {names:?}");
+    }
+    assert!(t.model_description.contains("<ModelExchange"));
+}
+
+/// Runs the full model and the tailored one side by side (prepare, steps, evaluate) and
+/// compares the scene's outputs bit for bit.
+fn same_outputs<M: Model>(t: &Tailored) {
+    let mut full = Values::<M::Var>::start();
+    full.raw_mut().copy_from_slice(&t.start);
+    let mut tail = full.clone();
+    tail.stages = t.stages;
+    let mut mf = M::prepare(&full).unwrap();
+    let mut mt = M::prepare(&tail).unwrap();
+    mf.calculated_parameters(&mut full);
+    mt.calculated_parameters(&mut tail);
+    let outs: Vec<usize> = t
+        .variables
+        .iter()
+        .filter(|(_, v)| {
+            matches!(
+                v.causality,
+                Causality::Output | Causality::CalculatedParameter
+            )
+        })
+        .map(|(vr, _)| *vr as usize)
+        .collect();
+    let h = 1e-3;
+    for k in 0..300 {
+        let time = k as f64 * h;
+        // inputs (ignored with a constant_speed drive)
+        for v in [&mut full, &mut tail] {
+            v.raw_mut()[shaft::PHI as usize] = 0.9 + 7.0 * time;
+            v.raw_mut()[shaft::W as usize] = 7.0;
+            v.raw_mut()[shaft::A as usize] = 0.5;
+        }
+        mf.evaluate(&mut full, time, &mut NoLog);
+        mt.evaluate(&mut tail, time, &mut NoLog);
+        for &vr in &outs {
+            assert_eq!(
+                full.raw()[vr].to_bits(),
+                tail.raw()[vr].to_bits(),
+                "{} {} at step {k}: full {} tailored {}",
+                t.identifier,
+                <M::Var as VarSet>::table()[vr].name,
+                full.raw()[vr],
+                tail.raw()[vr]
+            );
+        }
+        mf.do_step(&mut full, time, h, &mut NoLog).unwrap();
+        mt.do_step(&mut tail, time, h, &mut NoLog).unwrap();
+    }
+}
+
+#[test]
+fn tailored_outputs_equal_the_full_models_bit_for_bit() {
+    for (path, text) in examples() {
+        let scene = Scene::parse(&text).unwrap();
+        match scene.mechanism.as_str() {
+            "GenevaKnifeDrive" => {
+                same_outputs::<GenevaKnifeDrive>(&tailor::<GenevaKnifeDrive>(&scene).unwrap())
+            }
+            "SewingTable" => same_outputs::<SewingTable>(&tailor::<SewingTable>(&scene).unwrap()),
+            "Perforators" => same_outputs::<Perforators>(&tailor::<Perforators>(&scene).unwrap()),
+            "DiscKnifeDrive" => {
+                same_outputs::<DiscKnifeDrive>(&tailor::<DiscKnifeDrive>(&scene).unwrap())
+            }
+            m => panic!("{}: mechanism {m} not covered by this test", path.display()),
+        }
+    }
+}
+
+#[test]
+fn the_documentation_says_what_is_left_out_and_why() {
+    let t = tailor_text::<GenevaKnifeDrive>(&example("geneva-side-knife-kinematics.toml")).unwrap();
+    let r = docs::report::<GenevaKnifeDrive>(&t);
+    let why = |items: &[docs::LeftOut], name: &str| {
+        items
+            .iter()
+            .find(|i| i.name == name)
+            .unwrap_or_else(|| panic!("{name} not reported"))
+            .why
+            .clone()
+    };
+    assert!(why(&r.stages, "forces").contains("not part of the kinematic level"));
+    assert!(why(&r.stages, "elastic").contains("not part of the kinematic level"));
+    assert!(why(&r.outputs, "knife.F_cut").contains("not computed at the kinematic level"));
+    assert!(why(&r.outputs, "crank.theta").contains("not among the scene's outputs"));
+    assert!(why(&r.parameters, "knife.m").contains("influences only forces, elastic"));
+    assert!(why(&r.parameters, "model.fidelity").contains("kinematic"));
+    assert!(why(&r.inputs, "shaft.phi").contains("30 rpm"));
+    let html = String::from_utf8(
+        docs::documentation::<GenevaKnifeDrive>(&t).unwrap()[0]
+            .1
+            .clone(),
+    )
+    .unwrap();
+    assert!(html.contains("What this FMU leaves out") && html.contains("knife.F_cut"));
+    // a kinetostatic scene that does not ask for the stress: Hertz skipped, and said why
+    let t = tailor_text::<SewingTable>(
+        "name = \"f\"\nmechanism = \"SewingTable\"\nfidelity = \"kinetostatic\"\noutputs = [\"cam.F\"]\n",
+    )
+    .unwrap();
+    let r = docs::report::<SewingTable>(&t);
+    assert!(
+        why(&r.stages, "hertz")
+            .contains("no output of the scene needs it (it computes cam.sigma_H)")
+    );
+}
+
+// ---- refusals: each names the key, its line and the valid choices
+
+#[test]
+fn syntax_and_unknown_keys() {
+    assert_refused("name = \"a\"\nmechanism = = 3\n", "", 2, &[]);
+    assert_refused(
+        &(GENEVA.to_string() + "colour = \"red\"\n"),
+        "colour",
+        5,
+        &[
+            "unknown key",
+            "valid: name, mechanism, fidelity, outputs, parameters, experiment, drive",
+        ],
+    );
+    assert_refused(
+        &(GENEVA.to_string() + "[experiment]\nstop = 1.0\nstep = 1e-3\nend = 2\n"),
+        "experiment.end",
+        8,
+        &["unknown key", "valid: start, stop, step, tolerance"],
+    );
+    assert_refused(
+        &(GENEVA.to_string() + "[experiment]\nstop = \"1 s\"\nstep = 1e-3\n"),
+        "experiment.stop",
+        6,
+        &["must be a number, not a string"],
+    );
+    assert_refused(
+        &GENEVA.replace("outputs = [\"knife.s\"]", "outputs = \"knife.s\""),
+        "outputs",
+        4,
+        &["must be an array of output names, not a string"],
+    );
+    assert_refused(
+        &GENEVA.replace("outputs = [\"knife.s\"]", "outputs = [\"knife.s\", 3]"),
+        "outputs[1]",
+        4,
+        &["must be a string, not an integer"],
+    );
+    // a missing key
+    let e = refusal("name = \"a\"\nmechanism = \"SewingTable\"\nfidelity = \"kinematic\"\n");
+    assert_eq!(e.key, "outputs");
+    assert!(e.message.contains("missing"), "{e}");
+}
+
+#[test]
+fn unknown_mechanism_lists_the_mechanisms() {
+    assert_refused(
+        &GENEVA.replace("GenevaKnifeDrive", "GenevaDrive"),
+        "mechanism",
+        2,
+        &[
+            "GenevaDrive",
+            "GenevaKnifeDrive, SewingTable, Perforators, DiscKnifeDrive",
+        ],
+    );
+}
+
+#[test]
+fn bad_name_fidelity_and_drive() {
+    assert_refused(
+        &GENEVA.replace("\"t\"", "\"a b\""),
+        "name",
+        1,
+        &["modelIdentifier"],
+    );
+    assert_refused(
+        &GENEVA.replace("kinematic", "static"),
+        "fidelity",
+        3,
+        &["kinematic, kinetostatic, elastodynamic"],
+    );
+    assert_refused(
+        &(GENEVA.to_string() + "[drive]\nmode = \"constant\"\n"),
+        "drive.mode",
+        6,
+        &["input, constant_speed"],
+    );
+    assert_refused(
+        &(GENEVA.to_string() + "[drive]\nmode = \"constant_speed\"\n"),
+        "drive.n",
+        6,
+        &["needs the speed n"],
+    );
+    assert_refused(
+        &(GENEVA.to_string() + "[experiment]\nstop = 1.0\nstep = 2.0\n"),
+        "experiment.step",
+        7,
+        &["at most stop - start"],
+    );
+}
+
+#[test]
+fn unknown_output_gives_the_nearest_names() {
+    assert_refused(
+        &GENEVA.replace("[\"knife.s\"]", "[\"knife.s\", \"knife.vel\"]"),
+        "outputs[1]",
+        4,
+        &["no output \"knife.vel\"", "knife.v"],
+    );
+    assert_refused(
+        &GENEVA.replace("[\"knife.s\"]", "[\"knife.s\",\n  \"crank.r\"]"),
+        "outputs[1]",
+        5,
+        &["is a parameter, not an output", "[parameters]"],
+    );
+    assert_refused(
+        &GENEVA.replace("[\"knife.s\"]", "[\"knife.s\", \"knife.s\"]"),
+        "outputs[1]",
+        4,
+        &["listed twice"],
+    );
+}
+
+#[test]
+fn output_not_at_this_fidelity_names_the_levels_that_have_it() {
+    assert_refused(
+        &GENEVA.replace("[\"knife.s\"]", "[\"knife.s\", \"rod.F\"]"),
+        "outputs[1]",
+        4,
+        &[
+            "not computed at fidelity \"kinematic\"",
+            "it is at: kinetostatic, elastodynamic",
+        ],
+    );
+    assert_refused(
+        &GENEVA
+            .replace("[\"knife.s\"]", "[\"dyn.factor\"]")
+            .replace("kinematic", "kinetostatic"),
+        "outputs[0]",
+        4,
+        &["it is at: elastodynamic"],
+    );
+    assert_refused(
+        "name = \"t\"\nmechanism = \"SewingTable\"\nfidelity = \"kinematic\"\noutputs = [\"cam.rho\", \"cam.sigma_H\"]\n",
+        "outputs[1]",
+        4,
+        &["it is at: kinetostatic, elastodynamic"],
+    );
+}
+
+#[test]
+fn a_level_the_mechanism_lacks_is_refused_at_the_fidelity_key() {
+    assert_refused(
+        "name = \"t\"\nmechanism = \"DiscKnifeDrive\"\nfidelity = \"elastodynamic\"\noutputs = [\"knife.x\"]\n",
+        "fidelity",
+        3,
+        &["not implemented"],
+    );
+}
+
+#[test]
+fn bad_parameters_are_named() {
+    let with = |p: &str| GENEVA.to_string() + "[parameters]\n" + p + "\n";
+    assert_refused(
+        &with("\"crank.radius\" = 0.07"),
+        "parameters.\"crank.radius\"",
+        6,
+        &["no parameter", "crank.r"],
+    );
+    assert_refused(
+        &with("\"knife.s\" = 0.07"),
+        "parameters.\"knife.s\"",
+        6,
+        &["not a parameter", "outputs"],
+    );
+    assert_refused(
+        &with("\"model.fidelity\" = 2"),
+        "parameters.\"model.fidelity\"",
+        6,
+        &["`fidelity`"],
+    );
+    assert_refused(
+        &with("\"drive.n\" = 2.0"),
+        "parameters.\"drive.n\"",
+        6,
+        &["[drive]"],
+    );
+    assert_refused(
+        &with("\"crank.r\" = \"long\""),
+        "parameters.\"crank.r\"",
+        6,
+        &["Real"],
+    );
+    assert_refused(
+        &with("\"geneva.Z\" = 4.5"),
+        "parameters.\"geneva.Z\"",
+        6,
+        &["Integer"],
+    );
+    assert_refused(
+        &with("\"crank.r\" = -0.07"),
+        "parameters.\"crank.r\"",
+        6,
+        &["crank.r", "at least 0"],
+    );
+    assert_refused(
+        &with("\"geneva.Z\" = 2"),
+        "parameters.\"geneva.Z\"",
+        6,
+        &["geneva.Z"],
+    );
+    // the mechanism cannot assemble: rod shorter than the crank
+    assert_refused(
+        &with("\"crank.r\" = 0.5"),
+        "parameters.\"crank.r\"",
+        6,
+        &["refused by GenevaKnifeDrive"],
+    );
+    let sew = "name = \"t\"\nmechanism = \"SewingTable\"\nfidelity = \"kinematic\"\noutputs = [\"table.x\"]\n[parameters]\n\"law.forward\" = \"sine\"\n";
+    assert_refused(
+        sew,
+        "parameters.\"law.forward\"",
+        6,
+        &["cycloidal, harmonic, poly345"],
+    );
+}
