@@ -91,6 +91,27 @@ pub fn all() -> Vec<Entry> {
                 crate::mechanisms::disc_knife_drive::DiscKnifeDrive,
             >,
         },
+        Entry {
+            identifier: "MainShaft",
+            package: "main-shaft-fmu",
+            describe: crate::md::describe::<crate::mechanisms::main_shaft::MainShaft>,
+            info: ModelInfo::of::<crate::mechanisms::main_shaft::MainShaft>,
+            variables: variables_of::<crate::mechanisms::main_shaft::MainShaft>,
+            documentation: crate::mechanisms::main_shaft::docs::documentation,
+            // scenes tailor a mechanism driven through the shaft connector; the drive has none
+            tailor: |_| {
+                Err(crate::scene::SceneError {
+                    key: "mechanism".into(),
+                    line: None,
+                    message:
+                        "MainShaft drives the main shaft: scenes tailor the mechanism FMUs only"
+                            .into(),
+                })
+            },
+            scene_documentation: crate::scene::docs::documentation::<
+                crate::mechanisms::main_shaft::MainShaft,
+            >,
+        },
     ]
 }
 

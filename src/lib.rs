@@ -8,6 +8,7 @@
 //! - [`solver`]: the integrators of the elastodynamic level (inside `fmi2DoStep`); know no mechanism.
 //! - [`md`]: the modelDescription.xml writer and GUID, generated from those declarations.
 //! - [`fmi2`]: the FMI 2.0 C ABI runtime; knows no mechanism.
+//! - `ssp` (feature `tools`): the machines as SSP 1.0 systems of these FMUs.
 //! - [`scene`]: scene files and the FMU tailored to one (`scenes.md`); knows no mechanism.
 //! - `docs` (feature `tools`): the FMU's `documentation/` page, figures and icon; knows no mechanism.
 #[cfg(feature = "tools")]
@@ -15,6 +16,8 @@ pub mod catalog;
 #[cfg(feature = "tools")]
 pub mod docs;
 pub mod fmi2;
+#[cfg(feature = "tools")]
+pub mod machines;
 pub mod md;
 pub mod mechanics;
 pub mod mechanisms;
@@ -23,3 +26,5 @@ pub mod model;
 pub mod package;
 pub mod scene;
 pub mod solver;
+#[cfg(feature = "tools")]
+pub mod ssp;

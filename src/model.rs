@@ -9,7 +9,9 @@
 //!
 //! The shaft connector and the drive/fidelity parameters common to every mechanism
 //! (`../shared/spec/interface.md`) are prepended by the macro, so every model has them at the
-//! same value references ([`shaft`]).
+//! same value references ([`shaft`]). A model that drives the shaft instead (MainShaft) is
+//! declared `standalone`: none of those are prepended, and the [`shaft`] helpers that read them
+//! do not apply to it.
 //!
 //! Nothing here knows FFI: a model is plain Rust and is tested as such.
 
@@ -824,7 +826,7 @@ pub mod shaft {
                 "drive.phi0",
                 0.0,
                 "rad",
-                "Shaft angle at time 0 in constant_speed mode",
+                "Phase of the mechanism on its shaft: in constant_speed mode the shaft angle at time 0; in input mode added to shaft.phi (a mechanism mounted phase-shifted on a main shaft)",
             ),
             Var::enum_parameter(
                 "model.fidelity",
@@ -843,7 +845,8 @@ pub mod shaft {
         pub a: f64,
     }
 
-    /// The shaft state at `time`: the inputs, or the constant-speed drive.
+    /// The shaft state at `time`: the inputs (the angle shifted by `drive.phi0`, the phase the
+    /// mechanism is mounted with on a main shaft), or the constant-speed drive.
     pub fn state<V: VarSet>(values: &Values<V>, time: f64) -> ShaftState {
         let raw = values.raw();
         if raw[MODE as usize] == 2.0 {
@@ -855,7 +858,7 @@ pub mod shaft {
             }
         } else {
             ShaftState {
-                phi: raw[PHI as usize],
+                phi: raw[PHI as usize] + raw[PHI0 as usize],
                 w: raw[W as usize],
                 a: raw[A as usize],
             }
@@ -922,6 +925,64 @@ pub mod shaft {
         raw[TAU as usize] = tau;
         raw[P as usize] = tau * w;
     }
+
+    /// `shaft.J_red`: the coefficient of `shaft.a` in `shaft.tau`, for a drive that solves its
+    /// shaft's acceleration with the load's inertia (MainShaft's `load*.J_red`). `depends`: as
+    /// `shaft.tau` less `shaft.a` (it is the torque's slope in `shaft.a`, not a function of it).
+    pub fn j_red_var(depends: &'static [u32]) -> Var {
+        Var::output(
+            "shaft.J_red",
+            "kg.m2",
+            "Moment of inertia reduced to the shaft: shaft.tau = shaft.tau0 + shaft.J_red*shaft.a, the torque's slope in shaft.a between a = 0 and a = 1 rad/s2 (exact where friction does not depend on shaft.a; at the elastodynamic level only the rigid links between the shaft and the compliance)",
+        )
+        .depends(depends)
+    }
+
+    /// `shaft.tau0`: the torque at zero shaft acceleration (`depends`: as for [`j_red_var`]).
+    pub fn tau0_var(depends: &'static [u32]) -> Var {
+        Var::output(
+            "shaft.tau0",
+            "N.m",
+            "Torque the mechanism requires at its shaft with shaft.a = 0 (same angle, speed and state): shaft.tau = shaft.tau0 + shaft.J_red*shaft.a",
+        )
+        .depends(depends)
+    }
+
+    /// The split `τ(a) = τ0 + J_red·a` of a shaft torque: `τ0` the torque at zero shaft
+    /// acceleration, `J_red` the reduced moment of inertia (kg·m²).
+    #[derive(Clone, Copy, Debug, Default, PartialEq)]
+    pub struct Reduced {
+        pub tau0: f64,
+        pub j_red: f64,
+    }
+
+    impl Reduced {
+        /// `τ0 + J_red·a`.
+        pub fn torque(&self, a: f64) -> f64 {
+            self.tau0 + self.j_red * a
+        }
+    }
+
+    /// Splits a shaft torque `τ(a)` (the mechanism's own torque at the same angle, speed and
+    /// internal state, as a function of the shaft acceleration) into `τ0 = τ(0)` and
+    /// `J_red = τ(1) − τ(0)`. Newton–Euler on rigid links makes every inertia force linear in
+    /// the shaft acceleration (`a_x = x''(φ)·ω² + x'(φ)·ε`), so `τ` is affine in `ε` and the split
+    /// is exact, except where a Coulomb friction force or a mesh efficiency changes regime
+    /// (sign of a normal force or of the power flow) between `ε = 0`, `1` and the actual `ε`:
+    /// there `J_red` is the secant of the piecewise-affine `τ(ε)` over `[0, 1]` rad/s².
+    pub fn reduce(mut torque_at: impl FnMut(f64) -> f64) -> Reduced {
+        let tau0 = torque_at(0.0);
+        Reduced {
+            tau0,
+            j_red: torque_at(1.0) - tau0,
+        }
+    }
+
+    /// Writes `shaft.J_red` and `shaft.tau0`.
+    pub fn set_reduced<V: VarSet>(values: &mut Values<V>, j_red: V, tau0: V, r: Reduced) {
+        values[j_red] = r.j_red;
+        values[tau0] = r.tau0;
+    }
 }
 
 /// Declares a model's variables once: an enum whose variants are the variables (discriminant =
@@ -952,6 +1013,30 @@ macro_rules! model_variables {
     ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_depends = $dep:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
         $crate::model_variables! {
             $vis enum $name (nominal_rpm = $rpm, torque_depends = $dep, torque_needs = $crate::model::Stages::NONE) { $( $id = $decl ),* }
+        }
+    };
+    // A model that drives a shaft instead of being driven by one (MainShaft): no shaft connector
+    // and no drive/fidelity parameters prepended; the helpers of [`shaft`] do not apply to it.
+    ($vis:vis enum $name:ident (standalone) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+        #[allow(non_camel_case_types, dead_code)]
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        #[repr(u32)]
+        $vis enum $name {
+            $( $id ),*
+        }
+        impl $crate::model::VarSet for $name {
+            fn table() -> &'static [$crate::model::Var] {
+                static TABLE: ::std::sync::OnceLock<Vec<$crate::model::Var>> = ::std::sync::OnceLock::new();
+                TABLE.get_or_init(|| {
+                    #[allow(unused_imports)]
+                    use $crate::model::{Var, shaft};
+                    vec![$( $decl ),*]
+                })
+            }
+            #[inline]
+            fn vr(self) -> u32 {
+                self as u32
+            }
         }
     };
     // `torque_depends`: the inputs `shaft.tau` and `shaft.P` depend on, when a model has inputs
@@ -1061,6 +1146,35 @@ mod tests {
         v.clear_input_derivatives();
         v[T::drive_mode] = 1.0;
         assert_eq!(at(&v).0, 2.0);
+    }
+
+    #[test]
+    fn phi0_phases_the_mechanism_on_its_shaft_in_input_mode() {
+        let mut v = Values::<T>::start();
+        v[T::shaft_phi] = 2.0;
+        v[T::shaft_w] = 3.0;
+        v[T::drive_phi0] = 0.5;
+        let s = shaft::state(&v, 7.0);
+        assert_eq!((s.phi, s.w), (2.5, 3.0));
+    }
+
+    #[test]
+    fn reduce_splits_an_affine_torque_exactly() {
+        let r = shaft::reduce(|a| 12.5 + 3.25 * a);
+        assert_eq!((r.tau0, r.j_red), (12.5, 3.25));
+        assert_eq!(r.torque(2.0), 12.5 + 6.5);
+    }
+
+    #[test]
+    fn standalone_models_have_no_common_variables() {
+        crate::model_variables! {
+            enum D (standalone) {
+                y = Var::output("shaft.phi", "rad", "y").depends(&[]),
+                u = Var::input("load.tau", 0.0, "N.m", "u"),
+            }
+        }
+        assert_eq!(D::table().len(), 2);
+        assert_eq!(D::u.vr(), 1);
     }
 
     #[test]

@@ -47,6 +47,26 @@ fn first(e: &Entry, pred: impl Fn(&Var) -> bool) -> Option<u32> {
     vars(e).into_iter().find(|(_, v)| pred(v)).map(|(vr, _)| vr)
 }
 
+/// The first three Real inputs: `shaft.phi`, `shaft.w`, `shaft.a` of a mechanism; the loads
+/// `load.tau`, `load1.J_red`, `load1.tau0` of a drive (MainShaft).
+fn drive_inputs(e: &Entry) -> [u32; 3] {
+    let ins: Vec<u32> = vars(e)
+        .into_iter()
+        .filter(|(_, v)| v.causality == Causality::Input && v.ty == VarType::Real)
+        .map(|(vr, _)| vr)
+        .take(3)
+        .collect();
+    [ins[0], ins[1], ins[2]]
+}
+
+/// A mechanism, driven through the shaft connector (not the drive that turns it).
+fn is_mechanism(e: &Entry) -> bool {
+    first(e, |v| {
+        v.name == "shaft.phi" && v.causality == Causality::Input
+    })
+    .is_some()
+}
+
 fn real_outputs(e: &Entry) -> Vec<u32> {
     vars(e)
         .into_iter()
@@ -215,9 +235,16 @@ fn invoke(
     type Arr = unsafe extern "C" fn(Component, *mut Real, usize) -> Status;
     type Get<T> = unsafe extern "C" fn(Component, *const u32, usize, *mut T) -> Status;
     type Set<T> = unsafe extern "C" fn(Component, *const u32, usize, *const T) -> Status;
-    let input = [vr_of(e, "shaft.phi")];
-    let real = [vr_of(e, "shaft.tau")];
-    let int = [vr_of(e, "drive.mode")];
+    // shaft.phi, shaft.tau, drive.mode of a mechanism
+    let input = [drive_inputs(e)[0]];
+    let real = [first(e, |v| {
+        v.causality == Causality::Output && v.ty == VarType::Real
+    })
+    .expect("a Real output")];
+    let int = [first(e, |v| {
+        v.ty.is_integer_like() && v.causality == Causality::Parameter
+    })
+    .expect("an Integer or Enumeration parameter")];
     let boolean: Vec<u32> = first(e, |v| v.ty == VarType::Boolean).into_iter().collect();
     let bool_param: Vec<u32> = first(e, |v| {
         v.ty == VarType::Boolean && v.causality == Causality::Parameter
@@ -872,7 +899,7 @@ fn bad_arguments_are_refused_with_a_reason() {
                 let set: Symbol<Set<f64>> = f.sym(g);
                 expect(set(s.c, std::ptr::null(), 2, std::ptr::null()), "NULL", g);
                 expect(
-                    set(s.c, [vr_of(&e, "shaft.phi")].as_ptr(), 1, std::ptr::null()),
+                    set(s.c, [drive_inputs(&e)[0]].as_ptr(), 1, std::ptr::null()),
                     "NULL",
                     g,
                 );
@@ -1131,7 +1158,12 @@ fn bad_values_keep_the_instance_going() {
         assert_eq!(bits(&s.get_real(&outs).1), bits(&before));
         // huge angles: the mechanism is 2*pi-periodic, the outputs stay finite
         let phi = vr_of(&e, "shaft.phi");
-        for huge in [1e9, -1e9, 1e15, -1e300] {
+        let huges: &[f64] = if is_mechanism(&e) {
+            &[1e9, -1e9, 1e15, -1e300]
+        } else {
+            &[] // a drive's angle is its output
+        };
+        for &huge in huges {
             assert_eq!(s.set_real(&[phi], &[huge]), Status::Ok);
             let y = s.get_real(&outs).1;
             assert!(
@@ -1141,16 +1173,18 @@ fn bad_values_keep_the_instance_going() {
             );
         }
         // 1e9 rad is the angle 1e9 mod 2*pi: the same outputs, to the precision of that angle
-        let a = 1e9_f64;
-        assert_eq!(s.set_real(&[phi], &[a]), Status::Ok);
-        let y1 = s.get_real(&outs).1;
-        assert_eq!(
-            s.set_real(&[phi], &[a.rem_euclid(2.0 * std::f64::consts::PI)]),
-            Status::Ok
-        );
-        let y2 = s.get_real(&outs).1;
-        for (p, q) in y1.iter().zip(&y2) {
-            assert!((p - q).abs() <= 1e-5 * (1.0 + q.abs()), "{p} vs {q}");
+        if is_mechanism(&e) {
+            let a = 1e9_f64;
+            assert_eq!(s.set_real(&[phi], &[a]), Status::Ok);
+            let y1 = s.get_real(&outs).1;
+            assert_eq!(
+                s.set_real(&[phi], &[a.rem_euclid(2.0 * std::f64::consts::PI)]),
+                Status::Ok
+            );
+            let y2 = s.get_real(&outs).1;
+            for (p, q) in y1.iter().zip(&y2) {
+                assert!((p - q).abs() <= 1e-5 * (1.0 + q.abs()), "{p} vs {q}");
+            }
         }
         // step sizes
         for h in [0.0, -1e-3, f64::NAN, f64::INFINITY, -f64::MAX] {
@@ -1158,6 +1192,13 @@ fn bad_values_keep_the_instance_going() {
             assert!(s.last_error().contains("communicationStepSize"));
         }
         assert_eq!(s.do_step(0.0, 1e-300), Status::Ok);
+        if !is_mechanism(&e) {
+            // a drive integrates its states: a step of 1e300 s is beyond any step budget, it is
+            // discarded with the state kept
+            assert_eq!(s.do_step(1e-300, 1e300), Status::Discard);
+            assert!(s.get_real(&outs).1.iter().all(|x| x.is_finite()));
+            continue;
+        }
         assert_eq!(s.do_step(1e-300, 1e300), Status::Ok);
         assert!(s.get_real(&outs).1.iter().all(|x| x.is_finite()));
         // a step whose end time overflows is refused, not taken to t = inf
@@ -1393,11 +1434,7 @@ fn input_derivative_calls_are_checked_and_atomic() {
 /// follows a fixed non-trivial law so that inputs matter.
 fn run(s: &Slave, e: &Entry, t0: f64, n: usize, h: f64) -> Vec<u64> {
     let outs = real_outputs(e);
-    let ins = [
-        vr_of(e, "shaft.phi"),
-        vr_of(e, "shaft.w"),
-        vr_of(e, "shaft.a"),
-    ];
+    let ins = drive_inputs(e);
     let mut bits = Vec::with_capacity(n * outs.len());
     for k in 0..n {
         let t = t0 + k as f64 * h;
@@ -1474,10 +1511,13 @@ fn parallel_instances_match_sequential_runs() {
             let s = f.slave("thread");
             assert_eq!(s.setup(0.01 * k as f64, None), Status::Ok);
             if k % 2 == 1 {
-                assert_eq!(
-                    s.set_integer(&[vr_of(&e, "model.fidelity")], &[1]),
-                    Status::Ok
-                );
+                // another level of a mechanism, another integrator of a drive
+                let (name, value) = if is_mechanism(&e) {
+                    ("model.fidelity", 1)
+                } else {
+                    ("solver.method", 3)
+                };
+                assert_eq!(s.set_integer(&[vr_of(&e, name)], &[value]), Status::Ok);
             }
             assert_eq!(s.init(), Status::Ok);
             run(&s, &e, 0.01 * k as f64, 150, 0.007 + 0.001 * k as f64)

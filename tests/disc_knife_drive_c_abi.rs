@@ -26,6 +26,8 @@ fn real_outputs() -> Vec<V> {
     let all = [
         V::shaft_tau,
         V::shaft_P,
+        V::shaft_J_red,
+        V::shaft_tau0,
         V::slider_x,
         V::slider_v,
         V::slider_a,

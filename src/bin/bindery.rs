@@ -2,9 +2,12 @@
 //!
 //! - `bindery build`: compiles every FMU's cdylib (release) and writes `out/fmus/<id>.fmu`.
 //! - `bindery describe`: writes `modelDescription/<id>.xml`; `--check` fails if one is stale.
+//! - `bindery ssp`: the two machines as SSP 1.0 files of the built FMUs, `out/ssp/<machine>.ssp`.
 //! - `bindery scene [FILE...]`: exports the FMU tailored to each scene (default: every
 //!   `scenes/*.toml`) into `out/scenes/`.
 
+#[path = "bindery/machines.rs"]
+mod machines;
 #[path = "bindery/report.rs"]
 mod report;
 #[path = "bindery/scene.rs"]
@@ -70,6 +73,23 @@ enum Cmd {
         /// Leave out the FMPy baseline
         #[arg(long)]
         no_fmpy: bool,
+    },
+    /// The two machines (thread-sewing machine, three-knife trimmer) as SSP 1.0 files of the FMUs
+    /// built into out/fmus/ (run `build` first): out/ssp/<machine>.ssp
+    Ssp {
+        /// Folder of the built FMUs
+        #[arg(long, default_value = "out/fmus")]
+        fmus: PathBuf,
+        /// Output folder
+        #[arg(long, default_value = "out/ssp")]
+        out: PathBuf,
+    },
+    /// What a machine designer asks of the two machines: speed fluctuation, the flywheel for
+    /// delta <= 1/40, motor torque, start-up time: out/machines/machines.md and PNG plots
+    Machines {
+        /// Output folder
+        #[arg(long, default_value = "out/machines")]
+        out: PathBuf,
     },
     /// Export the FMU tailored to each scene file (scenes.md) into out/scenes/<modelIdentifier>.fmu
     Scene {
@@ -235,6 +255,35 @@ fn docs(out: &Path) -> Result<(), String> {
     Ok(())
 }
 
+fn absolute(p: &Path) -> PathBuf {
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        root().join(p)
+    }
+}
+
+/// Writes every machine's `.ssp` from the built FMUs.
+fn ssp(fmus: &Path, out: &Path) -> Result<(), String> {
+    let (fmus, out) = (absolute(fmus), absolute(out));
+    std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    for m in bindery_fmu::ssp::machines() {
+        let bytes = bindery_fmu::ssp::package(&m, |id| {
+            let p = fmus.join(format!("{id}.fmu"));
+            std::fs::read(&p).map_err(|e| {
+                format!(
+                    "{}: {e} (run `cargo run --release -- build` first)",
+                    p.display()
+                )
+            })
+        })?;
+        let path = out.join(format!("{}.ssp", m.name));
+        std::fs::write(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+        eprintln!("wrote {}", path.display());
+    }
+    Ok(())
+}
+
 /// Compares (or writes) the committed descriptions.
 fn check_descriptions(entries: &[Entry], check: bool) -> Result<(), String> {
     let mut stale = Vec::new();
@@ -300,6 +349,8 @@ fn main() -> ExitCode {
         Cmd::Describe { check } => check_descriptions(&catalog::all(), check),
         Cmd::Liftoff { from, to, m0, kt } => liftoff(from, to, m0, kt),
         Cmd::Report { out, no_fmpy } => report::report(&root(), &out, !no_fmpy),
+        Cmd::Ssp { fmus, out } => ssp(&fmus, &out),
+        Cmd::Machines { out } => machines::machines(&absolute(&out)),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

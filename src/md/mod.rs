@@ -140,6 +140,11 @@ const UNITS: &[UnitDef] = &[
         display: &[],
     },
     UnitDef {
+        name: "N.m.s/rad",
+        base: [1, 2, -1, -1],
+        display: &[],
+    },
+    UnitDef {
         name: "J",
         base: [1, 2, -2, 0],
         display: &[],

@@ -2,5 +2,6 @@
 
 pub mod disc_knife_drive;
 pub mod geneva_knife_drive;
+pub mod main_shaft;
 pub mod perforators;
 pub mod sewing_table;

@@ -38,6 +38,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 
 import closed_form  # noqa: E402
+import main_shaft_reference  # noqa: E402
 import closed_form_sewing  # noqa: E402
 import disc_knife_closed_form  # noqa: E402
 from harness import (FMU_DIR, SHAFT_INPUTS, Extracted, check_input_lag, cross_check_paths,  # noqa: E402
@@ -53,6 +54,8 @@ class Reference:
     rel_tol: float
     speed: float  # rad/s, phi = speed*t
     check: Callable[[np.ndarray], list[str]]  # problems found in a result (with the shaft inputs)
+    # constant inputs of a model that drives the shaft instead (MainShaft): {name: value}
+    inputs: dict[str, float] | None = None
 
 
 MODELS = {
@@ -86,6 +89,13 @@ MODELS = {
         # table.x, perforators.s (the needle law of x_t) and shaft.tau = -table.F*dx_t/dphi
         check=lambda result: closed_form_sewing.mismatches_perforators(result, rtol=1e-9),
     ),
+    "MainShaft": Reference(
+        outputs=["shaft.phi", "shaft.w", "shaft.a", "motor.tau", "motor.s", "shaft.tau_load"],
+        start=0.0, stop=3.0, step=0.01, rel_tol=1e-6,
+        speed=0.0,  # it drives the shaft: a start-up from rest under constant loads
+        check=lambda result: main_shaft_reference.mismatches(result, rtol=1e-6),
+        inputs=main_shaft_reference.LOAD,
+    ),
 }
 
 
@@ -96,16 +106,26 @@ def make(mid: str, write: bool) -> list[str]:
         tmp_paths = {k: Path(tmp) / p.name for k, p in cross_check_paths(mid).items()}
         n = int(round((ref.stop - ref.start) / ref.step)) + 1
         t = np.linspace(ref.start, ref.stop, n)
-        signals = shaft_input(t, ref.speed * t, np.full_like(t, ref.speed), np.zeros_like(t))
-        write_csv(tmp_paths["in"], signals, SHAFT_INPUTS)
+        if ref.inputs is None:
+            signals = shaft_input(t, ref.speed * t, np.full_like(t, ref.speed), np.zeros_like(t))
+            names = SHAFT_INPUTS
+        else:
+            names = list(ref.inputs)
+            signals = np.zeros(t.shape, dtype=[("time", np.float64)] + [(n, np.float64) for n in names])
+            signals["time"] = t
+            for n, x in ref.inputs.items():
+                signals[n] = x
+        write_csv(tmp_paths["in"], signals, names)
         write_ref_opt(tmp_paths["opt"], ref.start, ref.stop, ref.step, ref.rel_tol)
 
-        result = simulate_cross_check(ex, tmp_paths, ref.outputs, extra=SHAFT_INPUTS)
+        result = simulate_cross_check(ex, tmp_paths, ref.outputs,
+                                      extra=SHAFT_INPUTS if ref.inputs is None else ())
         problems = []
-        try:
-            check_input_lag(result, lambda tt: ref.speed * tt)
-        except AssertionError as e:
-            problems.append(str(e))
+        if ref.inputs is None:
+            try:
+                check_input_lag(result, lambda tt: ref.speed * tt)
+            except AssertionError as e:
+                problems.append(str(e))
         problems += ref.check(result)
         if problems:
             return problems

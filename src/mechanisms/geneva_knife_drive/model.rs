@@ -41,6 +41,9 @@ pub static STAGES: &[Stage] = &[
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 30.0, torque_needs = stage::FORCES) {
+        // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
+        shaft_J_red = shaft::j_red_var(ON_PHI_W).needs(stage::FORCES),
+        shaft_tau0 = shaft::tau0_var(ON_PHI_W).needs(stage::FORCES),
         // ---- parameters (paper 003 where it gives them, else documented assumptions)
         geneva_Z = Var::int_parameter("geneva.Z", 4, "Number of slots of the Geneva cross Z (paper 003: 4)").min(3.0).max(36.0),
         geneva_r1 = Var::parameter("geneva.r1", 0.08, "m", "Driver radius r1: crank pin (roller) to driver axis (assumption)").min(0.0),
@@ -331,7 +334,7 @@ impl Model for GenevaKnifeDrive {
                 if v.int(V::drive_mode) == 1 {
                     // the FMU's own extrapolation of the inputs, until the host sets them
                     let (_, w, a) = path.at(time + h);
-                    v[V::shaft_phi] = path.absolute_phi(time + h);
+                    v[V::shaft_phi] = path.absolute_phi(time + h) - v[V::drive_phi0];
                     v[V::shaft_w] = w;
                     v[V::shaft_a] = a;
                 }
@@ -455,6 +458,9 @@ impl Model for GenevaKnifeDrive {
             v[V::der_elastic_xd] = pt.xdd;
             v[V::der_elastic_W] = pt.power;
             let tau = elastic_outputs(p, v, &pt, s.w, s.a);
+            let r =
+                shaft::reduce(|a| elastic_torques(p, &p.kinematics(s.phi, s.w, a), pt.f_el, a)[3]);
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             v[V::elastic_E_residual] =
                 ode.energy(&pt) - if d.started { d.e0 } else { ode.energy(&pt) } - y[2];
             let running = if d.peaks.2 > 0.0 {
@@ -471,6 +477,11 @@ impl Model for GenevaKnifeDrive {
         v[V::elastic_F] = 0.0;
         v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
+            let r = shaft::reduce(|a| {
+                p.kinetostatics(&p.kinematics(s.phi, s.w, a), s.w, a)
+                    .shaft_tau
+            });
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             let f = p.kinetostatics(&k, s.w, s.a);
             v[V::knife_F_cut] = f.f_cut;
             v[V::knife_F_inertia] = f.f_inertia;
@@ -481,6 +492,7 @@ impl Model for GenevaKnifeDrive {
             v[V::geneva_F] = f.geneva_f;
             f.shaft_tau
         } else {
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, shaft::Reduced::default());
             0.0
         };
         shaft::set_outputs(v, tau, s.w);
@@ -502,26 +514,34 @@ fn elastic_outputs(p: &Params, v: &mut Values<V>, pt: &Point, w: f64, eps: f64) 
     let rod_f = pt.f_el / k.cos_nu;
     v[V::rod_F] = rod_f;
     v[V::guide_N] = rod_f * k.sin_nu;
-    let crank_tau = pt.f_el * k.ds_dtheta + p.crank_inertia() * k.crank_a;
+    let [crank_tau, cross_tau, geneva_f, shaft_tau] = elastic_torques(p, k, pt.f_el, eps);
+    v[V::crank_tau] = crank_tau;
+    v[V::cross_tau] = cross_tau;
+    v[V::geneva_F] = geneva_f;
+    let _ = w;
+    shaft_tau
+}
+
+/// `[crank.tau, cross.tau, geneva.F, shaft.tau]` of the elastodynamic level: the chain force
+/// `f_el` (a function of the state, not of the shaft acceleration) on the rigid crank, gear pair,
+/// cross and driver at kinematics `k` and shaft acceleration `eps`.
+fn elastic_torques(p: &Params, k: &Kinematics, f_el: f64, eps: f64) -> [f64; 4] {
+    let crank_tau = f_el * k.ds_dtheta + p.crank_inertia() * k.crank_a;
     let i = f64::from(p.gear_i);
     let gear = if crank_tau * k.crank_w >= 0.0 {
         i * crank_tau / p.gear_eta
     } else {
         i * crank_tau * p.gear_eta
     };
-    let (cross_tau, geneva_f, shaft_tau) = if k.engaged {
+    if k.engaged {
         let cross_tau = gear + p.cross_j * k.cross_a;
-        (
+        [
+            crank_tau,
             cross_tau,
             cross_tau / k.rho,
             cross_tau * k.gamma_d + p.driver_j * eps,
-        )
+        ]
     } else {
-        (0.0, 0.0, p.driver_j * eps)
-    };
-    v[V::crank_tau] = crank_tau;
-    v[V::cross_tau] = cross_tau;
-    v[V::geneva_F] = geneva_f;
-    let _ = w;
-    shaft_tau
+        [crank_tau, 0.0, 0.0, p.driver_j * eps]
+    }
 }

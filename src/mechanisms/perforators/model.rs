@@ -107,6 +107,9 @@ pub static CONTACT_LAW: EnumType = EnumType {
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 100.0, torque_needs = stage::FORCES) {
+        // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
+        shaft_J_red = shaft::j_red_var(ON_PHI_W).needs(stage::FORCES),
+        shaft_tau0 = shaft::tau0_var(ON_PHI_W).needs(stage::FORCES),
         // ---- linkage synthesis (paper 000)
         synth_lambda_S = Var::parameter("synth.lambda_S", 1.0, "", "lambda_S: perforator stroke, the relative unit (paper 000: 1.0)").min(0.0),
         synth_lambda1 = Var::parameter("synth.lambda1", 1.07, "", "lambda1: rod length, relative (paper 000: 1.07)").min(0.0),
@@ -534,6 +537,15 @@ impl Perforators {
         v[V::der_elastic_q] = y[1];
         v[V::der_elastic_qd] = pt.rigid.gamma_a - k.gamma_a;
         v[V::der_elastic_W] = pt.power;
+        // the split of shaft.tau at the held state: only the shaft acceleration changes
+        let path = ode.path;
+        let r = shaft::reduce(|a| {
+            d.ode(&self.drive, ShaftPath { a, ..path })
+                .point(time, &y)
+                .forces
+                .tau
+        });
+        shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
         f.tau
     }
 
@@ -623,6 +635,8 @@ impl Model for Perforators {
         v[V::contact_pen] = 0.0;
         v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS) {
+            let r = shaft::reduce(|a| d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau);
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             let f = d.forces_with(&k, v.wants(stage::HERTZ));
             v[V::pierce_Q_out] = f.pierce_q;
             v[V::perforators_F_inertia] = f.f_inertia;
@@ -643,6 +657,7 @@ impl Model for Perforators {
             f.tau
         } else {
             v.set_flag(V::roller_lost_contact, false);
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, shaft::Reduced::default());
             0.0
         };
         shaft::set_outputs(v, tau, st.w);

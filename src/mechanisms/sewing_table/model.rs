@@ -47,6 +47,8 @@ pub static TABLE_KIND: EnumType = EnumType {
 
 /// Dependencies of what the external force on the table acts on.
 const ON_ALL_F: &[u32] = &[shaft::PHI, shaft::W, shaft::A, V::table_F_ext as u32];
+/// ... and of `shaft.tau0`, `shaft.J_red`.
+const ON_PHI_W_F: &[u32] = &[shaft::PHI, shaft::W, V::table_F_ext as u32];
 
 /// The computations a scene may leave out (`scenes.md`); the variables below say which they
 /// need (`.needs`) or feed (`.feeds`). The table's kinematics always run.
@@ -128,6 +130,9 @@ pub static STAGES: &[Stage] = &[
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 100.0, torque_depends = ON_ALL_F, torque_needs = stage::FORCES) {
+        // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
+        shaft_J_red = shaft::j_red_var(ON_PHI_W_F).needs(stage::FORCES),
+        shaft_tau0 = shaft::tau0_var(ON_PHI_W_F).needs(stage::FORCES),
         // ---- synthesis (paper 000)
         synth_l1 = Var::parameter("synth.l1", 1.0, "", "l1: rocking axis to the table top in the sewing position, relative (paper 000: 1.0)").min(0.0),
         synth_R = Var::parameter("synth.R", 11.0, "", "R: diagonal OA from the rocking axis to the top, relative (paper 000: 11.0)").min(0.0),
@@ -470,7 +475,7 @@ impl Model for SewingTable {
         d.absorb(&ode);
         if v.int(V::drive_mode) == 1 {
             let (_, w, a) = path.at(time + h);
-            v[V::shaft_phi] = path.absolute_phi(time + h);
+            v[V::shaft_phi] = path.absolute_phi(time + h) - v[V::drive_phi0];
             v[V::shaft_w] = w;
             v[V::shaft_a] = a;
         }
@@ -616,6 +621,11 @@ impl Model for SewingTable {
             };
             v[V::solver_steps] = d.integ.stats.steps as f64;
             let tau = pt.f_c * k.c.dx + p.cam_j * st.a;
+            let r = shaft::reduce(|a| {
+                let ka = p.kinematics(st.phi, st.w, a);
+                ode.point_at(&ka, &y).f_c * ka.c.dx + p.cam_j * a
+            });
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             shaft::set_outputs(v, tau, st.w);
             return;
         }
@@ -666,6 +676,16 @@ impl Model for SewingTable {
                 }
             }
         };
+        let r = match (kinetostatic, p.kind) {
+            (false, _) => shaft::Reduced::default(),
+            (true, Kind::Translating) => {
+                shaft::reduce(|a| p.forces(&p.kinematics(st.phi, st.w, a), a, f_ext).tau)
+            }
+            (true, Kind::Rocking) => {
+                shaft::reduce(|a| p.rocking_tau(&p.rocking(st.phi, st.w, a), a, f_ext))
+            }
+        };
+        shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
         shaft::set_outputs(v, tau, st.w);
     }
 }
