@@ -216,6 +216,8 @@ impl Model for MainShaft {
     }
 
     const STATES: usize = 2;
+    // Its inputs are load torques and inertias, held over a step: no shaft path to extrapolate.
+    const CAN_INTERPOLATE_INPUTS: bool = false;
 
     fn me_states(&mut self, _v: &Values<V>, _time: f64, x: &mut [f64]) {
         x.copy_from_slice(&self.y);
