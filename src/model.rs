@@ -978,6 +978,28 @@ pub mod shaft {
         }
     }
 
+    /// As [`reduce`], given the torque `tau_a` already computed at the actual shaft
+    /// acceleration `a`: one more evaluation instead of two (none more for `tau0` at `a = 0`, the
+    /// constant-speed case). For `|a| ≥ 1` rad/s² `J_red` is the secant over `[0, a]`, so
+    /// `τ0 + J_red·a` is the actual torque exactly even where friction changes regime; below,
+    /// the secant over `[0, 1]` as in [`reduce`] (no division by a small `a`).
+    pub fn reduce_at(tau_a: f64, a: f64, mut torque_at: impl FnMut(f64) -> f64) -> Reduced {
+        if a.abs() >= 1.0 {
+            let tau0 = torque_at(0.0);
+            Reduced {
+                tau0,
+                j_red: (tau_a - tau0) / a,
+            }
+        } else if a == 0.0 {
+            Reduced {
+                tau0: tau_a,
+                j_red: torque_at(1.0) - tau_a,
+            }
+        } else {
+            reduce(torque_at)
+        }
+    }
+
     /// Writes `shaft.J_red` and `shaft.tau0`.
     pub fn set_reduced<V: VarSet>(values: &mut Values<V>, j_red: V, tau0: V, r: Reduced) {
         values[j_red] = r.j_red;
@@ -1163,6 +1185,20 @@ mod tests {
         let r = shaft::reduce(|a| 12.5 + 3.25 * a);
         assert_eq!((r.tau0, r.j_red), (12.5, 3.25));
         assert_eq!(r.torque(2.0), 12.5 + 6.5);
+        // with the torque at the actual acceleration known: the same split, fewer evaluations
+        for a in [0.0, 0.5, -4.0] {
+            let mut calls = 0;
+            let r = shaft::reduce_at(12.5 + 3.25 * a, a, |e| {
+                calls += 1;
+                12.5 + 3.25 * e
+            });
+            assert_eq!((r.tau0, r.j_red), (12.5, 3.25), "a = {a}");
+            assert_eq!(calls, if a == 0.5 { 2 } else { 1 }, "a = {a}");
+        }
+        // a torque with a kink (friction changing regime) between 0 and a: exact at a
+        let kinked = |e: f64| 10.0 + 2.0 * e + if e > 1.5 { 5.0 * (e - 1.5) } else { 0.0 };
+        let r = shaft::reduce_at(kinked(4.0), 4.0, kinked);
+        assert!((r.torque(4.0) - kinked(4.0)).abs() < 1e-12);
     }
 
     #[test]

@@ -707,6 +707,7 @@ impl<M: Model> Drop for Instance<M> {
 }
 
 /// Why `call` is illegal in the instance's state (its interface's state machine), if it is.
+#[inline]
 fn refusal<M: Model>(inst: &Instance<M>, call: Call) -> Option<String> {
     if inst.me.is_me {
         let state = inst.me_state();

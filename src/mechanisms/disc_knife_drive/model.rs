@@ -453,9 +453,11 @@ impl Model for DiscKnifeDrive {
         v[V::slider_x_kin] = k.x_c;
         v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
-            let r = shaft::reduce(|a| p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau);
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             let f = p.kinetostatics(&k);
+            let r = shaft::reduce_at(f.shaft_tau, s.a, |a| {
+                p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau
+            });
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             Self::write_forces(v, &f);
             v[V::rod_F_kin] = f.rod_f;
             self.warn_locked(f.locked, &k, time, log);

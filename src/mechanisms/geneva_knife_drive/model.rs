@@ -477,12 +477,13 @@ impl Model for GenevaKnifeDrive {
         v[V::elastic_F] = 0.0;
         v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
-            let r = shaft::reduce(|a| {
-                p.kinetostatics(&p.kinematics(s.phi, s.w, a), s.w, a)
+            let f = p.kinetostatics(&k, s.w, s.a);
+            let geneva = &self.geneva;
+            let r = shaft::reduce_at(f.shaft_tau, s.a, |a| {
+                p.kinetostatics(&p.kinematics_of(geneva, s.phi, s.w, a), s.w, a)
                     .shaft_tau
             });
             shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
-            let f = p.kinetostatics(&k, s.w, s.a);
             v[V::knife_F_cut] = f.f_cut;
             v[V::knife_F_inertia] = f.f_inertia;
             v[V::rod_F] = f.rod_f;

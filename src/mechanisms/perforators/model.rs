@@ -635,9 +635,11 @@ impl Model for Perforators {
         v[V::contact_pen] = 0.0;
         v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS) {
-            let r = shaft::reduce(|a| d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau);
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             let f = d.forces_with(&k, v.wants(stage::HERTZ));
+            let r = shaft::reduce_at(f.tau, st.a, |a| {
+                d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau
+            });
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             v[V::pierce_Q_out] = f.pierce_q;
             v[V::perforators_F_inertia] = f.f_inertia;
             v[V::rod_F] = f.rod_f;

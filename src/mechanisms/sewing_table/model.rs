@@ -678,12 +678,13 @@ impl Model for SewingTable {
         };
         let r = match (kinetostatic, p.kind) {
             (false, _) => shaft::Reduced::default(),
-            (true, Kind::Translating) => {
-                shaft::reduce(|a| p.forces(&p.kinematics(st.phi, st.w, a), a, f_ext).tau)
-            }
-            (true, Kind::Rocking) => {
-                shaft::reduce(|a| p.rocking_tau(&p.rocking(st.phi, st.w, a), a, f_ext))
-            }
+            (true, Kind::Translating) => shaft::reduce_at(tau, st.a, |a| {
+                p.forces_with(&p.kinematics(st.phi, st.w, a), a, f_ext, false)
+                    .tau
+            }),
+            (true, Kind::Rocking) => shaft::reduce_at(tau, st.a, |a| {
+                p.rocking_tau(&p.rocking(st.phi, st.w, a), a, f_ext)
+            }),
         };
         shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
         shaft::set_outputs(v, tau, st.w);
