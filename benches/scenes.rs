@@ -19,10 +19,12 @@ use std::path::Path;
 /// The example scenes (`scenes/<name>.toml`).
 const SCENES: &[&str] = &[
     "disc-knife-path",
+    "disc-rod-dynamics",
     "disc-spine-cut",
     "geneva-chain-dynamics",
     "geneva-cut-forces",
     "geneva-side-knife-kinematics",
+    "perforators-liftoff-dynamics",
     "perforators-needle-stroke",
     "perforators-ramp-contact",
     "sewing-cam-force",

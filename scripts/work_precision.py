@@ -31,6 +31,7 @@ def main() -> None:
     ap.add_argument("--k-name", default="elastic.k", help="the stiffness parameter")
     ap.add_argument("--k", type=float, default=5e7)
     ap.add_argument("--rpm", type=float, default=None, help="shaft speed (default: nominal)")
+    ap.add_argument("--set", default="", help="other start values, name=value,name=value")
     ap.add_argument("--zeta", type=float, default=None, help="elastic.zeta (default: the FMU's)")
     ap.add_argument("--stop", type=float, default=2.0)
     ap.add_argument("--dt", type=float, default=1e-3)
@@ -41,6 +42,9 @@ def main() -> None:
     base = {"model.fidelity": 3, "drive.mode": 2, a.k_name: a.k}
     if a.zeta is not None:
         base["elastic.zeta"] = a.zeta
+    for item in filter(None, a.set.split(",")):
+        name, value = item.split("=")
+        base[name] = float(value)
     if a.rpm is not None:
         base["drive.n"] = a.rpm * np.pi / 30.0
 

@@ -8,7 +8,9 @@
 //! Writes `report.md` and one work-precision plot per case (log10 axes), as PNG and SVG.
 
 use bindery_fmu::docs::{Figure, Series, render_png, render_svg};
+use bindery_fmu::mechanisms::disc_knife_drive::DiscKnifeDrive;
 use bindery_fmu::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
+use bindery_fmu::mechanisms::perforators::Perforators;
 use bindery_fmu::mechanisms::sewing_table::SewingTable;
 use bindery_fmu::model::{Model, NoLog, Values, VarSet};
 use indicatif::{ProgressBar, ProgressStyle};
@@ -32,6 +34,8 @@ struct Case {
     /// Shaft speed, rpm; simulated time, s.
     rpm: f64,
     stop: f64,
+    /// Other parameters of the case (name, value).
+    extra: &'static [(&'static str, f64)],
 }
 
 const fn case(mech: &'static str, label: &'static str, k: f64, x: &'static str) -> Case {
@@ -44,10 +48,14 @@ const fn case(mech: &'static str, label: &'static str, k: f64, x: &'static str) 
         f: "elastic.F",
         rpm: 0.0,
         stop: 0.0,
+        extra: &[],
     }
 }
 
-const CASES: [Case; 4] = [
+/// Perforators' ramp contact with the linear law, so its stiffness is one number.
+const LINEAR_CONTACT: &[(&str, f64)] = &[("contact.law", 2.0)];
+
+const CASES: [Case; 8] = [
     Case {
         rpm: 30.0,
         stop: 0.5,
@@ -73,6 +81,50 @@ const CASES: [Case; 4] = [
         stop: 0.6,
         ..case("SewingTable", "stiff (k = 1e12 N/m)", 1e12, "table.x")
     },
+    Case {
+        k_name: "contact.k",
+        rpm: 100.0,
+        stop: 0.3,
+        extra: LINEAR_CONTACT,
+        ..case(
+            "Perforators",
+            "non-stiff (linear contact, k = 1e8 N/m)",
+            1e8,
+            "lever.gamma",
+        )
+    },
+    Case {
+        k_name: "contact.k",
+        rpm: 100.0,
+        stop: 0.3,
+        extra: LINEAR_CONTACT,
+        ..case(
+            "Perforators",
+            "stiff (linear contact, k = 1e12 N/m)",
+            1e12,
+            "lever.gamma",
+        )
+    },
+    Case {
+        rpm: 300.0,
+        stop: 0.2,
+        ..case(
+            "DiscKnifeDrive",
+            "non-stiff (rod k = 2e8 N/m)",
+            2e8,
+            "slider.x",
+        )
+    },
+    Case {
+        rpm: 300.0,
+        stop: 0.2,
+        ..case(
+            "DiscKnifeDrive",
+            "stiff (rod k = 1e12 N/m)",
+            1e12,
+            "slider.x",
+        )
+    },
 ];
 
 /// One run: the position and chain force on the 1 ms output grid.
@@ -82,6 +134,8 @@ fn simulate(c: &Case, method: i32, tol: f64, dt: f64) -> Result<Trace, String> {
     match c.mech {
         "GenevaKnifeDrive" => run::<GenevaKnifeDrive>(c, method, tol, dt),
         "SewingTable" => run::<SewingTable>(c, method, tol, dt),
+        "Perforators" => run::<Perforators>(c, method, tol, dt),
+        "DiscKnifeDrive" => run::<DiscKnifeDrive>(c, method, tol, dt),
         m => Err(format!("no report case for {m}")),
     }
 }
@@ -110,6 +164,9 @@ fn run<M: Model>(c: &Case, method: i32, tol: f64, dt: f64) -> Result<Trace, Stri
     set("drive.mode", 2.0)?;
     set("drive.n", c.rpm * std::f64::consts::PI / 30.0)?;
     set(c.k_name, c.k)?;
+    for &(name, x) in c.extra {
+        set(name, x)?;
+    }
     set("solver.method", method as f64)?;
     if method == 4 {
         set("solver.max_step", tol)?;
@@ -197,6 +254,12 @@ fn fmpy_baseline(root: &Path, c: &Case) -> Vec<Point> {
             &c.rpm.to_string(),
             "--stop",
             &c.stop.to_string(),
+            "--set",
+            &c.extra
+                .iter()
+                .map(|(n, x)| format!("{n}={x}"))
+                .collect::<Vec<_>>()
+                .join(","),
             "--only",
             "auto,fmpy-cvode-me",
         ])
@@ -286,7 +349,7 @@ fn time_at(run: &[(f64, f64)], target: f64) -> Option<f64> {
 /// fixed internal method.
 fn summary_table(summary: &[(Case, MethodTimes)]) -> String {
     let mut md = format!(
-        "\n## At equal error ({TARGET:e} m in position)\n\nWall time at which each method's error reaches {TARGET:e} m (log–log interpolation on its ladder; – where none does).\n\n| case | auto | dopri5 | radau5 | rk4 | best fixed ÷ auto | FMPy: CS auto | FMPy: CVode on ME | CVode ÷ our CS (FMPy loop) |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
+        "\n## At equal error ({TARGET:e} in position: m, rad for the Perforators' lever)\n\nWall time at which each method's error reaches {TARGET:e} m (log–log interpolation on its ladder; – where none does).\n\n| case | auto | dopri5 | radau5 | rk4 | best fixed ÷ auto | FMPy: CS auto | FMPy: CVode on ME | CVode ÷ our CS (FMPy loop) |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
     );
     let fmt = |t: Option<f64>| t.map_or("–".to_string(), |t| format!("{t:.4} s"));
     for (c, times) in summary {
