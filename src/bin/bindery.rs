@@ -73,6 +73,9 @@ enum Cmd {
         /// Leave out the FMPy baseline
         #[arg(long)]
         no_fmpy: bool,
+        /// Only these mechanisms (modelIdentifiers, comma-separated)
+        #[arg(long, value_delimiter = ',')]
+        only: Vec<String>,
     },
     /// The two machines (thread-sewing machine, three-knife trimmer) as SSP 1.0 files of the FMUs
     /// built into out/fmus/ (run `build` first): out/ssp/<machine>.ssp
@@ -348,7 +351,7 @@ fn main() -> ExitCode {
         Cmd::Scene { files, out } => scenes(&files, &out),
         Cmd::Describe { check } => check_descriptions(&catalog::all(), check),
         Cmd::Liftoff { from, to, m0, kt } => liftoff(from, to, m0, kt),
-        Cmd::Report { out, no_fmpy } => report::report(&root(), &out, !no_fmpy),
+        Cmd::Report { out, no_fmpy, only } => report::report(&root(), &out, !no_fmpy, &only),
         Cmd::Ssp { fmus, out } => ssp(&fmus, &out),
         Cmd::Machines { out } => machines::machines(&absolute(&out)),
     };
