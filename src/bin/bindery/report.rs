@@ -98,10 +98,12 @@ const CASES: [Case; 8] = [
         rpm: 100.0,
         stop: 0.3,
         extra: LINEAR_CONTACT,
+        // (at 1e12 N/m neither dopri5 nor radau5 reaches rtol 1e-11 for a reference within the
+        // step budget: the contact rings, opening and closing, every few microseconds)
         ..case(
             "Perforators",
-            "stiff (linear contact, k = 1e12 N/m)",
-            1e12,
+            "stiff (linear contact, k = 1e10 N/m)",
+            1e10,
             "lever.gamma",
         )
     },
