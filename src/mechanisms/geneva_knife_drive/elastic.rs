@@ -19,19 +19,9 @@
 //! stack (ẋ = 0) and the rigid velocity reversing (friction direction).
 
 use super::physics::{Kinematics, Params};
-use crate::mechanics::STANDARD_GRAVITY;
+use crate::mechanics::{STANDARD_GRAVITY, sgn};
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
-
-fn sgn(x: f64) -> f64 {
-    if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
-}
 
 /// Half width of the velocity band in which the knife sticks at the cut front (Karnopp): the
 /// cutting resistance holds whatever drive force up to its full value, m/s.

@@ -16,19 +16,9 @@
 //! rigid velocity's sign (friction direction).
 
 use super::physics::{Kinematics, Params};
-use crate::mechanics::STANDARD_GRAVITY;
+use crate::mechanics::{STANDARD_GRAVITY, sgn};
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
-
-fn sgn(x: f64) -> f64 {
-    if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
-}
 
 /// The ODE of one communication step.
 pub struct TableOde<'a> {
