@@ -25,8 +25,10 @@ mod common;
 
 use bindery_fmu::fmi2::runtime;
 use bindery_fmu::fmi2::types::*;
+use bindery_fmu::mechanics::geneva::Geneva;
 use bindery_fmu::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
 use bindery_fmu::mechanisms::geneva_knife_drive::physics::Params;
+use bindery_fmu::model::shaft;
 use common::{Fmu, Slave};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::ffi::CString;
@@ -252,21 +254,40 @@ fn start<'a>(fmu: &'a Fmu, d: &Description, dir: &Path, level: Option<i32>) -> R
     }
 }
 
-/// The bare Rust call of the same computation, per step.
+/// The bare Rust call of the same computation, per step: what `GenevaKnifeDrive`'s `evaluate`
+/// computes for the outputs a step reads (the Geneva pair built once, as the FMU does per
+/// prepare), without FMI: the kinematics; at the kinetostatic level the forces and the torque
+/// reduced to the shaft (`shaft.tau0`, `shaft.J_red`: one more kinetostatic evaluation,
+/// `shaft::reduce_at`), since those are among the 19 values read.
 struct Bare {
     p: Params,
+    geneva: Geneva,
     kinetostatic: bool,
     t: f64,
 }
 
 impl Bare {
+    fn new(p: Params, kinetostatic: bool) -> Self {
+        Bare {
+            geneva: p.geneva(),
+            p,
+            kinetostatic,
+            t: 0.0,
+        }
+    }
+
     #[inline(never)]
     fn steps(&mut self, m: usize) {
+        let (p, geneva) = (&self.p, &self.geneva);
         for _ in 0..m {
             let phi = black_box(W * self.t);
-            let k = self.p.kinematics(phi, W, 0.0);
+            let k = p.kinematics_of(geneva, phi, W, 0.0);
             if self.kinetostatic {
-                black_box(self.p.kinetostatics(&k, W, 0.0));
+                let f = p.kinetostatics(&k, W, 0.0);
+                let r = shaft::reduce_at(f.shaft_tau, 0.0, |a| {
+                    p.kinetostatics(&p.at_shaft_accel(&k, W, a), W, a).shaft_tau
+                });
+                black_box((f, r));
             }
             black_box(&k);
             self.t += H;
@@ -413,11 +434,7 @@ fn timing(a: &Args) -> String {
         subjects.push((
             "bare".into(),
             level,
-            Subject::Bare(Bare {
-                p: Params::default(),
-                kinetostatic: code == 2,
-                t: 0.0,
-            }),
+            Subject::Bare(Bare::new(Params::default(), code == 2)),
         ));
     }
     if let Some(n) = a.fixed {

@@ -970,6 +970,7 @@ pub mod shaft {
     /// is exact, except where a Coulomb friction force or a mesh efficiency changes regime
     /// (sign of a normal force or of the power flow) between `ε = 0`, `1` and the actual `ε`:
     /// there `J_red` is the secant of the piecewise-affine `τ(ε)` over `[0, 1]` rad/s².
+    #[inline]
     pub fn reduce(mut torque_at: impl FnMut(f64) -> f64) -> Reduced {
         let tau0 = torque_at(0.0);
         Reduced {
@@ -983,6 +984,7 @@ pub mod shaft {
     /// constant-speed case). For `|a| ≥ 1` rad/s² `J_red` is the secant over `[0, a]`, so
     /// `τ0 + J_red·a` is the actual torque exactly even where friction changes regime; below,
     /// the secant over `[0, 1]` as in [`reduce`] (no division by a small `a`).
+    #[inline]
     pub fn reduce_at(tau_a: f64, a: f64, mut torque_at: impl FnMut(f64) -> f64) -> Reduced {
         if a.abs() >= 1.0 {
             let tau0 = torque_at(0.0);

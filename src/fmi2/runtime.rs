@@ -527,22 +527,41 @@ impl<M: Model> Instance<M> {
         Ok(())
     }
 
-    /// Checks that every vr is a variable of this type, brings the outputs up to date (lazy
-    /// outputs) and gives all values by value reference.
-    fn get_values(&mut self, vrs: &[ValueReference], kind: Kind) -> Result<&[f64], String> {
-        let fast = vrs.iter().all(|&vr| {
-            self.access
-                .get(vr as usize)
-                .is_some_and(|a| a & kind.bit != 0)
+    /// Brings the outputs up to date (lazy outputs), then writes the value of each vr, converted
+    /// by `conv`, to `out`, checking in the same pass that it is a variable of this type (one
+    /// byte load and a mask, [`access`]). A vr refused ends the call with the slow path's
+    /// message naming it; `out` is then undefined, as FMI 2.0 has it for a call that returns
+    /// `fmi2Error`.
+    fn read_values<T>(
+        &mut self,
+        vrs: &[ValueReference],
+        out: &mut [T],
+        kind: Kind,
+        conv: impl Fn(f64) -> T,
+    ) -> Outcome {
+        self.refresh()?;
+        let (access, raw, bit) = (&self.access[..], self.values.raw(), kind.bit);
+        let fast = out.iter_mut().zip(vrs).all(|(o, &vr)| {
+            let i = vr as usize;
+            let ok = i < raw.len() && access.get(i).is_some_and(|a| a & bit != 0);
+            if ok {
+                *o = conv(raw[i]);
+            }
+            ok
         });
         if !fast {
             self.check_get(vrs, kind)?;
+            // the access table and the slow check agree, so this is not reached; were it, the
+            // values are read as the slow check allows rather than left unwritten
+            for (o, &vr) in out.iter_mut().zip(vrs) {
+                let x = raw.get(vr as usize).copied();
+                *o = conv(x.ok_or_else(|| format!("unknown value reference {vr}"))?);
+            }
         }
-        self.refresh()?;
-        Ok(self.values.raw())
+        Ok(Status::Ok)
     }
 
-    /// The slow path of [`Instance::get_values`]: the first vr refused, named.
+    /// The slow path of [`Instance::read_values`]: the first vr refused, named.
     #[cold]
     #[inline(never)]
     fn check_get(&self, vrs: &[ValueReference], kind: Kind) -> Result<(), String> {
@@ -707,7 +726,9 @@ impl<M: Model> Drop for Instance<M> {
 }
 
 /// Why `call` is illegal in the instance's state (its interface's state machine), if it is.
-#[inline]
+/// Out of line: [`entry`] decides a legal co-simulation call inline and comes here for Model
+/// Exchange calls and refusals.
+#[inline(never)]
 fn refusal<M: Model>(inst: &Instance<M>, call: Call) -> Option<String> {
     if inst.me.is_me {
         let state = inst.me_state();
@@ -763,7 +784,11 @@ pub unsafe fn entry<M: Model>(
     if inst.magic != MAGIC {
         return Status::Error;
     }
-    if let Some(msg) = refusal(inst, call) {
+    // the common case, a co-simulation call legal in the instance's state, is one table load
+    // and a mask; anything else (and every Model Exchange call) takes the out-of-line path
+    if (inst.me.is_me || !allowed(call, inst.state))
+        && let Some(msg) = refusal(inst, call)
+    {
         inst.logger.emit(Status::Error, "logStatusError", &msg);
         return Status::Error;
     }
@@ -1261,11 +1286,7 @@ pub unsafe fn get_real<M: Model>(
         entry::<M>(c, Call::GetReal, |inst| {
             let vrs = slice(vr, n, "vr")?;
             let out = slice_mut(value, n, "value")?;
-            let raw = inst.get_values(vrs, REAL)?;
-            for (o, &vr) in out.iter_mut().zip(vrs) {
-                *o = raw[vr as usize];
-            }
-            Ok(Status::Ok)
+            inst.read_values(vrs, out, REAL, |x| x)
         })
     }
 }
@@ -1285,11 +1306,7 @@ pub unsafe fn get_integer<M: Model>(
         entry::<M>(c, Call::GetInteger, |inst| {
             let vrs = slice(vr, n, "vr")?;
             let out = slice_mut(value, n, "value")?;
-            let raw = inst.get_values(vrs, INTEGER)?;
-            for (o, &vr) in out.iter_mut().zip(vrs) {
-                *o = raw[vr as usize] as Integer;
-            }
-            Ok(Status::Ok)
+            inst.read_values(vrs, out, INTEGER, |x| x as Integer)
         })
     }
 }
@@ -1309,11 +1326,7 @@ pub unsafe fn get_boolean<M: Model>(
         entry::<M>(c, Call::GetBoolean, |inst| {
             let vrs = slice(vr, n, "vr")?;
             let out = slice_mut(value, n, "value")?;
-            let raw = inst.get_values(vrs, BOOLEAN)?;
-            for (o, &vr) in out.iter_mut().zip(vrs) {
-                *o = if raw[vr as usize] != 0.0 { TRUE } else { FALSE };
-            }
-            Ok(Status::Ok)
+            inst.read_values(vrs, out, BOOLEAN, |x| if x != 0.0 { TRUE } else { FALSE })
         })
     }
 }
@@ -1332,9 +1345,8 @@ pub unsafe fn get_string<M: Model>(
     unsafe {
         entry::<M>(c, Call::GetString, |inst| {
             let vrs = slice(vr, n, "vr")?;
-            let _ = slice_mut(value, n, "value")?;
-            inst.get_values(vrs, STRING)?;
-            Ok(Status::Ok)
+            let out = slice_mut(value, n, "value")?;
+            inst.read_values(vrs, out, STRING, |_| std::ptr::null())
         })
     }
 }

@@ -459,7 +459,7 @@ impl Model for GenevaKnifeDrive {
             v[V::der_elastic_W] = pt.power;
             let tau = elastic_outputs(p, v, &pt, s.w, s.a);
             let r =
-                shaft::reduce(|a| elastic_torques(p, &p.kinematics(s.phi, s.w, a), pt.f_el, a)[3]);
+                shaft::reduce(|a| elastic_torques(p, &p.at_shaft_accel(&k, s.w, a), pt.f_el, a)[3]);
             shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             v[V::elastic_E_residual] =
                 ode.energy(&pt) - if d.started { d.e0 } else { ode.energy(&pt) } - y[2];
@@ -478,9 +478,8 @@ impl Model for GenevaKnifeDrive {
         v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
             let f = p.kinetostatics(&k, s.w, s.a);
-            let geneva = &self.geneva;
             let r = shaft::reduce_at(f.shaft_tau, s.a, |a| {
-                p.kinetostatics(&p.kinematics_of(geneva, s.phi, s.w, a), s.w, a)
+                p.kinetostatics(&p.at_shaft_accel(&k, s.w, a), s.w, a)
                     .shaft_tau
             });
             shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);

@@ -123,6 +123,10 @@ pub struct Kinematics {
     pub sin_nu: f64,
     /// `cos ν`.
     pub cos_nu: f64,
+    /// `dν/dθ`, the rod's angular velocity ratio.
+    pub dnu_dtheta: f64,
+    /// `d²ν/dθ²`, 1/rad.
+    pub ddnu_dtheta: f64,
     /// Rod angular velocity ν̇, rad/s.
     pub nu_w: f64,
     /// Rod angular acceleration ν̈, rad/s².
@@ -369,36 +373,59 @@ impl Params {
         let theta_d = i * g.gamma_d;
         let theta_dd = i * g.gamma_dd;
         let cross_w = g.gamma_d * w;
-        let cross_a = g.gamma_dd * w * w + g.gamma_d * eps;
         let crank_w = i * cross_w;
-        let crank_a = i * cross_a;
-        let m = self.slider_crank().motion(theta, crank_w, crank_a);
+        let m = self.slider_crank().motion(theta, crank_w, 0.0);
         let p = m.pose;
-        Kinematics {
+        let k = Kinematics {
             psi: g.psi,
             engaged: g.engaged,
             gamma: g.gamma,
             gamma_d: g.gamma_d,
             gamma_dd: g.gamma_dd,
             cross_w,
-            cross_a,
+            cross_a: 0.0,
             theta,
             crank_w,
-            crank_a,
+            crank_a: 0.0,
             nu: p.nu,
             sin_nu: p.sin_nu,
             cos_nu: p.cos_nu,
+            dnu_dtheta: p.dnu,
+            ddnu_dtheta: p.ddnu,
             nu_w: m.nu_w,
-            nu_a: m.nu_a,
+            nu_a: 0.0,
             s: p.s,
             ds_dtheta: p.ds,
             dds_dtheta: p.dds,
             s_d: p.ds * theta_d,
             s_dd: p.dds * theta_d * theta_d + p.ds * theta_dd,
             v: m.v,
-            a: m.a,
+            a: 0.0,
             dwell: !g.engaged,
             rho: g.rho,
+        };
+        self.at_shaft_accel(&k, w, eps)
+    }
+
+    /// The kinematics `k` (computed at shaft speed `w`) at shaft acceleration `eps` instead:
+    /// positions and velocities do not depend on it and every acceleration is affine in it
+    /// (`cross.a = γ''·ω² + γ'·ε`, then the slider-crank's chain rule `x'' = x_θθ·θ̇² + x_θ·θ̈`),
+    /// so only the accelerations are recomputed, with no trigonometry: what
+    /// [`crate::model::shaft::reduce_at`] evaluates to split the shaft torque into `τ0` and
+    /// `J_red`. The same operations as [`Params::kinematics_of`] (which ends in this call): the
+    /// result is bit-identical to `kinematics_of(.., phi, w, eps)`.
+    #[inline]
+    pub fn at_shaft_accel(&self, k: &Kinematics, w: f64, eps: f64) -> Kinematics {
+        let i = f64::from(self.gear_i);
+        let cross_a = k.gamma_dd * w * w + k.gamma_d * eps;
+        let crank_a = i * cross_a;
+        let w2 = k.crank_w * k.crank_w;
+        Kinematics {
+            cross_a,
+            crank_a,
+            nu_a: k.ddnu_dtheta * w2 + k.dnu_dtheta * crank_a,
+            a: k.dds_dtheta * w2 + k.ds_dtheta * crank_a,
+            ..*k
         }
     }
 
