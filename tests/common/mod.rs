@@ -2,6 +2,7 @@
 //! with libloading and calls it through the C ABI, recording what it logs.
 #![allow(dead_code)]
 
+pub mod ode;
 pub mod series;
 
 use bindery_fmu::catalog::Entry;
