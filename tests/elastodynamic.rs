@@ -3,9 +3,12 @@
 //! panic, a result close to a tight-tolerance reference and a bounded energy-balance residual,
 //! or a Discard (`Err`) with a reason.
 
+mod common;
+
 use bindery_fmu::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
 use bindery_fmu::mechanisms::geneva_knife_drive::model::V as G;
 use bindery_fmu::model::{Model, NoLog, Values};
+use common::series::{max_abs_diff, peak_abs, peak_abs_rel_diff};
 use std::time::Instant;
 
 #[derive(Clone, Copy, Debug)]
@@ -97,14 +100,7 @@ fn geneva_default_scene_sanity() {
 
 /// Largest difference of two position histories, and of their peak chain forces (relative).
 fn compare(a: &Run, b: &Run) -> (f64, f64) {
-    let ds =
-        a.s.iter()
-            .zip(&b.s)
-            .map(|(x, y)| (x - y).abs())
-            .fold(0.0, f64::max);
-    let pa = a.f.iter().map(|x| x.abs()).fold(0.0, f64::max);
-    let pb = b.f.iter().map(|x| x.abs()).fold(0.0, f64::max);
-    (ds, (pa - pb).abs() / pb.max(1.0))
+    (max_abs_diff(&a.s, &b.s), peak_abs_rel_diff(&a.f, &b.f))
 }
 
 /// Runs a case and its reference (radau5 at a tight tolerance, output at the same instants)
@@ -360,11 +356,7 @@ fn sewing_table_stiffness_damping_and_speed_matrix() {
                 assert!(t0.elapsed().as_secs_f64() < 5.0);
                 let rtol = if k >= 1e10 { 1e-7 } else { 1e-9 };
                 let b = table(k, zeta, 0.0, rpm, 1e-3, 3, rtol, TURN).unwrap();
-                let dx =
-                    a.x.iter()
-                        .zip(&b.x)
-                        .map(|(p, q)| (p - q).abs())
-                        .fold(0.0, f64::max);
+                let dx = max_abs_diff(&a.x, &b.x);
                 assert!(dx < 2e-6, "k {k} zeta {zeta} rpm {rpm}: {dx:e}");
                 // the undamped 1e10..1e12 N/m follower rings at 3.5e4..3.5e5 rad/s on a small
                 // energy scale (30 J at 100 rpm): its work integral is the least accurate
@@ -390,7 +382,7 @@ fn sewing_table_slot_play_lifts_off_and_impacts_and_the_impacts_are_located() {
     assert!(a.liftoffs >= 2, "{}", a.liftoffs);
     let peak_rigid = {
         let r = table(1e7, 0.05, 0.0, 100.0, 1e-3, 1, 1e-6, TURN).unwrap();
-        r.f.iter().map(|x| x.abs()).fold(0.0, f64::max)
+        peak_abs(&r.f)
     };
     assert!(a.impact > 0.0 && a.impact.is_finite());
     eprintln!(
@@ -406,11 +398,7 @@ fn sewing_table_slot_play_lifts_off_and_impacts_and_the_impacts_are_located() {
         a.liftoffs,
         b.liftoffs
     );
-    let dx =
-        a.x.iter()
-            .zip(&b.x)
-            .map(|(p, q)| (p - q).abs())
-            .fold(0.0, f64::max);
+    let dx = max_abs_diff(&a.x, &b.x);
     assert!(dx < 2e-5, "{dx:e}"); // a tenth of the play
     assert!(
         (a.impact - b.impact).abs() < 2e-2 * b.impact,
