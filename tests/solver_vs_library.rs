@@ -16,7 +16,7 @@ mod common;
 use bindery_fmu::mechanisms::geneva_knife_drive::elastic::KnifeOde;
 use bindery_fmu::mechanisms::geneva_knife_drive::physics::Params;
 use bindery_fmu::solver::{Method, Settings, ShaftPath};
-use common::ode::{Library, library_on_grid, max_diff_at, ours_on_grid};
+use common::ode::{Library, assert_agrees_with_library, max_diff_at, ours_on_grid};
 use differential_equations::prelude::*;
 use std::cell::Cell;
 
@@ -34,34 +34,28 @@ fn ode(p: &Params, k: f64, zeta: f64) -> KnifeOde<'_> {
 
 const STOP: f64 = 0.23; // cut-through is at 0.236 s
 
-fn ours(p: &Params, k: f64, zeta: f64, method: Method) -> Vec<f64> {
-    let o = ode(p, k, zeta);
-    let settings = Settings {
+/// Our integrator's settings for the cross-checks (`atol` resolving the compliance).
+fn settings(method: Method, atol: f64) -> Settings {
+    Settings {
         method,
         rtol: 1e-8,
-        atol: 1e-11,
+        atol,
         max_step: 1e-3,
         max_steps: 1_000_000,
-    };
-    let n = (STOP / 1e-3).round() as usize;
-    ours_on_grid(&o, settings, o.initial_state(0.0), 0.0, 1e-3, n)
+    }
 }
 
 #[test]
 fn radau5_and_auto_agree_with_differential_equations_on_every_stiff_case() {
     let p = Params::default();
-    for k in [1e8, 1e10, 1e12] {
-        for zeta in [0.0, 0.01, 1.0] {
-            let y0 = ode(&p, k, zeta).initial_state(0.0);
-            let lib = Library(ode(&p, k, zeta));
-            let what = format!("k = {k}, zeta = {zeta}");
-            let lib_x = library_on_grid(&lib, y0, STOP, 1e-3, 1e-13, &what);
-            for method in [Method::Radau5, Method::Auto] {
-                let d = max_diff_at(&ours(&p, k, zeta, method), &lib_x);
-                assert!(d < 1e-7, "k = {k}, zeta = {zeta}, {method:?}: {d:e} m");
-            }
-        }
-    }
+    assert_agrees_with_library(
+        |k, zeta| ode(&p, k, zeta),
+        |o| o.initial_state(0.0),
+        |method| settings(method, 1e-11),
+        (STOP, 1e-3),
+        1e-13,
+        1e-7,
+    );
 }
 
 // ---- DiscKnifeDrive: the compliant rod ---------------------------------------------------
@@ -85,34 +79,17 @@ fn disc_ode(p: &DiscParams, k: f64, zeta: f64) -> RodOde<'_> {
 const DISC_STOP: f64 = 0.012;
 const DISC_DT: f64 = 5e-4;
 
-fn disc_ours(p: &DiscParams, k: f64, zeta: f64, method: Method) -> Vec<f64> {
-    let o = disc_ode(p, k, zeta);
-    let settings = Settings {
-        method,
-        rtol: 1e-8,
-        atol: 1e-13,
-        max_step: 1e-3,
-        max_steps: 1_000_000,
-    };
-    let n = (DISC_STOP / DISC_DT).round() as usize;
-    ours_on_grid(&o, settings, o.initial_state(0.0), 0.0, DISC_DT, n)
-}
-
 #[test]
 fn disc_knife_rod_radau5_and_auto_agree_with_differential_equations() {
     let p = DiscParams::default();
-    for k in [1e8, 1e10, 1e12] {
-        for zeta in [0.0, 0.01, 1.0] {
-            let y0 = disc_ode(&p, k, zeta).initial_state(0.0);
-            let lib = Library(disc_ode(&p, k, zeta));
-            let what = format!("k = {k}, zeta = {zeta}");
-            let lib_x = library_on_grid(&lib, y0, DISC_STOP, DISC_DT, 1e-14, &what);
-            for method in [Method::Radau5, Method::Auto] {
-                let d = max_diff_at(&disc_ours(&p, k, zeta, method), &lib_x);
-                assert!(d < 1e-8, "k = {k}, zeta = {zeta}, {method:?}: {d:e} m");
-            }
-        }
-    }
+    assert_agrees_with_library(
+        |k, zeta| disc_ode(&p, k, zeta),
+        |o| o.initial_state(0.0),
+        |method| settings(method, 1e-13),
+        (DISC_STOP, DISC_DT),
+        1e-14,
+        1e-8,
+    );
 }
 
 // ---- Perforators: the lever on the ramp through the unilateral contact -------------------------
@@ -169,14 +146,14 @@ fn perforators_radau5_and_auto_agree_with_differential_equations_on_stiff_contac
             }
             for method in [Method::Radau5, Method::Auto] {
                 let o = lever(&d, k, zeta);
-                let settings = Settings {
-                    method,
-                    rtol: 1e-8,
-                    atol: 1e-5 * scale,
-                    max_step: 1e-3,
-                    max_steps: 1_000_000,
-                };
-                let q = ours_on_grid(&o, settings, o.initial_state(T0), T0, 1e-3, n);
+                let q = ours_on_grid(
+                    &o,
+                    settings(method, 1e-5 * scale),
+                    o.initial_state(T0),
+                    T0,
+                    1e-3,
+                    n,
+                );
                 // the deflection to 3 % of its scale (3 N of the 100 .. 1500 N contact force):
                 // what remains is the piercing load's corners (at the elastic needle position),
                 // which ours locates as events and the library steps over
