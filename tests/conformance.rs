@@ -1147,10 +1147,12 @@ fn bad_values_keep_the_instance_going() {
         assert_eq!(unsafe { rs(s.c, 2, &mut t) }, Status::Ok);
         assert_eq!(t, 1e300);
         // constant-speed mode at a huge time: still finite outputs
-        let c = f.slave("constant");
-        assert_eq!(c.setup(1e12, None), Status::Ok);
-        assert_eq!(c.set_integer(&[vr_of(&e, "drive.mode")], &[2]), Status::Ok);
-        assert_eq!(c.init(), Status::Ok);
+        let constant_speed = Start {
+            time: 1e12,
+            integers: &[(vr_of(&e, "drive.mode"), 2)],
+            ..Start::default()
+        };
+        let c = f.started("constant", &constant_speed);
         assert_eq!(c.do_step(1e12, 0.5), Status::Ok);
         assert!(c.get_real(&outs).1.iter().all(|x| x.is_finite()));
     }
@@ -1403,18 +1405,19 @@ fn parallel_instances_match_sequential_runs() {
     for e in catalog::all() {
         let f = Fmu::of(&e);
         let job = |k: usize| {
-            let s = f.slave("thread");
-            assert_eq!(s.setup(0.01 * k as f64, None), Status::Ok);
-            if k % 2 == 1 {
-                // another level of a mechanism, another integrator of a drive
-                let (name, value) = if is_mechanism(&e) {
-                    ("model.fidelity", 1)
-                } else {
-                    ("solver.method", 3)
-                };
-                assert_eq!(s.set_integer(&[vr_of(&e, name)], &[value]), Status::Ok);
-            }
-            assert_eq!(s.init(), Status::Ok);
+            // every other instance: another level of a mechanism, another integrator of a drive
+            let (name, value) = if is_mechanism(&e) {
+                ("model.fidelity", 1)
+            } else {
+                ("solver.method", 3)
+            };
+            let other = [(vr_of(&e, name), value)];
+            let start = Start {
+                time: 0.01 * k as f64,
+                integers: if k % 2 == 1 { &other } else { &[] },
+                ..Start::default()
+            };
+            let s = f.started("thread", &start);
             run(&s, &e, 0.01 * k as f64, 150, 0.007 + 0.001 * k as f64)
         };
         let sequential: Vec<Vec<u64>> = (0..8).map(job).collect();

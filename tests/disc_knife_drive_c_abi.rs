@@ -190,10 +190,12 @@ fn fmu_state_round_trips_bit_identically() {
 #[test]
 fn constant_speed_mode_reproduces_the_spec_reference() {
     let f = fmu();
-    let s = f.slave("cs");
-    assert_eq!(s.setup(0.0, Some(1.0)), Status::Ok);
-    assert_eq!(s.set_integer(&[vr(V::drive_mode)], &[2]), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let constant_speed = Start {
+        stop: Some(1.0),
+        integers: &[(vr(V::drive_mode), 2)],
+        ..Start::default()
+    };
+    let s = f.started("cs", &constant_speed);
     // φ = π/2 at 300 rpm: disc-knife-drive.md prints x_C = 32.909 mm, β = 11.679 deg,
     // S = (43.681, 2.227) mm.
     assert_eq!(s.do_step(0.0, FRAC_PI_2 / W), Status::Ok);
@@ -225,10 +227,11 @@ fn self_locking_is_a_warning_not_an_error() {
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert!(warnings[0].2.contains("self-locks"), "{:?}", warnings[0]);
     // Without friction on EQ nothing locks and nothing is logged.
-    let s = f.slave("free");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.set_real(&[vr(V::support_mu)], &[0.0]), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let frictionless = Start {
+        reals: &[(vr(V::support_mu), 0.0)],
+        ..Start::default()
+    };
+    let s = f.started("free", &frictionless);
     let rows = run(&s, 0.0, 200, 1e-3, 0.0);
     assert!(rows.iter().all(|r| *r.last().unwrap() == 0.0));
     assert!(s.logs().iter().all(|l| l.0 != Status::Warning));

@@ -325,10 +325,11 @@ fn reset_gives_a_run_identical_to_a_fresh_instance() {
     let f = fmu();
     let fresh = f.initialized("fresh");
     let a = run(&fresh, 0.0, 100, 0.013);
-    let s = f.slave("reset");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.set_real(&[vr(V::crank_r)], &[0.075]), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let other_crank = Start {
+        reals: &[(vr(V::crank_r), 0.075)],
+        ..Start::default()
+    };
+    let s = f.started("reset", &other_crank);
     let _ = run(&s, 0.0, 50, 0.02);
     assert_eq!(s.call0("fmi2Reset"), Status::Ok);
     s.setup_and_init(0.0, None);
@@ -367,10 +368,12 @@ fn fmu_state_round_trips_bit_identically() {
 #[test]
 fn constant_speed_mode_drives_itself() {
     let f = fmu();
-    let s = f.slave("cs");
-    assert_eq!(s.setup(0.0, Some(4.0)), Status::Ok);
-    assert_eq!(s.set_integer(&[vr(V::drive_mode)], &[2]), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let constant_speed = Start {
+        stop: Some(4.0),
+        integers: &[(vr(V::drive_mode), 2)],
+        ..Start::default()
+    };
+    let s = f.started("cs", &constant_speed);
     let h = 0.3 / PI; // shaft angle 0.3 rad at 30 rpm
     assert_eq!(s.do_step(0.0, h), Status::Ok);
     let (_, y) = s.get_real(&[vr(V::cross_gamma), vr(V::knife_s)]);

@@ -183,13 +183,11 @@ fn derivatives_expire_after_the_step_and_travel_with_fmu_states() {
             continue;
         }
         let f = Fmu::of(&e);
-        let s = f.slave("expire");
-        assert_eq!(s.setup(0.0, None), Status::Ok);
-        assert_eq!(
-            s.set_integer(&[vr_of(&e, "model.fidelity")], &[3]),
-            Status::Ok
-        );
-        assert_eq!(s.init(), Status::Ok);
+        let elastodynamic = Start {
+            integers: &[(vr_of(&e, "model.fidelity"), 3)],
+            ..Start::default()
+        };
+        let s = f.started("expire", &elastodynamic);
         let (phi, w, a) = (
             vr_of(&e, "shaft.phi"),
             vr_of(&e, "shaft.w"),

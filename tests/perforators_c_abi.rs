@@ -19,6 +19,17 @@ fn fmu() -> Fmu {
     Fmu::load("Perforators", &md::describe::<Perforators>().1)
 }
 
+/// An instance started at `time` with a spring preload of 0.5 N m (spring.M0): too weak to
+/// keep the roller on the ramp at the nominal speed.
+fn weak_spring<'a>(f: &'a Fmu, name: &str, time: f64) -> Slave<'a> {
+    let start = Start {
+        time,
+        reals: &[(V::spring_M0.vr(), 0.5)],
+        ..Start::default()
+    };
+    f.started(name, &start)
+}
+
 const OUTPUTS: [V; 10] = [
     V::perforators_s,
     V::perforators_v,
@@ -70,10 +81,13 @@ fn outputs_match_the_model_computed_in_rust() {
 fn calculated_parameters_are_the_papers() {
     let f = fmu();
     for (mode, gamma_sum) in [(1, 28.93), (2, 28.27)] {
-        let s = f.slave("synth");
-        assert_eq!(s.setup(0.0, None), Status::Ok);
-        assert_eq!(s.set_integer(&[V::synth_mode.vr()], &[mode]), Status::Ok);
-        assert_eq!(s.init(), Status::Ok);
+        let s = f.started(
+            "synth",
+            &Start {
+                integers: &[(V::synth_mode.vr(), mode)],
+                ..Start::default()
+            },
+        );
         let vrs = [
             V::synth_nu,
             V::synth_gamma_sum,
@@ -119,10 +133,7 @@ fn bad_parameters_are_refused_naming_them() {
 #[test]
 fn lift_off_is_logged_as_a_warning_not_an_error() {
     let f = fmu();
-    let s = f.slave("weak");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.set_real(&[V::spring_M0.vr()], &[0.5]), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let s = weak_spring(&f, "weak", 0.0);
     let rows = run(&s, 0.0, 500);
     assert!(rows.iter().any(|r| lost_contact(r)));
     let warn: Vec<_> = s
@@ -140,10 +151,7 @@ fn lift_off_is_logged_as_a_warning_not_an_error() {
 #[test]
 fn fmu_state_round_trips_with_the_cycle_state() {
     let f = fmu();
-    let s = f.slave("state");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.set_real(&[V::spring_M0.vr()], &[0.5]), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let s = weak_spring(&f, "state", 0.0);
     // past a full turn, so F_margin comes from the saved per-cycle state
     let _ = run(&s, 0.0, 400);
     let t1 = 400.0 * H;
@@ -151,10 +159,7 @@ fn fmu_state_round_trips_with_the_cycle_state() {
     let other = f.slave("other");
     let replay = assert_state_replays(&s, &other, "Perforators", |s| row_bits(&run(s, t1, 200)));
     // a fresh instance at the same time without the cycle state differs in F_margin
-    let fresh = f.slave("fresh");
-    assert_eq!(fresh.setup(t1, None), Status::Ok);
-    assert_eq!(fresh.set_real(&[V::spring_M0.vr()], &[0.5]), Status::Ok);
-    assert_eq!(fresh.init(), Status::Ok);
+    let fresh = weak_spring(&f, "fresh", t1);
     let cold = run(&fresh, t1, 1);
     // (index 5: F_margin of the first sample)
     assert_ne!(cold[0][5].to_bits(), replay.run[5]);

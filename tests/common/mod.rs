@@ -192,10 +192,30 @@ impl Fmu {
     }
 
     /// A co-simulation instance set up from t = 0 without a stop time and initialized at the
-    /// start values (see [`Slave::setup_and_init`]).
+    /// start values.
     pub fn initialized(&self, name: &str) -> Slave<'_> {
+        self.started(name, &Start::default())
+    }
+
+    /// A co-simulation instance set up as `start` says, its variables set (before
+    /// initialization), and initialized; every call asserted fmi2OK (see [`Slave::ok`]), a set
+    /// naming the value reference and the value.
+    pub fn started(&self, name: &str, start: &Start) -> Slave<'_> {
         let s = self.slave(name);
-        s.setup_and_init(0.0, None);
+        s.ok(s.setup(start.time, start.stop), "fmi2SetupExperiment");
+        for &(vr, x) in start.reals {
+            s.ok(
+                s.set_real(&[vr], &[x]),
+                &format!("fmi2SetReal vr {vr} = {x}"),
+            );
+        }
+        for &(vr, x) in start.integers {
+            s.ok(
+                s.set_integer(&[vr], &[x]),
+                &format!("fmi2SetInteger vr {vr} = {x}"),
+            );
+        }
+        s.ok(s.init(), "initialization");
         s
     }
 
@@ -231,6 +251,19 @@ impl Fmu {
         assert!(!c.is_null(), "instantiate failed: {:?}", logs_of(env));
         Slave { fmu: self, c, env }
     }
+}
+
+/// How [`Fmu::started`] starts a co-simulation instance: the experiment's start and stop time,
+/// and the variables set before initialization (parameters, the level `model.fidelity`, the
+/// `drive.mode`, ...). The default: from t = 0, no stop time, every variable at its start.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Start<'a> {
+    pub time: f64,
+    pub stop: Option<f64>,
+    /// Real variables: (value reference, value).
+    pub reals: &'a [(u32, f64)],
+    /// Integer and Enumeration variables: (value reference, value).
+    pub integers: &'a [(u32, i32)],
 }
 
 /// Messages logged for one environment.
