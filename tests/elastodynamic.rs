@@ -8,7 +8,7 @@ mod common;
 use bindery_fmu::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
 use bindery_fmu::mechanisms::geneva_knife_drive::model::V as G;
 use bindery_fmu::model::{Model, NoLog, Values};
-use common::series::{max_abs_diff, peak_abs, peak_abs_rel_diff};
+use common::series::{assert_finite, max_abs_diff, peak_abs, peak_abs_rel_diff};
 use std::time::Instant;
 
 #[derive(Clone, Copy, Debug)]
@@ -56,14 +56,13 @@ fn geneva(c: &Case, stop: f64) -> Result<Run, String> {
         m.do_step(&mut v, t, c.dt, &mut NoLog)?;
         t = (i + 1) as f64 * c.dt;
         m.evaluate(&mut v, t, &mut NoLog);
-        for x in [
-            v[G::knife_s],
-            v[G::elastic_F],
-            v[G::shaft_tau],
-            v[G::elastic_E_residual],
-        ] {
-            assert!(x.is_finite(), "{c:?}: non-finite output at t = {t}");
-        }
+        let outputs = [
+            G::knife_s,
+            G::elastic_F,
+            G::shaft_tau,
+            G::elastic_E_residual,
+        ];
+        assert_finite(&v, &outputs, || format!("{c:?} at t = {t}"));
         run.s.push(v[G::knife_s]);
         run.f.push(v[G::elastic_F]);
         run.residual = run.residual.max(v[G::elastic_E_residual].abs());
@@ -76,17 +75,8 @@ fn geneva(c: &Case, stop: f64) -> Result<Run, String> {
 
 #[test]
 fn geneva_default_scene_sanity() {
-    let c = Case {
-        k: 5e7,
-        zeta: 0.05,
-        rpm: 30.0,
-        dt: 1e-3,
-        phi0: 0.0,
-        method: 1,
-        rtol: 1e-6,
-    };
     let t0 = Instant::now();
-    let r = geneva(&c, 2.0).unwrap();
+    let r = geneva(&BASE, 2.0).unwrap();
     let smax = r.s.iter().cloned().fold(f64::MIN, f64::max);
     let fmax = r.f.iter().cloned().fold(f64::MIN, f64::max);
     eprintln!(
@@ -323,14 +313,15 @@ fn table(
     for i in 0..n {
         m.do_step(&mut v, i as f64 * dt, dt, &mut NoLog)?;
         m.evaluate(&mut v, (i + 1) as f64 * dt, &mut NoLog);
-        for x in [
-            v[S::table_x],
-            v[S::elastic_F],
-            v[S::shaft_tau],
-            v[S::elastic_E_residual],
-        ] {
-            assert!(x.is_finite());
-        }
+        let outputs = [
+            S::table_x,
+            S::elastic_F,
+            S::shaft_tau,
+            S::elastic_E_residual,
+        ];
+        assert_finite(&v, &outputs, || {
+            format!("k {k} zeta {zeta} play {clearance} rpm {rpm} at step {i}")
+        });
         r.x.push(v[S::table_x]);
         r.f.push(v[S::elastic_F]);
         r.residual = r.residual.max(v[S::elastic_E_residual].abs());

@@ -9,7 +9,7 @@ mod common;
 use bindery_fmu::mechanisms::disc_knife_drive::DiscKnifeDrive;
 use bindery_fmu::mechanisms::disc_knife_drive::model::V as D;
 use bindery_fmu::model::{Model, NoLog, Values};
-use common::series::{max_abs_diff, peak_abs, peak_abs_rel_diff};
+use common::series::{assert_finite, max_abs_diff, peak_abs, peak_abs_rel_diff};
 use std::f64::consts::PI;
 use std::time::Instant;
 
@@ -66,15 +66,14 @@ fn disc_with(c: &Case, stop: f64, start: &Values<D>) -> Result<Run, String> {
         m.do_step(&mut v, i as f64 * c.dt, c.dt, &mut NoLog)?;
         let t = (i + 1) as f64 * c.dt;
         m.evaluate(&mut v, t, &mut NoLog);
-        for x in [
-            v[D::slider_x],
-            v[D::knife_x],
-            v[D::elastic_F],
-            v[D::shaft_tau],
-            v[D::elastic_E_residual],
-        ] {
-            assert!(x.is_finite(), "{c:?}: non-finite output at t = {t}");
-        }
+        let outputs = [
+            D::slider_x,
+            D::knife_x,
+            D::elastic_F,
+            D::shaft_tau,
+            D::elastic_E_residual,
+        ];
+        assert_finite(&v, &outputs, || format!("{c:?} at t = {t}"));
         run.x.push(v[D::slider_x]);
         run.f.push(v[D::elastic_F]);
         run.f_kin.push(v[D::rod_F_kin]);

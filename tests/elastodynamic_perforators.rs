@@ -10,7 +10,7 @@ mod common;
 use bindery_fmu::mechanisms::perforators::Perforators;
 use bindery_fmu::mechanisms::perforators::model::V as P;
 use bindery_fmu::model::{Model, NoLog, Values};
-use common::series::{Warnings, bits, max_abs_diff, peak};
+use common::series::{Warnings, assert_finite, bits, max_abs_diff, peak};
 use std::time::Instant;
 
 #[derive(Clone, Copy, Debug)]
@@ -95,15 +95,14 @@ fn run(c: &Case, stop: f64) -> Result<Run, String> {
     for i in 0..n {
         m.do_step(&mut v, i as f64 * c.dt, c.dt, &mut log)?;
         m.evaluate(&mut v, (i + 1) as f64 * c.dt, &mut NoLog);
-        for x in [
-            v[P::lever_gamma],
-            v[P::elastic_F],
-            v[P::shaft_tau],
-            v[P::elastic_E_residual],
-            v[P::dyn_factor],
-        ] {
-            assert!(x.is_finite(), "{c:?}: non-finite output at step {i}");
-        }
+        let outputs = [
+            P::lever_gamma,
+            P::elastic_F,
+            P::shaft_tau,
+            P::elastic_E_residual,
+            P::dyn_factor,
+        ];
+        assert_finite(&v, &outputs, || format!("{c:?} at step {i}"));
         r.gamma.push(v[P::lever_gamma]);
         r.f.push(v[P::elastic_F]);
         r.f_kin.push(v[P::roller_F_kin]);

@@ -1,7 +1,8 @@
 //! Comparing sampled histories: the figures the tests check a run against another with (a
 //! reference, a replay, the Rust model), and a `Log` that keeps the warnings of a plain Rust run.
 
-use bindery_fmu::model::{Log, Severity};
+use bindery_fmu::model::{Log, Severity, Values, VarSet};
+use std::fmt::Debug;
 
 /// The bit patterns of some samples: equal bits, the same run to the last bit.
 pub fn bits(x: &[f64]) -> Vec<u64> {
@@ -37,6 +38,15 @@ pub fn peak(x: &[f64]) -> f64 {
 pub fn peak_abs_rel_diff(force: &[f64], reference: &[f64]) -> f64 {
     let (pa, pb) = (peak_abs(force), peak_abs(reference));
     (pa - pb).abs() / pb.max(1.0)
+}
+
+/// Asserts that the variables `names` of a plain Rust run are finite; a failure names the
+/// variable, its value and `at()` (the case and the instant).
+pub fn assert_finite<V: VarSet + Debug>(v: &Values<V>, names: &[V], at: impl Fn() -> String) {
+    for &name in names {
+        let x = v[name];
+        assert!(x.is_finite(), "{}: non-finite output {name:?} = {x}", at());
+    }
 }
 
 /// The warnings a plain Rust run logs, in order (other severities are dropped).
