@@ -125,9 +125,7 @@ fn a_holder_that_cannot_assemble_is_refused_naming_the_crank_angle() {
     assert_eq!(s.setup(0.0, None), Status::Ok);
     // Q 15 mm further out: the holder cannot reach EQ while the slider is near the crank.
     assert_eq!(s.set_real(&[vr(V::support_xQ)], &[0.075]), Status::Ok);
-    assert_eq!(s.call0("fmi2EnterInitializationMode"), Status::Ok);
-    assert_eq!(s.call0("fmi2ExitInitializationMode"), Status::Error);
-    let e = s.last_error();
+    let e = s.initialization_refusal();
     let fail = Params {
         support_xq: 0.075,
         ..Params::default()

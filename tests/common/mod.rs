@@ -310,6 +310,21 @@ impl Slave<'_> {
             self.last_error()
         );
     }
+    /// Enters initialization mode (asserted fmi2OK) and tries to leave it, which must be
+    /// refused with fmi2Error: the error it logged.
+    pub fn initialization_refusal(&self) -> String {
+        self.ok(
+            self.call0("fmi2EnterInitializationMode"),
+            "fmi2EnterInitializationMode",
+        );
+        assert_eq!(
+            self.call0("fmi2ExitInitializationMode"),
+            Status::Error,
+            "fmi2ExitInitializationMode accepted: {:?}",
+            self.logs()
+        );
+        self.last_error()
+    }
     pub fn call0(&self, name: &str) -> Status {
         let f: Symbol<unsafe extern "C" fn(Component) -> Status> = self.fmu.sym(name);
         unsafe { f(self.c) }
