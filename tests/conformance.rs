@@ -15,6 +15,7 @@ use bindery_fmu::fmi2::runtime::me::EventInfo;
 use bindery_fmu::fmi2::state::{Call, ME_STATES, MeState, State, allowed, me_allowed};
 use bindery_fmu::fmi2::types::*;
 use bindery_fmu::model::{Causality, Var, VarType, Variability};
+use common::series::bits;
 use common::*;
 use libloading::Symbol;
 use std::ffi::{c_char, c_int};
@@ -27,20 +28,8 @@ fn shared() -> std::sync::RwLockReadGuard<'static, ()> {
     ALONE.read().unwrap_or_else(|e| e.into_inner())
 }
 
-fn load(e: &Entry) -> Fmu {
-    Fmu::load(e.identifier, &(e.describe)().1)
-}
-
 fn vars(e: &Entry) -> Vec<(u32, &'static Var)> {
     (e.variables)()
-}
-
-fn vr_of(e: &Entry, name: &str) -> u32 {
-    vars(e)
-        .into_iter()
-        .find(|(_, v)| v.name == name)
-        .unwrap_or_else(|| panic!("{}: no variable {name}", e.identifier))
-        .0
 }
 
 fn first(e: &Entry, pred: impl Fn(&Var) -> bool) -> Option<u32> {
@@ -67,14 +56,6 @@ fn is_mechanism(e: &Entry) -> bool {
     .is_some()
 }
 
-fn real_outputs(e: &Entry) -> Vec<u32> {
-    vars(e)
-        .into_iter()
-        .filter(|(_, v)| v.causality == Causality::Output && v.ty == VarType::Real)
-        .map(|(vr, _)| vr)
-        .collect()
-}
-
 /// Every state of the co-simulation state machine that a bindery FMU can be in. (StepCanceled
 /// needs an asynchronous step and Fatal is never entered: neither is reachable.)
 const STATES: [State; 6] = [
@@ -86,29 +67,22 @@ const STATES: [State; 6] = [
     State::Error,
 ];
 
-/// The serialized state of an initialized instance with its state code replaced: how a host
-/// gets an instance into StepFailed or Error without a failing model (the runtime restores the
-/// state a saved FMU state was taken in).
-fn bytes_in_state(s: &Slave, state: State) -> Vec<u8> {
-    let probe = s.fmu.slave("probe");
-    assert_eq!(probe.setup(0.0, None), Status::Ok);
-    assert_eq!(probe.init(), Status::Ok);
-    let mut st: FMUstate = std::ptr::null_mut();
-    assert_eq!(probe.get_state(&mut st), Status::Ok);
-    let (ok, mut bytes) = probe.serialize(st);
-    assert_eq!(ok, Status::Ok);
+/// The serialized state of `probe`, an initialized instance, with its state code replaced:
+/// how a host gets an instance into StepFailed or Error without a failing model (the runtime
+/// restores the state a saved FMU state was taken in).
+fn bytes_in_state(probe: &Slave, state: State) -> Vec<u8> {
+    let mut bytes = probe.state_bytes();
     assert_eq!(
         u16::from_le_bytes([bytes[24], bytes[25]]),
         State::StepComplete.code()
     );
     bytes[24..26].copy_from_slice(&state.code().to_le_bytes());
-    assert_eq!(probe.free_state(&mut st), Status::Ok);
     bytes
 }
 
 /// Drives a fresh instance into `state` by legal calls.
 fn drive_to(s: &Slave, state: State) {
-    let ok = |st: Status, what: &str| assert_eq!(st, Status::Ok, "{what}: {:?}", s.logs());
+    let ok = |st: Status, what: &str| s.ok(st, what);
     match state {
         State::Instantiated => {}
         State::InitializationMode => ok(s.call0("fmi2EnterInitializationMode"), "enter"),
@@ -118,11 +92,7 @@ fn drive_to(s: &Slave, state: State) {
             ok(s.call0("fmi2Terminate"), "terminate");
         }
         State::StepFailed | State::Error => {
-            let bytes = bytes_in_state(s, state);
-            let mut st: FMUstate = std::ptr::null_mut();
-            ok(s.deserialize(&bytes, &mut st), "deserialize");
-            ok(s.set_state(st), "set state");
-            ok(s.free_state(&mut st), "free state");
+            s.restore_bytes(&bytes_in_state(&s.fmu.initialized("probe"), state))
         }
         other => panic!("no way to reach {other:?}"),
     }
@@ -491,6 +461,72 @@ fn invoke(
     }
 }
 
+/// What one cell of a call-sequence matrix expects.
+struct Cell {
+    /// The FMU, the interface, the function and the state, for the messages.
+    label: String,
+    /// The instance's state, as the runtime names it in its log.
+    state: String,
+    /// Whether the call is legal in that state.
+    legal: bool,
+    /// Whether a refused call is also checked to leave the serialized state as it was.
+    check_unchanged: bool,
+}
+
+/// One cell of a call-sequence matrix: `row`'s function called on `s`, an instance already in
+/// the cell's state (with an FMU state of it taken first where `save`). An illegal call is
+/// `fmi2Error` with a log line saying so, a legal but unsupported one `fmi2Error` "not
+/// supported", any other legal one `fmi2OK`; a NULL instance is refused by every function.
+fn check_cell(f: &Fmu, e: &Entry, s: Slave, (name, call): Row, save: bool, cell: &Cell) {
+    let mut st: FMUstate = std::ptr::null_mut();
+    if save {
+        assert_eq!(s.get_state(&mut st), Status::Ok);
+    }
+    let (_, bytes) = s.serialize(st);
+    let n_logs = s.logs().len();
+    let status = invoke(f, e, s.c, call, &mut st, &bytes);
+    let new_logs: Vec<LogLine> = s.logs()[n_logs..].to_vec();
+    let label = &cell.label;
+    if !cell.legal {
+        assert_eq!(status, Status::Error, "{label}");
+        assert!(
+            new_logs.iter().any(|l| l.0 == Status::Error
+                && l.2
+                    .contains(&format!("not allowed in state {}", cell.state))),
+            "{label}: {new_logs:?}"
+        );
+        // nothing changed: the instance's state serializes as before
+        if cell.check_unchanged && call != Call::FreeInstance {
+            let mut now: FMUstate = std::ptr::null_mut();
+            assert_eq!(s.get_state(&mut now), Status::Ok, "{label}");
+            assert_eq!(s.serialize(now).1, bytes, "{label}: changed");
+            assert_eq!(s.free_state(&mut now), Status::Ok);
+        }
+    } else if unsupported(call, e) {
+        assert_eq!(status, Status::Error, "{label}");
+        assert!(
+            new_logs.iter().any(|l| l.2.contains("not supported")),
+            "{label}: {new_logs:?}"
+        );
+    } else {
+        assert_eq!(status, Status::Ok, "{label}: {new_logs:?}");
+    }
+    if call == Call::FreeInstance {
+        std::mem::forget(s);
+    } else if call != Call::FreeFMUstate && !st.is_null() {
+        assert_eq!(s.free_state(&mut st), Status::Ok, "{label}");
+    }
+    // a NULL instance is refused by every function, in no state at all
+    let mut none: FMUstate = std::ptr::null_mut();
+    if call != Call::FreeInstance {
+        assert_eq!(
+            invoke(f, e, std::ptr::null_mut(), call, &mut none, &bytes),
+            Status::Error,
+            "{name}(NULL)"
+        );
+    }
+}
+
 /// Every function in every state, for every FMU: an illegal call is `fmi2Error` with a log line
 /// saying so and changes nothing; a legal one does what it should; a NULL instance is refused.
 #[test]
@@ -498,7 +534,7 @@ fn call_sequence_matrix() {
     let _shared = shared();
     let mut cells = 0;
     for e in catalog::all() {
-        let f = load(&e);
+        let f = Fmu::of(&e);
         assert_eq!(
             ROWS.len(),
             31,
@@ -506,48 +542,17 @@ fn call_sequence_matrix() {
         );
         assert_eq!(ME_ROWS.len(), 10, "every FMI 2.0 Model Exchange function");
         for &state in &STATES {
-            for &(name, call) in all_rows() {
+            for &row in all_rows() {
+                let (name, call) = row;
                 let s = f.slave("matrix");
                 drive_to(&s, state);
-                let mut st: FMUstate = std::ptr::null_mut();
-                if allowed(Call::GetFMUstate, state) {
-                    assert_eq!(s.get_state(&mut st), Status::Ok);
-                }
-                let (_, bytes) = s.serialize(st);
-                let n_logs = s.logs().len();
-                let status = invoke(&f, &e, s.c, call, &mut st, &bytes);
-                let new_logs: Vec<LogLine> = s.logs()[n_logs..].to_vec();
-                let cell = format!("{} {name} in {state:?}", e.identifier);
-                if !allowed(call, state) {
-                    assert_eq!(status, Status::Error, "{cell}");
-                    assert!(
-                        new_logs.iter().any(|l| l.0 == Status::Error
-                            && l.2.contains(&format!("not allowed in state {state:?}"))),
-                        "{cell}: {new_logs:?}"
-                    );
-                } else if unsupported(call, &e) {
-                    assert_eq!(status, Status::Error, "{cell}");
-                    assert!(
-                        new_logs.iter().any(|l| l.2.contains("not supported")),
-                        "{cell}: {new_logs:?}"
-                    );
-                } else {
-                    assert_eq!(status, Status::Ok, "{cell}: {new_logs:?}");
-                }
-                if call == Call::FreeInstance {
-                    std::mem::forget(s);
-                } else if call != Call::FreeFMUstate && !st.is_null() {
-                    assert_eq!(s.free_state(&mut st), Status::Ok, "{cell}");
-                }
-                // a NULL instance is refused by every function, in no state at all
-                let mut none: FMUstate = std::ptr::null_mut();
-                if call != Call::FreeInstance {
-                    assert_eq!(
-                        invoke(&f, &e, std::ptr::null_mut(), call, &mut none, &bytes),
-                        Status::Error,
-                        "{name}(NULL)"
-                    );
-                }
+                let cell = Cell {
+                    label: format!("{} {name} in {state:?}", e.identifier),
+                    state: format!("{state:?}"),
+                    legal: allowed(call, state),
+                    check_unchanged: false,
+                };
+                check_cell(&f, &e, s, row, allowed(Call::GetFMUstate, state), &cell);
                 cells += 1;
             }
         }
@@ -561,7 +566,7 @@ fn call_sequence_matrix() {
 
 /// Drives a fresh Model Exchange instance into `state` by legal calls.
 fn drive_me_to(s: &Slave, state: MeState) {
-    let ok = |st: Status, what: &str| assert_eq!(st, Status::Ok, "{what}: {:?}", s.logs());
+    let ok = |st: Status, what: &str| s.ok(st, what);
     match state {
         MeState::Instantiated => {}
         MeState::InitializationMode => ok(s.call0("fmi2EnterInitializationMode"), "enter"),
@@ -580,19 +585,8 @@ fn drive_me_to(s: &Slave, state: MeState) {
         MeState::Error => {
             // as for Co-Simulation: a saved state with the state code replaced
             let probe = s.fmu.me_instance("probe");
-            ok(probe.init(), "probe init");
-            let mut st: FMUstate = std::ptr::null_mut();
-            ok(probe.get_state(&mut st), "probe state");
-            let (_, mut bytes) = probe.serialize(st);
-            ok(probe.free_state(&mut st), "probe free");
-            assert_eq!(
-                u16::from_le_bytes([bytes[24], bytes[25]]),
-                State::StepComplete.code()
-            );
-            bytes[24..26].copy_from_slice(&State::Error.code().to_le_bytes());
-            ok(s.deserialize(&bytes, &mut st), "deserialize");
-            ok(s.set_state(st), "set state");
-            ok(s.free_state(&mut st), "free state");
+            probe.ok(probe.init(), "probe init");
+            s.restore_bytes(&bytes_in_state(&probe, State::Error));
         }
     }
 }
@@ -611,54 +605,19 @@ fn model_exchange_call_sequence_matrix() {
             continue;
         }
         fmus += 1;
-        let f = load(&e);
+        let f = Fmu::of(&e);
         for &state in &ME_STATES {
-            for &(name, call) in all_rows() {
+            for &row in all_rows() {
+                let (name, call) = row;
                 let s = f.me_instance("me-matrix");
                 drive_me_to(&s, state);
-                let mut st: FMUstate = std::ptr::null_mut();
-                assert_eq!(s.get_state(&mut st), Status::Ok);
-                let (_, bytes) = s.serialize(st);
-                let n_logs = s.logs().len();
-                let status = invoke(&f, &e, s.c, call, &mut st, &bytes);
-                let new_logs: Vec<LogLine> = s.logs()[n_logs..].to_vec();
-                let cell = format!("{} ME {name} in {state:?}", e.identifier);
-                if !me_allowed(call, state) {
-                    assert_eq!(status, Status::Error, "{cell}");
-                    assert!(
-                        new_logs.iter().any(|l| l.0 == Status::Error
-                            && l.2.contains(&format!("not allowed in state {state:?}"))),
-                        "{cell}: {new_logs:?}"
-                    );
-                    // nothing changed: the instance's state serializes as before
-                    if call != Call::FreeInstance {
-                        let mut now: FMUstate = std::ptr::null_mut();
-                        assert_eq!(s.get_state(&mut now), Status::Ok, "{cell}");
-                        assert_eq!(s.serialize(now).1, bytes, "{cell}: changed");
-                        assert_eq!(s.free_state(&mut now), Status::Ok);
-                    }
-                } else if unsupported(call, &e) {
-                    assert_eq!(status, Status::Error, "{cell}");
-                    assert!(
-                        new_logs.iter().any(|l| l.2.contains("not supported")),
-                        "{cell}: {new_logs:?}"
-                    );
-                } else {
-                    assert_eq!(status, Status::Ok, "{cell}: {new_logs:?}");
-                }
-                if call == Call::FreeInstance {
-                    std::mem::forget(s);
-                } else if call != Call::FreeFMUstate && !st.is_null() {
-                    assert_eq!(s.free_state(&mut st), Status::Ok, "{cell}");
-                }
-                let mut none: FMUstate = std::ptr::null_mut();
-                if call != Call::FreeInstance {
-                    assert_eq!(
-                        invoke(&f, &e, std::ptr::null_mut(), call, &mut none, &bytes),
-                        Status::Error,
-                        "{name}(NULL)"
-                    );
-                }
+                let cell = Cell {
+                    label: format!("{} ME {name} in {state:?}", e.identifier),
+                    state: format!("{state:?}"),
+                    legal: me_allowed(call, state),
+                    check_unchanged: true,
+                };
+                check_cell(&f, &e, s, row, true, &cell);
                 cells += 1;
             }
         }
@@ -682,7 +641,7 @@ fn model_exchange_bad_arguments_are_refused_with_a_reason() {
             continue;
         }
         let nz = n_indicators(&e);
-        let f = load(&e);
+        let f = Fmu::of(&e);
         let s = f.me_instance("me-bad");
         // a mechanism's states are those of its elastodynamic level (a drive such as
         // MainShaft has no levels)
@@ -691,20 +650,7 @@ fn model_exchange_bad_arguments_are_refused_with_a_reason() {
         }
         drive_me_to(&s, MeState::ContinuousTimeMode);
         let expect = |st: Status, text: &str, what: &str| {
-            assert_eq!(st, Status::Error, "{} {what}", e.identifier);
-            assert!(
-                s.last_error().contains(text),
-                "{} {what}: {:?}",
-                e.identifier,
-                s.last_error()
-            );
-        };
-        let state_bytes = || {
-            let mut st: FMUstate = std::ptr::null_mut();
-            assert_eq!(s.get_state(&mut st), Status::Ok);
-            let b = s.serialize(st).1;
-            assert_eq!(s.free_state(&mut st), Status::Ok);
-            b
+            s.assert_refused(st, text, &format!("{} {what}", e.identifier))
         };
         let mut x = vec![0.0; nx + 1];
         // SAFETY: the FMI functions with the arrays and pointers described, NULL where said.
@@ -716,7 +662,7 @@ fn model_exchange_bad_arguments_are_refused_with_a_reason() {
             );
             assert!(x[..nx].iter().all(|v| v.is_finite()), "{x:?}");
         }
-        let before = state_bytes();
+        let before = s.state_bytes();
         // SAFETY: as above.
         unsafe {
             for g in [
@@ -787,7 +733,7 @@ fn model_exchange_bad_arguments_are_refused_with_a_reason() {
             .expect("a Real parameter");
             expect(s.set_real(&[param], &[1.0]), "cannot be set", "parameter");
             assert_eq!(
-                state_bytes(),
+                s.state_bytes(),
                 before,
                 "{}: a refused call changed the state",
                 e.identifier
@@ -852,19 +798,11 @@ fn bad_arguments_are_refused_with_a_reason() {
     type Get<T> = unsafe extern "C" fn(Component, *const u32, usize, *mut T) -> Status;
     type Set<T> = unsafe extern "C" fn(Component, *const u32, usize, *const T) -> Status;
     for e in catalog::all() {
-        let f = load(&e);
-        let s = f.slave("bad");
-        assert_eq!(s.setup(0.0, None), Status::Ok);
-        assert_eq!(s.init(), Status::Ok);
+        let f = Fmu::of(&e);
+        let s = f.initialized("bad");
         let n = vars(&e).len() as u32;
         let expect = |st: Status, text: &str, what: &str| {
-            assert_eq!(st, Status::Error, "{} {what}", e.identifier);
-            assert!(
-                s.last_error().contains(text),
-                "{} {what}: {:?}",
-                e.identifier,
-                s.last_error()
-            );
+            s.assert_refused(st, text, &format!("{} {what}", e.identifier))
         };
         // SAFETY: the FMI functions with the arrays described; NULL where the test says.
         unsafe {
@@ -1012,7 +950,7 @@ fn bad_arguments_are_refused_with_a_reason() {
             // the instance goes on
             assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
             assert!(
-                s.get_real(&real_outputs(&e))
+                s.get_real(&real_outputs_of(&e))
                     .1
                     .iter()
                     .all(|x| x.is_finite())
@@ -1069,7 +1007,7 @@ fn out_of_bounds_parameters_are_refused_naming_them() {
     let _shared = shared();
     let mut checked = 0;
     for e in catalog::all() {
-        let f = load(&e);
+        let f = Fmu::of(&e);
         for (vr, v) in vars(&e) {
             if v.causality != Causality::Parameter {
                 continue;
@@ -1136,16 +1074,14 @@ fn out_of_bounds_parameters_are_refused_naming_them() {
 fn bad_values_keep_the_instance_going() {
     let _shared = shared();
     for e in catalog::all() {
-        let f = load(&e);
-        let outs = real_outputs(&e);
+        let f = Fmu::of(&e);
+        let outs = real_outputs_of(&e);
         let inputs: Vec<u32> = vars(&e)
             .into_iter()
             .filter(|(_, v)| v.causality == Causality::Input && v.ty == VarType::Real)
             .map(|(vr, _)| vr)
             .collect();
-        let s = f.slave("values");
-        assert_eq!(s.setup(0.0, None), Status::Ok);
-        assert_eq!(s.init(), Status::Ok);
+        let s = f.initialized("values");
         assert_eq!(s.set_real(&inputs, &vec![0.3; inputs.len()]), Status::Ok);
         let before = s.get_real(&outs).1;
         for &vr in &inputs {
@@ -1154,7 +1090,6 @@ fn bad_values_keep_the_instance_going() {
                 assert!(s.last_error().contains("kept"), "{}", s.last_error());
             }
         }
-        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(s.get_real(&inputs).1, vec![0.3; inputs.len()]);
         assert_eq!(bits(&s.get_real(&outs).1), bits(&before));
         // huge angles: the mechanism is 2*pi-periodic, the outputs stay finite
@@ -1212,10 +1147,12 @@ fn bad_values_keep_the_instance_going() {
         assert_eq!(unsafe { rs(s.c, 2, &mut t) }, Status::Ok);
         assert_eq!(t, 1e300);
         // constant-speed mode at a huge time: still finite outputs
-        let c = f.slave("constant");
-        assert_eq!(c.setup(1e12, None), Status::Ok);
-        assert_eq!(c.set_integer(&[vr_of(&e, "drive.mode")], &[2]), Status::Ok);
-        assert_eq!(c.init(), Status::Ok);
+        let constant_speed = Start {
+            time: 1e12,
+            integers: &[(vr_of(&e, "drive.mode"), 2)],
+            ..Start::default()
+        };
+        let c = f.started("constant", &constant_speed);
         assert_eq!(c.do_step(1e12, 0.5), Status::Ok);
         assert!(c.get_real(&outs).1.iter().all(|x| x.is_finite()));
     }
@@ -1228,12 +1165,10 @@ fn bad_values_keep_the_instance_going() {
 fn tampered_fmu_states_are_refused() {
     let _shared = shared();
     for e in catalog::all() {
-        let f = load(&e);
-        let s = f.slave("tamper");
-        assert_eq!(s.setup(0.0, None), Status::Ok);
-        assert_eq!(s.init(), Status::Ok);
+        let f = Fmu::of(&e);
+        let s = f.initialized("tamper");
         assert_eq!(s.do_step(0.0, 0.1), Status::Ok);
-        let outs = real_outputs(&e);
+        let outs = real_outputs_of(&e);
         let before = s.get_real(&outs).1;
         let mut st: FMUstate = std::ptr::null_mut();
         assert_eq!(s.get_state(&mut st), Status::Ok);
@@ -1268,10 +1203,7 @@ fn tampered_fmu_states_are_refused() {
             // nothing of the instance changed
             let now = s.get_real(&outs);
             assert_eq!(now.0, Status::Ok);
-            assert_eq!(
-                now.1.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
-                before.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
-            );
+            assert_eq!(bits(&now.1), bits(&before));
         }
         assert_eq!(s.free_state(&mut st), Status::Ok);
     }
@@ -1286,10 +1218,8 @@ fn tampered_fmu_states_are_refused() {
 fn input_derivative_calls_are_checked_and_atomic() {
     let _shared = shared();
     for e in catalog::all() {
-        let f = load(&e);
-        let s = f.slave("ider");
-        assert_eq!(s.setup(0.0, None), Status::Ok);
-        assert_eq!(s.init(), Status::Ok);
+        let f = Fmu::of(&e);
+        let s = f.initialized("ider");
         let phi = vr_of(&e, "shaft.phi");
         if !(e.info)().can_interpolate_inputs {
             assert_eq!(s.set_input_derivatives(&[phi], &[1], &[1.0]), Status::Error);
@@ -1300,16 +1230,8 @@ fn input_derivative_calls_are_checked_and_atomic() {
             );
             continue;
         }
-        let state_bytes = |s: &Slave| {
-            let mut st: FMUstate = std::ptr::null_mut();
-            assert_eq!(s.get_state(&mut st), Status::Ok);
-            let (ok, b) = s.serialize(st);
-            assert_eq!(ok, Status::Ok);
-            assert_eq!(s.free_state(&mut st), Status::Ok);
-            b
-        };
         assert_eq!(s.set_input_derivatives(&[phi], &[1], &[2.5]), Status::Ok);
-        let before = state_bytes(&s);
+        let before = s.state_bytes();
         let n = vars(&e).len() as u32;
         let output = vr_of(&e, "shaft.tau");
         let param = first(&e, |v| {
@@ -1337,7 +1259,7 @@ fn input_derivative_calls_are_checked_and_atomic() {
             assert_eq!(st, Status::Error, "{cell}");
             assert!(s.last_error().contains(why), "{cell}: {}", s.last_error());
             assert_eq!(
-                state_bytes(&s),
+                s.state_bytes(),
                 before,
                 "{cell}: the refused call changed the state"
             );
@@ -1372,7 +1294,7 @@ fn input_derivative_calls_are_checked_and_atomic() {
                 Status::Ok
             );
         }
-        assert_eq!(state_bytes(&s), before);
+        assert_eq!(s.state_bytes(), before);
         // a derivative the path does not use is kept, with a warning saying so
         let a = vr_of(&e, "shaft.a");
         let n_logs = s.logs().len();
@@ -1385,7 +1307,7 @@ fn input_derivative_calls_are_checked_and_atomic() {
             &s.logs()[n_logs..]
         );
         // tampered derivatives in a serialized state: the last triple (vr, order, value)
-        let bytes = state_bytes(&s);
+        let bytes = s.state_bytes();
         let at = bytes.len() - 25; // before the Model Exchange mode byte
         for (k, x, why) in [
             (0, f64::from(output), "not a Real input"),
@@ -1411,12 +1333,11 @@ fn input_derivative_calls_are_checked_and_atomic() {
                 "{k} = {x}: {}",
                 s.last_error()
             );
-            assert_eq!(state_bytes(&s), bytes);
+            assert_eq!(s.state_bytes(), bytes);
         }
         // not on a Model Exchange instance: the host integrates and sets the inputs itself
         let me = f.me_instance("ider-me");
-        assert_eq!(me.setup(0.0, None), Status::Ok);
-        assert_eq!(me.init(), Status::Ok);
+        me.setup_and_init(0.0, None);
         assert_eq!(
             me.set_input_derivatives(&[phi], &[1], &[1.0]),
             Status::Error
@@ -1434,9 +1355,9 @@ fn input_derivative_calls_are_checked_and_atomic() {
 /// A run of `n` steps of `h` from `t0`, reading every Real output after each: the shaft input
 /// follows a fixed non-trivial law so that inputs matter.
 fn run(s: &Slave, e: &Entry, t0: f64, n: usize, h: f64) -> Vec<u64> {
-    let outs = real_outputs(e);
+    let outs = real_outputs_of(e);
     let ins = drive_inputs(e);
-    let mut bits = Vec::with_capacity(n * outs.len());
+    let mut out = Vec::with_capacity(n * outs.len());
     for k in 0..n {
         let t = t0 + k as f64 * h;
         let phi = 2.0 * t + 0.3 * (3.0 * t).sin();
@@ -1450,9 +1371,9 @@ fn run(s: &Slave, e: &Entry, t0: f64, n: usize, h: f64) -> Vec<u64> {
         assert_eq!(s.do_step(t, h), Status::Ok, "{:?}", s.logs());
         let (st, y) = s.get_real(&outs);
         assert_eq!(st, Status::Ok);
-        bits.extend(y.iter().map(|x| x.to_bits()));
+        out.extend(y.iter().map(|x| x.to_bits()));
     }
-    bits
+    out
 }
 
 /// For every FMU: FMU state get/set, serialize/deserialize (into another instance) and
@@ -1461,42 +1382,17 @@ fn run(s: &Slave, e: &Entry, t0: f64, n: usize, h: f64) -> Vec<u64> {
 fn fmu_state_and_reset_replay_bit_identically() {
     let _shared = shared();
     for e in catalog::all() {
-        let f = load(&e);
-        let s = f.slave("replay");
-        assert_eq!(s.setup(0.0, None), Status::Ok);
-        assert_eq!(s.init(), Status::Ok);
+        let f = Fmu::of(&e);
+        let s = f.initialized("replay");
         let first = run(&s, &e, 0.0, 40, 0.01);
-        let mut st: FMUstate = std::ptr::null_mut();
-        assert_eq!(s.get_state(&mut st), Status::Ok);
-        let (ok, bytes) = s.serialize(st);
-        assert_eq!(ok, Status::Ok);
-        let after = run(&s, &e, 0.4, 60, 0.01);
-        assert_eq!(s.set_state(st), Status::Ok);
-        assert_eq!(
-            run(&s, &e, 0.4, 60, 0.01),
-            after,
-            "{} set state",
-            e.identifier
-        );
         let other = f.slave("other");
-        let mut st2: FMUstate = std::ptr::null_mut();
-        assert_eq!(other.deserialize(&bytes, &mut st2), Status::Ok);
-        assert_eq!(other.serialize(st2).1, bytes);
-        assert_eq!(other.set_state(st2), Status::Ok);
-        assert_eq!(
-            run(&other, &e, 0.4, 60, 0.01),
-            after,
-            "{} deserialized",
-            e.identifier
-        );
+        let replay = assert_state_replays(&s, &other, e.identifier, |s| run(s, &e, 0.4, 60, 0.01));
         // a state of another instance is refused, not followed
-        assert_eq!(other.set_state(st), Status::Error);
-        assert_eq!(s.free_state(&mut st), Status::Ok);
-        assert_eq!(other.free_state(&mut st2), Status::Ok);
+        assert_eq!(other.set_state(replay.saved), Status::Error);
+        replay.free(&s, &other);
         // reset: the same run as a fresh instance
         assert_eq!(s.call0("fmi2Reset"), Status::Ok);
-        assert_eq!(s.setup(0.0, None), Status::Ok);
-        assert_eq!(s.init(), Status::Ok);
+        s.setup_and_init(0.0, None);
         assert_eq!(run(&s, &e, 0.0, 40, 0.01), first, "{} reset", e.identifier);
     }
 }
@@ -1507,20 +1403,21 @@ fn fmu_state_and_reset_replay_bit_identically() {
 fn parallel_instances_match_sequential_runs() {
     let _shared = shared();
     for e in catalog::all() {
-        let f = load(&e);
+        let f = Fmu::of(&e);
         let job = |k: usize| {
-            let s = f.slave("thread");
-            assert_eq!(s.setup(0.01 * k as f64, None), Status::Ok);
-            if k % 2 == 1 {
-                // another level of a mechanism, another integrator of a drive
-                let (name, value) = if is_mechanism(&e) {
-                    ("model.fidelity", 1)
-                } else {
-                    ("solver.method", 3)
-                };
-                assert_eq!(s.set_integer(&[vr_of(&e, name)], &[value]), Status::Ok);
-            }
-            assert_eq!(s.init(), Status::Ok);
+            // every other instance: another level of a mechanism, another integrator of a drive
+            let (name, value) = if is_mechanism(&e) {
+                ("model.fidelity", 1)
+            } else {
+                ("solver.method", 3)
+            };
+            let other = [(vr_of(&e, name), value)];
+            let start = Start {
+                time: 0.01 * k as f64,
+                integers: if k % 2 == 1 { &other } else { &[] },
+                ..Start::default()
+            };
+            let s = f.started("thread", &start);
             run(&s, &e, 0.01 * k as f64, 150, 0.007 + 0.001 * k as f64)
         };
         let sequential: Vec<Vec<u64>> = (0..8).map(job).collect();
@@ -1552,7 +1449,7 @@ fn instantiate_free_cycles_do_not_leak() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(20_000);
     for e in catalog::all() {
-        let f = load(&e);
+        let f = Fmu::of(&e);
         // preparing a model can take a millisecond (syntheses): most cycles stop before it
         let cycle = |init: bool| {
             let s = f.slave("cycle");

@@ -9,6 +9,7 @@ use bindery_fmu::md;
 use bindery_fmu::mechanisms::disc_knife_drive::model::{DiscKnifeDrive, V};
 use bindery_fmu::mechanisms::disc_knife_drive::physics::Params;
 use bindery_fmu::model::{Model, NoLog, Values, VarSet};
+use common::series::row_bits;
 use common::*;
 use std::f64::consts::{FRAC_PI_2, PI};
 
@@ -70,53 +71,26 @@ const W: f64 = 10.0 * PI; // 300 rpm
 
 #[test]
 fn exports_every_fmi2_cs_function() {
-    let f = fmu();
-    for name in FMI2_CS_FUNCTIONS {
-        // SAFETY: only looks the symbol up.
-        assert!(
-            unsafe { f.lib.get::<*const ()>(name.as_bytes()) }.is_ok(),
-            "{name} missing"
-        );
-    }
+    fmu().assert_exports(FMI2_CS_FUNCTIONS);
 }
 
 /// Runs `n` steps of `h` with the shaft at speed W and acceleration `a` through the inputs,
 /// returning every Real output and both flags per sample.
 fn run(s: &Slave, t0: f64, n: usize, h: f64, a: f64) -> Vec<Vec<f64>> {
-    let outs = real_outputs();
-    let vrs: Vec<u32> = outs.iter().map(|&v| vr(v)).collect();
-    let mut rows = Vec::new();
-    let mut t = t0;
-    for _ in 0..n {
-        assert_eq!(
-            s.set_real(
-                &[vr(V::shaft_phi), vr(V::shaft_w), vr(V::shaft_a)],
-                &[W * t, W, a]
-            ),
-            Status::Ok
-        );
-        let (st, mut y) = s.get_real(&vrs);
-        assert_eq!(st, Status::Ok);
-        let (st, flags) = s.get_boolean(&[vr(V::knife_working), vr(V::sliders_locked)]);
-        assert_eq!(st, Status::Ok);
-        y.extend(flags.iter().map(|&b| f64::from(u8::from(b))));
-        rows.push(y);
-        assert_eq!(s.do_step(t, h), Status::Ok);
-        t += h;
-    }
-    rows
-}
-
-fn bits(r: &[Vec<f64>]) -> Vec<u64> {
-    r.iter().flatten().map(|x| x.to_bits()).collect()
+    let reals: Vec<u32> = real_outputs().iter().map(|&v| vr(v)).collect();
+    let p = Probe {
+        inputs: &[vr(V::shaft_phi), vr(V::shaft_w), vr(V::shaft_a)],
+        reals: &reals,
+        flags: &[vr(V::knife_working), vr(V::sliders_locked)],
+    };
+    sample_run(s, &p, t0, n, h, |t| vec![W * t, W, a])
 }
 
 #[test]
 fn outputs_match_the_model_computed_in_rust() {
     let f = fmu();
     let s = f.slave("run");
-    assert_eq!(s.setup(0.0, Some(1.0)), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    s.setup_and_init(0.0, Some(1.0));
     let (n, h, a) = (400, 1e-3, 25.0);
     let rows = run(&s, 0.0, n, h, a);
     let outs = real_outputs();
@@ -128,15 +102,7 @@ fn outputs_match_the_model_computed_in_rust() {
         v[V::shaft_phi] = W * t;
         v[V::shaft_a] = a;
         m.evaluate(&mut v, t, &mut NoLog);
-        for (j, &o) in outs.iter().enumerate() {
-            assert_eq!(
-                row[j].to_bits(),
-                v[o].to_bits(),
-                "t = {t}, {o:?}: {} vs {}",
-                row[j],
-                v[o]
-            );
-        }
+        assert_row_is_the_models(t, &outs, row, |o| v[o]);
         assert_eq!(row[outs.len()] == 1.0, v.flag(V::knife_working));
         assert_eq!(row[outs.len() + 1] == 1.0, v.flag(V::sliders_locked));
         working += usize::from(v.flag(V::knife_working));
@@ -159,9 +125,7 @@ fn a_holder_that_cannot_assemble_is_refused_naming_the_crank_angle() {
     assert_eq!(s.setup(0.0, None), Status::Ok);
     // Q 15 mm further out: the holder cannot reach EQ while the slider is near the crank.
     assert_eq!(s.set_real(&[vr(V::support_xQ)], &[0.075]), Status::Ok);
-    assert_eq!(s.call0("fmi2EnterInitializationMode"), Status::Ok);
-    assert_eq!(s.call0("fmi2ExitInitializationMode"), Status::Error);
-    let e = s.last_error();
+    let e = s.initialization_refusal();
     let fail = Params {
         support_xq: 0.075,
         ..Params::default()
@@ -199,46 +163,37 @@ fn a_holder_that_cannot_assemble_is_refused_naming_the_crank_angle() {
 #[test]
 fn fmu_state_round_trips_bit_identically() {
     let f = fmu();
-    let s = f.slave("state");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let s = f.initialized("state");
     let _ = run(&s, 0.0, 37, 1e-3, 0.0);
     let t1 = 0.037;
-    let mut st: FMUstate = std::ptr::null_mut();
-    assert_eq!(s.get_state(&mut st), Status::Ok);
-    let (ok, bytes) = s.serialize(st);
-    assert_eq!(ok, Status::Ok);
-    // Across the self-locking zone around 180 deg (t = 0.1 s at 300 rpm).
-    let after = run(&s, t1, 120, 1e-3, 0.0);
-    assert!(after.iter().any(|r| *r.last().unwrap() == 1.0));
-    assert_eq!(s.set_state(st), Status::Ok);
-    let again = run(&s, t1, 120, 1e-3, 0.0);
-    assert_eq!(bits(&after), bits(&again));
-    // Serialize -> deserialize into a second instance: the same continuation.
+    // Across the self-locking zone around 180 deg (t = 0.1 s at 300 rpm); set back, and
+    // serialize -> deserialize into a second instance: the same continuation.
     let other = f.slave("other");
-    let mut st2: FMUstate = std::ptr::null_mut();
-    assert_eq!(other.deserialize(&bytes, &mut st2), Status::Ok);
-    assert_eq!(other.serialize(st2).1, bytes);
-    assert_eq!(other.set_state(st2), Status::Ok);
-    let third = run(&other, t1, 120, 1e-3, 0.0);
-    assert_eq!(bits(&after), bits(&third));
+    let replay = assert_state_replays(&s, &other, "DiscKnifeDrive", |s| {
+        let rows = run(s, t1, 120, 1e-3, 0.0);
+        // (the last column: sliders.locked)
+        assert!(rows.iter().any(|r| *r.last().unwrap() == 1.0));
+        row_bits(&rows)
+    });
+    let bytes = &replay.bytes;
     let mut st3: FMUstate = std::ptr::null_mut();
     assert_eq!(
         other.deserialize(&bytes[..bytes.len() / 2], &mut st3),
         Status::Error
     );
     assert!(st3.is_null());
-    assert_eq!(s.free_state(&mut st), Status::Ok);
-    assert_eq!(other.free_state(&mut st2), Status::Ok);
+    replay.free(&s, &other);
 }
 
 #[test]
 fn constant_speed_mode_reproduces_the_spec_reference() {
     let f = fmu();
-    let s = f.slave("cs");
-    assert_eq!(s.setup(0.0, Some(1.0)), Status::Ok);
-    assert_eq!(s.set_integer(&[vr(V::drive_mode)], &[2]), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let constant_speed = Start {
+        stop: Some(1.0),
+        integers: &[(vr(V::drive_mode), 2)],
+        ..Start::default()
+    };
+    let s = f.started("cs", &constant_speed);
     // φ = π/2 at 300 rpm: disc-knife-drive.md prints x_C = 32.909 mm, β = 11.679 deg,
     // S = (43.681, 2.227) mm.
     assert_eq!(s.do_step(0.0, FRAC_PI_2 / W), Status::Ok);
@@ -258,9 +213,7 @@ fn constant_speed_mode_reproduces_the_spec_reference() {
 #[test]
 fn self_locking_is_a_warning_not_an_error() {
     let f = fmu();
-    let s = f.slave("lock");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let s = f.initialized("lock");
     let rows = run(&s, 0.0, 200, 1e-3, 0.0); // one turn
     let locked = rows.iter().filter(|r| *r.last().unwrap() == 1.0).count();
     assert!(locked > 0);
@@ -272,10 +225,11 @@ fn self_locking_is_a_warning_not_an_error() {
     assert_eq!(warnings.len(), 1, "{warnings:?}");
     assert!(warnings[0].2.contains("self-locks"), "{:?}", warnings[0]);
     // Without friction on EQ nothing locks and nothing is logged.
-    let s = f.slave("free");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.set_real(&[vr(V::support_mu)], &[0.0]), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let frictionless = Start {
+        reals: &[(vr(V::support_mu), 0.0)],
+        ..Start::default()
+    };
+    let s = f.started("free", &frictionless);
     let rows = run(&s, 0.0, 200, 1e-3, 0.0);
     assert!(rows.iter().all(|r| *r.last().unwrap() == 0.0));
     assert!(s.logs().iter().all(|l| l.0 != Status::Warning));

@@ -3,9 +3,12 @@
 //! panic, a result close to a tight-tolerance reference and a bounded energy-balance residual,
 //! or a Discard (`Err`) with a reason.
 
+mod common;
+
 use bindery_fmu::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
 use bindery_fmu::mechanisms::geneva_knife_drive::model::V as G;
 use bindery_fmu::model::{Model, NoLog, Values};
+use common::series::{assert_finite, max_abs_diff, peak_abs, peak_abs_rel_diff};
 use std::time::Instant;
 
 #[derive(Clone, Copy, Debug)]
@@ -53,14 +56,13 @@ fn geneva(c: &Case, stop: f64) -> Result<Run, String> {
         m.do_step(&mut v, t, c.dt, &mut NoLog)?;
         t = (i + 1) as f64 * c.dt;
         m.evaluate(&mut v, t, &mut NoLog);
-        for x in [
-            v[G::knife_s],
-            v[G::elastic_F],
-            v[G::shaft_tau],
-            v[G::elastic_E_residual],
-        ] {
-            assert!(x.is_finite(), "{c:?}: non-finite output at t = {t}");
-        }
+        let outputs = [
+            G::knife_s,
+            G::elastic_F,
+            G::shaft_tau,
+            G::elastic_E_residual,
+        ];
+        assert_finite(&v, &outputs, || format!("{c:?} at t = {t}"));
         run.s.push(v[G::knife_s]);
         run.f.push(v[G::elastic_F]);
         run.residual = run.residual.max(v[G::elastic_E_residual].abs());
@@ -73,17 +75,8 @@ fn geneva(c: &Case, stop: f64) -> Result<Run, String> {
 
 #[test]
 fn geneva_default_scene_sanity() {
-    let c = Case {
-        k: 5e7,
-        zeta: 0.05,
-        rpm: 30.0,
-        dt: 1e-3,
-        phi0: 0.0,
-        method: 1,
-        rtol: 1e-6,
-    };
     let t0 = Instant::now();
-    let r = geneva(&c, 2.0).unwrap();
+    let r = geneva(&BASE, 2.0).unwrap();
     let smax = r.s.iter().cloned().fold(f64::MIN, f64::max);
     let fmax = r.f.iter().cloned().fold(f64::MIN, f64::max);
     eprintln!(
@@ -97,14 +90,7 @@ fn geneva_default_scene_sanity() {
 
 /// Largest difference of two position histories, and of their peak chain forces (relative).
 fn compare(a: &Run, b: &Run) -> (f64, f64) {
-    let ds =
-        a.s.iter()
-            .zip(&b.s)
-            .map(|(x, y)| (x - y).abs())
-            .fold(0.0, f64::max);
-    let pa = a.f.iter().map(|x| x.abs()).fold(0.0, f64::max);
-    let pb = b.f.iter().map(|x| x.abs()).fold(0.0, f64::max);
-    (ds, (pa - pb).abs() / pb.max(1.0))
+    (max_abs_diff(&a.s, &b.s), peak_abs_rel_diff(&a.f, &b.f))
 }
 
 /// Runs a case and its reference (radau5 at a tight tolerance, output at the same instants)
@@ -327,14 +313,15 @@ fn table(
     for i in 0..n {
         m.do_step(&mut v, i as f64 * dt, dt, &mut NoLog)?;
         m.evaluate(&mut v, (i + 1) as f64 * dt, &mut NoLog);
-        for x in [
-            v[S::table_x],
-            v[S::elastic_F],
-            v[S::shaft_tau],
-            v[S::elastic_E_residual],
-        ] {
-            assert!(x.is_finite());
-        }
+        let outputs = [
+            S::table_x,
+            S::elastic_F,
+            S::shaft_tau,
+            S::elastic_E_residual,
+        ];
+        assert_finite(&v, &outputs, || {
+            format!("k {k} zeta {zeta} play {clearance} rpm {rpm} at step {i}")
+        });
         r.x.push(v[S::table_x]);
         r.f.push(v[S::elastic_F]);
         r.residual = r.residual.max(v[S::elastic_E_residual].abs());
@@ -360,11 +347,7 @@ fn sewing_table_stiffness_damping_and_speed_matrix() {
                 assert!(t0.elapsed().as_secs_f64() < 5.0);
                 let rtol = if k >= 1e10 { 1e-7 } else { 1e-9 };
                 let b = table(k, zeta, 0.0, rpm, 1e-3, 3, rtol, TURN).unwrap();
-                let dx =
-                    a.x.iter()
-                        .zip(&b.x)
-                        .map(|(p, q)| (p - q).abs())
-                        .fold(0.0, f64::max);
+                let dx = max_abs_diff(&a.x, &b.x);
                 assert!(dx < 2e-6, "k {k} zeta {zeta} rpm {rpm}: {dx:e}");
                 // the undamped 1e10..1e12 N/m follower rings at 3.5e4..3.5e5 rad/s on a small
                 // energy scale (30 J at 100 rpm): its work integral is the least accurate
@@ -390,7 +373,7 @@ fn sewing_table_slot_play_lifts_off_and_impacts_and_the_impacts_are_located() {
     assert!(a.liftoffs >= 2, "{}", a.liftoffs);
     let peak_rigid = {
         let r = table(1e7, 0.05, 0.0, 100.0, 1e-3, 1, 1e-6, TURN).unwrap();
-        r.f.iter().map(|x| x.abs()).fold(0.0, f64::max)
+        peak_abs(&r.f)
     };
     assert!(a.impact > 0.0 && a.impact.is_finite());
     eprintln!(
@@ -406,11 +389,7 @@ fn sewing_table_slot_play_lifts_off_and_impacts_and_the_impacts_are_located() {
         a.liftoffs,
         b.liftoffs
     );
-    let dx =
-        a.x.iter()
-            .zip(&b.x)
-            .map(|(p, q)| (p - q).abs())
-            .fold(0.0, f64::max);
+    let dx = max_abs_diff(&a.x, &b.x);
     assert!(dx < 2e-5, "{dx:e}"); // a tenth of the play
     assert!(
         (a.impact - b.impact).abs() < 2e-2 * b.impact,

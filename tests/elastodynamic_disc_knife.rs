@@ -4,9 +4,12 @@
 //! a tight-tolerance reference and a bounded energy-balance residual, or a Discard (`Err`) with a
 //! reason.
 
+mod common;
+
 use bindery_fmu::mechanisms::disc_knife_drive::DiscKnifeDrive;
 use bindery_fmu::mechanisms::disc_knife_drive::model::V as D;
 use bindery_fmu::model::{Model, NoLog, Values};
+use common::series::{assert_finite, max_abs_diff, peak_abs, peak_abs_rel_diff};
 use std::f64::consts::PI;
 use std::time::Instant;
 
@@ -63,15 +66,14 @@ fn disc_with(c: &Case, stop: f64, start: &Values<D>) -> Result<Run, String> {
         m.do_step(&mut v, i as f64 * c.dt, c.dt, &mut NoLog)?;
         let t = (i + 1) as f64 * c.dt;
         m.evaluate(&mut v, t, &mut NoLog);
-        for x in [
-            v[D::slider_x],
-            v[D::knife_x],
-            v[D::elastic_F],
-            v[D::shaft_tau],
-            v[D::elastic_E_residual],
-        ] {
-            assert!(x.is_finite(), "{c:?}: non-finite output at t = {t}");
-        }
+        let outputs = [
+            D::slider_x,
+            D::knife_x,
+            D::elastic_F,
+            D::shaft_tau,
+            D::elastic_E_residual,
+        ];
+        assert_finite(&v, &outputs, || format!("{c:?} at t = {t}"));
         run.x.push(v[D::slider_x]);
         run.f.push(v[D::elastic_F]);
         run.f_kin.push(v[D::rod_F_kin]);
@@ -105,8 +107,8 @@ fn default_rod_one_turn_figures() {
         let t0 = Instant::now();
         let r = disc(&c, 1.05 * TURN).unwrap();
         let took = t0.elapsed();
-        let fmax = r.f.iter().map(|x| x.abs()).fold(0.0, f64::max);
-        let kmax = r.f_kin.iter().map(|x| x.abs()).fold(0.0, f64::max);
+        let fmax = peak_abs(&r.f);
+        let kmax = peak_abs(&r.f_kin);
         eprintln!(
             "mu7 {mu7}: 1.05 turns in {took:?}, steps {}, K_d {}, peak |P| {fmax} N (sampled kinetostatic {kmax} N), residual {} of {} J, locked samples {}",
             r.steps, r.k_d, r.residual, r.energy_scale, r.locked
@@ -119,14 +121,7 @@ fn default_rod_one_turn_figures() {
 
 /// Largest difference of two position histories, and of their peak rod forces (relative).
 fn compare(a: &Run, b: &Run) -> (f64, f64) {
-    let dx =
-        a.x.iter()
-            .zip(&b.x)
-            .map(|(p, q)| (p - q).abs())
-            .fold(0.0, f64::max);
-    let pa = a.f.iter().map(|x| x.abs()).fold(0.0, f64::max);
-    let pb = b.f.iter().map(|x| x.abs()).fold(0.0, f64::max);
-    (dx, (pa - pb).abs() / pb.max(1.0))
+    (max_abs_diff(&a.x, &b.x), peak_abs_rel_diff(&a.f, &b.f))
 }
 
 /// Runs a case and its reference (radau5 at a tight tolerance, outputs at the same instants)
@@ -373,12 +368,8 @@ fn stiff_rod_at_low_speed_gives_the_kinetostatic_force() {
     // two turns at 30 rpm: K_d of the first complete turn
     let r = disc_with(&c, 4.05, &smooth).unwrap();
     assert!((r.k_d - 1.0).abs() < 1e-3, "K_d = {}", r.k_d);
-    let worst =
-        r.f.iter()
-            .zip(&r.f_kin)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
-    let scale = r.f_kin.iter().map(|x| x.abs()).fold(0.0, f64::max);
+    let worst = max_abs_diff(&r.f, &r.f_kin);
+    let scale = peak_abs(&r.f_kin);
     assert!(worst < 1e-3 * scale, "{worst} of {scale}");
     // the default rod at the nominal speed with the cutting load: its step at the dead centre
     // rings the rod, K_d well above 1

@@ -5,9 +5,12 @@
 //! with a reason; and the lift-off physics: none at the nominal 100 rpm, lift-offs and impacts
 //! above the rigid threshold (113.65 rpm), K_d → 1 for a stiff contact at low speed.
 
+mod common;
+
 use bindery_fmu::mechanisms::perforators::Perforators;
 use bindery_fmu::mechanisms::perforators::model::V as P;
-use bindery_fmu::model::{Log, Model, NoLog, Severity, Values};
+use bindery_fmu::model::{Model, NoLog, Values};
+use common::series::{Warnings, assert_finite, bits, max_abs_diff, peak};
 use std::time::Instant;
 
 #[derive(Clone, Copy, Debug)]
@@ -50,15 +53,6 @@ struct Run {
     warnings: Vec<String>,
 }
 
-struct Collect(Vec<String>);
-impl Log for Collect {
-    fn log(&mut self, s: Severity, m: &str) {
-        if s == Severity::Warning {
-            self.0.push(m.to_string());
-        }
-    }
-}
-
 fn values(c: &Case) -> Values<P> {
     let mut v = Values::<P>::start();
     v[P::model_fidelity] = 3.0;
@@ -97,19 +91,18 @@ fn run(c: &Case, stop: f64) -> Result<Run, String> {
         energy_scale: 1.0,
         ..Run::default()
     };
-    let mut log = Collect(vec![]);
+    let mut log = Warnings::default();
     for i in 0..n {
         m.do_step(&mut v, i as f64 * c.dt, c.dt, &mut log)?;
         m.evaluate(&mut v, (i + 1) as f64 * c.dt, &mut NoLog);
-        for x in [
-            v[P::lever_gamma],
-            v[P::elastic_F],
-            v[P::shaft_tau],
-            v[P::elastic_E_residual],
-            v[P::dyn_factor],
-        ] {
-            assert!(x.is_finite(), "{c:?}: non-finite output at step {i}");
-        }
+        let outputs = [
+            P::lever_gamma,
+            P::elastic_F,
+            P::shaft_tau,
+            P::elastic_E_residual,
+            P::dyn_factor,
+        ];
+        assert_finite(&v, &outputs, || format!("{c:?} at step {i}"));
         r.gamma.push(v[P::lever_gamma]);
         r.f.push(v[P::elastic_F]);
         r.f_kin.push(v[P::roller_F_kin]);
@@ -126,16 +119,13 @@ fn run(c: &Case, stop: f64) -> Result<Run, String> {
 }
 
 /// Largest difference of two lever histories (rad), and of their peak contact forces (relative).
+/// (The contact only pushes: the peak is the largest value, not magnitude.)
 fn compare(a: &Run, b: &Run) -> (f64, f64) {
-    let dg = a
-        .gamma
-        .iter()
-        .zip(&b.gamma)
-        .map(|(x, y)| (x - y).abs())
-        .fold(0.0, f64::max);
-    let pa = a.f.iter().cloned().fold(0.0, f64::max);
-    let pb = b.f.iter().cloned().fold(0.0, f64::max);
-    (dg, (pa - pb).abs() / pb.max(1.0))
+    let (pa, pb) = (peak(&a.f), peak(&b.f));
+    (
+        max_abs_diff(&a.gamma, &b.gamma),
+        (pa - pb).abs() / pb.max(1.0),
+    )
 }
 
 /// Runs a case and its reference (radau5 at a tight tolerance, output at the same instants) and
@@ -344,7 +334,7 @@ fn no_liftoff_at_the_nominal_speed_liftoffs_and_impacts_above_the_rigid_threshol
     assert!(above.liftoffs >= 1, "{above:?}");
     // 130 rpm: lift-offs every turn, the landings hit harder than anything the rigid drive sees
     let r = run(&Case { rpm: 130.0, ..BASE }, 2.0 * 60.0 / 130.0).unwrap();
-    let rigid_peak = r.f_kin.iter().cloned().fold(0.0, f64::max);
+    let rigid_peak = peak(&r.f_kin);
     assert!(r.liftoffs >= 2, "{}", r.liftoffs);
     assert!(r.impact > rigid_peak, "{} vs {rigid_peak}", r.impact);
     assert!(r.k_d > 1.5, "{}", r.k_d);
@@ -399,13 +389,9 @@ fn a_stiff_contact_follows_the_kinetostatic_force() {
     };
     let r = run(&c, 60.0 / rpm + 0.05).unwrap();
     assert!((r.k_d - 1.0).abs() < 1e-2, "K_d {}", r.k_d);
-    let peak = r.f_kin.iter().cloned().fold(0.0, f64::max);
-    let dev =
-        r.f.iter()
-            .zip(&r.f_kin)
-            .map(|(a, b)| (a - b).abs())
-            .fold(0.0, f64::max);
-    assert!(dev < 2e-2 * peak, "{dev} of {peak}");
+    let kin_peak = peak(&r.f_kin);
+    let dev = max_abs_diff(&r.f, &r.f_kin);
+    assert!(dev < 2e-2 * kin_peak, "{dev} of {kin_peak}");
     // and at the nominal speed with the default contact K_d stays near 1 (no lift-off)
     let r = run(&BASE, 1.2).unwrap();
     assert!(r.k_d > 1.0 && r.k_d < 1.2, "K_d {}", r.k_d);
@@ -434,10 +420,7 @@ fn the_fmu_state_round_trips_through_save_and_restore() {
     m.restore_state(&saved).unwrap();
     v.raw_mut().copy_from_slice(&v_saved);
     let second = go(&mut m, &mut v);
-    assert_eq!(
-        first.iter().map(|x| x.to_bits()).collect::<Vec<_>>(),
-        second.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
-    );
+    assert_eq!(bits(&first), bits(&second));
     // a state of the wrong length is refused with a reason
     assert!(
         m.restore_state(&[1.0, 2.0])

@@ -8,6 +8,7 @@ use bindery_fmu::md;
 use bindery_fmu::mechanisms::geneva_knife_drive::model::{GenevaKnifeDrive, V};
 use bindery_fmu::model::Model;
 use bindery_fmu::model::{NoLog, Values, VarSet};
+use common::series::row_bits;
 use common::*;
 use std::f64::consts::PI;
 use std::ffi::CString;
@@ -31,14 +32,7 @@ const OUTPUTS: [V; 6] = [
 
 #[test]
 fn exports_every_fmi2_cs_function() {
-    let f = fmu();
-    for name in FMI2_CS_FUNCTIONS {
-        // SAFETY: only looks the symbol up.
-        assert!(
-            unsafe { f.lib.get::<*const ()>(name.as_bytes()) }.is_ok(),
-            "{name} missing"
-        );
-    }
+    fmu().assert_exports(FMI2_CS_FUNCTIONS);
     assert_eq!(FMI2_CS_FUNCTIONS.len(), 34);
 }
 
@@ -189,8 +183,7 @@ fn state_machine_is_enforced() {
 fn bad_calls_are_refused_and_lose_nothing() {
     let f = fmu();
     let s = f.slave("bad");
-    assert_eq!(s.setup(0.0, Some(1.0)), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    s.setup_and_init(0.0, Some(1.0));
     assert_eq!(s.set_real(&[vr(V::shaft_phi)], &[0.3]), Status::Ok);
     let before = s.get_real(&[vr(V::knife_s)]).1[0];
     // non-finite input: refused, previous value kept, instance continues
@@ -279,9 +272,7 @@ fn parameters_that_cannot_assemble_are_refused_naming_them() {
         let s = f.slave("refuse");
         assert_eq!(s.setup(0.0, None), Status::Ok);
         assert_eq!(s.set_integer(&[vr(v)], &[bad]), Status::Ok);
-        assert_eq!(s.call0("fmi2EnterInitializationMode"), Status::Ok);
-        assert_eq!(s.call0("fmi2ExitInitializationMode"), Status::Error);
-        let e = s.last_error();
+        let e = s.initialization_refusal();
         assert!(e.contains(name) && e.contains(&bad.to_string()), "{e}");
         // the host can correct it and go on
         assert_eq!(s.set_integer(&[vr(v)], &[4]), Status::Ok);
@@ -299,29 +290,20 @@ fn parameters_that_cannot_assemble_are_refused_naming_them() {
 
 /// Runs `n` steps of `h` at constant speed through the inputs, returning every output sample.
 fn run(s: &Slave, t0: f64, n: usize, h: f64) -> Vec<Vec<f64>> {
-    let vrs: Vec<u32> = OUTPUTS.iter().map(|&v| vr(v)).collect();
-    let mut rows = Vec::new();
-    let mut t = t0;
-    for _ in 0..n {
-        assert_eq!(
-            s.set_real(&[vr(V::shaft_phi), vr(V::shaft_w)], &[PI * t, PI]),
-            Status::Ok
-        );
-        let (st, y) = s.get_real(&vrs);
-        assert_eq!(st, Status::Ok);
-        rows.push(y);
-        assert_eq!(s.do_step(t, h), Status::Ok);
-        t += h;
-    }
-    rows
+    let reals: Vec<u32> = OUTPUTS.iter().map(|&v| vr(v)).collect();
+    let p = Probe {
+        inputs: &[vr(V::shaft_phi), vr(V::shaft_w)],
+        reals: &reals,
+        flags: &[],
+    };
+    sample_run(s, &p, t0, n, h, |t| vec![PI * t, PI])
 }
 
 #[test]
 fn outputs_match_the_model_computed_in_rust() {
     let f = fmu();
     let s = f.slave("run");
-    assert_eq!(s.setup(0.0, Some(4.0)), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    s.setup_and_init(0.0, Some(4.0));
     let rows = run(&s, 0.0, 400, 0.01);
     let mut m = GenevaKnifeDrive::prepare(&Values::start()).unwrap();
     let mut t = 0.0;
@@ -329,16 +311,7 @@ fn outputs_match_the_model_computed_in_rust() {
         let mut v = Values::<V>::start();
         v[V::shaft_phi] = PI * t;
         m.evaluate(&mut v, t, &mut NoLog);
-        for (j, &o) in OUTPUTS.iter().enumerate() {
-            assert_eq!(
-                row[j].to_bits(),
-                v[o].to_bits(),
-                "t = {t}, {:?}: {} vs {}",
-                o,
-                row[j],
-                v[o]
-            );
-        }
+        assert_row_is_the_models(t, &OUTPUTS, row, |o| v[o]);
         t += 0.01;
     }
     let (_, dwell) = s.get_boolean(&[vr(V::knife_dwell)]);
@@ -348,49 +321,33 @@ fn outputs_match_the_model_computed_in_rust() {
 #[test]
 fn reset_gives_a_run_identical_to_a_fresh_instance() {
     let f = fmu();
-    let fresh = f.slave("fresh");
-    assert_eq!(fresh.setup(0.0, None), Status::Ok);
-    assert_eq!(fresh.init(), Status::Ok);
+    let fresh = f.initialized("fresh");
     let a = run(&fresh, 0.0, 100, 0.013);
-    let s = f.slave("reset");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.set_real(&[vr(V::crank_r)], &[0.075]), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let other_crank = Start {
+        reals: &[(vr(V::crank_r), 0.075)],
+        ..Start::default()
+    };
+    let s = f.started("reset", &other_crank);
     let _ = run(&s, 0.0, 50, 0.02);
     assert_eq!(s.call0("fmi2Reset"), Status::Ok);
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    s.setup_and_init(0.0, None);
     let b = run(&s, 0.0, 100, 0.013);
-    let bits = |r: &Vec<Vec<f64>>| r.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&a), bits(&b));
+    assert_eq!(row_bits(&a), row_bits(&b));
 }
 
 #[test]
 fn fmu_state_round_trips_bit_identically() {
     let f = fmu();
-    let s = f.slave("state");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let s = f.initialized("state");
     let _ = run(&s, 0.0, 37, 0.01);
     let t1 = 0.37;
-    let mut st: FMUstate = std::ptr::null_mut();
-    assert_eq!(s.get_state(&mut st), Status::Ok);
-    let (ok, bytes) = s.serialize(st);
-    assert_eq!(ok, Status::Ok);
-    let after = run(&s, t1, 60, 0.01);
-    // back to the saved state: the same continuation, bit for bit
-    assert_eq!(s.set_state(st), Status::Ok);
-    let again = run(&s, t1, 60, 0.01);
-    let bits = |r: &Vec<Vec<f64>>| r.iter().flatten().map(|x| x.to_bits()).collect::<Vec<_>>();
-    assert_eq!(bits(&after), bits(&again));
-    // serialize -> deserialize -> serialize gives the same bytes, into a second instance too
+    // back to the saved state: the same continuation, bit for bit; serialize -> deserialize ->
+    // serialize gives the same bytes, into a second instance too
     let other = f.slave("other");
-    let mut st2: FMUstate = std::ptr::null_mut();
-    assert_eq!(other.deserialize(&bytes, &mut st2), Status::Ok);
-    assert_eq!(other.serialize(st2).1, bytes);
-    assert_eq!(other.set_state(st2), Status::Ok);
-    let third = run(&other, t1, 60, 0.01);
-    assert_eq!(bits(&after), bits(&third));
+    let replay = assert_state_replays(&s, &other, "GenevaKnifeDrive", |s| {
+        row_bits(&run(s, t1, 60, 0.01))
+    });
+    let bytes = &replay.bytes;
     // corrupt or truncated bytes are refused, nothing crashes
     let mut st3: FMUstate = std::ptr::null_mut();
     assert_eq!(
@@ -402,19 +359,19 @@ fn fmu_state_round_trips_bit_identically() {
     assert_eq!(other.deserialize(&junk, &mut st3), Status::Error);
     assert!(st3.is_null());
     // a state from another instance is not followed
-    assert_eq!(other.set_state(st), Status::Error);
-    assert_eq!(s.free_state(&mut st), Status::Ok);
-    assert!(st.is_null());
-    assert_eq!(other.free_state(&mut st2), Status::Ok);
+    assert_eq!(other.set_state(replay.saved), Status::Error);
+    replay.free(&s, &other);
 }
 
 #[test]
 fn constant_speed_mode_drives_itself() {
     let f = fmu();
-    let s = f.slave("cs");
-    assert_eq!(s.setup(0.0, Some(4.0)), Status::Ok);
-    assert_eq!(s.set_integer(&[vr(V::drive_mode)], &[2]), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let constant_speed = Start {
+        stop: Some(4.0),
+        integers: &[(vr(V::drive_mode), 2)],
+        ..Start::default()
+    };
+    let s = f.started("cs", &constant_speed);
     let h = 0.3 / PI; // shaft angle 0.3 rad at 30 rpm
     assert_eq!(s.do_step(0.0, h), Status::Ok);
     let (_, y) = s.get_real(&[vr(V::cross_gamma), vr(V::knife_s)]);

@@ -9,16 +9,8 @@ mod common;
 
 use bindery_fmu::catalog::{self, Entry};
 use bindery_fmu::fmi2::types::*;
-use bindery_fmu::model::{Causality, VarType};
+use common::series::bits;
 use common::*;
-
-fn vr_of(e: &Entry, name: &str) -> u32 {
-    (e.variables)()
-        .into_iter()
-        .find(|(_, v)| v.name == name)
-        .unwrap_or_else(|| panic!("{}: no variable {name}", e.identifier))
-        .0
-}
 
 /// How the host tells the FMU about the shaft between communication points.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -76,16 +68,12 @@ fn run(f: &Fmu, e: &Entry, host: Host, h: f64, n: usize) -> Vec<Vec<f64>> {
     }
     assert_eq!(s.call0("fmi2ExitInitializationMode"), Status::Ok);
     // every Real output: positions, forces, the elastodynamic ones (whatever the FMU names them)
-    let outs: Vec<u32> = (e.variables)()
-        .into_iter()
-        .filter(|(_, v)| v.causality == Causality::Output && v.ty == VarType::Real)
-        .map(|(vr, _)| vr)
-        .collect();
+    let outs: Vec<u32> = real_outputs_of(e);
     let mut rows = vec![];
     for i in 0..n {
         let t = i as f64 * h;
         let (p, wt) = at(t);
-        let ok = |st: Status, what: &str| assert_eq!(st, Status::Ok, "{what}: {:?}", s.logs());
+        let ok = |st: Status, what: &str| s.ok(st, what);
         match host {
             Host::Values => ok(s.set_real(&[phi, w, a], &[p, wt, alpha]), "values"),
             Host::PhiDerivatives => {
@@ -125,11 +113,7 @@ fn run(f: &Fmu, e: &Entry, host: Host, h: f64, n: usize) -> Vec<Vec<f64>> {
 /// The largest difference between two runs, relative to each output's range in `b`, the
 /// output where it is, and how many outputs differ by more than 1 % of their range.
 fn max_rel_diff(e: &Entry, a: &[Vec<f64>], b: &[Vec<f64>]) -> (f64, &'static str, usize) {
-    let names: Vec<&'static str> = (e.variables)()
-        .into_iter()
-        .filter(|(_, v)| v.causality == Causality::Output && v.ty == VarType::Real)
-        .map(|(_, v)| v.name)
-        .collect();
+    let names: Vec<&'static str> = real_output_names_of(e);
     let mut worst = (0.0, "", 0);
     for (j, name) in names.iter().enumerate() {
         let scale = b.iter().fold(0.0f64, |m, r| m.max(r[j].abs())).max(1e-9);
@@ -154,7 +138,7 @@ fn shaft_phi_with_its_derivatives_drives_as_well_as_shaft_w_and_shaft_a() {
         if !(e.info)().can_interpolate_inputs {
             continue;
         }
-        let f = Fmu::load(e.identifier, &(e.describe)().1);
+        let f = Fmu::of(&e);
         let (h, n) = (0.05, 40);
         let reference = run(&f, &e, Host::Values, h, n);
         for host in [Host::PhiDerivatives, Host::PhiAndWDerivatives] {
@@ -198,14 +182,12 @@ fn derivatives_expire_after_the_step_and_travel_with_fmu_states() {
         if !(e.info)().can_interpolate_inputs {
             continue;
         }
-        let f = Fmu::load(e.identifier, &(e.describe)().1);
-        let s = f.slave("expire");
-        assert_eq!(s.setup(0.0, None), Status::Ok);
-        assert_eq!(
-            s.set_integer(&[vr_of(&e, "model.fidelity")], &[3]),
-            Status::Ok
-        );
-        assert_eq!(s.init(), Status::Ok);
+        let f = Fmu::of(&e);
+        let elastodynamic = Start {
+            integers: &[(vr_of(&e, "model.fidelity"), 3)],
+            ..Start::default()
+        };
+        let s = f.started("expire", &elastodynamic);
         let (phi, w, a) = (
             vr_of(&e, "shaft.phi"),
             vr_of(&e, "shaft.w"),
@@ -233,15 +215,11 @@ fn derivatives_expire_after_the_step_and_travel_with_fmu_states() {
         let (_, consumed) = s.serialize(st2);
         assert!(consumed.len() < bytes.len(), "expired after the step");
         // a restored state repeats the step exactly
-        let outs: Vec<u32> = (e.variables)()
-            .into_iter()
-            .filter(|(_, v)| v.causality == Causality::Output && v.ty == VarType::Real)
-            .map(|(vr, _)| vr)
-            .collect();
+        let outs: Vec<u32> = real_outputs_of(&e);
         let out = |s: &Slave| {
             let (st, y) = s.get_real(&outs);
             assert_eq!(st, Status::Ok);
-            y.iter().map(|x| x.to_bits()).collect::<Vec<_>>()
+            bits(&y)
         };
         let f1 = out(&s);
         assert_eq!(s.set_state(st), Status::Ok);

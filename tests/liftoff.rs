@@ -2,18 +2,12 @@
 //! spring lets the perforators' roller lift off the ramp; the FMU model, stepped through whole
 //! turns, flags lift-off just above it and none just below.
 
-use bindery_fmu::mechanisms::perforators::model::{Perforators, V};
-use bindery_fmu::model::{Log, Model, Severity, Values};
-use std::f64::consts::PI;
+mod common;
 
-struct Warnings(usize);
-impl Log for Warnings {
-    fn log(&mut self, s: Severity, _: &str) {
-        if s == Severity::Warning {
-            self.0 += 1;
-        }
-    }
-}
+use bindery_fmu::mechanisms::perforators::model::{Perforators, V};
+use bindery_fmu::model::{Model, Values};
+use common::series::Warnings;
+use std::f64::consts::PI;
 
 /// Two turns at `rpm`, steps of 0.1 deg: (lift-off flagged at some step, warnings, F_margin).
 fn two_turns(rpm: f64) -> (bool, usize, f64) {
@@ -21,7 +15,7 @@ fn two_turns(rpm: f64) -> (bool, usize, f64) {
     let mut m = Perforators::prepare(&v).unwrap();
     let w = rpm * PI / 30.0;
     let h = 0.1f64.to_radians() / w;
-    let mut log = Warnings(0);
+    let mut log = Warnings::default();
     let mut lost = false;
     let mut t = 0.0;
     for _ in 0..7200 {
@@ -33,7 +27,7 @@ fn two_turns(rpm: f64) -> (bool, usize, f64) {
         m.evaluate(&mut v, t, &mut log);
         lost |= v.flag(V::roller_lost_contact);
     }
-    (lost, log.0, v[V::roller_F_margin])
+    (lost, log.0.len(), v[V::roller_F_margin])
 }
 
 #[test]

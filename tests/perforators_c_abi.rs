@@ -8,6 +8,7 @@ use bindery_fmu::fmi2::types::*;
 use bindery_fmu::md;
 use bindery_fmu::mechanisms::perforators::model::{Perforators, V};
 use bindery_fmu::model::{Model, NoLog, Values, VarSet};
+use common::series::row_bits;
 use common::*;
 use std::f64::consts::PI;
 
@@ -16,6 +17,17 @@ const H: f64 = 0.002;
 
 fn fmu() -> Fmu {
     Fmu::load("Perforators", &md::describe::<Perforators>().1)
+}
+
+/// An instance started at `time` with a spring preload of 0.5 N m (spring.M0): too weak to
+/// keep the roller on the ramp at the nominal speed.
+fn weak_spring<'a>(f: &'a Fmu, name: &str, time: f64) -> Slave<'a> {
+    let start = Start {
+        time,
+        reals: &[(V::spring_M0.vr(), 0.5)],
+        ..Start::default()
+    };
+    f.started(name, &start)
 }
 
 const OUTPUTS: [V; 10] = [
@@ -31,36 +43,27 @@ const OUTPUTS: [V; 10] = [
     V::shaft_tau,
 ];
 
-fn run(s: &Slave, t0: f64, n: usize) -> (Vec<Vec<f64>>, Vec<bool>) {
-    let vrs: Vec<u32> = OUTPUTS.iter().map(|v| v.vr()).collect();
-    let (mut rows, mut flags) = (Vec::new(), Vec::new());
-    let mut t = t0;
-    for _ in 0..n {
-        assert_eq!(
-            s.set_real(&[V::shaft_phi.vr(), V::shaft_w.vr()], &[W * t, W]),
-            Status::Ok
-        );
-        let (st, y) = s.get_real(&vrs);
-        assert_eq!(st, Status::Ok);
-        rows.push(y);
-        flags.push(s.get_boolean(&[V::roller_lost_contact.vr()]).1[0]);
-        assert_eq!(s.do_step(t, H), Status::Ok);
-        t += H;
-    }
-    (rows, flags)
+/// Every output of [`OUTPUTS`] and, last, `roller.lost_contact` (0 or 1) per sample.
+fn run(s: &Slave, t0: f64, n: usize) -> Vec<Vec<f64>> {
+    let reals: Vec<u32> = OUTPUTS.iter().map(|v| v.vr()).collect();
+    let p = Probe {
+        inputs: &[V::shaft_phi.vr(), V::shaft_w.vr()],
+        reals: &reals,
+        flags: &[V::roller_lost_contact.vr()],
+    };
+    sample_run(s, &p, t0, n, H, |t| vec![W * t, W])
 }
 
-fn bits(r: &[Vec<f64>]) -> Vec<u64> {
-    r.iter().flatten().map(|x| x.to_bits()).collect()
+/// Whether a sample of [`run`] has the roller off the ramp.
+fn lost_contact(row: &[f64]) -> bool {
+    row[OUTPUTS.len()] == 1.0
 }
 
 #[test]
 fn outputs_match_the_model_computed_in_rust() {
     let f = fmu();
-    let s = f.slave("run");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
-    let (rows, _) = run(&s, 0.0, 700);
+    let s = f.initialized("run");
+    let rows = run(&s, 0.0, 700);
     let mut v = Values::<V>::start();
     let mut m = Perforators::prepare(&v).unwrap();
     let mut t = 0.0;
@@ -68,15 +71,7 @@ fn outputs_match_the_model_computed_in_rust() {
         v[V::shaft_phi] = W * t;
         v[V::shaft_w] = W;
         m.evaluate(&mut v, t, &mut NoLog);
-        for (j, &o) in OUTPUTS.iter().enumerate() {
-            assert_eq!(
-                row[j].to_bits(),
-                v[o].to_bits(),
-                "t = {t}, {o:?}: {} vs {}",
-                row[j],
-                v[o]
-            );
-        }
+        assert_row_is_the_models(t, &OUTPUTS, row, |o| v[o]);
         m.do_step(&mut v, t, H, &mut NoLog).unwrap();
         t += H;
     }
@@ -86,10 +81,13 @@ fn outputs_match_the_model_computed_in_rust() {
 fn calculated_parameters_are_the_papers() {
     let f = fmu();
     for (mode, gamma_sum) in [(1, 28.93), (2, 28.27)] {
-        let s = f.slave("synth");
-        assert_eq!(s.setup(0.0, None), Status::Ok);
-        assert_eq!(s.set_integer(&[V::synth_mode.vr()], &[mode]), Status::Ok);
-        assert_eq!(s.init(), Status::Ok);
+        let s = f.started(
+            "synth",
+            &Start {
+                integers: &[(V::synth_mode.vr(), mode)],
+                ..Start::default()
+            },
+        );
         let vrs = [
             V::synth_nu,
             V::synth_gamma_sum,
@@ -125,9 +123,7 @@ fn bad_parameters_are_refused_naming_them() {
         let s = f.slave("refuse");
         assert_eq!(s.setup(0.0, None), Status::Ok);
         assert_eq!(s.set_real(&[v.vr()], &[bad]), Status::Ok);
-        assert_eq!(s.call0("fmi2EnterInitializationMode"), Status::Ok);
-        assert_eq!(s.call0("fmi2ExitInitializationMode"), Status::Error);
-        let e = s.last_error();
+        let e = s.initialization_refusal();
         assert!(e.contains(name) && e.contains(&bad.to_string()), "{e}");
     }
 }
@@ -135,12 +131,9 @@ fn bad_parameters_are_refused_naming_them() {
 #[test]
 fn lift_off_is_logged_as_a_warning_not_an_error() {
     let f = fmu();
-    let s = f.slave("weak");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.set_real(&[V::spring_M0.vr()], &[0.5]), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
-    let (rows, flags) = run(&s, 0.0, 500);
-    assert!(flags.iter().any(|&b| b));
+    let s = weak_spring(&f, "weak", 0.0);
+    let rows = run(&s, 0.0, 500);
+    assert!(rows.iter().any(|r| lost_contact(r)));
     let warn: Vec<_> = s
         .logs()
         .into_iter()
@@ -156,34 +149,17 @@ fn lift_off_is_logged_as_a_warning_not_an_error() {
 #[test]
 fn fmu_state_round_trips_with_the_cycle_state() {
     let f = fmu();
-    let s = f.slave("state");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.set_real(&[V::spring_M0.vr()], &[0.5]), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let s = weak_spring(&f, "state", 0.0);
     // past a full turn, so F_margin comes from the saved per-cycle state
     let _ = run(&s, 0.0, 400);
     let t1 = 400.0 * H;
-    let mut st: FMUstate = std::ptr::null_mut();
-    assert_eq!(s.get_state(&mut st), Status::Ok);
-    let (_, bytes) = s.serialize(st);
-    let after = run(&s, t1, 200);
-    assert_eq!(s.set_state(st), Status::Ok);
-    let again = run(&s, t1, 200);
-    assert_eq!(bits(&after.0), bits(&again.0));
-    assert_eq!(after.1, again.1);
+    // the outputs and the lift-off flag, bit for bit
     let other = f.slave("other");
-    let mut st2: FMUstate = std::ptr::null_mut();
-    assert_eq!(other.deserialize(&bytes, &mut st2), Status::Ok);
-    assert_eq!(other.set_state(st2), Status::Ok);
-    let third = run(&other, t1, 200);
-    assert_eq!(bits(&after.0), bits(&third.0));
+    let replay = assert_state_replays(&s, &other, "Perforators", |s| row_bits(&run(s, t1, 200)));
     // a fresh instance at the same time without the cycle state differs in F_margin
-    let fresh = f.slave("fresh");
-    assert_eq!(fresh.setup(t1, None), Status::Ok);
-    assert_eq!(fresh.set_real(&[V::spring_M0.vr()], &[0.5]), Status::Ok);
-    assert_eq!(fresh.init(), Status::Ok);
+    let fresh = weak_spring(&f, "fresh", t1);
     let cold = run(&fresh, t1, 1);
-    assert_ne!(cold.0[0][5].to_bits(), after.0[0][5].to_bits());
-    assert_eq!(s.free_state(&mut st), Status::Ok);
-    assert_eq!(other.free_state(&mut st2), Status::Ok);
+    // (index 5: F_margin of the first sample)
+    assert_ne!(cold[0][5].to_bits(), replay.run[5]);
+    replay.free(&s, &other);
 }

@@ -12,9 +12,6 @@ use bindery_fmu::scene::{Drive, RESOURCE_NAME, Scene, Tailored};
 use common::{Fmu, Slave};
 use std::ffi::CString;
 use std::path::{Path, PathBuf};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-static ENV: AtomicUsize = AtomicUsize::new(1_000_000);
 
 fn examples() -> Vec<PathBuf> {
     let mut files: Vec<PathBuf> =
@@ -36,18 +33,9 @@ fn resources(tag: &str, text: &str) -> (PathBuf, CString) {
     (dir, uri)
 }
 
-/// fmi2Instantiate (co-simulation) with a resource location; NULL if refused.
+/// fmi2Instantiate (co-simulation) with a resource location; panics with the log if refused.
 fn instantiate<'a>(fmu: &'a Fmu, guid: &str, uri: &CString) -> Option<Slave<'a>> {
-    let env = ENV.fetch_add(1, Ordering::SeqCst);
-    let f = fmu.callbacks(env);
-    let g = CString::new(guid).unwrap();
-    let c = fmu.instantiate_raw(
-        c"scene".as_ptr(),
-        FmuType::CoSimulation,
-        g.as_ptr(),
-        uri.as_ptr(),
-        &f,
-    );
+    let (c, env) = fmu.instantiate_at(c"scene", FmuType::CoSimulation, guid, uri);
     if c.is_null() {
         let logs = common::logs_of(env);
         panic!("refused: {logs:?}");
@@ -57,16 +45,7 @@ fn instantiate<'a>(fmu: &'a Fmu, guid: &str, uri: &CString) -> Option<Slave<'a>>
 
 /// The last error an instantiation with this GUID and scene logs (it must be refused).
 fn refusal(fmu: &Fmu, guid: &str, uri: &CString) -> String {
-    let env = ENV.fetch_add(1, Ordering::SeqCst);
-    let f = fmu.callbacks(env);
-    let g = CString::new(guid).unwrap();
-    let c = fmu.instantiate_raw(
-        c"scene".as_ptr(),
-        FmuType::CoSimulation,
-        g.as_ptr(),
-        uri.as_ptr(),
-        &f,
-    );
+    let (c, env) = fmu.instantiate_at(c"scene", FmuType::CoSimulation, guid, uri);
     assert!(c.is_null(), "instantiated");
     common::logs_of(env)
         .into_iter()
@@ -131,7 +110,7 @@ fn every_example_scene_equals_the_full_fmu_bit_for_bit() {
             .into_iter()
             .map(|(_, v)| v.clone())
             .collect();
-        let fmu = Fmu::load(entry.identifier, &(entry.describe)().1);
+        let fmu = Fmu::of(&entry);
         let full = fmu.slave("full");
         let (_dir, uri) = resources(&t.identifier, &text);
         let tail = instantiate(&fmu, &t.guid, &uri).unwrap();
@@ -255,7 +234,7 @@ fn reset_and_fmu_states_keep_the_scene() {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/perforators-ramp-contact.toml");
     let text = std::fs::read_to_string(&path).unwrap();
     let (entry, t) = catalog::tailor(&Scene::parse(&text).unwrap()).unwrap();
-    let fmu = Fmu::load(entry.identifier, &(entry.describe)().1);
+    let fmu = Fmu::of(&entry);
     let (_dir, uri) = resources("reset", &text);
     let s = instantiate(&fmu, &t.guid, &uri).unwrap();
     let vr = t
@@ -272,14 +251,10 @@ fn reset_and_fmu_states_keep_the_scene() {
         }
         out
     };
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    s.setup_and_init(0.0, None);
     let first = run(&s, 50);
     // a saved state restores the scene's run (its stages and start values included)
-    let mut saved: FMUstate = std::ptr::null_mut();
-    assert_eq!(s.get_state(&mut saved), Status::Ok);
-    let (st, bytes) = s.serialize(saved);
-    assert_eq!(st, Status::Ok);
+    let (mut saved, bytes) = s.save_state();
     let later = |s: &Slave| -> Vec<u64> {
         (50..80)
             .map(|k| {
@@ -291,16 +266,14 @@ fn reset_and_fmu_states_keep_the_scene() {
     let a = later(&s);
     assert_eq!(s.set_state(saved), Status::Ok);
     assert_eq!(later(&s), a);
-    let mut back: FMUstate = std::ptr::null_mut();
-    assert_eq!(s.deserialize(&bytes, &mut back), Status::Ok);
+    let mut back = s.deserialized(&bytes);
     assert_eq!(s.set_state(back), Status::Ok);
     assert_eq!(later(&s), a);
     assert_eq!(s.free_state(&mut saved), Status::Ok);
     assert_eq!(s.free_state(&mut back), Status::Ok);
     // reset: the scene's start values again, and still only its variables
     assert_eq!(s.call0("fmi2Reset"), Status::Ok);
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    s.setup_and_init(0.0, None);
     assert_eq!(run(&s, 50), first);
     let hidden = shaft::PHI; // constant_speed: the shaft inputs are left out
     assert_eq!(s.set_real(&[hidden], &[1.0]), Status::Error);
@@ -316,18 +289,9 @@ fn a_scene_without_states_refuses_model_exchange() {
         Path::new(env!("CARGO_MANIFEST_DIR")).join("scenes/geneva-side-knife-kinematics.toml");
     let text = std::fs::read_to_string(&path).unwrap();
     let (entry, t) = catalog::tailor(&Scene::parse(&text).unwrap()).unwrap();
-    let fmu = Fmu::load(entry.identifier, &(entry.describe)().1);
+    let fmu = Fmu::of(&entry);
     let (_dir, uri) = resources("me", &text);
-    let env = ENV.fetch_add(1, Ordering::SeqCst);
-    let f = fmu.callbacks(env);
-    let g = CString::new(t.guid.clone()).unwrap();
-    let c = fmu.instantiate_raw(
-        c"me".as_ptr(),
-        FmuType::ModelExchange,
-        g.as_ptr(),
-        uri.as_ptr(),
-        &f,
-    );
+    let (c, env) = fmu.instantiate_at(c"me", FmuType::ModelExchange, &t.guid, &uri);
     assert!(c.is_null());
     let logs = common::logs_of(env);
     assert!(

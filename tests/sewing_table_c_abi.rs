@@ -7,6 +7,7 @@ use bindery_fmu::fmi2::types::*;
 use bindery_fmu::md;
 use bindery_fmu::mechanisms::sewing_table::model::{SewingTable, V};
 use bindery_fmu::model::{Model, NoLog, Values, VarSet};
+use common::series::row_bits;
 use common::*;
 use std::f64::consts::PI;
 
@@ -34,31 +35,19 @@ fn f_ext(t: f64) -> f64 {
 }
 
 fn run(s: &Slave, t0: f64, n: usize, h: f64) -> Vec<Vec<f64>> {
-    let vrs: Vec<u32> = OUTPUTS.iter().map(|v| v.vr()).collect();
-    let mut rows = Vec::new();
-    let mut t = t0;
-    for _ in 0..n {
-        let ins = [V::shaft_phi.vr(), V::shaft_w.vr(), V::table_F_ext.vr()];
-        assert_eq!(s.set_real(&ins, &[W * t, W, f_ext(t)]), Status::Ok);
-        let (st, y) = s.get_real(&vrs);
-        assert_eq!(st, Status::Ok);
-        rows.push(y);
-        assert_eq!(s.do_step(t, h), Status::Ok);
-        t += h;
-    }
-    rows
-}
-
-fn bits(r: &[Vec<f64>]) -> Vec<u64> {
-    r.iter().flatten().map(|x| x.to_bits()).collect()
+    let reals: Vec<u32> = OUTPUTS.iter().map(|v| v.vr()).collect();
+    let p = Probe {
+        inputs: &[V::shaft_phi.vr(), V::shaft_w.vr(), V::table_F_ext.vr()],
+        reals: &reals,
+        flags: &[],
+    };
+    sample_run(s, &p, t0, n, h, |t| vec![W * t, W, f_ext(t)])
 }
 
 #[test]
 fn outputs_match_the_model_computed_in_rust() {
     let f = fmu();
-    let s = f.slave("run");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let s = f.initialized("run");
     let rows = run(&s, 0.0, 300, 0.002);
     let mut m = SewingTable::prepare(&Values::start()).unwrap();
     let mut t = 0.0;
@@ -67,15 +56,7 @@ fn outputs_match_the_model_computed_in_rust() {
         v[V::shaft_phi] = W * t;
         v[V::table_F_ext] = f_ext(t);
         m.evaluate(&mut v, t, &mut NoLog);
-        for (j, &o) in OUTPUTS.iter().enumerate() {
-            assert_eq!(
-                row[j].to_bits(),
-                v[o].to_bits(),
-                "t = {t}, {o:?}: {} vs {}",
-                row[j],
-                v[o]
-            );
-        }
+        assert_row_is_the_models(t, &OUTPUTS, row, |o| v[o]);
         t += 0.002;
     }
     let (_, phase) = s.get_integer(&[V::table_phase.vr()]);
@@ -85,9 +66,7 @@ fn outputs_match_the_model_computed_in_rust() {
 #[test]
 fn calculated_parameters_are_the_papers() {
     let f = fmu();
-    let s = f.slave("synth");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let s = f.initialized("synth");
     let names = [
         V::synth_alpha1,
         V::synth_A1A2,
@@ -126,9 +105,7 @@ fn bad_parameters_are_refused_naming_them() {
     let s = f.slave("undercut");
     assert_eq!(s.setup(0.0, None), Status::Ok);
     assert_eq!(s.set_real(&[V::cam_R0.vr()], &[0.02]), Status::Ok);
-    assert_eq!(s.call0("fmi2EnterInitializationMode"), Status::Ok);
-    assert_eq!(s.call0("fmi2ExitInitializationMode"), Status::Error);
-    let e = s.last_error();
+    let e = s.initialization_refusal();
     assert!(
         e.contains("cam.R0")
             && e.contains("0.02")
@@ -157,21 +134,11 @@ fn bad_parameters_are_refused_naming_them() {
 #[test]
 fn fmu_state_round_trips() {
     let f = fmu();
-    let s = f.slave("state");
-    assert_eq!(s.setup(0.0, None), Status::Ok);
-    assert_eq!(s.init(), Status::Ok);
+    let s = f.initialized("state");
     let _ = run(&s, 0.0, 37, 0.002);
-    let mut st: FMUstate = std::ptr::null_mut();
-    assert_eq!(s.get_state(&mut st), Status::Ok);
-    let (_, bytes) = s.serialize(st);
-    let after = run(&s, 0.074, 80, 0.002);
-    assert_eq!(s.set_state(st), Status::Ok);
-    assert_eq!(bits(&after), bits(&run(&s, 0.074, 80, 0.002)));
     let other = f.slave("other");
-    let mut st2: FMUstate = std::ptr::null_mut();
-    assert_eq!(other.deserialize(&bytes, &mut st2), Status::Ok);
-    assert_eq!(other.set_state(st2), Status::Ok);
-    assert_eq!(bits(&after), bits(&run(&other, 0.074, 80, 0.002)));
-    assert_eq!(s.free_state(&mut st), Status::Ok);
-    assert_eq!(other.free_state(&mut st2), Status::Ok);
+    assert_state_replays(&s, &other, "SewingTable", |s| {
+        row_bits(&run(s, 0.074, 80, 0.002))
+    })
+    .free(&s, &other);
 }

@@ -11,28 +11,14 @@
 //! the Perforators' lever on its ramp contact (1e8, 1e10 N/m; damping ratio 0, 0.01, 1) over the
 //! needles' rise and piercing: the deflections agree to 3 % of their scale.
 
+mod common;
+
 use bindery_fmu::mechanisms::geneva_knife_drive::elastic::KnifeOde;
 use bindery_fmu::mechanisms::geneva_knife_drive::physics::Params;
-use bindery_fmu::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use bindery_fmu::solver::{Method, Settings, ShaftPath};
+use common::ode::{Library, assert_agrees_with_library, max_diff_at, ours_on_grid};
 use differential_equations::prelude::*;
 use std::cell::Cell;
-
-struct Lib<'a>(KnifeOde<'a>);
-
-impl ODE<f64, [f64; 3]> for Lib<'_> {
-    fn diff(&self, t: f64, y: &[f64; 3], dydt: &mut [f64; 3]) {
-        self.0.rhs(t, y, dydt);
-    }
-    fn jacobian(&self, t: f64, y: &[f64; 3], j: &mut Matrix<f64>) {
-        let mut a = [0.0; 9];
-        self.0.jacobian(t, y, &mut a);
-        for r in 0..3 {
-            for c in 0..3 {
-                j[(r, c)] = a[r * 3 + c];
-            }
-        }
-    }
-}
 
 fn ode(p: &Params, k: f64, zeta: f64) -> KnifeOde<'_> {
     KnifeOde {
@@ -48,80 +34,34 @@ fn ode(p: &Params, k: f64, zeta: f64) -> KnifeOde<'_> {
 
 const STOP: f64 = 0.23; // cut-through is at 0.236 s
 
-fn ours(p: &Params, k: f64, zeta: f64, method: Method) -> Vec<f64> {
-    let o = ode(p, k, zeta);
-    let mut y = o.initial_state(0.0);
-    let mut it = Integrator::new(Settings {
+/// Our integrator's settings for the cross-checks (`atol` resolving the compliance).
+fn settings(method: Method, atol: f64) -> Settings {
+    Settings {
         method,
         rtol: 1e-8,
-        atol: 1e-11,
+        atol,
         max_step: 1e-3,
         max_steps: 1_000_000,
-    });
-    let n = (STOP / 1e-3).round() as usize;
-    let mut out = vec![y[0]];
-    for i in 0..n {
-        let (a, b) = (i as f64 * 1e-3, (i + 1) as f64 * 1e-3);
-        it.integrate(&o, a, b, &mut y).unwrap();
-        out.push(y[0]);
     }
-    out
 }
 
 #[test]
 fn radau5_and_auto_agree_with_differential_equations_on_every_stiff_case() {
     let p = Params::default();
-    let t_eval: Vec<f64> = (0..=(STOP / 1e-3).round() as usize)
-        .map(|i| i as f64 * 1e-3)
-        .collect();
-    for k in [1e8, 1e10, 1e12] {
-        for zeta in [0.0, 0.01, 1.0] {
-            let o = ode(&p, k, zeta);
-            let y0 = o.initial_state(0.0);
-            let lib = Lib(ode(&p, k, zeta));
-            let reference = IVP::ode(&lib, 0.0, STOP, y0)
-                .t_eval(&t_eval)
-                .method(ImplicitRungeKutta::radau5().rtol(1e-10).atol(1e-13))
-                .solve()
-                .unwrap_or_else(|e| panic!("library radau5 k = {k}, zeta = {zeta}: {e:?}"));
-            let lib_x: Vec<(usize, f64)> = reference
-                .iter()
-                .map(|(t, y)| ((t / 1e-3).round() as usize, y[0]))
-                .collect();
-            assert!(lib_x.len() + 1 >= t_eval.len());
-            for method in [Method::Radau5, Method::Auto] {
-                let x = ours(&p, k, zeta, method);
-                let d = lib_x
-                    .iter()
-                    .map(|&(i, b)| (x[i] - b).abs())
-                    .fold(0.0, f64::max);
-                assert!(d < 1e-7, "k = {k}, zeta = {zeta}, {method:?}: {d:e} m");
-            }
-        }
-    }
+    assert_agrees_with_library(
+        |k, zeta| ode(&p, k, zeta),
+        |o| o.initial_state(0.0),
+        |method| settings(method, 1e-11),
+        (STOP, 1e-3),
+        1e-13,
+        1e-7,
+    );
 }
 
 // ---- DiscKnifeDrive: the compliant rod ---------------------------------------------------
 
 use bindery_fmu::mechanisms::disc_knife_drive::elastic::{RodOde, dead_point_threshold};
 use bindery_fmu::mechanisms::disc_knife_drive::physics::Params as DiscParams;
-
-struct DiscLib<'a>(RodOde<'a>);
-
-impl ODE<f64, [f64; 3]> for DiscLib<'_> {
-    fn diff(&self, t: f64, y: &[f64; 3], dydt: &mut [f64; 3]) {
-        self.0.rhs(t, y, dydt);
-    }
-    fn jacobian(&self, t: f64, y: &[f64; 3], j: &mut Matrix<f64>) {
-        let mut a = [0.0; 9];
-        self.0.jacobian(t, y, &mut a);
-        for r in 0..3 {
-            for c in 0..3 {
-                j[(r, c)] = a[r * 3 + c];
-            }
-        }
-    }
-}
 
 fn disc_ode(p: &DiscParams, k: f64, zeta: f64) -> RodOde<'_> {
     RodOde {
@@ -139,79 +79,23 @@ fn disc_ode(p: &DiscParams, k: f64, zeta: f64) -> RodOde<'_> {
 const DISC_STOP: f64 = 0.012;
 const DISC_DT: f64 = 5e-4;
 
-fn disc_ours(p: &DiscParams, k: f64, zeta: f64, method: Method) -> Vec<f64> {
-    let o = disc_ode(p, k, zeta);
-    let mut y = o.initial_state(0.0);
-    let mut it = Integrator::new(Settings {
-        method,
-        rtol: 1e-8,
-        atol: 1e-13,
-        max_step: 1e-3,
-        max_steps: 1_000_000,
-    });
-    let n = (DISC_STOP / DISC_DT).round() as usize;
-    let mut out = vec![y[0]];
-    for i in 0..n {
-        let (a, b) = (i as f64 * DISC_DT, (i + 1) as f64 * DISC_DT);
-        it.integrate(&o, a, b, &mut y).unwrap();
-        out.push(y[0]);
-    }
-    out
-}
-
 #[test]
 fn disc_knife_rod_radau5_and_auto_agree_with_differential_equations() {
     let p = DiscParams::default();
-    let n = (DISC_STOP / DISC_DT).round() as usize;
-    let t_eval: Vec<f64> = (0..=n).map(|i| i as f64 * DISC_DT).collect();
-    for k in [1e8, 1e10, 1e12] {
-        for zeta in [0.0, 0.01, 1.0] {
-            let o = disc_ode(&p, k, zeta);
-            let y0 = o.initial_state(0.0);
-            let lib = DiscLib(disc_ode(&p, k, zeta));
-            let reference = IVP::ode(&lib, 0.0, DISC_STOP, y0)
-                .t_eval(&t_eval)
-                .method(ImplicitRungeKutta::radau5().rtol(1e-10).atol(1e-14))
-                .solve()
-                .unwrap_or_else(|e| panic!("library radau5 k = {k}, zeta = {zeta}: {e:?}"));
-            let lib_x: Vec<(usize, f64)> = reference
-                .iter()
-                .map(|(t, y)| ((t / DISC_DT).round() as usize, y[0]))
-                .collect();
-            assert!(lib_x.len() + 1 >= t_eval.len());
-            for method in [Method::Radau5, Method::Auto] {
-                let x = disc_ours(&p, k, zeta, method);
-                let d = lib_x
-                    .iter()
-                    .map(|&(i, b)| (x[i] - b).abs())
-                    .fold(0.0, f64::max);
-                assert!(d < 1e-8, "k = {k}, zeta = {zeta}, {method:?}: {d:e} m");
-            }
-        }
-    }
+    assert_agrees_with_library(
+        |k, zeta| disc_ode(&p, k, zeta),
+        |o| o.initial_state(0.0),
+        |method| settings(method, 1e-13),
+        (DISC_STOP, DISC_DT),
+        1e-14,
+        1e-8,
+    );
 }
 
 // ---- Perforators: the lever on the ramp through the unilateral contact -------------------------
 
 use bindery_fmu::mechanisms::perforators::elastic::{Contact, ContactLaw, LeverOde, Track};
 use bindery_fmu::mechanisms::perforators::physics::{Drive, Params as PerfParams};
-
-struct LibLever<'a>(LeverOde<'a>);
-
-impl ODE<f64, [f64; 3]> for LibLever<'_> {
-    fn diff(&self, t: f64, y: &[f64; 3], dydt: &mut [f64; 3]) {
-        self.0.rhs(t, y, dydt);
-    }
-    fn jacobian(&self, t: f64, y: &[f64; 3], j: &mut Matrix<f64>) {
-        let mut a = [0.0; 9];
-        self.0.jacobian(t, y, &mut a);
-        for r in 0..3 {
-            for c in 0..3 {
-                j[(r, c)] = a[r * 3 + c];
-            }
-        }
-    }
-}
 
 fn lever(d: &Drive, k: f64, zeta: f64) -> LeverOde<'_> {
     LeverOde {
@@ -248,7 +132,7 @@ fn perforators_radau5_and_auto_agree_with_differential_equations_on_stiff_contac
             let scale = 100.0 / k / 0.04;
             // the library's dense output is of low order between its long stiff steps: it
             // integrates each millisecond on its own, from where the last one ended
-            let lib = LibLever(lever(&d, k, zeta));
+            let lib = Library(lever(&d, k, zeta));
             let mut yl = y0;
             let mut lib_q = vec![];
             for i in 0..n {
@@ -262,27 +146,18 @@ fn perforators_radau5_and_auto_agree_with_differential_equations_on_stiff_contac
             }
             for method in [Method::Radau5, Method::Auto] {
                 let o = lever(&d, k, zeta);
-                let mut y = o.initial_state(T0);
-                let mut it = Integrator::new(Settings {
-                    method,
-                    rtol: 1e-8,
-                    atol: 1e-5 * scale,
-                    max_step: 1e-3,
-                    max_steps: 1_000_000,
-                });
-                let mut q = vec![y[0]];
-                for i in 0..n {
-                    let (a, b) = (T0 + i as f64 * 1e-3, T0 + (i + 1) as f64 * 1e-3);
-                    it.integrate(&o, a, b, &mut y).unwrap();
-                    q.push(y[0]);
-                }
+                let q = ours_on_grid(
+                    &o,
+                    settings(method, 1e-5 * scale),
+                    o.initial_state(T0),
+                    T0,
+                    1e-3,
+                    n,
+                );
                 // the deflection to 3 % of its scale (3 N of the 100 .. 1500 N contact force):
                 // what remains is the piercing load's corners (at the elastic needle position),
                 // which ours locates as events and the library steps over
-                let dq = lib_q
-                    .iter()
-                    .map(|&(i, b)| (q[i] - b).abs())
-                    .fold(0.0, f64::max);
+                let dq = max_diff_at(&q, &lib_q);
                 assert!(
                     dq < 3e-2 * scale,
                     "k = {k}, zeta = {zeta}, {method:?}: {dq:e} rad of {scale:e}"

@@ -2,9 +2,15 @@
 //! with libloading and calls it through the C ABI, recording what it logs.
 #![allow(dead_code)]
 
+pub mod ode;
+pub mod series;
+
+use bindery_fmu::catalog::Entry;
 use bindery_fmu::fmi2::types::*;
+use bindery_fmu::model::{Causality, VarType};
 use libloading::{Library, Symbol};
 use std::ffi::{CStr, CString, c_char, c_void};
+use std::fmt::Debug;
 use std::path::PathBuf;
 use std::sync::Mutex;
 
@@ -125,6 +131,22 @@ impl Fmu {
         }
     }
 
+    /// The built binary of a catalog entry, with the entry's GUID.
+    pub fn of(e: &Entry) -> Fmu {
+        Fmu::load(e.identifier, &(e.describe)().1)
+    }
+
+    /// Asserts that the binary exports every function of `names`.
+    pub fn assert_exports(&self, names: &[&str]) {
+        for name in names {
+            // SAFETY: only looks the symbol up.
+            assert!(
+                unsafe { self.lib.get::<*const ()>(name.as_bytes()) }.is_ok(),
+                "{name} missing"
+            );
+        }
+    }
+
     /// A function of the binary.
     pub fn sym<T>(&self, name: &str) -> Symbol<'_, T> {
         // SAFETY: the caller names the type of an FMI 2.0 function.
@@ -169,6 +191,51 @@ impl Fmu {
         self.instance(name, FmuType::CoSimulation)
     }
 
+    /// A co-simulation instance set up from t = 0 without a stop time and initialized at the
+    /// start values.
+    pub fn initialized(&self, name: &str) -> Slave<'_> {
+        self.started(name, &Start::default())
+    }
+
+    /// A co-simulation instance set up as `start` says, its variables set (before
+    /// initialization), and initialized; every call asserted fmi2OK (see [`Slave::ok`]), a set
+    /// naming the value reference and the value.
+    pub fn started(&self, name: &str, start: &Start) -> Slave<'_> {
+        let s = self.slave(name);
+        s.ok(s.setup(start.time, start.stop), "fmi2SetupExperiment");
+        for &(vr, x) in start.reals {
+            s.ok(
+                s.set_real(&[vr], &[x]),
+                &format!("fmi2SetReal vr {vr} = {x}"),
+            );
+        }
+        for &(vr, x) in start.integers {
+            s.ok(
+                s.set_integer(&[vr], &[x]),
+                &format!("fmi2SetInteger vr {vr} = {x}"),
+            );
+        }
+        s.ok(s.init(), "initialization");
+        s
+    }
+
+    /// fmi2Instantiate with `guid` and the resource location `resources`, logging under an
+    /// environment of its own: the component (NULL if refused) and that environment (for
+    /// [`logs_of`]).
+    pub fn instantiate_at(
+        &self,
+        name: &CStr,
+        ty: FmuType,
+        guid: &str,
+        resources: &CStr,
+    ) -> (Component, usize) {
+        let env = NEXT_ENV.fetch_add(1, std::sync::atomic::Ordering::SeqCst);
+        let f = self.callbacks(env);
+        let g = CString::new(guid).unwrap();
+        let c = self.instantiate_raw(name.as_ptr(), ty, g.as_ptr(), resources.as_ptr(), &f);
+        (c, env)
+    }
+
     /// A Model Exchange instance (for the FMUs that provide it).
     pub fn me_instance(&self, name: &str) -> Slave<'_> {
         self.instance(name, FmuType::ModelExchange)
@@ -184,6 +251,19 @@ impl Fmu {
         assert!(!c.is_null(), "instantiate failed: {:?}", logs_of(env));
         Slave { fmu: self, c, env }
     }
+}
+
+/// How [`Fmu::started`] starts a co-simulation instance: the experiment's start and stop time,
+/// and the variables set before initialization (parameters, the level `model.fidelity`, the
+/// `drive.mode`, ...). The default: from t = 0, no stop time, every variable at its start.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Start<'a> {
+    pub time: f64,
+    pub stop: Option<f64>,
+    /// Real variables: (value reference, value).
+    pub reals: &'a [(u32, f64)],
+    /// Integer and Enumeration variables: (value reference, value).
+    pub integers: &'a [(u32, i32)],
 }
 
 /// Messages logged for one environment.
@@ -215,6 +295,36 @@ impl Slave<'_> {
             .map(|l| l.2.clone())
             .unwrap_or_default()
     }
+    /// Asserts that a call returned fmi2OK; the message names the call (`what`) and shows the
+    /// instance's log.
+    pub fn ok(&self, st: Status, what: &str) {
+        assert_eq!(st, Status::Ok, "{what}: {:?}", self.logs());
+    }
+    /// Asserts that a call was refused: fmi2Error with a logged error containing `text`;
+    /// `what` names the call (and the FMU) in the messages.
+    pub fn assert_refused(&self, st: Status, text: &str, what: &str) {
+        assert_eq!(st, Status::Error, "{what}");
+        assert!(
+            self.last_error().contains(text),
+            "{what}: {:?}",
+            self.last_error()
+        );
+    }
+    /// Enters initialization mode (asserted fmi2OK) and tries to leave it, which must be
+    /// refused with fmi2Error: the error it logged.
+    pub fn initialization_refusal(&self) -> String {
+        self.ok(
+            self.call0("fmi2EnterInitializationMode"),
+            "fmi2EnterInitializationMode",
+        );
+        assert_eq!(
+            self.call0("fmi2ExitInitializationMode"),
+            Status::Error,
+            "fmi2ExitInitializationMode accepted: {:?}",
+            self.logs()
+        );
+        self.last_error()
+    }
     pub fn call0(&self, name: &str) -> Status {
         let f: Symbol<unsafe extern "C" fn(Component) -> Status> = self.fmu.sym(name);
         unsafe { f(self.c) }
@@ -237,6 +347,12 @@ impl Slave<'_> {
     pub fn init(&self) -> Status {
         self.call0("fmi2EnterInitializationMode")
             .max(self.call0("fmi2ExitInitializationMode"))
+    }
+    /// fmi2SetupExperiment(`start`, `stop`) then fmi2EnterInitializationMode and
+    /// fmi2ExitInitializationMode, each asserted fmi2OK (see [`Slave::ok`]).
+    pub fn setup_and_init(&self, start: f64, stop: Option<f64>) {
+        self.ok(self.setup(start, stop), "fmi2SetupExperiment");
+        self.ok(self.init(), "initialization");
     }
     pub fn get_real(&self, vrs: &[u32]) -> (Status, Vec<f64>) {
         let f: Symbol<unsafe extern "C" fn(Component, *const u32, usize, *mut Real) -> Status> =
@@ -326,6 +442,34 @@ impl Slave<'_> {
         let st = unsafe { ser(self.c, s, buf.as_mut_ptr() as *mut Byte, n) };
         (st, buf)
     }
+    /// fmi2GetFMUstate then fmi2SerializeFMUstate, both asserted fmi2OK: the state and its
+    /// bytes.
+    pub fn save_state(&self) -> (FMUstate, Vec<u8>) {
+        let mut st: FMUstate = std::ptr::null_mut();
+        self.ok(self.get_state(&mut st), "fmi2GetFMUstate");
+        let (ok, bytes) = self.serialize(st);
+        self.ok(ok, "fmi2SerializeFMUstate");
+        (st, bytes)
+    }
+    /// The instance's state now, serialized (the FMU state taken is freed again).
+    pub fn state_bytes(&self) -> Vec<u8> {
+        let (mut st, bytes) = self.save_state();
+        self.ok(self.free_state(&mut st), "fmi2FreeFMUstate");
+        bytes
+    }
+    /// fmi2DeSerializeFMUstate asserted fmi2OK: the FMU state of `bytes`.
+    pub fn deserialized(&self, bytes: &[u8]) -> FMUstate {
+        let mut st: FMUstate = std::ptr::null_mut();
+        self.ok(self.deserialize(bytes, &mut st), "fmi2DeSerializeFMUstate");
+        st
+    }
+    /// Sets the instance to the serialized state `bytes` (deserialized, set and freed, each
+    /// asserted fmi2OK).
+    pub fn restore_bytes(&self, bytes: &[u8]) {
+        let mut st = self.deserialized(bytes);
+        self.ok(self.set_state(st), "fmi2SetFMUstate");
+        self.ok(self.free_state(&mut st), "fmi2FreeFMUstate");
+    }
     pub fn deserialize(&self, bytes: &[u8], s: &mut FMUstate) -> Status {
         let f: Symbol<
             unsafe extern "C" fn(Component, *const Byte, usize, *mut FMUstate) -> Status,
@@ -338,5 +482,146 @@ impl Drop for Slave<'_> {
     fn drop(&mut self) {
         let f: Symbol<unsafe extern "C" fn(Component)> = self.fmu.sym("fmi2FreeInstance");
         unsafe { f(self.c) }
+    }
+}
+
+/// The value reference of the variable `name` of a catalog entry (panics naming both if there
+/// is none).
+pub fn vr_of(e: &Entry, name: &str) -> u32 {
+    (e.variables)()
+        .into_iter()
+        .find(|(_, v)| v.name == name)
+        .unwrap_or_else(|| panic!("{}: no variable {name}", e.identifier))
+        .0
+}
+
+/// The value references of every Real output of a catalog entry, in order.
+pub fn real_outputs_of(e: &Entry) -> Vec<u32> {
+    (e.variables)()
+        .into_iter()
+        .filter(|(_, v)| v.causality == Causality::Output && v.ty == VarType::Real)
+        .map(|(vr, _)| vr)
+        .collect()
+}
+
+/// The names of every Real output of a catalog entry, in the order of [`real_outputs_of`].
+pub fn real_output_names_of(e: &Entry) -> Vec<&'static str> {
+    (e.variables)()
+        .into_iter()
+        .filter(|(_, v)| v.causality == Causality::Output && v.ty == VarType::Real)
+        .map(|(_, v)| v.name)
+        .collect()
+}
+
+/// What a run through the C ABI sets and reads at every communication point.
+pub struct Probe<'a> {
+    /// The Real inputs set before each step.
+    pub inputs: &'a [u32],
+    /// The Real outputs read before each step.
+    pub reals: &'a [u32],
+    /// The Boolean outputs read after them, as 0.0 or 1.0 at the end of the row.
+    pub flags: &'a [u32],
+}
+
+/// Steps `s` `n` times by `h` from `t0`. At each communication point `t`, before its step, sets
+/// `p.inputs` to `inputs_at(t)` and reads a row: `p.reals` then `p.flags`. Every call is
+/// asserted fmi2OK (naming the call, t and the log). The rows, one per communication point.
+pub fn sample_run(
+    s: &Slave,
+    p: &Probe,
+    t0: f64,
+    n: usize,
+    h: f64,
+    inputs_at: impl Fn(f64) -> Vec<f64>,
+) -> Vec<Vec<f64>> {
+    let mut rows = Vec::with_capacity(n);
+    let mut t = t0;
+    for _ in 0..n {
+        s.ok(
+            s.set_real(p.inputs, &inputs_at(t)),
+            &format!("fmi2SetReal at t = {t}"),
+        );
+        let (st, mut row) = s.get_real(p.reals);
+        s.ok(st, &format!("fmi2GetReal at t = {t}"));
+        if !p.flags.is_empty() {
+            let (st, flags) = s.get_boolean(p.flags);
+            s.ok(st, &format!("fmi2GetBoolean at t = {t}"));
+            row.extend(flags.iter().map(|&b| f64::from(u8::from(b))));
+        }
+        rows.push(row);
+        s.ok(s.do_step(t, h), &format!("fmi2DoStep at t = {t}"));
+        t += h;
+    }
+    rows
+}
+
+/// Asserts that a row of `outputs` sampled through the C ABI is the Rust model's, bit for bit:
+/// `model(o)` is the model's value of output `o`. A mismatch names t, the output and both
+/// values.
+pub fn assert_row_is_the_models<V: Copy + Debug>(
+    t: f64,
+    outputs: &[V],
+    row: &[f64],
+    model: impl Fn(V) -> f64,
+) {
+    assert!(
+        row.len() >= outputs.len(),
+        "t = {t}: a row of {}",
+        row.len()
+    );
+    for (&o, &x) in outputs.iter().zip(row) {
+        let m = model(o);
+        assert_eq!(x.to_bits(), m.to_bits(), "t = {t}, {o:?}: {x} vs {m}");
+    }
+}
+
+/// A saved FMU state and its replays, from [`assert_state_replays`].
+pub struct Replay<T> {
+    /// The state `s` saved.
+    pub saved: FMUstate,
+    /// The state deserialized into `other`.
+    pub copy: FMUstate,
+    /// The serialized state.
+    pub bytes: Vec<u8>,
+    /// The run that continued from the saved state.
+    pub run: T,
+}
+
+impl<T> Replay<T> {
+    /// Frees both states (asserted fmi2OK, each pointer set to NULL): `s` and `other` as given
+    /// to [`assert_state_replays`].
+    pub fn free(mut self, s: &Slave, other: &Slave) {
+        s.ok(s.free_state(&mut self.saved), "fmi2FreeFMUstate");
+        other.ok(other.free_state(&mut self.copy), "fmi2FreeFMUstate");
+        assert!(
+            self.saved.is_null() && self.copy.is_null(),
+            "freed states are NULL"
+        );
+    }
+}
+
+/// The FMU-state round trip a host relies on. `s` saves its state (get and serialize) and `run`
+/// continues from it; set back to the saved state, `s` runs the same again; the bytes,
+/// deserialized into `other`, serialize to the same bytes, and set there run the same again.
+/// `what` names the case in the messages.
+pub fn assert_state_replays<T: PartialEq + Debug>(
+    s: &Slave,
+    other: &Slave,
+    what: &str,
+    run: impl Fn(&Slave) -> T,
+) -> Replay<T> {
+    let (saved, bytes) = s.save_state();
+    let first = run(s);
+    s.ok(s.set_state(saved), "fmi2SetFMUstate");
+    assert_eq!(run(s), first, "{what}: set state");
+    let copy = other.deserialized(&bytes);
+    assert_eq!(other.serialize(copy).1, bytes, "{what}: serialized again");
+    other.ok(other.set_state(copy), "fmi2SetFMUstate");
+    assert_eq!(run(other), first, "{what}: deserialized");
+    Replay {
+        saved,
+        copy,
+        bytes,
+        run: first,
     }
 }
