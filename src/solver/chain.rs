@@ -1,0 +1,493 @@
+//! The skeleton of a mechanism's elastodynamic level (`../shared/spec/dynamics.md`): a compliant
+//! chain between the rigid motion φ(t) of the shaft and one body, integrated by [`Integrator`]
+//! inside `fmi2DoStep` (Co-Simulation) or handed to the host as three continuous states (Model
+//! Exchange).
+//!
+//! A mechanism implements [`ChainModel`]: its ODE (an [`OdeSystem`] that carries its
+//! bookkeeping, peaks of the chain force, K_d, contact counters..., in `Cell`s), how that
+//! bookkeeping (the [`ChainModel::Memory`]) starts, is read back from the ODE and is laid out in
+//! the FMU state snapshot, and what it does at events and steps where the common pattern does not
+//! fit. [`Chain`] holds what every mechanism carries between steps (integrator, states, initial
+//! energy, Model Exchange indicators); the free functions of this module are the hooks of
+//! [`crate::model::Model`] (`do_step`, `me_*`, `save_state`/`restore_state`) for a model with an
+//! `Option<Chain<_>>` (`None` below the elastodynamic level), each called in one line.
+//!
+//! The states are always `y = [x, ẋ, W]`: the chain's free coordinate, its rate and the work `W`
+//! done on the chain by everything but its spring, for the energy balance `E − E0 − W`.
+
+use super::{Integrator, OdeSystem, ShaftPath};
+use crate::model::shaft;
+use crate::model::{Log, Values, VarSet};
+use std::fmt::Debug;
+
+/// One entry of a mechanism's FMU state layout after the common head
+/// `[started, y0, y1, y2, e0]` ([`ChainModel::LAYOUT`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Slot {
+    /// The next `n` numbers of the mechanism's memory ([`ChainModel::save_memory`]).
+    Memory(usize),
+    /// [`Integrator::save`]: the next step size and the `auto` method's stiff mode (2 numbers).
+    Integrator,
+    /// The integrator's accepted steps.
+    Steps,
+    /// The integrator's located events.
+    Events,
+    /// The integrator's rejected steps.
+    Rejected,
+}
+
+/// Numbers of the snapshot of a chain with this layout, without Model Exchange indicators.
+pub const fn state_len(layout: &[Slot]) -> usize {
+    let mut n = 5;
+    let mut i = 0;
+    while i < layout.len() {
+        n += match layout[i] {
+            Slot::Memory(k) => k,
+            Slot::Integrator => 2,
+            Slot::Steps | Slot::Events | Slot::Rejected => 1,
+        };
+        i += 1;
+    }
+    n
+}
+
+/// What a mechanism supplies for its compliant chain. Implemented by the chain's constants
+/// (stiffness, damping, play...), fixed at `prepare`.
+pub trait ChainModel: Clone + Debug {
+    /// The variables of the mechanism's FMU.
+    type Var: VarSet;
+    /// The mechanism's physics the ODE borrows.
+    type Physics: 'static;
+    /// What the ODE tracks between steps besides the states (peaks, K_d, contact counters),
+    /// copied into the ODE's `Cell`s and read back from them ([`ChainModel::absorb`]).
+    type Memory: Clone + Debug + PartialEq;
+    /// The ODE of one communication step (or of one Model Exchange call).
+    type Ode<'a>: OdeSystem;
+
+    /// The FMU state layout after `[started, y0, y1, y2, e0]`; fixed once published, so that
+    /// saved states still restore.
+    const LAYOUT: &'static [Slot];
+    /// Event indicators appended to the snapshot (the last event's or step's, so that Model
+    /// Exchange transitions are counted after a restore too); 0: none. A snapshot without them
+    /// (Co-Simulation) restores as well.
+    const SAVED_INDICATORS: usize = 0;
+    /// How a wrong snapshot is named in the error.
+    const STATE_NAME: &'static str = "elastodynamic state";
+    /// `drive.mode` = input: after a Co-Simulation step `shaft.phi` is set to the extrapolated
+    /// angle less `drive.phi0` (the input's meaning, [`shaft::state`]); `false`: the absolute
+    /// extrapolated angle (Perforators and DiscKnifeDrive have always written that; kept so
+    /// that their results do not change).
+    const EXTRAPOLATED_PHI_LESS_PHI0: bool = true;
+
+    /// The ODE on the shaft path `path` with the inputs in `v`, its bookkeeping from `memory`.
+    fn ode<'a>(
+        &self,
+        p: &'a Self::Physics,
+        path: ShaftPath,
+        v: &Values<Self::Var>,
+        memory: &Self::Memory,
+    ) -> Self::Ode<'a>;
+    /// The states at the start of the integration, time `t` (equilibrium on the rigid motion).
+    fn initial_state(ode: &Self::Ode<'_>, t: f64) -> [f64; 3];
+    /// The chain's energy (kinetic plus spring) at `(t, y)`.
+    fn energy(ode: &Self::Ode<'_>, t: f64, y: &[f64; 3]) -> f64;
+    /// The memory at the start of the integration on `path`.
+    fn start(ode: &Self::Ode<'_>, path: &ShaftPath, memory: &mut Self::Memory);
+    /// Reads the memory back from the ODE after a step, an event or a completed step.
+    fn absorb(ode: &Self::Ode<'_>, memory: &mut Self::Memory);
+    /// The memory as numbers, in the order of the [`Slot::Memory`] entries of the layout.
+    fn save_memory(memory: &Self::Memory, out: &mut Vec<f64>);
+    /// The memory from the numbers [`ChainModel::save_memory`] wrote.
+    fn restore_memory(s: &[f64]) -> Self::Memory;
+
+    /// Co-Simulation: after an accepted communication step from `t` over `h`, before
+    /// [`ChainModel::absorb`] (`memory` still holds the memory before the step: what changed
+    /// can be reported). Default: nothing.
+    fn after_step(
+        &self,
+        _ode: &Self::Ode<'_>,
+        _memory: &mut Self::Memory,
+        _t: f64,
+        _h: f64,
+        _log: &mut dyn Log,
+    ) {
+    }
+    /// Co-Simulation: the error of a refused step, from the solver's `why` and the partial
+    /// state `y`. Default: `why`.
+    fn step_failed(&self, _ode: &Self::Ode<'_>, _y: &[f64; 3], why: String) -> String {
+        why
+    }
+    /// Model Exchange: an event at `t`, before [`ChainModel::absorb`] (`memory` is the memory
+    /// before it). Default: the [`transitions`] of the indicators since the last call.
+    fn me_event(
+        &self,
+        ode: &Self::Ode<'_>,
+        t: f64,
+        y: &[f64; 3],
+        g_prev: &mut Vec<f64>,
+        _memory: &Self::Memory,
+        _log: &mut dyn Log,
+    ) {
+        transitions(ode, t, y, g_prev, false);
+    }
+    /// Model Exchange: the host completed an integrator step at `t`, before
+    /// [`ChainModel::absorb`]. Default: the [`transitions`] since the last call (hosts such as
+    /// FMPy call `fmi2CompletedIntegratorStep` at the event instant before they enter event
+    /// mode, so the event alone would find nothing changed), then the ODE's `on_step`.
+    fn me_completed_step(&self, ode: &Self::Ode<'_>, t: f64, y: &[f64; 3], g_prev: &mut Vec<f64>) {
+        transitions(ode, t, y, g_prev, false);
+        ode.on_step(t, y);
+    }
+}
+
+/// Model Exchange: the event indicators at `(t, y)`; if those of the last call are known, a
+/// transition from them is applied (`on_event`), and with `reevaluate` the indicators are taken
+/// again after it (where the event changes a mode they depend on). They become `g_prev`.
+pub fn transitions<O: OdeSystem>(
+    ode: &O,
+    t: f64,
+    y: &[f64; 3],
+    g_prev: &mut Vec<f64>,
+    reevaluate: bool,
+) {
+    let mut g = vec![0.0; ode.n_events()];
+    ode.events(t, y, &mut g);
+    if g_prev.len() == g.len() {
+        ode.on_event(t, y, g_prev, &g);
+        if reevaluate {
+            ode.events(t, y, &mut g);
+        }
+    }
+    *g_prev = g;
+}
+
+/// What the elastodynamic level carries between steps.
+#[derive(Clone, Debug)]
+pub struct Chain<C: ChainModel> {
+    /// The chain's constants.
+    pub model: C,
+    pub integ: Integrator,
+    /// The states have been initialized ([`Chain::start`]).
+    pub started: bool,
+    /// `[x, ẋ, W]`.
+    pub y: [f64; 3],
+    /// Energy at the start, for the balance `E − E0 − W`.
+    pub e0: f64,
+    /// The mechanism's bookkeeping.
+    pub memory: C::Memory,
+    /// Model Exchange: the event indicators at the last event or completed integrator step
+    /// (empty: none yet).
+    pub g_prev: Vec<f64>,
+}
+
+impl<C: ChainModel> Chain<C> {
+    /// Numbers of the FMU state snapshot (without Model Exchange indicators).
+    pub const STATE_LEN: usize = state_len(C::LAYOUT);
+
+    /// A chain not started yet, with its initial memory.
+    pub fn new(model: C, integ: Integrator, memory: C::Memory) -> Self {
+        Chain {
+            model,
+            integ,
+            started: false,
+            y: [0.0; 3],
+            e0: 0.0,
+            memory,
+            g_prev: Vec::new(),
+        }
+    }
+
+    /// The ODE on `path` with the inputs in `v`.
+    pub fn ode<'a>(&self, p: &'a C::Physics, path: ShaftPath, v: &Values<C::Var>) -> C::Ode<'a> {
+        self.model.ode(p, path, v, &self.memory)
+    }
+
+    /// Starts the integration at `path.t0`: the states in equilibrium on the rigid motion, their
+    /// energy, the memory's start.
+    pub fn start(&mut self, p: &C::Physics, path: ShaftPath, v: &Values<C::Var>) {
+        let ode = self.ode(p, path, v);
+        self.y = C::initial_state(&ode, path.t0);
+        self.e0 = C::energy(&ode, path.t0, &self.y);
+        C::start(&ode, &path, &mut self.memory);
+        self.started = true;
+    }
+
+    /// The FMU state snapshot: `[started, y0, y1, y2, e0]`, then [`ChainModel::LAYOUT`], then
+    /// the Model Exchange indicators if the mechanism saves them.
+    pub fn save(&self) -> Vec<f64> {
+        let mut mem = Vec::new();
+        C::save_memory(&self.memory, &mut mem);
+        let mut mem = mem.into_iter();
+        let mut s = vec![
+            f64::from(u8::from(self.started)),
+            self.y[0],
+            self.y[1],
+            self.y[2],
+            self.e0,
+        ];
+        for slot in C::LAYOUT {
+            match *slot {
+                Slot::Memory(n) => s.extend(mem.by_ref().take(n)),
+                Slot::Integrator => s.extend(self.integ.save()),
+                Slot::Steps => s.push(self.integ.stats.steps as f64),
+                Slot::Events => s.push(self.integ.stats.events as f64),
+                Slot::Rejected => s.push(self.integ.stats.rejected as f64),
+            }
+        }
+        debug_assert_eq!((s.len(), mem.next()), (Self::STATE_LEN, None));
+        if C::SAVED_INDICATORS > 0 {
+            s.extend_from_slice(&self.g_prev);
+        }
+        s
+    }
+
+    /// Restores [`Chain::save`].
+    pub fn restore(&mut self, s: &[f64]) -> Result<(), String> {
+        let n = Self::STATE_LEN;
+        let n_ind = C::SAVED_INDICATORS;
+        if n_ind > 0 {
+            if s.len() != n && s.len() != n + n_ind {
+                return Err(format!(
+                    "{} has {} numbers, expected {n} or {}",
+                    C::STATE_NAME,
+                    s.len(),
+                    n + n_ind
+                ));
+            }
+        } else if s.len() != n {
+            return Err(format!(
+                "{} has {} numbers, expected {n}",
+                C::STATE_NAME,
+                s.len()
+            ));
+        }
+        self.g_prev = s[n..].to_vec();
+        self.started = s[0] != 0.0;
+        self.y = [s[1], s[2], s[3]];
+        self.e0 = s[4];
+        let mut mem = Vec::new();
+        let mut i = 5;
+        for slot in C::LAYOUT {
+            match *slot {
+                Slot::Memory(k) => {
+                    mem.extend_from_slice(&s[i..i + k]);
+                    i += k;
+                }
+                Slot::Integrator => {
+                    self.integ.restore(&s[i..i + 2]);
+                    i += 2;
+                }
+                Slot::Steps | Slot::Events | Slot::Rejected => {
+                    let x = s[i] as usize;
+                    match *slot {
+                        Slot::Steps => self.integ.stats.steps = x,
+                        Slot::Events => self.integ.stats.events = x,
+                        _ => self.integ.stats.rejected = x,
+                    }
+                    i += 1;
+                }
+            }
+        }
+        self.memory = C::restore_memory(&mem);
+        Ok(())
+    }
+}
+
+/// The chain for Model Exchange, started from the inputs at `time` if new.
+fn me_chain<'c, C: ChainModel>(
+    chain: Option<&'c mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+) -> Option<&'c mut Chain<C>> {
+    let d = chain?;
+    if !d.started {
+        d.start(p, shaft::path(v, time), v);
+    }
+    Some(d)
+}
+
+/// [`crate::model::Model::do_step`]: integrates the chain over `[time, time + h]`. A refused step
+/// leaves the chain as it was before it (the caller returns `fmi2Discard`). With `drive.mode` =
+/// input the FMU extrapolates its shaft inputs to `time + h` until the host sets them.
+pub fn do_step<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &mut Values<C::Var>,
+    time: f64,
+    h: f64,
+    log: &mut dyn Log,
+) -> Result<(), String> {
+    let Some(d) = chain else {
+        return Ok(());
+    };
+    let path = shaft::path(v, time);
+    if !d.started {
+        d.start(p, path, v);
+    }
+    let ode = d.ode(p, path, v);
+    let mut y = d.y;
+    let before = d.integ.clone();
+    match d.integ.integrate(&ode, time, time + h, &mut y) {
+        Ok(_) => {
+            d.y = y;
+            d.model.after_step(&ode, &mut d.memory, time, h, log);
+            C::absorb(&ode, &mut d.memory);
+            let raw = v.raw_mut();
+            if raw[shaft::MODE as usize] as i32 == 1 {
+                // the FMU's own extrapolation of the inputs, until the host sets them
+                let (_, w, a) = path.at(time + h);
+                let phi = path.absolute_phi(time + h);
+                raw[shaft::PHI as usize] = if C::EXTRAPOLATED_PHI_LESS_PHI0 {
+                    phi - raw[shaft::PHI0 as usize]
+                } else {
+                    phi
+                };
+                raw[shaft::W as usize] = w;
+                raw[shaft::A as usize] = a;
+            }
+            Ok(())
+        }
+        Err(why) => {
+            d.integ = before; // the state before the step stays intact
+            Err(d.model.step_failed(&ode, &y, why))
+        }
+    }
+}
+
+/// [`crate::model::Model::me_states`].
+pub fn me_states<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+    x: &mut [f64],
+) {
+    match me_chain(chain, p, v, time) {
+        Some(d) => x.copy_from_slice(&d.y),
+        None => x.fill(0.0),
+    }
+}
+
+/// [`crate::model::Model::me_set_states`].
+pub fn me_set_states<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+    x: &[f64],
+) {
+    if let Some(d) = me_chain(chain, p, v, time) {
+        d.y.copy_from_slice(x);
+    }
+}
+
+/// [`crate::model::Model::me_derivatives`]: the ODE's right-hand side.
+pub fn me_derivatives<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+    dx: &mut [f64],
+) {
+    match me_chain(chain, p, v, time) {
+        Some(d) => d.ode(p, shaft::path(v, time), v).rhs(time, &d.y, dx),
+        None => dx.fill(0.0),
+    }
+}
+
+/// [`crate::model::Model::me_event_indicators`]: the ODE's event functions (1 below the
+/// elastodynamic level).
+pub fn me_event_indicators<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+    z: &mut [f64],
+) {
+    match me_chain(chain, p, v, time) {
+        Some(d) => d.ode(p, shaft::path(v, time), v).events(time, &d.y, z),
+        None => z.fill(1.0),
+    }
+}
+
+/// [`crate::model::Model::me_event`]: [`ChainModel::me_event`], then the memory read back.
+pub fn me_event<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+    log: &mut dyn Log,
+) {
+    if let Some(d) = me_chain(chain, p, v, time) {
+        let ode = d.ode(p, shaft::path(v, time), v);
+        d.model
+            .me_event(&ode, time, &d.y, &mut d.g_prev, &d.memory, log);
+        C::absorb(&ode, &mut d.memory);
+    }
+}
+
+/// [`crate::model::Model::me_completed_step`]: [`ChainModel::me_completed_step`], then the
+/// memory read back.
+pub fn me_completed_step<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+) {
+    if let Some(d) = me_chain(chain, p, v, time) {
+        let ode = d.ode(p, shaft::path(v, time), v);
+        d.model.me_completed_step(&ode, time, &d.y, &mut d.g_prev);
+        C::absorb(&ode, &mut d.memory);
+    }
+}
+
+/// [`crate::model::Model::save_state`] of a model whose only internal state is the chain.
+pub fn save_state<C: ChainModel>(chain: Option<&Chain<C>>) -> Vec<f64> {
+    chain.map(Chain::save).unwrap_or_default()
+}
+
+/// [`crate::model::Model::restore_state`] of a model whose only internal state is the chain.
+pub fn restore_state<C: ChainModel>(chain: Option<&mut Chain<C>>, s: &[f64]) -> Result<(), String> {
+    match chain {
+        Some(d) => d.restore(s),
+        None if s.is_empty() => Ok(()),
+        None => Err("FMU state of the elastodynamic level given to another level".into()),
+    }
+}
+
+/// Running peak tracking of the dynamic factor over shaft turns, at an accepted step in turn
+/// `cycle` with chain force `f_dyn` and rigid (kinetostatic) force `f_rigid` (magnitudes):
+/// `peaks` = (turn, peak dynamic force, peak rigid force) of the running turn; at a new turn
+/// `k_d` becomes the ratio of the finished turn's peaks.
+pub fn track_peaks(
+    peaks: &std::cell::Cell<(f64, f64, f64)>,
+    k_d: &std::cell::Cell<f64>,
+    cycle: f64,
+    f_dyn: f64,
+    f_rigid: f64,
+) {
+    let (c0, pd, pr) = peaks.get();
+    if cycle != c0 {
+        if pr > 0.0 {
+            k_d.set(pd / pr);
+        }
+        peaks.set((cycle, f_dyn, f_rigid));
+    } else {
+        peaks.set((c0, pd.max(f_dyn), pr.max(f_rigid)));
+    }
+}
+
+/// The dynamic factor K_d to report: that of the last complete turn, or before one is complete
+/// the running turn's peak ratio (1 without a rigid force yet).
+pub fn dyn_factor(peaks: (f64, f64, f64), k_d: f64) -> f64 {
+    if k_d.is_nan() {
+        if peaks.2 > 0.0 {
+            peaks.1 / peaks.2
+        } else {
+            1.0
+        }
+    } else {
+        k_d
+    }
+}
