@@ -6,6 +6,7 @@ use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Stage, Stages, Values};
+use crate::solver::chain::{self, Chain, ChainModel, Slot};
 use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
 use std::cell::Cell;
 
@@ -116,107 +117,105 @@ pub struct GenevaKnifeDrive {
     dynamic: Option<Dynamic>,
 }
 
-/// What the elastodynamic level carries between steps.
+/// The compliant drive chain of the elastodynamic level: its constants.
 #[derive(Clone, Debug, PartialEq)]
-struct Dynamic {
+struct KnifeChain {
     k: f64,
     c: f64,
-    integ: Integrator,
-    started: bool,
-    y: [f64; 3],
-    e0: f64,
+}
+
+/// What [`KnifeOde`] tracks between steps.
+#[derive(Clone, Debug, PartialEq)]
+struct KnifeMemory {
     /// (cycle index, peak |F_el|, peak |F_rigid|) of the running driver turn.
     peaks: (f64, f64, f64),
     /// K_d of the last complete turn (NaN: none yet).
     k_d: f64,
     /// The stack is cut through in this stroke.
     cut_done: bool,
-    /// Model Exchange: the event indicators at the last completed integrator step.
-    g_prev: Vec<f64>,
 }
 
-impl Dynamic {
-    const STATE_LEN: usize = 14;
+/// What the elastodynamic level carries between steps.
+type Dynamic = Chain<KnifeChain>;
 
-    fn ode<'a>(&self, p: &'a Params, path: ShaftPath) -> KnifeOde<'a> {
+// the FMU state format: saved states must still restore
+const _: () = assert!(Dynamic::STATE_LEN == 14);
+
+impl ChainModel for KnifeChain {
+    type Var = V;
+    type Physics = Params;
+    type Memory = KnifeMemory;
+    type Ode<'a> = KnifeOde<'a>;
+    const LAYOUT: &'static [Slot] = &[
+        Slot::Memory(4),
+        Slot::Integrator,
+        Slot::Steps,
+        Slot::Events,
+        Slot::Memory(1),
+    ];
+    const SAVED_INDICATORS: usize = <GenevaKnifeDrive as Model>::EVENT_INDICATORS;
+
+    fn ode<'a>(
+        &self,
+        p: &'a Params,
+        path: ShaftPath,
+        _: &Values<V>,
+        m: &KnifeMemory,
+    ) -> KnifeOde<'a> {
         KnifeOde {
             p,
             k: self.k,
             c: self.c,
             path,
-            peaks: Cell::new(self.peaks),
-            k_d: Cell::new(self.k_d),
-            cut_done: Cell::new(self.cut_done),
+            peaks: Cell::new(m.peaks),
+            k_d: Cell::new(m.k_d),
+            cut_done: Cell::new(m.cut_done),
+        }
+    }
+    fn initial_state(ode: &KnifeOde, t: f64) -> [f64; 3] {
+        ode.initial_state(t)
+    }
+    fn energy(ode: &KnifeOde, t: f64, y: &[f64; 3]) -> f64 {
+        ode.energy(&ode.point(t, y))
+    }
+    fn start(ode: &KnifeOde, path: &ShaftPath, m: &mut KnifeMemory) {
+        m.peaks = (ode.cycle(path.t0), 0.0, 0.0);
+        m.k_d = f64::NAN;
+        m.cut_done = false;
+    }
+    fn absorb(ode: &KnifeOde, m: &mut KnifeMemory) {
+        m.peaks = ode.peaks.get();
+        m.k_d = ode.k_d.get();
+        m.cut_done = ode.cut_done.get();
+    }
+    fn save_memory(m: &KnifeMemory, out: &mut Vec<f64>) {
+        let (c, pd, pr) = m.peaks;
+        out.extend([c, pd, pr, m.k_d, m.cut_done as i32 as f64]);
+    }
+    fn restore_memory(s: &[f64]) -> KnifeMemory {
+        KnifeMemory {
+            peaks: (s[0], s[1], s[2]),
+            k_d: s[3],
+            cut_done: s[4] != 0.0,
         }
     }
 
-    fn start(&mut self, p: &Params, path: ShaftPath) {
-        let ode = self.ode(p, path);
-        self.y = ode.initial_state(path.t0);
-        self.e0 = ode.energy(&ode.point(path.t0, &self.y));
-        self.peaks = (ode.cycle(path.t0), 0.0, 0.0);
-        self.k_d = f64::NAN;
-        self.cut_done = false;
-        self.started = true;
+    /// A cut-through or the knife back above the stack changes the indicators of the stack:
+    /// they are taken again after the transition.
+    fn me_event(
+        &self,
+        ode: &KnifeOde,
+        t: f64,
+        y: &[f64; 3],
+        g_prev: &mut Vec<f64>,
+        _: &KnifeMemory,
+        _: &mut dyn Log,
+    ) {
+        chain::transitions(ode, t, y, g_prev, true);
     }
-
-    fn save(&self) -> Vec<f64> {
-        let h = self.integ.save();
-        let mut s = vec![
-            self.started as i32 as f64,
-            self.y[0],
-            self.y[1],
-            self.y[2],
-            self.e0,
-            self.peaks.0,
-            self.peaks.1,
-            self.peaks.2,
-            self.k_d,
-            h[0],
-            h[1],
-            self.integ.stats.steps as f64,
-            self.integ.stats.events as f64,
-            self.cut_done as i32 as f64,
-        ];
-        // Model Exchange: the event indicators of the last event or step (transitions from them
-        // are counted after a restore too)
-        s.extend_from_slice(&self.g_prev);
-        s
-    }
-
-    fn restore(&mut self, s: &[f64]) -> Result<(), String> {
-        let n_ind = <GenevaKnifeDrive as Model>::EVENT_INDICATORS;
-        if s.len() != Self::STATE_LEN && s.len() != Self::STATE_LEN + n_ind {
-            return Err(format!(
-                "elastodynamic state has {} numbers, expected {} or {}",
-                s.len(),
-                Self::STATE_LEN,
-                Self::STATE_LEN + n_ind
-            ));
-        }
-        self.g_prev = s[Self::STATE_LEN..].to_vec();
-        self.started = s[0] != 0.0;
-        self.y = [s[1], s[2], s[3]];
-        self.e0 = s[4];
-        self.peaks = (s[5], s[6], s[7]);
-        self.k_d = s[8];
-        self.integ.restore(&s[9..11]);
-        self.integ.stats.steps = s[11] as usize;
-        self.integ.stats.events = s[12] as usize;
-        self.cut_done = s[13] != 0.0;
-        Ok(())
-    }
-}
-
-impl GenevaKnifeDrive {
-    /// The elastodynamic state for Model Exchange, started from the inputs at `time` if new.
-    fn me_dynamic(&mut self, v: &Values<V>, time: f64) -> Option<&mut Dynamic> {
-        let p = self.params;
-        let d = self.dynamic.as_mut()?;
-        if !d.started {
-            d.start(&p, shaft::path(v, time));
-        }
-        Some(d)
+    fn me_completed_step(&self, ode: &KnifeOde, t: f64, y: &[f64; 3], g_prev: &mut Vec<f64>) {
+        chain::transitions(ode, t, y, g_prev, true);
+        ode.on_step(t, y);
     }
 }
 
@@ -288,18 +287,17 @@ impl Model for GenevaKnifeDrive {
         params.validate()?;
         let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
             let k = v[V::elastic_k];
-            Dynamic {
-                k,
-                c: KnifeOde::damping(&params, k, v[V::elastic_zeta]),
-                integ: Integrator::new(solver_settings(v)),
-                started: false,
-                y: [0.0; 3],
-                e0: 0.0,
+            let c = KnifeOde::damping(&params, k, v[V::elastic_zeta]);
+            let memory = KnifeMemory {
                 peaks: (0.0, 0.0, 0.0),
                 k_d: f64::NAN,
                 cut_done: false,
-                g_prev: Vec::new(),
-            }
+            };
+            Chain::new(
+                KnifeChain { k, c },
+                Integrator::new(solver_settings(v)),
+                memory,
+            )
         });
         Ok(GenevaKnifeDrive {
             geneva: params.geneva(),
@@ -313,85 +311,32 @@ impl Model for GenevaKnifeDrive {
         v: &mut Values<V>,
         time: f64,
         h: f64,
-        _log: &mut dyn Log,
+        log: &mut dyn Log,
     ) -> Result<(), String> {
-        let Some(d) = self.dynamic.as_mut() else {
-            return Ok(());
-        };
-        let path = shaft::path(v, time);
-        if !d.started {
-            d.start(&self.params, path);
-        }
-        let before = d.clone();
-        let ode = d.ode(&self.params, path);
-        let mut y = d.y;
-        match d.integ.integrate(&ode, time, time + h, &mut y) {
-            Ok(_) => {
-                d.y = y;
-                d.peaks = ode.peaks.get();
-                d.k_d = ode.k_d.get();
-                d.cut_done = ode.cut_done.get();
-                if v.int(V::drive_mode) == 1 {
-                    // the FMU's own extrapolation of the inputs, until the host sets them
-                    let (_, w, a) = path.at(time + h);
-                    v[V::shaft_phi] = path.absolute_phi(time + h) - v[V::drive_phi0];
-                    v[V::shaft_w] = w;
-                    v[V::shaft_a] = a;
-                }
-                Ok(())
-            }
-            Err(why) => {
-                *d = before;
-                Err(why)
-            }
-        }
+        chain::do_step(self.dynamic.as_mut(), &self.params, v, time, h, log)
     }
 
     const STATES: usize = 3;
     const EVENT_INDICATORS: usize = 8;
 
     fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
-        match self.me_dynamic(v, time) {
-            Some(d) => x.copy_from_slice(&d.y),
-            None => x.fill(0.0),
-        }
+        chain::me_states(self.dynamic.as_mut(), &self.params, v, time, x);
     }
 
     fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
-        if let Some(d) = self.me_dynamic(v, time) {
-            d.y.copy_from_slice(x);
-        }
+        chain::me_set_states(self.dynamic.as_mut(), &self.params, v, time, x);
     }
 
     fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
-        let p = self.params;
-        match self.me_dynamic(v, time) {
-            Some(d) => d.ode(&p, shaft::path(v, time)).rhs(time, &d.y, dx),
-            None => dx.fill(0.0),
-        }
+        chain::me_derivatives(self.dynamic.as_mut(), &self.params, v, time, dx);
     }
 
     fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
-        let p = self.params;
-        match self.me_dynamic(v, time) {
-            Some(d) => d.ode(&p, shaft::path(v, time)).events(time, &d.y, z),
-            None => z.fill(1.0),
-        }
+        chain::me_event_indicators(self.dynamic.as_mut(), &self.params, v, time, z);
     }
 
-    fn me_event(&mut self, v: &Values<V>, time: f64, _log: &mut dyn Log) {
-        let p = self.params;
-        if let Some(d) = self.me_dynamic(v, time) {
-            let ode = d.ode(&p, shaft::path(v, time));
-            let mut g = vec![0.0; Self::EVENT_INDICATORS];
-            ode.events(time, &d.y, &mut g);
-            if d.g_prev.len() == g.len() {
-                ode.on_event(time, &d.y, &d.g_prev, &g);
-                d.cut_done = ode.cut_done.get();
-                ode.events(time, &d.y, &mut g);
-            }
-            d.g_prev = g;
-        }
+    fn me_event(&mut self, v: &Values<V>, time: f64, log: &mut dyn Log) {
+        chain::me_event(self.dynamic.as_mut(), &self.params, v, time, log);
     }
 
     /// Also applies a transition of the event indicators since the last call (cut-through,
@@ -399,33 +344,15 @@ impl Model for GenevaKnifeDrive {
     /// event instant before they enter event mode, so [`Model::me_event`] would find nothing
     /// changed.
     fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
-        let p = self.params;
-        if let Some(d) = self.me_dynamic(v, time) {
-            let ode = d.ode(&p, shaft::path(v, time));
-            let mut g = vec![0.0; Self::EVENT_INDICATORS];
-            ode.events(time, &d.y, &mut g);
-            if d.g_prev.len() == g.len() {
-                ode.on_event(time, &d.y, &d.g_prev, &g);
-                d.cut_done = ode.cut_done.get();
-                ode.events(time, &d.y, &mut g);
-            }
-            ode.on_step(time, &d.y);
-            d.peaks = ode.peaks.get();
-            d.k_d = ode.k_d.get();
-            d.g_prev = g;
-        }
+        chain::me_completed_step(self.dynamic.as_mut(), &self.params, v, time);
     }
 
     fn save_state(&self) -> Vec<f64> {
-        self.dynamic.as_ref().map(Dynamic::save).unwrap_or_default()
+        chain::save_state(self.dynamic.as_ref())
     }
 
     fn restore_state(&mut self, s: &[f64]) -> Result<(), String> {
-        match self.dynamic.as_mut() {
-            Some(d) => d.restore(s),
-            None if s.is_empty() => Ok(()),
-            None => Err("FMU state of the elastodynamic level given to another level".into()),
-        }
+        chain::restore_state(self.dynamic.as_mut(), s)
     }
 
     fn calculated_parameters(&self, v: &mut Values<V>) {
@@ -444,7 +371,7 @@ impl Model for GenevaKnifeDrive {
         v[V::knife_s_kin] = k.s;
         if let Some(d) = self.dynamic.as_ref() {
             let path = shaft::path(v, time);
-            let ode = d.ode(p, path);
+            let ode = d.ode(p, path, v);
             let y = if d.started {
                 d.y
             } else {
@@ -463,12 +390,7 @@ impl Model for GenevaKnifeDrive {
             shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             v[V::elastic_E_residual] =
                 ode.energy(&pt) - if d.started { d.e0 } else { ode.energy(&pt) } - y[2];
-            let running = if d.peaks.2 > 0.0 {
-                d.peaks.1 / d.peaks.2
-            } else {
-                1.0
-            };
-            v[V::dyn_factor] = if d.k_d.is_nan() { running } else { d.k_d };
+            v[V::dyn_factor] = chain::dyn_factor(d.memory.peaks, d.memory.k_d);
             v[V::solver_steps] = d.integ.stats.steps as f64;
             shaft::set_outputs(v, tau, s.w);
             return;
