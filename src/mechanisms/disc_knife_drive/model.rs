@@ -5,6 +5,7 @@ use super::elastic::{Point, RodOde, dead_point_threshold};
 use super::physics::{Forces, Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
+use crate::solver::chain::{self, Chain, ChainModel, Slot};
 use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
 use std::cell::Cell;
 
@@ -116,83 +117,96 @@ crate::model_variables! {
     }
 }
 
-/// What the elastodynamic level carries between steps.
+/// The compliant rod 4 of the elastodynamic level: its constants.
 #[derive(Clone, Debug, PartialEq)]
-struct Dynamic {
+struct RodChain {
     k: f64,
     c: f64,
     /// [`dead_point_threshold`].
     c_dead: f64,
-    integ: Integrator,
-    started: bool,
-    y: [f64; 3],
-    e0: f64,
+}
+
+/// What [`RodOde`] tracks between steps.
+#[derive(Clone, Debug, PartialEq)]
+struct RodMemory {
     /// (shaft turn, peak |P|, peak |P_rigid|) of the running turn.
     peaks: (f64, f64, f64),
     /// K_d of the last complete turn (NaN: none yet).
     k_d: f64,
 }
 
-impl Dynamic {
-    const STATE_LEN: usize = 13;
+/// What the elastodynamic level carries between steps (no Model Exchange event handling: the
+/// rod's events only end the solver's steps).
+type Dynamic = Chain<RodChain>;
 
-    fn ode<'a>(&self, p: &'a Params, path: ShaftPath) -> RodOde<'a> {
+// the FMU state format: saved states must still restore
+const _: () = assert!(Dynamic::STATE_LEN == 13);
+
+impl ChainModel for RodChain {
+    type Var = V;
+    type Physics = Params;
+    type Memory = RodMemory;
+    type Ode<'a> = RodOde<'a>;
+    const LAYOUT: &'static [Slot] = &[Slot::Memory(4), Slot::Integrator, Slot::Steps, Slot::Events];
+    const STATE_NAME: &'static str = "DiscKnifeDrive elastodynamic state";
+    const EXTRAPOLATED_PHI_LESS_PHI0: bool = false;
+
+    fn ode<'a>(&self, p: &'a Params, path: ShaftPath, _: &Values<V>, m: &RodMemory) -> RodOde<'a> {
         RodOde {
             p,
             k: self.k,
             c: self.c,
             path,
             c_dead: self.c_dead,
-            peaks: Cell::new(self.peaks),
-            k_d: Cell::new(self.k_d),
+            peaks: Cell::new(m.peaks),
+            k_d: Cell::new(m.k_d),
+        }
+    }
+    fn initial_state(ode: &RodOde, t: f64) -> [f64; 3] {
+        ode.initial_state(t)
+    }
+    fn energy(ode: &RodOde, t: f64, y: &[f64; 3]) -> f64 {
+        ode.energy(&ode.point(t, y))
+    }
+    fn start(ode: &RodOde, path: &ShaftPath, m: &mut RodMemory) {
+        m.peaks = (ode.path.cycle(path.t0), 0.0, 0.0);
+        m.k_d = f64::NAN;
+    }
+    fn absorb(ode: &RodOde, m: &mut RodMemory) {
+        m.peaks = ode.peaks.get();
+        m.k_d = ode.k_d.get();
+    }
+    fn save_memory(m: &RodMemory, out: &mut Vec<f64>) {
+        let (c, pd, pr) = m.peaks;
+        out.extend([c, pd, pr, m.k_d]);
+    }
+    fn restore_memory(s: &[f64]) -> RodMemory {
+        RodMemory {
+            peaks: (s[0], s[1], s[2]),
+            k_d: s[3],
         }
     }
 
-    fn start(&mut self, p: &Params, path: ShaftPath) {
-        let ode = self.ode(p, path);
-        self.y = ode.initial_state(path.t0);
-        self.e0 = ode.energy(&ode.point(path.t0, &self.y));
-        self.peaks = (ode.path.cycle(path.t0), 0.0, 0.0);
-        self.k_d = f64::NAN;
-        self.started = true;
-    }
-
-    fn save(&self) -> Vec<f64> {
-        let h = self.integ.save();
-        vec![
-            f64::from(u8::from(self.started)),
-            self.y[0],
-            self.y[1],
-            self.y[2],
-            self.e0,
-            self.peaks.0,
-            self.peaks.1,
-            self.peaks.2,
-            self.k_d,
-            h[0],
-            h[1],
-            self.integ.stats.steps as f64,
-            self.integ.stats.events as f64,
-        ]
-    }
-
-    fn restore(&mut self, s: &[f64]) -> Result<(), String> {
-        if s.len() != Self::STATE_LEN {
-            return Err(format!(
-                "DiscKnifeDrive elastodynamic state has {} numbers, expected {}",
-                s.len(),
-                Self::STATE_LEN
-            ));
+    /// The partial state tells a rod so soft that the slider left the range where the holder
+    /// assembles (eq. 5 has no solution there).
+    fn step_failed(&self, ode: &RodOde, y: &[f64; 3], why: String) -> String {
+        let c = ode.p.assembly_cos(y[0]);
+        let near = 1.0 - 2.0 * (1.0 - self.c_dead); // well beyond the rigid range
+        if c.is_nan() || c.abs() >= near {
+            format!(
+                "slider 5 reached x = {:.6} m, the dead point of the holder (|cos(beta + alpha)| = {:.7} -> 1, eq. 5: the holder's reduced mass is unbounded there): the rod (elastic.k = {} N/m) is too soft for this motion; {why}",
+                y[0],
+                c.abs(),
+                self.k
+            )
+        } else {
+            why
         }
-        self.started = s[0] != 0.0;
-        self.y = [s[1], s[2], s[3]];
-        self.e0 = s[4];
-        self.peaks = (s[5], s[6], s[7]);
-        self.k_d = s[8];
-        self.integ.restore(&s[9..11]);
-        self.integ.stats.steps = s[11] as usize;
-        self.integ.stats.events = s[12] as usize;
-        Ok(())
+    }
+
+    /// No transitions to count: the ODE's `on_step` only.
+    fn me_completed_step(&self, ode: &RodOde, t: f64, y: &[f64; 3], _: &mut Vec<f64>) {
+        ode.on_step(t, y);
     }
 }
 
@@ -299,17 +313,16 @@ impl Model for DiscKnifeDrive {
         params.validate()?;
         let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
             let k = v[V::elastic_k];
-            Dynamic {
+            let model = RodChain {
                 k,
                 c: RodOde::damping(&params, k, v[V::elastic_zeta]),
                 c_dead: dead_point_threshold(&params),
-                integ: Integrator::new(solver_settings(v)),
-                started: false,
-                y: [0.0; 3],
-                e0: 0.0,
+            };
+            let memory = RodMemory {
                 peaks: (0.0, 0.0, 0.0),
                 k_d: f64::NAN,
-            }
+            };
+            Chain::new(model, Integrator::new(solver_settings(v)), memory)
         });
         Ok(DiscKnifeDrive {
             params,
@@ -323,92 +336,32 @@ impl Model for DiscKnifeDrive {
         v: &mut Values<V>,
         time: f64,
         h: f64,
-        _log: &mut dyn Log,
+        log: &mut dyn Log,
     ) -> Result<(), String> {
-        let Some(d) = self.dynamic.as_mut() else {
-            return Ok(());
-        };
-        let path = shaft::path(v, time);
-        if !d.started {
-            d.start(&self.params, path);
-        }
-        let before = d.clone();
-        let ode = d.ode(&self.params, path);
-        let mut y = d.y;
-        match d.integ.integrate(&ode, time, time + h, &mut y) {
-            Ok(_) => {
-                d.y = y;
-                d.peaks = ode.peaks.get();
-                d.k_d = ode.k_d.get();
-                if v.int(V::drive_mode) == 1 {
-                    // the FMU's own extrapolation of the inputs, until the host sets them
-                    let (_, w, a) = path.at(time + h);
-                    v[V::shaft_phi] = path.absolute_phi(time + h);
-                    v[V::shaft_w] = w;
-                    v[V::shaft_a] = a;
-                }
-                Ok(())
-            }
-            Err(why) => {
-                *d = before;
-                // the partial state tells a rod so soft that the slider left the range where the
-                // holder assembles (eq. 5 has no solution there)
-                let c = self.params.assembly_cos(y[0]);
-                let near = 1.0 - 2.0 * (1.0 - d.c_dead); // well beyond the rigid range
-                Err(if c.is_nan() || c.abs() >= near {
-                    format!(
-                        "slider 5 reached x = {:.6} m, the dead point of the holder (|cos(beta + alpha)| = {:.7} -> 1, eq. 5: the holder's reduced mass is unbounded there): the rod (elastic.k = {} N/m) is too soft for this motion; {why}",
-                        y[0],
-                        c.abs(),
-                        d.k
-                    )
-                } else {
-                    why
-                })
-            }
-        }
+        chain::do_step(self.dynamic.as_mut(), &self.params, v, time, h, log)
     }
 
     const STATES: usize = 3;
     const EVENT_INDICATORS: usize = 5;
 
     fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
-        match self.me_dynamic(v, time) {
-            Some(d) => x.copy_from_slice(&d.y),
-            None => x.fill(0.0),
-        }
+        chain::me_states(self.dynamic.as_mut(), &self.params, v, time, x);
     }
 
     fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
-        if let Some(d) = self.me_dynamic(v, time) {
-            d.y.copy_from_slice(x);
-        }
+        chain::me_set_states(self.dynamic.as_mut(), &self.params, v, time, x);
     }
 
     fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
-        let p = self.params;
-        match self.me_dynamic(v, time) {
-            Some(d) => d.ode(&p, shaft::path(v, time)).rhs(time, &d.y, dx),
-            None => dx.fill(0.0),
-        }
+        chain::me_derivatives(self.dynamic.as_mut(), &self.params, v, time, dx);
     }
 
     fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
-        let p = self.params;
-        match self.me_dynamic(v, time) {
-            Some(d) => d.ode(&p, shaft::path(v, time)).events(time, &d.y, z),
-            None => z.fill(1.0),
-        }
+        chain::me_event_indicators(self.dynamic.as_mut(), &self.params, v, time, z);
     }
 
     fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
-        let p = self.params;
-        if let Some(d) = self.me_dynamic(v, time) {
-            let ode = d.ode(&p, shaft::path(v, time));
-            ode.on_step(time, &d.y);
-            d.peaks = ode.peaks.get();
-            d.k_d = ode.k_d.get();
-        }
+        chain::me_completed_step(self.dynamic.as_mut(), &self.params, v, time);
     }
 
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, log: &mut dyn Log) {
@@ -417,7 +370,7 @@ impl Model for DiscKnifeDrive {
         v[V::slider_stroke] = p.stroke();
         let s = shaft::state(v, time);
         if let Some(d) = self.dynamic.as_ref() {
-            let ode = d.ode(p, shaft::path(v, time));
+            let ode = d.ode(p, shaft::path(v, time), v);
             let y = if d.started {
                 d.y
             } else {
@@ -426,12 +379,7 @@ impl Model for DiscKnifeDrive {
             let pt = ode.point(time, &y);
             let e0 = if d.started { d.e0 } else { ode.energy(&pt) };
             v[V::elastic_E_residual] = ode.energy(&pt) - e0 - y[2];
-            let running = if d.peaks.2 > 0.0 {
-                d.peaks.1 / d.peaks.2
-            } else {
-                1.0
-            };
-            v[V::dyn_factor] = if d.k_d.is_nan() { running } else { d.k_d };
+            v[V::dyn_factor] = chain::dyn_factor(d.memory.peaks, d.memory.k_d);
             v[V::solver_steps] = d.integ.stats.steps as f64;
             v[V::elastic_x] = y[0];
             v[V::elastic_xd] = y[1];
@@ -442,7 +390,11 @@ impl Model for DiscKnifeDrive {
             Self::write_elastic(p, v, &pt);
             // the split of shaft.tau at the held state: only the shaft acceleration changes
             let path = shaft::path(v, time);
-            let r = shaft::reduce(|a| d.ode(p, ShaftPath { a, ..path }).point(time, &y).shaft_tau);
+            let r = shaft::reduce(|a| {
+                d.ode(p, ShaftPath { a, ..path }, v)
+                    .point(time, &y)
+                    .shaft_tau
+            });
             shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             self.warn_locked(pt.eval.locked, &pt.kin, time, log);
             shaft::set_outputs(v, pt.shaft_tau, s.w);
@@ -500,16 +452,6 @@ impl Model for DiscKnifeDrive {
 }
 
 impl DiscKnifeDrive {
-    /// The elastodynamic state for Model Exchange, started from the inputs at `time` if new.
-    fn me_dynamic(&mut self, v: &Values<V>, time: f64) -> Option<&mut Dynamic> {
-        let p = self.params;
-        let d = self.dynamic.as_mut()?;
-        if !d.started {
-            d.start(&p, shaft::path(v, time));
-        }
-        Some(d)
-    }
-
     /// One warning per entry into a self-locking zone.
     fn warn_locked(&mut self, locked: bool, k: &Kinematics, time: f64, log: &mut dyn Log) {
         let p = &self.params;
