@@ -10,7 +10,8 @@
 //! fit. [`Chain`] holds what every mechanism carries between steps (integrator, states, initial
 //! energy, Model Exchange indicators); the free functions of this module are the hooks of
 //! [`crate::model::Model`] (`do_step`, `me_*`, `save_state`/`restore_state`) for a model with an
-//! `Option<Chain<_>>` (`None` below the elastodynamic level), each called in one line.
+//! `Option<Chain<_>>` (`None` below the elastodynamic level), each a one-line call, which
+//! [`crate::chain_hooks!`] writes into the model's `impl Model`.
 //!
 //! The states are always `y = [x, ẋ, W]`: the chain's free coordinate, its rate and the work `W`
 //! done on the chain by everything but its spring, for the energy balance `E − E0 − W`.
@@ -305,6 +306,95 @@ fn me_chain<'c, C: ChainModel>(
         d.start(p, shaft::path(v, time), v);
     }
     Some(d)
+}
+
+/// The hooks of [`crate::model::Model`] of a model whose elastodynamic level is the
+/// `Option<Chain<_>>` in field `$chain`, its ODE's physics in field `$physics`: each hook named
+/// becomes the one-line call of this module's function of that name. Used inside `impl Model`:
+///
+/// ```ignore
+/// crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
+///     me_event_indicators, me_event, me_completed_step, save_state, restore_state);
+/// ```
+///
+/// A hook not named keeps the model's own implementation (or the trait's default).
+#[macro_export]
+macro_rules! chain_hooks {
+    ($chain:ident, $physics:ident: $($hook:ident),+ $(,)?) => {
+        $($crate::chain_hooks!(@$hook $chain $physics);)+
+    };
+    (@do_step $chain:ident $physics:ident) => {
+        fn do_step(
+            &mut self,
+            v: &mut $crate::model::Values<Self::Var>,
+            time: f64,
+            h: f64,
+            log: &mut dyn $crate::model::Log,
+        ) -> Result<(), String> {
+            $crate::solver::chain::do_step(self.$chain.as_mut(), &self.$physics, v, time, h, log)
+        }
+    };
+    (@me_states $chain:ident $physics:ident) => {
+        fn me_states(&mut self, v: &$crate::model::Values<Self::Var>, time: f64, x: &mut [f64]) {
+            $crate::solver::chain::me_states(self.$chain.as_mut(), &self.$physics, v, time, x);
+        }
+    };
+    (@me_set_states $chain:ident $physics:ident) => {
+        fn me_set_states(&mut self, v: &$crate::model::Values<Self::Var>, time: f64, x: &[f64]) {
+            $crate::solver::chain::me_set_states(self.$chain.as_mut(), &self.$physics, v, time, x);
+        }
+    };
+    (@me_derivatives $chain:ident $physics:ident) => {
+        fn me_derivatives(
+            &mut self,
+            v: &$crate::model::Values<Self::Var>,
+            time: f64,
+            dx: &mut [f64],
+        ) {
+            $crate::solver::chain::me_derivatives(self.$chain.as_mut(), &self.$physics, v, time, dx);
+        }
+    };
+    (@me_event_indicators $chain:ident $physics:ident) => {
+        fn me_event_indicators(
+            &mut self,
+            v: &$crate::model::Values<Self::Var>,
+            time: f64,
+            z: &mut [f64],
+        ) {
+            $crate::solver::chain::me_event_indicators(
+                self.$chain.as_mut(),
+                &self.$physics,
+                v,
+                time,
+                z,
+            );
+        }
+    };
+    (@me_event $chain:ident $physics:ident) => {
+        fn me_event(
+            &mut self,
+            v: &$crate::model::Values<Self::Var>,
+            time: f64,
+            log: &mut dyn $crate::model::Log,
+        ) {
+            $crate::solver::chain::me_event(self.$chain.as_mut(), &self.$physics, v, time, log);
+        }
+    };
+    (@me_completed_step $chain:ident $physics:ident) => {
+        fn me_completed_step(&mut self, v: &$crate::model::Values<Self::Var>, time: f64) {
+            $crate::solver::chain::me_completed_step(self.$chain.as_mut(), &self.$physics, v, time);
+        }
+    };
+    (@save_state $chain:ident $physics:ident) => {
+        fn save_state(&self) -> Vec<f64> {
+            $crate::solver::chain::save_state(self.$chain.as_ref())
+        }
+    };
+    (@restore_state $chain:ident $physics:ident) => {
+        fn restore_state(&mut self, s: &[f64]) -> Result<(), String> {
+            $crate::solver::chain::restore_state(self.$chain.as_mut(), s)
+        }
+    };
 }
 
 /// [`crate::model::Model::do_step`]: integrates the chain over `[time, time + h]`. A refused step

@@ -331,38 +331,13 @@ impl Model for DiscKnifeDrive {
         })
     }
 
-    fn do_step(
-        &mut self,
-        v: &mut Values<V>,
-        time: f64,
-        h: f64,
-        log: &mut dyn Log,
-    ) -> Result<(), String> {
-        chain::do_step(self.dynamic.as_mut(), &self.params, v, time, h, log)
-    }
-
     const STATES: usize = 3;
     const EVENT_INDICATORS: usize = 5;
 
-    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
-        chain::me_states(self.dynamic.as_mut(), &self.params, v, time, x);
-    }
-
-    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
-        chain::me_set_states(self.dynamic.as_mut(), &self.params, v, time, x);
-    }
-
-    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
-        chain::me_derivatives(self.dynamic.as_mut(), &self.params, v, time, dx);
-    }
-
-    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
-        chain::me_event_indicators(self.dynamic.as_mut(), &self.params, v, time, z);
-    }
-
-    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
-        chain::me_completed_step(self.dynamic.as_mut(), &self.params, v, time);
-    }
+    // Co-Simulation and Model Exchange from solver::chain; no `me_event`: the rod's events only
+    // end the host's steps
+    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
+        me_event_indicators, me_completed_step);
 
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, log: &mut dyn Log) {
         let p = &self.params;

@@ -825,29 +825,9 @@ impl Model for Perforators {
     const STATES: usize = 3;
     const EVENT_INDICATORS: usize = N_EVENTS;
 
-    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
-        chain::me_states(self.dynamic.as_mut(), &self.drive, v, time, x);
-    }
-
-    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
-        chain::me_set_states(self.dynamic.as_mut(), &self.drive, v, time, x);
-    }
-
-    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
-        chain::me_derivatives(self.dynamic.as_mut(), &self.drive, v, time, dx);
-    }
-
-    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
-        chain::me_event_indicators(self.dynamic.as_mut(), &self.drive, v, time, z);
-    }
-
-    fn me_event(&mut self, v: &Values<V>, time: f64, log: &mut dyn Log) {
-        chain::me_event(self.dynamic.as_mut(), &self.drive, v, time, log);
-    }
-
-    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
-        chain::me_completed_step(self.dynamic.as_mut(), &self.drive, v, time);
-    }
+    // Model Exchange from solver::chain ([`LeverChain`]'s hooks)
+    crate::chain_hooks!(dynamic, drive: me_states, me_set_states, me_derivatives,
+        me_event_indicators, me_event, me_completed_step);
 
     fn save_state(&self) -> Vec<f64> {
         if let Some(d) = self.dynamic.as_ref() {

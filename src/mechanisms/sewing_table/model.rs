@@ -414,53 +414,16 @@ impl Model for SewingTable {
         })
     }
 
-    fn do_step(
-        &mut self,
-        v: &mut Values<V>,
-        time: f64,
-        h: f64,
-        log: &mut dyn Log,
-    ) -> Result<(), String> {
-        chain::do_step(self.dynamic.as_mut(), &self.params, v, time, h, log)
-    }
-
     const STATES: usize = 3;
-    const EVENT_INDICATORS: usize = 7;
-
-    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
-        chain::me_states(self.dynamic.as_mut(), &self.params, v, time, x);
-    }
-
-    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
-        chain::me_set_states(self.dynamic.as_mut(), &self.params, v, time, x);
-    }
-
-    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
-        chain::me_derivatives(self.dynamic.as_mut(), &self.params, v, time, dx);
-    }
-
     /// The cyclogram's phase boundaries, both slot flanks (with clearance) and the rigid
     /// velocity's sign ([`TableOde`]'s events).
-    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
-        chain::me_event_indicators(self.dynamic.as_mut(), &self.params, v, time, z);
-    }
+    const EVENT_INDICATORS: usize = 7;
 
-    /// A flank contact opened or closed: counts the lift-off or marks the landing.
-    fn me_event(&mut self, v: &Values<V>, time: f64, log: &mut dyn Log) {
-        chain::me_event(self.dynamic.as_mut(), &self.params, v, time, log);
-    }
-
-    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
-        chain::me_completed_step(self.dynamic.as_mut(), &self.params, v, time);
-    }
-
-    fn save_state(&self) -> Vec<f64> {
-        chain::save_state(self.dynamic.as_ref())
-    }
-
-    fn restore_state(&mut self, s: &[f64]) -> Result<(), String> {
-        chain::restore_state(self.dynamic.as_mut(), s)
-    }
+    // Co-Simulation, Model Exchange and the FMU state from solver::chain; at an event or a
+    // completed step a flank contact that opened or closed counts a lift-off or marks a landing
+    // ([`TableChain`])
+    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
+        me_event_indicators, me_event, me_completed_step, save_state, restore_state);
 
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
         let p = &self.params;
