@@ -16,7 +16,7 @@
 //! The states are always `y = [x, ẋ, W]`: the chain's free coordinate, its rate and the work `W`
 //! done on the chain by everything but its spring, for the energy balance `E − E0 − W`.
 
-use super::{Integrator, OdeSystem, ShaftPath};
+use super::{Integrator, Method, OdeSystem, Settings, ShaftPath};
 use crate::model::shaft;
 use crate::model::{Log, Values, VarSet};
 use std::fmt::Debug;
@@ -211,6 +211,16 @@ impl<C: ChainModel> Chain<C> {
         self.e0 = C::energy(&ode, path.t0, &self.y);
         C::start(&ode, &path, &mut self.memory);
         self.started = true;
+    }
+
+    /// The states to report at `t`: the integrated ones, or before the start those the
+    /// integration will start from.
+    pub fn held_state(&self, ode: &C::Ode<'_>, t: f64) -> [f64; 3] {
+        if self.started {
+            self.y
+        } else {
+            C::initial_state(ode, t)
+        }
     }
 
     /// The FMU state snapshot: `[started, y0, y1, y2, e0]`, then [`ChainModel::LAYOUT`], then
@@ -544,6 +554,43 @@ pub fn restore_state<C: ChainModel>(chain: Option<&mut Chain<C>>, s: &[f64]) -> 
         None if s.is_empty() => Ok(()),
         None => Err("FMU state of the elastodynamic level given to another level".into()),
     }
+}
+
+/// The solver settings from the `solver.*` parameters ([`super::vars`]) among a model's
+/// variables.
+pub fn solver_settings<V: VarSet>(v: &Values<V>) -> Settings {
+    let value = |name: &str| {
+        let i = V::table()
+            .iter()
+            .position(|d| d.name == name)
+            .unwrap_or_else(|| panic!("the model declares no {name}"));
+        v.raw()[i]
+    };
+    Settings {
+        method: Method::from_value(value("solver.method") as i32),
+        rtol: value("solver.rtol"),
+        atol: value("solver.atol"),
+        max_step: value("solver.max_step"),
+        ..Settings::default()
+    }
+}
+
+/// Writes the Model Exchange states `y` into the variables `states` and their derivatives
+/// `[ẋ, ẍ, Ẇ]` = `[y[1], xdd, power]` into `derivatives` (the locals that show them).
+pub fn write_states<V: VarSet>(
+    v: &mut Values<V>,
+    states: [V; 3],
+    derivatives: [V; 3],
+    y: &[f64; 3],
+    xdd: f64,
+    power: f64,
+) {
+    for (s, x) in states.into_iter().zip(y) {
+        v[s] = *x;
+    }
+    v[derivatives[0]] = y[1];
+    v[derivatives[1]] = xdd;
+    v[derivatives[2]] = power;
 }
 
 /// Running peak tracking of the dynamic factor over shaft turns, at an accepted step in turn

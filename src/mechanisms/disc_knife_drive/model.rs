@@ -6,7 +6,7 @@ use super::physics::{Forces, Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Slot};
-use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use crate::solver::{Integrator, OdeSystem, Settings, ShaftPath};
 use std::cell::Cell;
 
 /// The computations a scene may leave out (`scenes.md`); the variables below say which they
@@ -215,14 +215,11 @@ impl ChainModel for RodChain {
 /// rod refuses in that time instead of grinding); one shaft turn takes some 1500 steps.
 pub const STEP_BUDGET: usize = 50_000;
 
-/// The solver settings from the `solver.*` parameters.
+/// The solver settings from the `solver.*` parameters, with [`STEP_BUDGET`].
 pub fn solver_settings(v: &Values<V>) -> Settings {
     Settings {
-        method: Method::from_value(v.int(V::solver_method)),
-        rtol: v[V::solver_rtol],
-        atol: v[V::solver_atol],
-        max_step: v[V::solver_max_step],
         max_steps: STEP_BUDGET,
+        ..chain::solver_settings(v)
     }
 }
 
@@ -346,22 +343,15 @@ impl Model for DiscKnifeDrive {
         let s = shaft::state(v, time);
         if let Some(d) = self.dynamic.as_ref() {
             let ode = d.ode(p, shaft::path(v, time), v);
-            let y = if d.started {
-                d.y
-            } else {
-                ode.initial_state(time)
-            };
+            let y = d.held_state(&ode, time);
             let pt = ode.point(time, &y);
             let e0 = if d.started { d.e0 } else { ode.energy(&pt) };
             v[V::elastic_E_residual] = ode.energy(&pt) - e0 - y[2];
             v[V::dyn_factor] = chain::dyn_factor(d.memory.peaks, d.memory.k_d);
             v[V::solver_steps] = d.integ.stats.steps as f64;
-            v[V::elastic_x] = y[0];
-            v[V::elastic_xd] = y[1];
-            v[V::elastic_W] = y[2];
-            v[V::der_elastic_x] = y[1];
-            v[V::der_elastic_xd] = pt.eval.xdd;
-            v[V::der_elastic_W] = pt.eval.power;
+            let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
+            let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
+            chain::write_states(v, states, ders, &y, pt.eval.xdd, pt.eval.power);
             Self::write_elastic(p, v, &pt);
             // the split of shaft.tau at the held state: only the shaft acceleration changes
             let path = shaft::path(v, time);

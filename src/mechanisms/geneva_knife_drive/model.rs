@@ -7,7 +7,7 @@ use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Stage, Stages, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Slot};
-use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use crate::solver::{Integrator, OdeSystem, ShaftPath};
 use std::cell::Cell;
 
 /// The computations a scene may leave out (`scenes.md`); the variables below say which they
@@ -219,17 +219,6 @@ impl ChainModel for KnifeChain {
     }
 }
 
-/// The solver settings from the `solver.*` parameters.
-pub fn solver_settings(v: &Values<V>) -> Settings {
-    Settings {
-        method: Method::from_value(v.int(V::solver_method)),
-        rtol: v[V::solver_rtol],
-        atol: v[V::solver_atol],
-        max_step: v[V::solver_max_step],
-        ..Settings::default()
-    }
-}
-
 impl GenevaKnifeDrive {
     /// The physics parameters from the variables.
     pub fn params(v: &Values<V>) -> Params {
@@ -295,7 +284,7 @@ impl Model for GenevaKnifeDrive {
             };
             Chain::new(
                 KnifeChain { k, c },
-                Integrator::new(solver_settings(v)),
+                Integrator::new(chain::solver_settings(v)),
                 memory,
             )
         });
@@ -332,18 +321,11 @@ impl Model for GenevaKnifeDrive {
         if let Some(d) = self.dynamic.as_ref() {
             let path = shaft::path(v, time);
             let ode = d.ode(p, path, v);
-            let y = if d.started {
-                d.y
-            } else {
-                ode.initial_state(time)
-            };
+            let y = d.held_state(&ode, time);
             let pt = ode.point_at(&k, &y);
-            v[V::elastic_x] = y[0];
-            v[V::elastic_xd] = y[1];
-            v[V::elastic_W] = y[2];
-            v[V::der_elastic_x] = y[1];
-            v[V::der_elastic_xd] = pt.xdd;
-            v[V::der_elastic_W] = pt.power;
+            let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
+            let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
+            chain::write_states(v, states, ders, &y, pt.xdd, pt.power);
             let tau = elastic_outputs(p, v, &pt, s.w, s.a);
             let r =
                 shaft::reduce(|a| elastic_torques(p, &p.kinematics(s.phi, s.w, a), pt.f_el, a)[3]);

@@ -15,7 +15,7 @@ use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Slot};
-use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use crate::solver::{Integrator, OdeSystem, ShaftPath};
 use std::cell::Cell;
 use std::f64::consts::TAU;
 
@@ -451,17 +451,6 @@ impl ChainModel for LeverChain {
     }
 }
 
-/// The solver settings from the `solver.*` parameters.
-pub fn solver_settings(v: &Values<V>) -> Settings {
-    Settings {
-        method: Method::from_value(v.int(V::solver_method)),
-        rtol: v[V::solver_rtol],
-        atol: v[V::solver_atol],
-        max_step: v[V::solver_max_step],
-        ..Settings::default()
-    }
-}
-
 /// The contact of the elastodynamic level from the `contact.*` parameters.
 pub fn contact_of(d: &Drive, v: &Values<V>) -> Contact {
     let law = if v.int(V::contact_law) == 2 {
@@ -568,11 +557,7 @@ impl Perforators {
     fn evaluate_dynamic(&self, v: &mut Values<V>, time: f64) -> f64 {
         let d = self.dynamic.as_ref().expect("elastodynamic level");
         let ode = d.ode(&self.drive, shaft::path(v, time), v);
-        let y = if d.started {
-            d.y
-        } else {
-            ode.initial_state(time)
-        };
+        let y = d.held_state(&ode, time);
         let pt = ode.point(time, &y);
         let k = &pt.kin;
         let f = &pt.forces;
@@ -628,12 +613,10 @@ impl Perforators {
             0.0
         };
         v[V::solver_steps] = d.integ.stats.steps as f64;
-        v[V::elastic_q] = y[0];
-        v[V::elastic_qd] = y[1];
-        v[V::elastic_W] = y[2];
-        v[V::der_elastic_q] = y[1];
-        v[V::der_elastic_qd] = pt.rigid.gamma_a - k.gamma_a;
-        v[V::der_elastic_W] = pt.power;
+        let states = [V::elastic_q, V::elastic_qd, V::elastic_W];
+        let ders = [V::der_elastic_q, V::der_elastic_qd, V::der_elastic_W];
+        let qdd = pt.rigid.gamma_a - k.gamma_a;
+        chain::write_states(v, states, ders, &y, qdd, pt.power);
         // the split of shaft.tau at the held state: only the shaft acceleration changes
         let path = ode.path;
         let r = shaft::reduce(|a| {
@@ -680,7 +663,7 @@ impl Model for Perforators {
                 track: Track::new(0.0),
                 lost_step: false,
             };
-            Chain::new(model, Integrator::new(solver_settings(v)), memory)
+            Chain::new(model, Integrator::new(chain::solver_settings(v)), memory)
         });
         Ok(Perforators {
             drive,

@@ -7,7 +7,7 @@ use crate::mechanics::motion_laws::MotionLaw;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Stages, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Slot};
-use crate::solver::{Integrator, Method, Settings, ShaftPath};
+use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
 /// `law.*` (`motion-laws.md`), shared by SewingTable and Perforators.
@@ -389,13 +389,7 @@ impl Model for SewingTable {
                 c: TableOde::damping(&params, k, v[V::elastic_zeta]),
                 gap: 0.5 * v[V::cam_clearance],
             };
-            let integ = Integrator::new(Settings {
-                method: Method::from_value(v.int(V::solver_method)),
-                rtol: v[V::solver_rtol],
-                atol: v[V::solver_atol],
-                max_step: v[V::solver_max_step],
-                ..Settings::default()
-            });
+            let integ = Integrator::new(chain::solver_settings(v));
             let memory = TableMemory {
                 peaks: (0.0, 0.0, 0.0),
                 k_d: f64::NAN,
@@ -457,19 +451,12 @@ impl Model for SewingTable {
         v[V::table_x_kin] = k.c.x;
         if let Some(d) = self.dynamic.as_ref() {
             let ode = d.ode(p, shaft::path(v, time), v);
-            let y = if d.started {
-                d.y
-            } else {
-                ode.initial_state(time)
-            };
+            let y = d.held_state(&ode, time);
             let pt = ode.point_at(&k, &y);
             let m = p.table_m;
-            v[V::elastic_x] = y[0];
-            v[V::elastic_xd] = y[1];
-            v[V::elastic_W] = y[2];
-            v[V::der_elastic_x] = y[1];
-            v[V::der_elastic_xd] = pt.xdd;
-            v[V::der_elastic_W] = pt.power;
+            let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
+            let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
+            chain::write_states(v, states, ders, &y, pt.xdd, pt.power);
             v[V::table_x] = pt.x;
             v[V::table_v] = pt.xd;
             v[V::table_a] = pt.xdd;
