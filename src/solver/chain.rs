@@ -26,9 +26,9 @@ use std::fmt::Debug;
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Slot {
     /// The next `n` numbers of the mechanism's memory ([`ChainModel::save_memory`]).
-    Memory(usize),
+    Mem(usize),
     /// [`Integrator::save`]: the next step size and the `auto` method's stiff mode (2 numbers).
-    Integrator,
+    Integ,
     /// The integrator's accepted steps.
     Steps,
     /// The integrator's located events.
@@ -43,8 +43,8 @@ pub const fn state_len(layout: &[Slot]) -> usize {
     let mut i = 0;
     while i < layout.len() {
         n += match layout[i] {
-            Slot::Memory(k) => k,
-            Slot::Integrator => 2,
+            Slot::Mem(k) => k,
+            Slot::Integ => 2,
             Slot::Steps | Slot::Events | Slot::Rejected => 1,
         };
         i += 1;
@@ -68,6 +68,10 @@ pub trait ChainModel: Clone + Debug {
     /// The FMU state layout after `[started, y0, y1, y2, e0]`; fixed once published, so that
     /// saved states still restore.
     const LAYOUT: &'static [Slot];
+    /// Numbers of that snapshot (without the indicators), checked against the layout when the
+    /// chain is built: the published length, so that a change of the layout is a deliberate
+    /// one.
+    const STATE_LEN: usize;
     /// Event indicators appended to the snapshot (the last event's or step's, so that Model
     /// Exchange transitions are counted after a restore too); 0: none. A snapshot without them
     /// (Co-Simulation) restores as well.
@@ -183,10 +187,16 @@ pub struct Chain<C: ChainModel> {
 
 impl<C: ChainModel> Chain<C> {
     /// Numbers of the FMU state snapshot (without Model Exchange indicators).
-    pub const STATE_LEN: usize = state_len(C::LAYOUT);
+    pub const STATE_LEN: usize = C::STATE_LEN;
 
     /// A chain not started yet, with its initial memory.
     pub fn new(model: C, integ: Integrator, memory: C::Memory) -> Self {
+        const {
+            assert!(
+                state_len(C::LAYOUT) == C::STATE_LEN,
+                "ChainModel::LAYOUT is not STATE_LEN long"
+            )
+        };
         Chain {
             model,
             integ,
@@ -238,8 +248,8 @@ impl<C: ChainModel> Chain<C> {
         ];
         for slot in C::LAYOUT {
             match *slot {
-                Slot::Memory(n) => s.extend(mem.by_ref().take(n)),
-                Slot::Integrator => s.extend(self.integ.save()),
+                Slot::Mem(n) => s.extend(mem.by_ref().take(n)),
+                Slot::Integ => s.extend(self.integ.save()),
                 Slot::Steps => s.push(self.integ.stats.steps as f64),
                 Slot::Events => s.push(self.integ.stats.events as f64),
                 Slot::Rejected => s.push(self.integ.stats.rejected as f64),
@@ -280,11 +290,11 @@ impl<C: ChainModel> Chain<C> {
         let mut i = 5;
         for slot in C::LAYOUT {
             match *slot {
-                Slot::Memory(k) => {
+                Slot::Mem(k) => {
                     mem.extend_from_slice(&s[i..i + k]);
                     i += k;
                 }
-                Slot::Integrator => {
+                Slot::Integ => {
                     self.integ.restore(&s[i..i + 2]);
                     i += 2;
                 }

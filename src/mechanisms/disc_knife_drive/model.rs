@@ -5,6 +5,7 @@ use super::elastic::{Point, RodOde, dead_point_threshold};
 use super::physics::{Forces, Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
+use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
 use crate::solver::chain::{self, Chain, ChainModel, Slot};
 use crate::solver::{Integrator, OdeSystem, Settings, ShaftPath};
 use std::cell::Cell;
@@ -139,15 +140,13 @@ struct RodMemory {
 /// rod's events only end the solver's steps).
 type Dynamic = Chain<RodChain>;
 
-// the FMU state format: saved states must still restore
-const _: () = assert!(Dynamic::STATE_LEN == 13);
-
 impl ChainModel for RodChain {
     type Var = V;
     type Physics = Params;
     type Memory = RodMemory;
     type Ode<'a> = RodOde<'a>;
-    const LAYOUT: &'static [Slot] = &[Slot::Memory(4), Slot::Integrator, Slot::Steps, Slot::Events];
+    const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Events];
+    const STATE_LEN: usize = 13;
     const STATE_NAME: &'static str = "DiscKnifeDrive elastodynamic state";
     const EXTRAPOLATED_PHI_LESS_PHI0: bool = false;
 

@@ -6,6 +6,7 @@ use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Stage, Stages, Values};
+use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
 use crate::solver::chain::{self, Chain, ChainModel, Slot};
 use crate::solver::{Integrator, OdeSystem, ShaftPath};
 use std::cell::Cell;
@@ -138,21 +139,13 @@ struct KnifeMemory {
 /// What the elastodynamic level carries between steps.
 type Dynamic = Chain<KnifeChain>;
 
-// the FMU state format: saved states must still restore
-const _: () = assert!(Dynamic::STATE_LEN == 14);
-
 impl ChainModel for KnifeChain {
     type Var = V;
     type Physics = Params;
     type Memory = KnifeMemory;
     type Ode<'a> = KnifeOde<'a>;
-    const LAYOUT: &'static [Slot] = &[
-        Slot::Memory(4),
-        Slot::Integrator,
-        Slot::Steps,
-        Slot::Events,
-        Slot::Memory(1),
-    ];
+    const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Events, Mem(1)];
+    const STATE_LEN: usize = 14;
     const SAVED_INDICATORS: usize = <GenevaKnifeDrive as Model>::EVENT_INDICATORS;
 
     fn ode<'a>(

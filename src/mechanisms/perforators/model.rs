@@ -14,6 +14,7 @@ use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
+use crate::solver::chain::Slot::{Events, Integ, Mem, Rejected, Steps};
 use crate::solver::chain::{self, Chain, ChainModel, Slot};
 use crate::solver::{Integrator, OdeSystem, ShaftPath};
 use std::cell::Cell;
@@ -264,22 +265,13 @@ struct LeverMemory {
 /// are not saved in the FMU state.
 type Dynamic = Chain<LeverChain>;
 
-// the FMU state format: saved states must still restore
-const _: () = assert!(Dynamic::STATE_LEN == 21);
-
 impl ChainModel for LeverChain {
     type Var = V;
     type Physics = Drive;
     type Memory = LeverMemory;
     type Ode<'a> = LeverOde<'a>;
-    const LAYOUT: &'static [Slot] = &[
-        Slot::Memory(10),
-        Slot::Integrator,
-        Slot::Steps,
-        Slot::Events,
-        Slot::Memory(1),
-        Slot::Rejected,
-    ];
+    const LAYOUT: &'static [Slot] = &[Mem(10), Integ, Steps, Events, Mem(1), Rejected];
+    const STATE_LEN: usize = 21;
     const EXTRAPOLATED_PHI_LESS_PHI0: bool = false;
 
     fn ode<'a>(

@@ -6,6 +6,7 @@ use super::physics::{Kind, Params};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Stages, Values};
+use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
 use crate::solver::chain::{self, Chain, ChainModel, Slot};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
@@ -234,9 +235,6 @@ struct TableMemory {
 /// What the elastodynamic level carries between steps.
 type Dynamic = Chain<TableChain>;
 
-// the FMU state format: saved states must still restore
-const _: () = assert!(Dynamic::STATE_LEN == 16);
-
 /// The default Model Exchange hooks: a flank contact that opened or closed since the last event
 /// or completed step is counted (a lift-off) or marked (a landing) at whichever comes first.
 impl ChainModel for TableChain {
@@ -244,13 +242,8 @@ impl ChainModel for TableChain {
     type Physics = Params;
     type Memory = TableMemory;
     type Ode<'a> = TableOde<'a>;
-    const LAYOUT: &'static [Slot] = &[
-        Slot::Memory(4),
-        Slot::Integrator,
-        Slot::Steps,
-        Slot::Memory(3),
-        Slot::Events,
-    ];
+    const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Mem(3), Events];
+    const STATE_LEN: usize = 16;
     const SAVED_INDICATORS: usize = <SewingTable as Model>::EVENT_INDICATORS;
 
     fn ode<'a>(
