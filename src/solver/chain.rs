@@ -78,6 +78,9 @@ pub trait ChainModel: Clone + Debug {
     const SAVED_INDICATORS: usize = 0;
     /// How a wrong snapshot is named in the error.
     const STATE_NAME: &'static str = "elastodynamic state";
+    /// Model Exchange: the indicators are taken again after a transition (the default hooks'
+    /// [`transitions`]), for an ODE whose events switch a mode its indicators depend on.
+    const REEVALUATE_INDICATORS: bool = false;
     /// `drive.mode` = input: after a Co-Simulation step `shaft.phi` is set to the extrapolated
     /// angle less `drive.phi0` (the input's meaning, [`shaft::state`]); `false`: the absolute
     /// extrapolated angle (Perforators and DiscKnifeDrive have always written that; kept so
@@ -133,14 +136,14 @@ pub trait ChainModel: Clone + Debug {
         _memory: &Self::Memory,
         _log: &mut dyn Log,
     ) {
-        transitions(ode, t, y, g_prev, false);
+        transitions(ode, t, y, g_prev, Self::REEVALUATE_INDICATORS);
     }
     /// Model Exchange: the host completed an integrator step at `t`, before
     /// [`ChainModel::absorb`]. Default: the [`transitions`] since the last call (hosts such as
     /// FMPy call `fmi2CompletedIntegratorStep` at the event instant before they enter event
     /// mode, so the event alone would find nothing changed), then the ODE's `on_step`.
     fn me_completed_step(&self, ode: &Self::Ode<'_>, t: f64, y: &[f64; 3], g_prev: &mut Vec<f64>) {
-        transitions(ode, t, y, g_prev, false);
+        transitions(ode, t, y, g_prev, Self::REEVALUATE_INDICATORS);
         ode.on_step(t, y);
     }
 }

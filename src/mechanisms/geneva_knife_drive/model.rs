@@ -8,7 +8,7 @@ use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Stage, Stages, Values};
 use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
 use crate::solver::chain::{self, Chain, ChainModel, Slot};
-use crate::solver::{Integrator, OdeSystem, ShaftPath};
+use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
 /// The computations a scene may leave out (`scenes.md`); the variables below say which they
@@ -147,6 +147,8 @@ impl ChainModel for KnifeChain {
     const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Events, Mem(1)];
     const STATE_LEN: usize = 14;
     const SAVED_INDICATORS: usize = <GenevaKnifeDrive as Model>::EVENT_INDICATORS;
+    /// A cut-through or the knife back above the stack changes the indicators of the stack.
+    const REEVALUATE_INDICATORS: bool = true;
 
     fn ode<'a>(
         &self,
@@ -191,24 +193,6 @@ impl ChainModel for KnifeChain {
             k_d: s[3],
             cut_done: s[4] != 0.0,
         }
-    }
-
-    /// A cut-through or the knife back above the stack changes the indicators of the stack:
-    /// they are taken again after the transition.
-    fn me_event(
-        &self,
-        ode: &KnifeOde,
-        t: f64,
-        y: &[f64; 3],
-        g_prev: &mut Vec<f64>,
-        _: &KnifeMemory,
-        _: &mut dyn Log,
-    ) {
-        chain::transitions(ode, t, y, g_prev, true);
-    }
-    fn me_completed_step(&self, ode: &KnifeOde, t: f64, y: &[f64; 3], g_prev: &mut Vec<f64>) {
-        chain::transitions(ode, t, y, g_prev, true);
-        ode.on_step(t, y);
     }
 }
 
