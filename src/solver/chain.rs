@@ -15,6 +15,16 @@
 //!
 //! The states are always `y = [x, ẋ, W]`: the chain's free coordinate, its rate and the work `W`
 //! done on the chain by everything but its spring, for the energy balance `E − E0 − W`.
+//!
+//! A new mechanism with a compliant chain:
+//! 1. its ODE in `elastic.rs`: an [`OdeSystem`] on `y` with its bookkeeping in `Cell`s (a
+//!    dynamic factor: [`track_peaks`] in `on_step`);
+//! 2. a struct of the chain's constants implementing [`ChainModel`]: the ODE from them and the
+//!    memory, how the memory starts and is read back, its place in the snapshot (a new FMU may
+//!    take `[Mem(n), Integ, Steps, Events]`), the hooks that differ from the defaults;
+//! 3. in the model, `Option<Chain<_>>` built at `prepare` with [`Chain::new`] and
+//!    `Integrator::new(`[`solver_settings`]`(v))`, the hooks by [`crate::chain_hooks!`], and in
+//!    `evaluate` the outputs at [`Chain::held_state`] ([`write_states`], [`dyn_factor`]).
 
 use super::{Integrator, Method, OdeSystem, Settings, ShaftPath};
 use crate::model::shaft;
@@ -103,7 +113,7 @@ pub trait ChainModel: Clone + Debug {
     fn start(ode: &Self::Ode<'_>, path: &ShaftPath, memory: &mut Self::Memory);
     /// Reads the memory back from the ODE after a step, an event or a completed step.
     fn absorb(ode: &Self::Ode<'_>, memory: &mut Self::Memory);
-    /// The memory as numbers, in the order of the [`Slot::Memory`] entries of the layout.
+    /// The memory as numbers, in the order of the [`Slot::Mem`] entries of the layout.
     fn save_memory(memory: &Self::Memory, out: &mut Vec<f64>);
     /// The memory from the numbers [`ChainModel::save_memory`] wrote.
     fn restore_memory(s: &[f64]) -> Self::Memory;
@@ -174,6 +184,7 @@ pub fn transitions<O: OdeSystem>(
 pub struct Chain<C: ChainModel> {
     /// The chain's constants.
     pub model: C,
+    /// The integrator with its memory between steps (next step size, stiff mode, counters).
     pub integ: Integrator,
     /// The states have been initialized ([`Chain::start`]).
     pub started: bool,
@@ -639,5 +650,192 @@ pub fn dyn_factor(peaks: (f64, f64, f64), k_d: f64) -> f64 {
         }
     } else {
         k_d
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::NoLog;
+    use std::cell::Cell;
+
+    crate::model_variables! {
+        enum TV (nominal_rpm = 60.0) {
+            solver_method = crate::solver::vars::method(),
+            solver_rtol = crate::solver::vars::rtol(),
+            solver_atol = crate::solver::vars::atol(),
+            solver_max_step = crate::solver::vars::max_step(),
+        }
+    }
+
+    /// A mass on a spring of stiffness `k` (unit mass) whose other end follows `sin φ`; counts
+    /// the sign changes of x.
+    #[derive(Clone, Debug)]
+    struct Toy {
+        k: f64,
+    }
+
+    struct ToyOde {
+        k: f64,
+        path: ShaftPath,
+        crossings: Cell<f64>,
+    }
+
+    impl OdeSystem for ToyOde {
+        fn dim(&self) -> usize {
+            3
+        }
+        fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+            let f = -self.k * (y[0] - self.path.at(t).0.sin());
+            dy.copy_from_slice(&[y[1], f, 0.0]);
+        }
+        fn n_events(&self) -> usize {
+            1
+        }
+        fn events(&self, _t: f64, y: &[f64], g: &mut [f64]) {
+            g[0] = y[0];
+        }
+        fn on_event(&self, _t: f64, _y: &[f64], before: &[f64], after: &[f64]) {
+            if (before[0] > 0.0) != (after[0] > 0.0) {
+                self.crossings.set(self.crossings.get() + 1.0);
+            }
+        }
+    }
+
+    impl ChainModel for Toy {
+        type Var = TV;
+        type Physics = ();
+        type Memory = f64;
+        type Ode<'a> = ToyOde;
+        const LAYOUT: &'static [Slot] = &[Slot::Mem(1), Slot::Integ, Slot::Steps, Slot::Events];
+        const STATE_LEN: usize = 10;
+        const SAVED_INDICATORS: usize = 1;
+
+        fn ode(&self, _: &(), path: ShaftPath, _: &Values<TV>, m: &f64) -> ToyOde {
+            ToyOde {
+                k: self.k,
+                path,
+                crossings: Cell::new(*m),
+            }
+        }
+        fn initial_state(ode: &ToyOde, t: f64) -> [f64; 3] {
+            [ode.path.at(t).0.sin(), 0.0, 0.0]
+        }
+        fn energy(ode: &ToyOde, _t: f64, y: &[f64; 3]) -> f64 {
+            0.5 * y[1] * y[1] + 0.5 * ode.k * y[0] * y[0]
+        }
+        fn start(_: &ToyOde, _: &ShaftPath, m: &mut f64) {
+            *m = 0.0;
+        }
+        fn absorb(ode: &ToyOde, m: &mut f64) {
+            *m = ode.crossings.get();
+        }
+        fn save_memory(m: &f64, out: &mut Vec<f64>) {
+            out.push(*m);
+        }
+        fn restore_memory(s: &[f64]) -> f64 {
+            s[0]
+        }
+    }
+
+    fn toy(v: &Values<TV>, k: f64) -> Chain<Toy> {
+        Chain::new(Toy { k }, Integrator::new(solver_settings(v)), f64::NAN)
+    }
+
+    fn bits(s: &[f64]) -> Vec<u64> {
+        s.iter().map(|x| x.to_bits()).collect()
+    }
+
+    #[test]
+    fn layout_length() {
+        let layout = [Slot::Mem(3), Slot::Integ, Slot::Steps, Slot::Rejected];
+        assert_eq!(state_len(&layout), 5 + 3 + 2 + 1 + 1);
+        assert_eq!(Chain::<Toy>::STATE_LEN, state_len(Toy::LAYOUT));
+    }
+
+    #[test]
+    fn co_simulation_steps_save_and_restore() {
+        let mut v = Values::<TV>::start();
+        let w = v.raw()[shaft::W as usize];
+        let mut c = toy(&v, 400.0);
+        let h = 0.01;
+        for j in 0..100 {
+            do_step(Some(&mut c), &(), &mut v, j as f64 * h, h, &mut NoLog).unwrap();
+        }
+        // the FMU extrapolated its shaft input (one turn); the mass crossed zero
+        assert!((v.raw()[shaft::PHI as usize] - w).abs() < 1e-9);
+        assert!(c.started && c.memory >= 1.0, "{c:?}");
+        assert!(c.integ.stats.steps > 0);
+        let saved = c.save();
+        assert_eq!(saved.len(), Chain::<Toy>::STATE_LEN);
+        let mut r = toy(&v, 400.0);
+        r.restore(&saved).unwrap();
+        assert_eq!(bits(&r.save()), bits(&saved));
+        assert_eq!((r.y, r.memory), (c.y, c.memory));
+        assert_eq!(
+            r.restore(&saved[..3]),
+            Err("elastodynamic state has 3 numbers, expected 10 or 11".into())
+        );
+    }
+
+    #[test]
+    fn a_refused_step_leaves_the_chain_as_it_was() {
+        let mut v = Values::<TV>::start();
+        v[TV::solver_method] = 4.0; // rk4 at max_step on a stiff spring: refused
+        v[TV::solver_max_step] = 0.01;
+        let mut c = toy(&v, 1e8);
+        c.start(&(), shaft::path(&v, 0.0), &v);
+        let before = c.save();
+        assert!(do_step(Some(&mut c), &(), &mut v, 0.0, 0.01, &mut NoLog).is_err());
+        assert_eq!(bits(&c.save()), bits(&before));
+        assert_eq!(c.integ.stats, toy(&v, 1e8).integ.stats);
+        assert_eq!(
+            do_step::<Toy>(None, &(), &mut v, 0.0, 0.01, &mut NoLog),
+            Ok(())
+        );
+    }
+
+    #[test]
+    fn model_exchange_hooks() {
+        let v = Values::<TV>::start();
+        let mut c = toy(&v, 400.0);
+        let mut x = [0.0; 3];
+        me_states(Some(&mut c), &(), &v, 0.0, &mut x);
+        assert!(c.started && x == c.y);
+        me_set_states(Some(&mut c), &(), &v, 0.0, &[0.5, 0.0, 0.0]);
+        let mut dx = [0.0; 3];
+        me_derivatives(Some(&mut c), &(), &v, 0.0, &mut dx);
+        assert_eq!(dx[1], -400.0 * 0.5);
+        me_event(Some(&mut c), &(), &v, 0.0, &mut NoLog);
+        assert_eq!(c.g_prev, vec![0.5]);
+        // the mass crosses zero: the completed step counts it, and the indicators travel with
+        // the FMU state
+        me_set_states(Some(&mut c), &(), &v, 0.0, &[-0.5, 0.0, 0.0]);
+        me_completed_step(Some(&mut c), &(), &v, 0.0);
+        assert_eq!(c.memory, 1.0);
+        let saved = save_state(Some(&c));
+        assert_eq!(saved.len(), Chain::<Toy>::STATE_LEN + 1);
+        let mut r = toy(&v, 400.0);
+        restore_state(Some(&mut r), &saved).unwrap();
+        assert_eq!(r.g_prev, vec![-0.5]);
+        // below the elastodynamic level
+        let mut z = [0.0; 1];
+        me_event_indicators::<Toy>(None, &(), &v, 0.0, &mut z);
+        assert_eq!(z, [1.0]);
+        assert_eq!(save_state::<Toy>(None), Vec::<f64>::new());
+        assert!(restore_state::<Toy>(None, &[]).is_ok());
+        assert!(restore_state::<Toy>(None, &saved).is_err());
+    }
+
+    #[test]
+    fn peaks_and_dyn_factor() {
+        let peaks = Cell::new((0.0, 0.0, 0.0));
+        let k_d = Cell::new(f64::NAN);
+        track_peaks(&peaks, &k_d, 0.0, 2.0, 1.0);
+        track_peaks(&peaks, &k_d, 0.0, 1.0, 4.0);
+        assert_eq!(dyn_factor(peaks.get(), k_d.get()), 0.5);
+        track_peaks(&peaks, &k_d, 1.0, 3.0, 1.0);
+        assert_eq!((peaks.get(), k_d.get()), ((1.0, 3.0, 1.0), 0.5));
+        assert_eq!(dyn_factor((0.0, 0.0, 0.0), f64::NAN), 1.0);
     }
 }
