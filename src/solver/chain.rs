@@ -346,7 +346,7 @@ fn me_chain<'c, C: ChainModel>(
 /// `Option<Chain<_>>` in field `$chain`, its ODE's physics in field `$physics`: each hook named
 /// becomes the one-line call of this module's function of that name. Used inside `impl Model`:
 ///
-/// ```ignore
+/// ```text
 /// crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
 ///     me_event_indicators, me_event, me_completed_step, save_state, restore_state);
 /// ```
