@@ -29,6 +29,7 @@
 use super::{Integrator, Method, OdeSystem, Settings, ShaftPath};
 use crate::model::shaft;
 use crate::model::{Log, Values, VarSet};
+use std::cell::Cell;
 use std::fmt::Debug;
 
 /// One entry of a mechanism's FMU state layout after the common head
@@ -622,8 +623,8 @@ pub fn write_states<V: VarSet>(
 /// `peaks` = (turn, peak dynamic force, peak rigid force) of the running turn; at a new turn
 /// `k_d` becomes the ratio of the finished turn's peaks.
 pub fn track_peaks(
-    peaks: &std::cell::Cell<(f64, f64, f64)>,
-    k_d: &std::cell::Cell<f64>,
+    peaks: &Cell<(f64, f64, f64)>,
+    k_d: &Cell<f64>,
     cycle: f64,
     f_dyn: f64,
     f_rigid: f64,
@@ -639,17 +640,64 @@ pub fn track_peaks(
     }
 }
 
-/// The dynamic factor K_d to report: that of the last complete turn, or before one is complete
-/// the running turn's peak ratio (1 without a rigid force yet).
-pub fn dyn_factor(peaks: (f64, f64, f64), k_d: f64) -> f64 {
-    if k_d.is_nan() {
-        if peaks.2 > 0.0 {
-            peaks.1 / peaks.2
-        } else {
-            1.0
+/// The dynamic-factor bookkeeping of [`track_peaks`] as a chain carries it between steps (the
+/// ODE holds it in two `Cell`s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Peaks {
+    /// (turn, peak dynamic force, peak rigid force) of the running turn.
+    pub turn: (f64, f64, f64),
+    /// K_d of the last complete turn (NaN: none yet).
+    pub k_d: f64,
+}
+
+impl Peaks {
+    /// Nothing tracked yet, in turn `turn`, no K_d.
+    pub fn new(turn: f64) -> Peaks {
+        Peaks {
+            turn: (turn, 0.0, 0.0),
+            k_d: f64::NAN,
         }
-    } else {
-        k_d
+    }
+
+    /// The ODE's cells `(peaks, k_d)` for these.
+    pub fn cells(&self) -> (Cell<(f64, f64, f64)>, Cell<f64>) {
+        (Cell::new(self.turn), Cell::new(self.k_d))
+    }
+
+    /// Read back from the ODE's cells.
+    pub fn get(peaks: &Cell<(f64, f64, f64)>, k_d: &Cell<f64>) -> Peaks {
+        Peaks {
+            turn: peaks.get(),
+            k_d: k_d.get(),
+        }
+    }
+
+    /// The four numbers of the FMU state: turn, peak dynamic force, peak rigid force, K_d.
+    pub fn save(&self) -> [f64; 4] {
+        let (c, pd, pr) = self.turn;
+        [c, pd, pr, self.k_d]
+    }
+
+    /// From the first four numbers of `s` ([`Peaks::save`]).
+    pub fn restore(s: &[f64]) -> Peaks {
+        Peaks {
+            turn: (s[0], s[1], s[2]),
+            k_d: s[3],
+        }
+    }
+
+    /// The dynamic factor K_d to report: that of the last complete turn, or before one is
+    /// complete the running turn's peak ratio (1 without a rigid force yet).
+    pub fn dyn_factor(&self) -> f64 {
+        if self.k_d.is_nan() {
+            if self.turn.2 > 0.0 {
+                self.turn.1 / self.turn.2
+            } else {
+                1.0
+            }
+        } else {
+            self.k_d
+        }
     }
 }
 
@@ -657,7 +705,6 @@ pub fn dyn_factor(peaks: (f64, f64, f64), k_d: f64) -> f64 {
 mod tests {
     use super::*;
     use crate::model::NoLog;
-    use std::cell::Cell;
 
     crate::model_variables! {
         enum TV (nominal_rpm = 60.0) {
@@ -833,9 +880,11 @@ mod tests {
         let k_d = Cell::new(f64::NAN);
         track_peaks(&peaks, &k_d, 0.0, 2.0, 1.0);
         track_peaks(&peaks, &k_d, 0.0, 1.0, 4.0);
-        assert_eq!(dyn_factor(peaks.get(), k_d.get()), 0.5);
+        assert_eq!(Peaks::get(&peaks, &k_d).dyn_factor(), 0.5);
         track_peaks(&peaks, &k_d, 1.0, 3.0, 1.0);
-        assert_eq!((peaks.get(), k_d.get()), ((1.0, 3.0, 1.0), 0.5));
-        assert_eq!(dyn_factor((0.0, 0.0, 0.0), f64::NAN), 1.0);
+        let p = Peaks::get(&peaks, &k_d);
+        assert_eq!((p.turn, p.k_d, p.dyn_factor()), ((1.0, 3.0, 1.0), 0.5, 0.5));
+        assert_eq!(Peaks::restore(&p.save()), p);
+        assert_eq!(Peaks::new(0.0).dyn_factor(), 1.0);
     }
 }

@@ -6,9 +6,8 @@ use super::physics::{Forces, Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
 use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
-use crate::solver::chain::{self, Chain, ChainModel, Slot};
+use crate::solver::chain::{self, Chain, ChainModel, Peaks, Slot};
 use crate::solver::{Integrator, OdeSystem, Settings, ShaftPath};
-use std::cell::Cell;
 
 /// The computations a scene may leave out (`scenes.md`); the variables below say which they
 /// need (`.needs`) or feed (`.feeds`). The kinematics always run.
@@ -127,15 +126,6 @@ struct RodChain {
     c_dead: f64,
 }
 
-/// What [`RodOde`] tracks between steps.
-#[derive(Clone, Debug, PartialEq)]
-struct RodMemory {
-    /// (shaft turn, peak |P|, peak |P_rigid|) of the running turn.
-    peaks: (f64, f64, f64),
-    /// K_d of the last complete turn (NaN: none yet).
-    k_d: f64,
-}
-
 /// What the elastodynamic level carries between steps (no Model Exchange event handling: the
 /// rod's events only end the solver's steps).
 type Dynamic = Chain<RodChain>;
@@ -143,22 +133,24 @@ type Dynamic = Chain<RodChain>;
 impl ChainModel for RodChain {
     type Var = V;
     type Physics = Params;
-    type Memory = RodMemory;
+    /// Of the shaft turns: peak |P| and peak |P_rigid|, K_d.
+    type Memory = Peaks;
     type Ode<'a> = RodOde<'a>;
     const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Events];
     const STATE_LEN: usize = 13;
     const STATE_NAME: &'static str = "DiscKnifeDrive elastodynamic state";
     const EXTRAPOLATED_PHI_LESS_PHI0: bool = false;
 
-    fn ode<'a>(&self, p: &'a Params, path: ShaftPath, _: &Values<V>, m: &RodMemory) -> RodOde<'a> {
+    fn ode<'a>(&self, p: &'a Params, path: ShaftPath, _: &Values<V>, m: &Peaks) -> RodOde<'a> {
+        let (peaks, k_d) = m.cells();
         RodOde {
             p,
             k: self.k,
             c: self.c,
             path,
             c_dead: self.c_dead,
-            peaks: Cell::new(m.peaks),
-            k_d: Cell::new(m.k_d),
+            peaks,
+            k_d,
         }
     }
     fn initial_state(ode: &RodOde, t: f64) -> [f64; 3] {
@@ -167,23 +159,17 @@ impl ChainModel for RodChain {
     fn energy(ode: &RodOde, t: f64, y: &[f64; 3]) -> f64 {
         ode.energy(&ode.point(t, y))
     }
-    fn start(ode: &RodOde, path: &ShaftPath, m: &mut RodMemory) {
-        m.peaks = (ode.path.cycle(path.t0), 0.0, 0.0);
-        m.k_d = f64::NAN;
+    fn start(ode: &RodOde, path: &ShaftPath, m: &mut Peaks) {
+        *m = Peaks::new(ode.path.cycle(path.t0));
     }
-    fn absorb(ode: &RodOde, m: &mut RodMemory) {
-        m.peaks = ode.peaks.get();
-        m.k_d = ode.k_d.get();
+    fn absorb(ode: &RodOde, m: &mut Peaks) {
+        *m = Peaks::get(&ode.peaks, &ode.k_d);
     }
-    fn save_memory(m: &RodMemory, out: &mut Vec<f64>) {
-        let (c, pd, pr) = m.peaks;
-        out.extend([c, pd, pr, m.k_d]);
+    fn save_memory(m: &Peaks, out: &mut Vec<f64>) {
+        out.extend(m.save());
     }
-    fn restore_memory(s: &[f64]) -> RodMemory {
-        RodMemory {
-            peaks: (s[0], s[1], s[2]),
-            k_d: s[3],
-        }
+    fn restore_memory(s: &[f64]) -> Peaks {
+        Peaks::restore(s)
     }
 
     /// The partial state tells a rod so soft that the slider left the range where the holder
@@ -314,11 +300,7 @@ impl Model for DiscKnifeDrive {
                 c: RodOde::damping(&params, k, v[V::elastic_zeta]),
                 c_dead: dead_point_threshold(&params),
             };
-            let memory = RodMemory {
-                peaks: (0.0, 0.0, 0.0),
-                k_d: f64::NAN,
-            };
-            Chain::new(model, Integrator::new(solver_settings(v)), memory)
+            Chain::new(model, Integrator::new(solver_settings(v)), Peaks::new(0.0))
         });
         Ok(DiscKnifeDrive {
             params,
@@ -346,7 +328,7 @@ impl Model for DiscKnifeDrive {
             let pt = ode.point(time, &y);
             let e0 = if d.started { d.e0 } else { ode.energy(&pt) };
             v[V::elastic_E_residual] = ode.energy(&pt) - e0 - y[2];
-            v[V::dyn_factor] = chain::dyn_factor(d.memory.peaks, d.memory.k_d);
+            v[V::dyn_factor] = d.memory.dyn_factor();
             v[V::solver_steps] = d.integ.stats.steps as f64;
             let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
             let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];

@@ -7,7 +7,7 @@ use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Stage, Stages, Values};
 use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
-use crate::solver::chain::{self, Chain, ChainModel, Slot};
+use crate::solver::chain::{self, Chain, ChainModel, Peaks, Slot};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
@@ -128,10 +128,8 @@ struct KnifeChain {
 /// What [`KnifeOde`] tracks between steps.
 #[derive(Clone, Debug, PartialEq)]
 struct KnifeMemory {
-    /// (cycle index, peak |F_el|, peak |F_rigid|) of the running driver turn.
-    peaks: (f64, f64, f64),
-    /// K_d of the last complete turn (NaN: none yet).
-    k_d: f64,
+    /// Of the driver turns: peak |F_el| and peak |F_rigid|, K_d.
+    peaks: Peaks,
     /// The stack is cut through in this stroke.
     cut_done: bool,
 }
@@ -157,13 +155,14 @@ impl ChainModel for KnifeChain {
         _: &Values<V>,
         m: &KnifeMemory,
     ) -> KnifeOde<'a> {
+        let (peaks, k_d) = m.peaks.cells();
         KnifeOde {
             p,
             k: self.k,
             c: self.c,
             path,
-            peaks: Cell::new(m.peaks),
-            k_d: Cell::new(m.k_d),
+            peaks,
+            k_d,
             cut_done: Cell::new(m.cut_done),
         }
     }
@@ -174,23 +173,20 @@ impl ChainModel for KnifeChain {
         ode.energy(&ode.point(t, y))
     }
     fn start(ode: &KnifeOde, path: &ShaftPath, m: &mut KnifeMemory) {
-        m.peaks = (ode.cycle(path.t0), 0.0, 0.0);
-        m.k_d = f64::NAN;
+        m.peaks = Peaks::new(ode.cycle(path.t0));
         m.cut_done = false;
     }
     fn absorb(ode: &KnifeOde, m: &mut KnifeMemory) {
-        m.peaks = ode.peaks.get();
-        m.k_d = ode.k_d.get();
+        m.peaks = Peaks::get(&ode.peaks, &ode.k_d);
         m.cut_done = ode.cut_done.get();
     }
     fn save_memory(m: &KnifeMemory, out: &mut Vec<f64>) {
-        let (c, pd, pr) = m.peaks;
-        out.extend([c, pd, pr, m.k_d, m.cut_done as i32 as f64]);
+        out.extend(m.peaks.save());
+        out.push(m.cut_done as i32 as f64);
     }
     fn restore_memory(s: &[f64]) -> KnifeMemory {
         KnifeMemory {
-            peaks: (s[0], s[1], s[2]),
-            k_d: s[3],
+            peaks: Peaks::restore(s),
             cut_done: s[4] != 0.0,
         }
     }
@@ -255,8 +251,7 @@ impl Model for GenevaKnifeDrive {
             let k = v[V::elastic_k];
             let c = KnifeOde::damping(&params, k, v[V::elastic_zeta]);
             let memory = KnifeMemory {
-                peaks: (0.0, 0.0, 0.0),
-                k_d: f64::NAN,
+                peaks: Peaks::new(0.0),
                 cut_done: false,
             };
             Chain::new(
@@ -309,7 +304,7 @@ impl Model for GenevaKnifeDrive {
             shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             v[V::elastic_E_residual] =
                 ode.energy(&pt) - if d.started { d.e0 } else { ode.energy(&pt) } - y[2];
-            v[V::dyn_factor] = chain::dyn_factor(d.memory.peaks, d.memory.k_d);
+            v[V::dyn_factor] = d.memory.peaks.dyn_factor();
             v[V::solver_steps] = d.integ.stats.steps as f64;
             shaft::set_outputs(v, tau, s.w);
             return;

@@ -7,7 +7,7 @@ use crate::mechanics::motion_laws::MotionLaw;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Stages, Values};
 use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
-use crate::solver::chain::{self, Chain, ChainModel, Slot};
+use crate::solver::chain::{self, Chain, ChainModel, Peaks, Slot};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
@@ -225,8 +225,7 @@ struct TableChain {
 /// What [`TableOde`] tracks between steps.
 #[derive(Clone, Debug, PartialEq)]
 struct TableMemory {
-    peaks: (f64, f64, f64),
-    k_d: f64,
+    peaks: Peaks,
     liftoffs: f64,
     impact: f64,
     landed: bool,
@@ -253,6 +252,7 @@ impl ChainModel for TableChain {
         v: &Values<V>,
         m: &TableMemory,
     ) -> TableOde<'a> {
+        let (peaks, k_d) = m.peaks.cells();
         TableOde {
             p,
             k: self.k,
@@ -260,8 +260,8 @@ impl ChainModel for TableChain {
             gap: self.gap,
             f_ext: v[V::table_F_ext],
             path,
-            peaks: Cell::new(m.peaks),
-            k_d: Cell::new(m.k_d),
+            peaks,
+            k_d,
             liftoffs: Cell::new(m.liftoffs),
             impact: Cell::new(m.impact),
             landed: Cell::new(m.landed),
@@ -275,31 +275,21 @@ impl ChainModel for TableChain {
         ode.energy(&ode.point(t, y))
     }
     fn start(_: &TableOde, path: &ShaftPath, m: &mut TableMemory) {
-        m.peaks = (path.cycle(path.t0), 0.0, 0.0);
+        m.peaks.turn = (path.cycle(path.t0), 0.0, 0.0);
     }
     fn absorb(ode: &TableOde, m: &mut TableMemory) {
-        m.peaks = ode.peaks.get();
-        m.k_d = ode.k_d.get();
+        m.peaks = Peaks::get(&ode.peaks, &ode.k_d);
         m.liftoffs = ode.liftoffs.get();
         m.impact = ode.impact.get();
         m.landed = ode.landed.get();
     }
     fn save_memory(m: &TableMemory, out: &mut Vec<f64>) {
-        let (c, pd, pr) = m.peaks;
-        out.extend([
-            c,
-            pd,
-            pr,
-            m.k_d,
-            m.liftoffs,
-            m.impact,
-            m.landed as i32 as f64,
-        ]);
+        out.extend(m.peaks.save());
+        out.extend([m.liftoffs, m.impact, m.landed as i32 as f64]);
     }
     fn restore_memory(s: &[f64]) -> TableMemory {
         TableMemory {
-            peaks: (s[0], s[1], s[2]),
-            k_d: s[3],
+            peaks: Peaks::restore(s),
             liftoffs: s[4],
             impact: s[5],
             landed: s[6] != 0.0,
@@ -384,8 +374,7 @@ impl Model for SewingTable {
             };
             let integ = Integrator::new(chain::solver_settings(v));
             let memory = TableMemory {
-                peaks: (0.0, 0.0, 0.0),
-                k_d: f64::NAN,
+                peaks: Peaks::new(0.0),
                 liftoffs: 0.0,
                 impact: 0.0,
                 landed: false,
@@ -471,7 +460,7 @@ impl Model for SewingTable {
             } else {
                 0.0
             };
-            v[V::dyn_factor] = chain::dyn_factor(d.memory.peaks, d.memory.k_d);
+            v[V::dyn_factor] = d.memory.peaks.dyn_factor();
             v[V::contact_liftoffs] = d.memory.liftoffs;
             v[V::contact_F_impact] = d.memory.impact;
             v[V::elastic_E_residual] = if d.started {
