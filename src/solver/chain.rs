@@ -18,13 +18,13 @@
 //!
 //! A new mechanism with a compliant chain:
 //! 1. its ODE in `elastic.rs`: an [`OdeSystem`] on `y` with its bookkeeping in `Cell`s (a
-//!    dynamic factor: [`track_peaks`] in `on_step`);
+//!    dynamic factor: [`track_peaks`] in `on_step`, [`Peaks`] in the memory);
 //! 2. a struct of the chain's constants implementing [`ChainModel`]: the ODE from them and the
 //!    memory, how the memory starts and is read back, its place in the snapshot (a new FMU may
 //!    take `[Mem(n), Integ, Steps, Events]`), the hooks that differ from the defaults;
 //! 3. in the model, `Option<Chain<_>>` built at `prepare` with [`Chain::new`] and
 //!    `Integrator::new(`[`solver_settings`]`(v))`, the hooks by [`crate::chain_hooks!`], and in
-//!    `evaluate` the outputs at [`Chain::held_state`] ([`write_states`], [`dyn_factor`]).
+//!    `evaluate` the outputs at [`Chain::held_state`] ([`write_states`], [`Peaks::dyn_factor`]).
 
 use super::{Integrator, Method, OdeSystem, Settings, ShaftPath};
 use crate::model::shaft;
