@@ -27,6 +27,8 @@
 use crate::model::{EnumType, Var};
 use nalgebra::DMatrix;
 
+pub mod chain;
+
 /// The largest system the integrators take.
 pub const MAX_DIM: usize = 8;
 

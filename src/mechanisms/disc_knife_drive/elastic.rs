@@ -79,6 +79,7 @@
 
 use super::physics::{Kinematics, Params, Vec2};
 use crate::mechanics::sgn;
+use crate::solver::chain::track_peaks;
 use crate::solver::{OdeSystem, ShaftPath};
 use num_dual::{Dual2, Dual64, DualNum};
 use std::cell::Cell;
@@ -512,15 +513,7 @@ impl OdeSystem for RodOde<'_> {
         let f_rigid = self.p.kinetostatics(&r.kin).rod_f.abs();
         let f_el = ev.force.abs();
         let cyc = self.path.cycle(t);
-        let (c0, pd, pr) = self.peaks.get();
-        if cyc != c0 {
-            if pr > 0.0 {
-                self.k_d.set(pd / pr);
-            }
-            self.peaks.set((cyc, f_el, f_rigid));
-        } else {
-            self.peaks.set((c0, pd.max(f_el), pr.max(f_rigid)));
-        }
+        track_peaks(&self.peaks, &self.k_d, cyc, f_el, f_rigid);
     }
 }
 

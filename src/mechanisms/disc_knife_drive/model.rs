@@ -5,8 +5,9 @@ use super::elastic::{Point, RodOde, dead_point_threshold};
 use super::physics::{Forces, Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
-use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
-use std::cell::Cell;
+use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
+use crate::solver::chain::{self, Chain, ChainModel, Peaks, Slot};
+use crate::solver::{Integrator, OdeSystem, Settings, ShaftPath};
 
 /// The computations a scene may leave out (`scenes.md`); the variables below say which they
 /// need (`.needs`) or feed (`.feeds`). The kinematics always run.
@@ -116,83 +117,81 @@ crate::model_variables! {
     }
 }
 
-/// What the elastodynamic level carries between steps.
+/// The compliant rod 4 of the elastodynamic level: its constants.
 #[derive(Clone, Debug, PartialEq)]
-struct Dynamic {
+struct RodChain {
     k: f64,
     c: f64,
     /// [`dead_point_threshold`].
     c_dead: f64,
-    integ: Integrator,
-    started: bool,
-    y: [f64; 3],
-    e0: f64,
-    /// (shaft turn, peak |P|, peak |P_rigid|) of the running turn.
-    peaks: (f64, f64, f64),
-    /// K_d of the last complete turn (NaN: none yet).
-    k_d: f64,
 }
 
-impl Dynamic {
-    const STATE_LEN: usize = 13;
+/// What the elastodynamic level carries between steps (no Model Exchange event handling: the
+/// rod's events only end the solver's steps).
+type Dynamic = Chain<RodChain>;
 
-    fn ode<'a>(&self, p: &'a Params, path: ShaftPath) -> RodOde<'a> {
+impl ChainModel for RodChain {
+    type Var = V;
+    type Physics = Params;
+    /// Of the shaft turns: peak |P| and peak |P_rigid|, K_d.
+    type Memory = Peaks;
+    type Ode<'a> = RodOde<'a>;
+    const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Events];
+    const STATE_LEN: usize = 13;
+    const STATE_NAME: &'static str = "DiscKnifeDrive elastodynamic state";
+    const EXTRAPOLATED_PHI_LESS_PHI0: bool = false;
+
+    fn ode<'a>(&self, p: &'a Params, path: ShaftPath, _: &Values<V>, m: &Peaks) -> RodOde<'a> {
+        let (peaks, k_d) = m.cells();
         RodOde {
             p,
             k: self.k,
             c: self.c,
             path,
             c_dead: self.c_dead,
-            peaks: Cell::new(self.peaks),
-            k_d: Cell::new(self.k_d),
+            peaks,
+            k_d,
+        }
+    }
+    fn initial_state(ode: &RodOde, t: f64) -> [f64; 3] {
+        ode.initial_state(t)
+    }
+    fn energy(ode: &RodOde, t: f64, y: &[f64; 3]) -> f64 {
+        ode.energy(&ode.point(t, y))
+    }
+    fn start(ode: &RodOde, path: &ShaftPath, m: &mut Peaks) {
+        *m = Peaks::new(ode.path.cycle(path.t0));
+    }
+    fn absorb(ode: &RodOde, m: &mut Peaks) {
+        *m = Peaks::get(&ode.peaks, &ode.k_d);
+    }
+    fn save_memory(m: &Peaks, out: &mut Vec<f64>) {
+        out.extend(m.save());
+    }
+    fn restore_memory(s: &[f64]) -> Peaks {
+        Peaks::restore(s)
+    }
+
+    /// The partial state tells a rod so soft that the slider left the range where the holder
+    /// assembles (eq. 5 has no solution there).
+    fn step_failed(&self, ode: &RodOde, y: &[f64; 3], why: String) -> String {
+        let c = ode.p.assembly_cos(y[0]);
+        let near = 1.0 - 2.0 * (1.0 - self.c_dead); // well beyond the rigid range
+        if c.is_nan() || c.abs() >= near {
+            format!(
+                "slider 5 reached x = {:.6} m, the dead point of the holder (|cos(beta + alpha)| = {:.7} -> 1, eq. 5: the holder's reduced mass is unbounded there): the rod (elastic.k = {} N/m) is too soft for this motion; {why}",
+                y[0],
+                c.abs(),
+                self.k
+            )
+        } else {
+            why
         }
     }
 
-    fn start(&mut self, p: &Params, path: ShaftPath) {
-        let ode = self.ode(p, path);
-        self.y = ode.initial_state(path.t0);
-        self.e0 = ode.energy(&ode.point(path.t0, &self.y));
-        self.peaks = (ode.path.cycle(path.t0), 0.0, 0.0);
-        self.k_d = f64::NAN;
-        self.started = true;
-    }
-
-    fn save(&self) -> Vec<f64> {
-        let h = self.integ.save();
-        vec![
-            f64::from(u8::from(self.started)),
-            self.y[0],
-            self.y[1],
-            self.y[2],
-            self.e0,
-            self.peaks.0,
-            self.peaks.1,
-            self.peaks.2,
-            self.k_d,
-            h[0],
-            h[1],
-            self.integ.stats.steps as f64,
-            self.integ.stats.events as f64,
-        ]
-    }
-
-    fn restore(&mut self, s: &[f64]) -> Result<(), String> {
-        if s.len() != Self::STATE_LEN {
-            return Err(format!(
-                "DiscKnifeDrive elastodynamic state has {} numbers, expected {}",
-                s.len(),
-                Self::STATE_LEN
-            ));
-        }
-        self.started = s[0] != 0.0;
-        self.y = [s[1], s[2], s[3]];
-        self.e0 = s[4];
-        self.peaks = (s[5], s[6], s[7]);
-        self.k_d = s[8];
-        self.integ.restore(&s[9..11]);
-        self.integ.stats.steps = s[11] as usize;
-        self.integ.stats.events = s[12] as usize;
-        Ok(())
+    /// No transitions to count: the ODE's `on_step` only.
+    fn me_completed_step(&self, ode: &RodOde, t: f64, y: &[f64; 3], _: &mut Vec<f64>) {
+        ode.on_step(t, y);
     }
 }
 
@@ -201,14 +200,11 @@ impl Dynamic {
 /// rod refuses in that time instead of grinding); one shaft turn takes some 1500 steps.
 pub const STEP_BUDGET: usize = 50_000;
 
-/// The solver settings from the `solver.*` parameters.
+/// The solver settings from the `solver.*` parameters, with [`STEP_BUDGET`].
 pub fn solver_settings(v: &Values<V>) -> Settings {
     Settings {
-        method: Method::from_value(v.int(V::solver_method)),
-        rtol: v[V::solver_rtol],
-        atol: v[V::solver_atol],
-        max_step: v[V::solver_max_step],
         max_steps: STEP_BUDGET,
+        ..chain::solver_settings(v)
     }
 }
 
@@ -299,17 +295,12 @@ impl Model for DiscKnifeDrive {
         params.validate()?;
         let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
             let k = v[V::elastic_k];
-            Dynamic {
+            let model = RodChain {
                 k,
                 c: RodOde::damping(&params, k, v[V::elastic_zeta]),
                 c_dead: dead_point_threshold(&params),
-                integ: Integrator::new(solver_settings(v)),
-                started: false,
-                y: [0.0; 3],
-                e0: 0.0,
-                peaks: (0.0, 0.0, 0.0),
-                k_d: f64::NAN,
-            }
+            };
+            Chain::new(model, Integrator::new(solver_settings(v)), Peaks::new(0.0))
         });
         Ok(DiscKnifeDrive {
             params,
@@ -318,98 +309,13 @@ impl Model for DiscKnifeDrive {
         })
     }
 
-    fn do_step(
-        &mut self,
-        v: &mut Values<V>,
-        time: f64,
-        h: f64,
-        _log: &mut dyn Log,
-    ) -> Result<(), String> {
-        let Some(d) = self.dynamic.as_mut() else {
-            return Ok(());
-        };
-        let path = shaft::path(v, time);
-        if !d.started {
-            d.start(&self.params, path);
-        }
-        let before = d.clone();
-        let ode = d.ode(&self.params, path);
-        let mut y = d.y;
-        match d.integ.integrate(&ode, time, time + h, &mut y) {
-            Ok(_) => {
-                d.y = y;
-                d.peaks = ode.peaks.get();
-                d.k_d = ode.k_d.get();
-                if v.int(V::drive_mode) == 1 {
-                    // the FMU's own extrapolation of the inputs, until the host sets them
-                    let (_, w, a) = path.at(time + h);
-                    v[V::shaft_phi] = path.absolute_phi(time + h);
-                    v[V::shaft_w] = w;
-                    v[V::shaft_a] = a;
-                }
-                Ok(())
-            }
-            Err(why) => {
-                *d = before;
-                // the partial state tells a rod so soft that the slider left the range where the
-                // holder assembles (eq. 5 has no solution there)
-                let c = self.params.assembly_cos(y[0]);
-                let near = 1.0 - 2.0 * (1.0 - d.c_dead); // well beyond the rigid range
-                Err(if c.is_nan() || c.abs() >= near {
-                    format!(
-                        "slider 5 reached x = {:.6} m, the dead point of the holder (|cos(beta + alpha)| = {:.7} -> 1, eq. 5: the holder's reduced mass is unbounded there): the rod (elastic.k = {} N/m) is too soft for this motion; {why}",
-                        y[0],
-                        c.abs(),
-                        d.k
-                    )
-                } else {
-                    why
-                })
-            }
-        }
-    }
-
     const STATES: usize = 3;
     const EVENT_INDICATORS: usize = 5;
 
-    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
-        match self.me_dynamic(v, time) {
-            Some(d) => x.copy_from_slice(&d.y),
-            None => x.fill(0.0),
-        }
-    }
-
-    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
-        if let Some(d) = self.me_dynamic(v, time) {
-            d.y.copy_from_slice(x);
-        }
-    }
-
-    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
-        let p = self.params;
-        match self.me_dynamic(v, time) {
-            Some(d) => d.ode(&p, shaft::path(v, time)).rhs(time, &d.y, dx),
-            None => dx.fill(0.0),
-        }
-    }
-
-    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
-        let p = self.params;
-        match self.me_dynamic(v, time) {
-            Some(d) => d.ode(&p, shaft::path(v, time)).events(time, &d.y, z),
-            None => z.fill(1.0),
-        }
-    }
-
-    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
-        let p = self.params;
-        if let Some(d) = self.me_dynamic(v, time) {
-            let ode = d.ode(&p, shaft::path(v, time));
-            ode.on_step(time, &d.y);
-            d.peaks = ode.peaks.get();
-            d.k_d = ode.k_d.get();
-        }
-    }
+    // Co-Simulation and Model Exchange from solver::chain; no `me_event`: the rod's events only
+    // end the host's steps
+    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
+        me_event_indicators, me_completed_step);
 
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, log: &mut dyn Log) {
         let p = &self.params;
@@ -417,32 +323,24 @@ impl Model for DiscKnifeDrive {
         v[V::slider_stroke] = p.stroke();
         let s = shaft::state(v, time);
         if let Some(d) = self.dynamic.as_ref() {
-            let ode = d.ode(p, shaft::path(v, time));
-            let y = if d.started {
-                d.y
-            } else {
-                ode.initial_state(time)
-            };
+            let ode = d.ode(p, shaft::path(v, time), v);
+            let y = d.held_state(&ode, time);
             let pt = ode.point(time, &y);
             let e0 = if d.started { d.e0 } else { ode.energy(&pt) };
             v[V::elastic_E_residual] = ode.energy(&pt) - e0 - y[2];
-            let running = if d.peaks.2 > 0.0 {
-                d.peaks.1 / d.peaks.2
-            } else {
-                1.0
-            };
-            v[V::dyn_factor] = if d.k_d.is_nan() { running } else { d.k_d };
+            v[V::dyn_factor] = d.memory.dyn_factor();
             v[V::solver_steps] = d.integ.stats.steps as f64;
-            v[V::elastic_x] = y[0];
-            v[V::elastic_xd] = y[1];
-            v[V::elastic_W] = y[2];
-            v[V::der_elastic_x] = y[1];
-            v[V::der_elastic_xd] = pt.eval.xdd;
-            v[V::der_elastic_W] = pt.eval.power;
+            let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
+            let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
+            chain::write_states(v, states, ders, &y, pt.eval.xdd, pt.eval.power);
             Self::write_elastic(p, v, &pt);
             // the split of shaft.tau at the held state: only the shaft acceleration changes
             let path = shaft::path(v, time);
-            let r = shaft::reduce(|a| d.ode(p, ShaftPath { a, ..path }).point(time, &y).shaft_tau);
+            let r = shaft::reduce(|a| {
+                d.ode(p, ShaftPath { a, ..path }, v)
+                    .point(time, &y)
+                    .shaft_tau
+            });
             shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             self.warn_locked(pt.eval.locked, &pt.kin, time, log);
             shaft::set_outputs(v, pt.shaft_tau, s.w);
@@ -500,16 +398,6 @@ impl Model for DiscKnifeDrive {
 }
 
 impl DiscKnifeDrive {
-    /// The elastodynamic state for Model Exchange, started from the inputs at `time` if new.
-    fn me_dynamic(&mut self, v: &Values<V>, time: f64) -> Option<&mut Dynamic> {
-        let p = self.params;
-        let d = self.dynamic.as_mut()?;
-        if !d.started {
-            d.start(&p, shaft::path(v, time));
-        }
-        Some(d)
-    }
-
     /// One warning per entry into a self-locking zone.
     fn warn_locked(&mut self, locked: bool, k: &Kinematics, time: f64, log: &mut dyn Log) {
         let p = &self.params;

@@ -20,6 +20,7 @@
 
 use super::physics::{Kinematics, Params};
 use crate::mechanics::{STANDARD_GRAVITY, sgn};
+use crate::solver::chain::track_peaks;
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
 
@@ -226,15 +227,6 @@ impl OdeSystem for KnifeOde<'_> {
     fn on_step(&self, t: f64, y: &[f64]) {
         let pt = self.point(t, y);
         let cyc = self.cycle(t);
-        let (c0, pd, pr) = self.peaks.get();
-        if cyc != c0 {
-            if pr > 0.0 {
-                self.k_d.set(pd / pr);
-            }
-            self.peaks.set((cyc, pt.f_el.abs(), pt.f_rigid.abs()));
-        } else {
-            self.peaks
-                .set((c0, pd.max(pt.f_el.abs()), pr.max(pt.f_rigid.abs())));
-        }
+        track_peaks(&self.peaks, &self.k_d, cyc, pt.f_el.abs(), pt.f_rigid.abs());
     }
 }

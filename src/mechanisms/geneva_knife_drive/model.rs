@@ -6,7 +6,9 @@ use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Stage, Stages, Values};
-use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
+use crate::solver::chain::{self, Chain, ChainModel, Peaks, Slot};
+use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
 /// The computations a scene may leave out (`scenes.md`); the variables below say which they
@@ -116,118 +118,77 @@ pub struct GenevaKnifeDrive {
     dynamic: Option<Dynamic>,
 }
 
-/// What the elastodynamic level carries between steps.
+/// The compliant drive chain of the elastodynamic level: its constants.
 #[derive(Clone, Debug, PartialEq)]
-struct Dynamic {
+struct KnifeChain {
     k: f64,
     c: f64,
-    integ: Integrator,
-    started: bool,
-    y: [f64; 3],
-    e0: f64,
-    /// (cycle index, peak |F_el|, peak |F_rigid|) of the running driver turn.
-    peaks: (f64, f64, f64),
-    /// K_d of the last complete turn (NaN: none yet).
-    k_d: f64,
-    /// The stack is cut through in this stroke.
-    cut_done: bool,
-    /// Model Exchange: the event indicators at the last completed integrator step.
-    g_prev: Vec<f64>,
 }
 
-impl Dynamic {
-    const STATE_LEN: usize = 14;
+/// What [`KnifeOde`] tracks between steps.
+#[derive(Clone, Debug, PartialEq)]
+struct KnifeMemory {
+    /// Of the driver turns: peak |F_el| and peak |F_rigid|, K_d.
+    peaks: Peaks,
+    /// The stack is cut through in this stroke.
+    cut_done: bool,
+}
 
-    fn ode<'a>(&self, p: &'a Params, path: ShaftPath) -> KnifeOde<'a> {
+/// What the elastodynamic level carries between steps.
+type Dynamic = Chain<KnifeChain>;
+
+impl ChainModel for KnifeChain {
+    type Var = V;
+    type Physics = Params;
+    type Memory = KnifeMemory;
+    type Ode<'a> = KnifeOde<'a>;
+    const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Events, Mem(1)];
+    const STATE_LEN: usize = 14;
+    const SAVED_INDICATORS: usize = <GenevaKnifeDrive as Model>::EVENT_INDICATORS;
+    /// A cut-through or the knife back above the stack changes the indicators of the stack.
+    const REEVALUATE_INDICATORS: bool = true;
+
+    fn ode<'a>(
+        &self,
+        p: &'a Params,
+        path: ShaftPath,
+        _: &Values<V>,
+        m: &KnifeMemory,
+    ) -> KnifeOde<'a> {
+        let (peaks, k_d) = m.peaks.cells();
         KnifeOde {
             p,
             k: self.k,
             c: self.c,
             path,
-            peaks: Cell::new(self.peaks),
-            k_d: Cell::new(self.k_d),
-            cut_done: Cell::new(self.cut_done),
+            peaks,
+            k_d,
+            cut_done: Cell::new(m.cut_done),
         }
     }
-
-    fn start(&mut self, p: &Params, path: ShaftPath) {
-        let ode = self.ode(p, path);
-        self.y = ode.initial_state(path.t0);
-        self.e0 = ode.energy(&ode.point(path.t0, &self.y));
-        self.peaks = (ode.cycle(path.t0), 0.0, 0.0);
-        self.k_d = f64::NAN;
-        self.cut_done = false;
-        self.started = true;
+    fn initial_state(ode: &KnifeOde, t: f64) -> [f64; 3] {
+        ode.initial_state(t)
     }
-
-    fn save(&self) -> Vec<f64> {
-        let h = self.integ.save();
-        let mut s = vec![
-            self.started as i32 as f64,
-            self.y[0],
-            self.y[1],
-            self.y[2],
-            self.e0,
-            self.peaks.0,
-            self.peaks.1,
-            self.peaks.2,
-            self.k_d,
-            h[0],
-            h[1],
-            self.integ.stats.steps as f64,
-            self.integ.stats.events as f64,
-            self.cut_done as i32 as f64,
-        ];
-        // Model Exchange: the event indicators of the last event or step (transitions from them
-        // are counted after a restore too)
-        s.extend_from_slice(&self.g_prev);
-        s
+    fn energy(ode: &KnifeOde, t: f64, y: &[f64; 3]) -> f64 {
+        ode.energy(&ode.point(t, y))
     }
-
-    fn restore(&mut self, s: &[f64]) -> Result<(), String> {
-        let n_ind = <GenevaKnifeDrive as Model>::EVENT_INDICATORS;
-        if s.len() != Self::STATE_LEN && s.len() != Self::STATE_LEN + n_ind {
-            return Err(format!(
-                "elastodynamic state has {} numbers, expected {} or {}",
-                s.len(),
-                Self::STATE_LEN,
-                Self::STATE_LEN + n_ind
-            ));
+    fn start(ode: &KnifeOde, path: &ShaftPath, m: &mut KnifeMemory) {
+        m.peaks = Peaks::new(ode.cycle(path.t0));
+        m.cut_done = false;
+    }
+    fn absorb(ode: &KnifeOde, m: &mut KnifeMemory) {
+        m.peaks = Peaks::get(&ode.peaks, &ode.k_d);
+        m.cut_done = ode.cut_done.get();
+    }
+    fn save_memory(m: &KnifeMemory, out: &mut Vec<f64>) {
+        out.extend(m.peaks.save());
+        out.push(m.cut_done as i32 as f64);
+    }
+    fn restore_memory(s: &[f64]) -> KnifeMemory {
+        KnifeMemory {
+            peaks: Peaks::restore(s),
+            cut_done: s[4] != 0.0,
         }
-        self.g_prev = s[Self::STATE_LEN..].to_vec();
-        self.started = s[0] != 0.0;
-        self.y = [s[1], s[2], s[3]];
-        self.e0 = s[4];
-        self.peaks = (s[5], s[6], s[7]);
-        self.k_d = s[8];
-        self.integ.restore(&s[9..11]);
-        self.integ.stats.steps = s[11] as usize;
-        self.integ.stats.events = s[12] as usize;
-        self.cut_done = s[13] != 0.0;
-        Ok(())
-    }
-}
-
-impl GenevaKnifeDrive {
-    /// The elastodynamic state for Model Exchange, started from the inputs at `time` if new.
-    fn me_dynamic(&mut self, v: &Values<V>, time: f64) -> Option<&mut Dynamic> {
-        let p = self.params;
-        let d = self.dynamic.as_mut()?;
-        if !d.started {
-            d.start(&p, shaft::path(v, time));
-        }
-        Some(d)
-    }
-}
-
-/// The solver settings from the `solver.*` parameters.
-pub fn solver_settings(v: &Values<V>) -> Settings {
-    Settings {
-        method: Method::from_value(v.int(V::solver_method)),
-        rtol: v[V::solver_rtol],
-        atol: v[V::solver_atol],
-        max_step: v[V::solver_max_step],
-        ..Settings::default()
     }
 }
 
@@ -288,18 +249,16 @@ impl Model for GenevaKnifeDrive {
         params.validate()?;
         let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
             let k = v[V::elastic_k];
-            Dynamic {
-                k,
-                c: KnifeOde::damping(&params, k, v[V::elastic_zeta]),
-                integ: Integrator::new(solver_settings(v)),
-                started: false,
-                y: [0.0; 3],
-                e0: 0.0,
-                peaks: (0.0, 0.0, 0.0),
-                k_d: f64::NAN,
+            let c = KnifeOde::damping(&params, k, v[V::elastic_zeta]);
+            let memory = KnifeMemory {
+                peaks: Peaks::new(0.0),
                 cut_done: false,
-                g_prev: Vec::new(),
-            }
+            };
+            Chain::new(
+                KnifeChain { k, c },
+                Integrator::new(chain::solver_settings(v)),
+                memory,
+            )
         });
         Ok(GenevaKnifeDrive {
             geneva: params.geneva(),
@@ -308,125 +267,14 @@ impl Model for GenevaKnifeDrive {
         })
     }
 
-    fn do_step(
-        &mut self,
-        v: &mut Values<V>,
-        time: f64,
-        h: f64,
-        _log: &mut dyn Log,
-    ) -> Result<(), String> {
-        let Some(d) = self.dynamic.as_mut() else {
-            return Ok(());
-        };
-        let path = shaft::path(v, time);
-        if !d.started {
-            d.start(&self.params, path);
-        }
-        let before = d.clone();
-        let ode = d.ode(&self.params, path);
-        let mut y = d.y;
-        match d.integ.integrate(&ode, time, time + h, &mut y) {
-            Ok(_) => {
-                d.y = y;
-                d.peaks = ode.peaks.get();
-                d.k_d = ode.k_d.get();
-                d.cut_done = ode.cut_done.get();
-                if v.int(V::drive_mode) == 1 {
-                    // the FMU's own extrapolation of the inputs, until the host sets them
-                    let (_, w, a) = path.at(time + h);
-                    v[V::shaft_phi] = path.absolute_phi(time + h) - v[V::drive_phi0];
-                    v[V::shaft_w] = w;
-                    v[V::shaft_a] = a;
-                }
-                Ok(())
-            }
-            Err(why) => {
-                *d = before;
-                Err(why)
-            }
-        }
-    }
-
     const STATES: usize = 3;
     const EVENT_INDICATORS: usize = 8;
 
-    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
-        match self.me_dynamic(v, time) {
-            Some(d) => x.copy_from_slice(&d.y),
-            None => x.fill(0.0),
-        }
-    }
-
-    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
-        if let Some(d) = self.me_dynamic(v, time) {
-            d.y.copy_from_slice(x);
-        }
-    }
-
-    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
-        let p = self.params;
-        match self.me_dynamic(v, time) {
-            Some(d) => d.ode(&p, shaft::path(v, time)).rhs(time, &d.y, dx),
-            None => dx.fill(0.0),
-        }
-    }
-
-    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
-        let p = self.params;
-        match self.me_dynamic(v, time) {
-            Some(d) => d.ode(&p, shaft::path(v, time)).events(time, &d.y, z),
-            None => z.fill(1.0),
-        }
-    }
-
-    fn me_event(&mut self, v: &Values<V>, time: f64, _log: &mut dyn Log) {
-        let p = self.params;
-        if let Some(d) = self.me_dynamic(v, time) {
-            let ode = d.ode(&p, shaft::path(v, time));
-            let mut g = vec![0.0; Self::EVENT_INDICATORS];
-            ode.events(time, &d.y, &mut g);
-            if d.g_prev.len() == g.len() {
-                ode.on_event(time, &d.y, &d.g_prev, &g);
-                d.cut_done = ode.cut_done.get();
-                ode.events(time, &d.y, &mut g);
-            }
-            d.g_prev = g;
-        }
-    }
-
-    /// Also applies a transition of the event indicators since the last call (cut-through,
-    /// back above the stack): hosts such as FMPy call `fmi2CompletedIntegratorStep` at the
-    /// event instant before they enter event mode, so [`Model::me_event`] would find nothing
-    /// changed.
-    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
-        let p = self.params;
-        if let Some(d) = self.me_dynamic(v, time) {
-            let ode = d.ode(&p, shaft::path(v, time));
-            let mut g = vec![0.0; Self::EVENT_INDICATORS];
-            ode.events(time, &d.y, &mut g);
-            if d.g_prev.len() == g.len() {
-                ode.on_event(time, &d.y, &d.g_prev, &g);
-                d.cut_done = ode.cut_done.get();
-                ode.events(time, &d.y, &mut g);
-            }
-            ode.on_step(time, &d.y);
-            d.peaks = ode.peaks.get();
-            d.k_d = ode.k_d.get();
-            d.g_prev = g;
-        }
-    }
-
-    fn save_state(&self) -> Vec<f64> {
-        self.dynamic.as_ref().map(Dynamic::save).unwrap_or_default()
-    }
-
-    fn restore_state(&mut self, s: &[f64]) -> Result<(), String> {
-        match self.dynamic.as_mut() {
-            Some(d) => d.restore(s),
-            None if s.is_empty() => Ok(()),
-            None => Err("FMU state of the elastodynamic level given to another level".into()),
-        }
-    }
+    // Co-Simulation, Model Exchange and the FMU state from solver::chain; Model Exchange also
+    // applies a transition of the event indicators (cut-through, back above the stack) at a
+    // completed step ([`KnifeChain`]'s hooks)
+    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
+        me_event_indicators, me_event, me_completed_step, save_state, restore_state);
 
     fn calculated_parameters(&self, v: &mut Values<V>) {
         let p = &self.params;
@@ -444,31 +292,19 @@ impl Model for GenevaKnifeDrive {
         v[V::knife_s_kin] = k.s;
         if let Some(d) = self.dynamic.as_ref() {
             let path = shaft::path(v, time);
-            let ode = d.ode(p, path);
-            let y = if d.started {
-                d.y
-            } else {
-                ode.initial_state(time)
-            };
+            let ode = d.ode(p, path, v);
+            let y = d.held_state(&ode, time);
             let pt = ode.point_at(&k, &y);
-            v[V::elastic_x] = y[0];
-            v[V::elastic_xd] = y[1];
-            v[V::elastic_W] = y[2];
-            v[V::der_elastic_x] = y[1];
-            v[V::der_elastic_xd] = pt.xdd;
-            v[V::der_elastic_W] = pt.power;
+            let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
+            let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
+            chain::write_states(v, states, ders, &y, pt.xdd, pt.power);
             let tau = elastic_outputs(p, v, &pt, s.w, s.a);
             let r =
                 shaft::reduce(|a| elastic_torques(p, &p.at_shaft_accel(&k, s.w, a), pt.f_el, a)[3]);
             shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
             v[V::elastic_E_residual] =
                 ode.energy(&pt) - if d.started { d.e0 } else { ode.energy(&pt) } - y[2];
-            let running = if d.peaks.2 > 0.0 {
-                d.peaks.1 / d.peaks.2
-            } else {
-                1.0
-            };
-            v[V::dyn_factor] = if d.k_d.is_nan() { running } else { d.k_d };
+            v[V::dyn_factor] = d.memory.peaks.dyn_factor();
             v[V::solver_steps] = d.integ.stats.steps as f64;
             shaft::set_outputs(v, tau, s.w);
             return;

@@ -14,7 +14,9 @@ use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
-use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use crate::solver::chain::Slot::{Events, Integ, Mem, Rejected, Steps};
+use crate::solver::chain::{self, Chain, ChainModel, Slot};
+use crate::solver::{Integrator, OdeSystem, ShaftPath};
 use std::cell::Cell;
 use std::f64::consts::TAU;
 
@@ -240,57 +242,70 @@ impl Default for CycleState {
     }
 }
 
-/// What the elastodynamic level carries between steps.
+/// The lever on the ramp through the unilateral contact: the constants of the elastodynamic
+/// level.
 #[derive(Clone, Debug, PartialEq)]
-struct Dynamic {
+struct LeverChain {
     contact: Contact,
     /// The lever angles the linkage works in.
     range: (f64, f64),
-    integ: Integrator,
-    started: bool,
-    /// `[q, q̇, W]`, q the lever's deflection from its rigid rotation.
-    y: [f64; 3],
-    e0: f64,
+}
+
+/// What the elastodynamic level tracks between steps.
+#[derive(Clone, Debug, PartialEq)]
+struct LeverMemory {
     track: Track,
     /// The roller lifted off during the last communication step.
     lost_step: bool,
-    /// Model Exchange: the event indicators just after the last event (or at the start): the
-    /// contact mode the host's integration is in.
-    g_prev: Vec<f64>,
 }
 
-impl Dynamic {
-    const STATE_LEN: usize = 21;
+/// What the elastodynamic level carries between steps: `y = [q, q̇, W]`, q the lever's
+/// deflection from its rigid rotation. Model Exchange: `g_prev` holds the event indicators just
+/// after the last event (or at the start), the contact mode the host's integration is in; they
+/// are not saved in the FMU state.
+type Dynamic = Chain<LeverChain>;
 
-    fn ode<'a>(&self, d: &'a Drive, path: ShaftPath) -> LeverOde<'a> {
+impl ChainModel for LeverChain {
+    type Var = V;
+    type Physics = Drive;
+    type Memory = LeverMemory;
+    type Ode<'a> = LeverOde<'a>;
+    const LAYOUT: &'static [Slot] = &[Mem(10), Integ, Steps, Events, Mem(1), Rejected];
+    const STATE_LEN: usize = 21;
+    const EXTRAPOLATED_PHI_LESS_PHI0: bool = false;
+
+    fn ode<'a>(
+        &self,
+        d: &'a Drive,
+        path: ShaftPath,
+        _: &Values<V>,
+        m: &LeverMemory,
+    ) -> LeverOde<'a> {
         LeverOde {
             d,
             contact: self.contact,
             path,
-            track: Cell::new(self.track),
+            track: Cell::new(m.track),
             range: self.range,
             out_of_range: Cell::new(f64::NAN),
         }
     }
-
-    fn start(&mut self, d: &Drive, path: ShaftPath) {
-        let ode = self.ode(d, path);
-        self.y = ode.initial_state(path.t0);
-        self.e0 = ode.energy(&ode.point(path.t0, &self.y));
-        self.track = Track::new(path.cycle(path.t0));
-        self.lost_step = false;
-        self.started = true;
+    fn initial_state(ode: &LeverOde, t: f64) -> [f64; 3] {
+        ode.initial_state(t)
     }
-
-    fn save(&self) -> Vec<f64> {
-        let h = self.integ.save();
-        let t = &self.track;
-        vec![
-            self.started as i32 as f64,
-            self.y[0],
-            self.y[1],
-            self.y[2],
-            self.e0,
+    fn energy(ode: &LeverOde, t: f64, y: &[f64; 3]) -> f64 {
+        ode.energy(&ode.point(t, y))
+    }
+    fn start(_: &LeverOde, path: &ShaftPath, m: &mut LeverMemory) {
+        m.track = Track::new(path.cycle(path.t0));
+        m.lost_step = false;
+    }
+    fn absorb(ode: &LeverOde, m: &mut LeverMemory) {
+        m.track = ode.track.get();
+    }
+    fn save_memory(m: &LeverMemory, out: &mut Vec<f64>) {
+        let t = &m.track;
+        out.extend([
             t.peaks.cycle,
             t.peaks.dyn_max,
             t.peaks.rigid_max,
@@ -301,58 +316,130 @@ impl Dynamic {
             t.lift_phi,
             t.impact,
             t.landed as i32 as f64,
-            h[0],
-            h[1],
-            self.integ.stats.steps as f64,
-            self.integ.stats.events as f64,
-            self.lost_step as i32 as f64,
-            self.integ.stats.rejected as f64,
-        ]
+            m.lost_step as i32 as f64,
+        ]);
     }
-
-    fn restore(&mut self, s: &[f64]) -> Result<(), String> {
-        if s.len() != Self::STATE_LEN {
-            return Err(format!(
-                "elastodynamic state has {} numbers, expected {}",
-                s.len(),
-                Self::STATE_LEN
-            ));
-        }
-        self.started = s[0] != 0.0;
-        self.y = [s[1], s[2], s[3]];
-        self.e0 = s[4];
-        self.track = Track {
-            peaks: Peaks {
-                cycle: s[5],
-                dyn_max: s[6],
-                rigid_max: s[7],
-                dyn_min: s[8],
+    fn restore_memory(s: &[f64]) -> LeverMemory {
+        LeverMemory {
+            track: Track {
+                peaks: Peaks {
+                    cycle: s[0],
+                    dyn_max: s[1],
+                    rigid_max: s[2],
+                    dyn_min: s[3],
+                },
+                k_d: s[4],
+                last_min: s[5],
+                liftoffs: s[6],
+                lift_phi: s[7],
+                impact: s[8],
+                landed: s[9] != 0.0,
             },
-            k_d: s[9],
-            last_min: s[10],
-            liftoffs: s[11],
-            lift_phi: s[12],
-            impact: s[13],
-            landed: s[14] != 0.0,
-        };
-        self.integ.restore(&s[15..17]);
-        self.integ.stats.steps = s[17] as usize;
-        self.integ.stats.events = s[18] as usize;
-        self.lost_step = s[19] != 0.0;
-        self.integ.stats.rejected = s[20] as usize;
-        self.g_prev.clear();
-        Ok(())
+            lost_step: s[10] != 0.0,
+        }
     }
-}
 
-/// The solver settings from the `solver.*` parameters.
-pub fn solver_settings(v: &Values<V>) -> Settings {
-    Settings {
-        method: Method::from_value(v.int(V::solver_method)),
-        rtol: v[V::solver_rtol],
-        atol: v[V::solver_atol],
-        max_step: v[V::solver_max_step],
-        ..Settings::default()
+    /// Whether the roller lifted off in the step, with a warning naming where.
+    fn after_step(
+        &self,
+        ode: &LeverOde,
+        m: &mut LeverMemory,
+        time: f64,
+        h: f64,
+        log: &mut dyn Log,
+    ) {
+        let drive = ode.d;
+        let tr = ode.track.get();
+        let new = tr.liftoffs - m.track.liftoffs;
+        m.lost_step = new > 0.0;
+        if new > 0.0 {
+            let phi = tr.lift_phi;
+            let psi = crate::mechanics::wrap_angle(phi - drive.cyc.phi0);
+            let (_, w, _) = ode.path.at(time + h);
+            log.log(
+                Severity::Warning,
+                &format!(
+                    "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn){} in the step from t = {:.6} s, {:.1} rpm (elastodynamic level; {} lift-offs so far): spring.M0 = {} N.m, spring.kt = {} N.m/rad cannot hold it on at this speed",
+                    phi.to_degrees(),
+                    psi.to_degrees(),
+                    if new > 1.0 {
+                        format!(", the last of {new} in this step,")
+                    } else {
+                        String::new()
+                    },
+                    time,
+                    w * 30.0 / std::f64::consts::PI,
+                    tr.liftoffs,
+                    drive.p.spring_m0,
+                    drive.p.spring_kt
+                ),
+            );
+        }
+    }
+
+    /// A lever thrown out of the linkage's range is named.
+    fn step_failed(&self, ode: &LeverOde, _: &[f64; 3], why: String) -> String {
+        let g = ode.out_of_range.get();
+        if g.is_nan() {
+            why
+        } else {
+            format!(
+                "{why}: the lever reached {:.1} deg, outside the {:.1} .. {:.1} deg where the rod holds the carriage: at {:.0} rpm the roller is thrown that far off the ramp; lower the speed or stiffen spring.M0, spring.kt",
+                g.to_degrees(),
+                self.range.0.to_degrees(),
+                self.range.1.to_degrees(),
+                ode.path.w * 30.0 / std::f64::consts::PI
+            )
+        }
+    }
+
+    /// The host stops at the root, where the crossing indicator is zero to its tolerance with
+    /// either sign: the mode after the event is that of the state an instant later (an Euler
+    /// step of 1 ns along the right-hand side). A lift-off is logged.
+    fn me_event(
+        &self,
+        ode: &LeverOde,
+        time: f64,
+        y: &[f64; 3],
+        g_prev: &mut Vec<f64>,
+        m: &LeverMemory,
+        log: &mut dyn Log,
+    ) {
+        let phi0 = ode.d.cyc.phi0;
+        let dt = 1e-9 * time.abs().max(1.0);
+        let mut dy = [0.0; 3];
+        ode.rhs(time, y, &mut dy);
+        let y_after: Vec<f64> = y.iter().zip(&dy).map(|(y, f)| y + dt * f).collect();
+        let mut g = vec![0.0; N_EVENTS];
+        ode.events(time + dt, &y_after, &mut g);
+        if g_prev.len() == g.len() {
+            ode.on_event(time, y, g_prev, &g);
+            let tr = ode.track.get();
+            if tr.liftoffs > m.track.liftoffs {
+                let phi = tr.lift_phi;
+                log.log(
+                    Severity::Warning,
+                    &format!(
+                        "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn) at t = {time:.6} s (elastodynamic level; {} lift-offs so far)",
+                        phi.to_degrees(),
+                        crate::mechanics::wrap_angle(phi - phi0).to_degrees(),
+                        tr.liftoffs
+                    ),
+                );
+            }
+        }
+        *g_prev = g;
+    }
+
+    /// The contact mode changes at events only (a host completes its step at the root, before
+    /// the event): the indicators of the mode are kept from the last event.
+    fn me_completed_step(&self, ode: &LeverOde, time: f64, y: &[f64; 3], g_prev: &mut Vec<f64>) {
+        ode.on_step(time, y);
+        if g_prev.is_empty() {
+            let mut g = vec![0.0; N_EVENTS];
+            ode.events(time, y, &mut g);
+            *g_prev = g;
+        }
     }
 }
 
@@ -458,24 +545,11 @@ impl Perforators {
         &self.drive
     }
 
-    /// The elastodynamic state for Model Exchange, started from the inputs at `time` if new.
-    fn me_dynamic(&mut self, v: &Values<V>, time: f64) -> Option<(&Drive, &mut Dynamic)> {
-        let d = self.dynamic.as_mut()?;
-        if !d.started {
-            d.start(&self.drive, shaft::path(v, time));
-        }
-        Some((&self.drive, d))
-    }
-
     /// Outputs of the elastodynamic level; returns the shaft torque.
     fn evaluate_dynamic(&self, v: &mut Values<V>, time: f64) -> f64 {
         let d = self.dynamic.as_ref().expect("elastodynamic level");
-        let ode = d.ode(&self.drive, shaft::path(v, time));
-        let y = if d.started {
-            d.y
-        } else {
-            ode.initial_state(time)
-        };
+        let ode = d.ode(&self.drive, shaft::path(v, time), v);
+        let y = d.held_state(&ode, time);
         let pt = ode.point(time, &y);
         let k = &pt.kin;
         let f = &pt.forces;
@@ -501,8 +575,8 @@ impl Perforators {
         };
         v[V::table_F] = f.table_f;
         let lost = !(pt.pen > 0.0 && pt.f_pre > 0.0);
-        v.set_flag(V::roller_lost_contact, d.lost_step || lost);
-        let t = &d.track;
+        v.set_flag(V::roller_lost_contact, d.memory.lost_step || lost);
+        let t = &d.memory.track;
         v[V::roller_F_margin] = if t.last_min.is_finite() {
             t.last_min
         } else {
@@ -531,16 +605,14 @@ impl Perforators {
             0.0
         };
         v[V::solver_steps] = d.integ.stats.steps as f64;
-        v[V::elastic_q] = y[0];
-        v[V::elastic_qd] = y[1];
-        v[V::elastic_W] = y[2];
-        v[V::der_elastic_q] = y[1];
-        v[V::der_elastic_qd] = pt.rigid.gamma_a - k.gamma_a;
-        v[V::der_elastic_W] = pt.power;
+        let states = [V::elastic_q, V::elastic_qd, V::elastic_W];
+        let ders = [V::der_elastic_q, V::der_elastic_qd, V::der_elastic_W];
+        let qdd = pt.rigid.gamma_a - k.gamma_a;
+        chain::write_states(v, states, ders, &y, qdd, pt.power);
         // the split of shaft.tau at the held state: only the shaft acceleration changes
         let path = ode.path;
         let r = shaft::reduce(|a| {
-            d.ode(&self.drive, ShaftPath { a, ..path })
+            d.ode(&self.drive, ShaftPath { a, ..path }, v)
                 .point(time, &y)
                 .forces
                 .tau
@@ -574,16 +646,16 @@ impl Model for Perforators {
         if shaft::fidelity(v) == Fidelity::Elastodynamic {
             check_contact(&drive, v)?;
         }
-        let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| Dynamic {
-            contact: contact_of(&drive, v),
-            range: LeverOde::linkage_range(&drive),
-            integ: Integrator::new(solver_settings(v)),
-            started: false,
-            y: [0.0; 3],
-            e0: 0.0,
-            track: Track::new(0.0),
-            lost_step: false,
-            g_prev: Vec::new(),
+        let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
+            let model = LeverChain {
+                contact: contact_of(&drive, v),
+                range: LeverOde::linkage_range(&drive),
+            };
+            let memory = LeverMemory {
+                track: Track::new(0.0),
+                lost_step: false,
+            };
+            Chain::new(model, Integrator::new(chain::solver_settings(v)), memory)
         });
         Ok(Perforators {
             drive,
@@ -607,7 +679,7 @@ impl Model for Perforators {
         let c = self
             .dynamic
             .as_ref()
-            .map(|dy| dy.contact)
+            .map(|dy| dy.model.contact)
             .unwrap_or_else(|| contact_of(d, v));
         v[V::contact_K_hertz] = Contact::new(d, ContactLaw::Hertz, c.k, c.c).k;
         v[V::contact_m_red] = LeverOde::reduced_mass(d);
@@ -672,69 +744,8 @@ impl Model for Perforators {
         h: f64,
         log: &mut dyn Log,
     ) -> Result<(), String> {
-        if let Some(d) = self.dynamic.as_mut() {
-            let path = shaft::path(v, time);
-            if !d.started {
-                d.start(&self.drive, path);
-            }
-            let before = d.clone();
-            let ode = d.ode(&self.drive, path);
-            let mut y = d.y;
-            return match d.integ.integrate(&ode, time, time + h, &mut y) {
-                Ok(_) => {
-                    d.y = y;
-                    let tr = ode.track.get();
-                    let new = tr.liftoffs - d.track.liftoffs;
-                    d.lost_step = new > 0.0;
-                    if new > 0.0 {
-                        let phi = tr.lift_phi;
-                        let psi = crate::mechanics::wrap_angle(phi - self.drive.cyc.phi0);
-                        let (_, w, _) = path.at(time + h);
-                        log.log(
-                            Severity::Warning,
-                            &format!(
-                                "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn){} in the step from t = {:.6} s, {:.1} rpm (elastodynamic level; {} lift-offs so far): spring.M0 = {} N.m, spring.kt = {} N.m/rad cannot hold it on at this speed",
-                                phi.to_degrees(),
-                                psi.to_degrees(),
-                                if new > 1.0 {
-                                    format!(", the last of {new} in this step,")
-                                } else {
-                                    String::new()
-                                },
-                                time,
-                                w * 30.0 / std::f64::consts::PI,
-                                tr.liftoffs,
-                                self.drive.p.spring_m0,
-                                self.drive.p.spring_kt
-                            ),
-                        );
-                    }
-                    d.track = tr;
-                    if v.int(V::drive_mode) == 1 {
-                        // the FMU's own extrapolation of the inputs, until the host sets them
-                        let (_, w, a) = path.at(time + h);
-                        v[V::shaft_phi] = path.absolute_phi(time + h);
-                        v[V::shaft_w] = w;
-                        v[V::shaft_a] = a;
-                    }
-                    Ok(())
-                }
-                Err(why) => {
-                    *d = before;
-                    let g = ode.out_of_range.get();
-                    Err(if g.is_nan() {
-                        why
-                    } else {
-                        format!(
-                            "{why}: the lever reached {:.1} deg, outside the {:.1} .. {:.1} deg where the rod holds the carriage: at {:.0} rpm the roller is thrown that far off the ramp; lower the speed or stiffen spring.M0, spring.kt",
-                            g.to_degrees(),
-                            d.range.0.to_degrees(),
-                            d.range.1.to_degrees(),
-                            path.w * 30.0 / std::f64::consts::PI
-                        )
-                    })
-                }
-            };
+        if self.dynamic.is_some() {
+            return chain::do_step(self.dynamic.as_mut(), &self.drive, v, time, h, log);
         }
         if shaft::fidelity(v) != Fidelity::Kinetostatic || !v.wants(stage::WATCH) {
             return Ok(());
@@ -789,81 +800,9 @@ impl Model for Perforators {
     const STATES: usize = 3;
     const EVENT_INDICATORS: usize = N_EVENTS;
 
-    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
-        match self.me_dynamic(v, time) {
-            Some((_, d)) => x.copy_from_slice(&d.y),
-            None => x.fill(0.0),
-        }
-    }
-
-    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
-        if let Some((_, d)) = self.me_dynamic(v, time) {
-            d.y.copy_from_slice(x);
-        }
-    }
-
-    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
-        match self.me_dynamic(v, time) {
-            Some((drive, d)) => d.ode(drive, shaft::path(v, time)).rhs(time, &d.y, dx),
-            None => dx.fill(0.0),
-        }
-    }
-
-    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
-        match self.me_dynamic(v, time) {
-            Some((drive, d)) => d.ode(drive, shaft::path(v, time)).events(time, &d.y, z),
-            None => z.fill(1.0),
-        }
-    }
-
-    fn me_event(&mut self, v: &Values<V>, time: f64, log: &mut dyn Log) {
-        let phi0 = self.drive.cyc.phi0;
-        if let Some((drive, d)) = self.me_dynamic(v, time) {
-            let ode = d.ode(drive, shaft::path(v, time));
-            // the host stops at the root, where the crossing indicator is zero to its tolerance
-            // with either sign: the mode after the event is that of the state an instant later
-            // (an Euler step of 1 ns along the right-hand side)
-            let dt = 1e-9 * time.abs().max(1.0);
-            let mut dy = [0.0; 3];
-            ode.rhs(time, &d.y, &mut dy);
-            let y_after: Vec<f64> = d.y.iter().zip(&dy).map(|(y, f)| y + dt * f).collect();
-            let mut g = vec![0.0; N_EVENTS];
-            ode.events(time + dt, &y_after, &mut g);
-            if d.g_prev.len() == g.len() {
-                ode.on_event(time, &d.y, &d.g_prev, &g);
-                let tr = ode.track.get();
-                if tr.liftoffs > d.track.liftoffs {
-                    let phi = tr.lift_phi;
-                    log.log(
-                        Severity::Warning,
-                        &format!(
-                            "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn) at t = {time:.6} s (elastodynamic level; {} lift-offs so far)",
-                            phi.to_degrees(),
-                            crate::mechanics::wrap_angle(phi - phi0).to_degrees(),
-                            tr.liftoffs
-                        ),
-                    );
-                }
-                d.track = tr;
-            }
-            d.g_prev = g;
-        }
-    }
-
-    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
-        if let Some((drive, d)) = self.me_dynamic(v, time) {
-            let ode = d.ode(drive, shaft::path(v, time));
-            ode.on_step(time, &d.y);
-            d.track = ode.track.get();
-            // the contact mode changes at events only (a host completes its step at the root,
-            // before the event): the indicators of the mode are kept from the last event
-            if d.g_prev.is_empty() {
-                let mut g = vec![0.0; N_EVENTS];
-                ode.events(time, &d.y, &mut g);
-                d.g_prev = g;
-            }
-        }
-    }
+    // Model Exchange from solver::chain ([`LeverChain`]'s hooks)
+    crate::chain_hooks!(dynamic, drive: me_states, me_set_states, me_derivatives,
+        me_event_indicators, me_event, me_completed_step);
 
     fn save_state(&self) -> Vec<f64> {
         if let Some(d) = self.dynamic.as_ref() {

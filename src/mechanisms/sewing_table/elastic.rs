@@ -17,6 +17,7 @@
 
 use super::physics::{Kinematics, Params};
 use crate::mechanics::{STANDARD_GRAVITY, sgn};
+use crate::solver::chain::track_peaks;
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
 
@@ -198,15 +199,6 @@ impl OdeSystem for TableOde<'_> {
             self.impact.set(self.impact.get().max(pt.f_c.abs()));
         }
         let cyc = self.path.cycle(t);
-        let (c0, pd, pr) = self.peaks.get();
-        if cyc != c0 {
-            if pr > 0.0 {
-                self.k_d.set(pd / pr);
-            }
-            self.peaks.set((cyc, pt.f_c.abs(), pt.f_rigid.abs()));
-        } else {
-            self.peaks
-                .set((c0, pd.max(pt.f_c.abs()), pr.max(pt.f_rigid.abs())));
-        }
+        track_peaks(&self.peaks, &self.k_d, cyc, pt.f_c.abs(), pt.f_rigid.abs());
     }
 }

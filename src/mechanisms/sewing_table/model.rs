@@ -6,7 +6,9 @@ use super::physics::{Kind, Params};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Stages, Values};
-use crate::solver::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
+use crate::solver::chain::{self, Chain, ChainModel, Peaks, Slot};
+use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
 /// `law.*` (`motion-laws.md`), shared by SewingTable and Perforators.
@@ -211,110 +213,87 @@ crate::model_variables! {
     }
 }
 
-/// What the elastodynamic level carries between steps.
+/// The cam-follower chain of the elastodynamic level: its constants.
 #[derive(Clone, Debug, PartialEq)]
-struct Dynamic {
+struct TableChain {
     k: f64,
     c: f64,
+    /// Half the slot's clearance, m.
     gap: f64,
-    integ: Integrator,
-    started: bool,
-    y: [f64; 3],
-    e0: f64,
-    peaks: (f64, f64, f64),
-    k_d: f64,
+}
+
+/// What [`TableOde`] tracks between steps.
+#[derive(Clone, Debug, PartialEq)]
+struct TableMemory {
+    peaks: Peaks,
     liftoffs: f64,
     impact: f64,
     landed: bool,
-    /// Model Exchange: the event indicators at the last event or completed integrator step.
-    g_prev: Vec<f64>,
 }
 
-impl Dynamic {
-    const STATE_LEN: usize = 16;
+/// What the elastodynamic level carries between steps.
+type Dynamic = Chain<TableChain>;
 
-    fn ode<'a>(&self, p: &'a Params, path: ShaftPath, f_ext: f64) -> TableOde<'a> {
+/// The default Model Exchange hooks: a flank contact that opened or closed since the last event
+/// or completed step is counted (a lift-off) or marked (a landing) at whichever comes first.
+impl ChainModel for TableChain {
+    type Var = V;
+    type Physics = Params;
+    type Memory = TableMemory;
+    type Ode<'a> = TableOde<'a>;
+    const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Mem(3), Events];
+    const STATE_LEN: usize = 16;
+    const SAVED_INDICATORS: usize = <SewingTable as Model>::EVENT_INDICATORS;
+
+    fn ode<'a>(
+        &self,
+        p: &'a Params,
+        path: ShaftPath,
+        v: &Values<V>,
+        m: &TableMemory,
+    ) -> TableOde<'a> {
+        let (peaks, k_d) = m.peaks.cells();
         TableOde {
             p,
             k: self.k,
             c: self.c,
             gap: self.gap,
-            f_ext,
+            f_ext: v[V::table_F_ext],
             path,
-            peaks: Cell::new(self.peaks),
-            k_d: Cell::new(self.k_d),
-            liftoffs: Cell::new(self.liftoffs),
-            impact: Cell::new(self.impact),
-            landed: Cell::new(self.landed),
+            peaks,
+            k_d,
+            liftoffs: Cell::new(m.liftoffs),
+            impact: Cell::new(m.impact),
+            landed: Cell::new(m.landed),
         }
     }
-
-    /// Starts the integration at `path.t0`: the table in equilibrium on its rigid motion.
-    fn start(&mut self, p: &Params, path: ShaftPath, f_ext: f64) {
-        let ode = self.ode(p, path, f_ext);
-        self.y = ode.initial_state(path.t0);
-        self.e0 = ode.energy(&ode.point(path.t0, &self.y));
-        self.peaks = (path.cycle(path.t0), 0.0, 0.0);
-        self.started = true;
+    /// The table in equilibrium on its rigid motion.
+    fn initial_state(ode: &TableOde, t: f64) -> [f64; 3] {
+        ode.initial_state(t)
     }
-
-    fn absorb(&mut self, ode: &TableOde) {
-        self.peaks = ode.peaks.get();
-        self.k_d = ode.k_d.get();
-        self.liftoffs = ode.liftoffs.get();
-        self.impact = ode.impact.get();
-        self.landed = ode.landed.get();
+    fn energy(ode: &TableOde, t: f64, y: &[f64; 3]) -> f64 {
+        ode.energy(&ode.point(t, y))
     }
-
-    fn save(&self) -> Vec<f64> {
-        let h = self.integ.save();
-        let mut s = vec![
-            self.started as i32 as f64,
-            self.y[0],
-            self.y[1],
-            self.y[2],
-            self.e0,
-            self.peaks.0,
-            self.peaks.1,
-            self.peaks.2,
-            self.k_d,
-            h[0],
-            h[1],
-            self.integ.stats.steps as f64,
-            self.liftoffs,
-            self.impact,
-            self.landed as i32 as f64,
-            self.integ.stats.events as f64,
-        ];
-        // Model Exchange: the event indicators of the last event or step (transitions from them
-        // are counted after a restore too)
-        s.extend_from_slice(&self.g_prev);
-        s
+    fn start(_: &TableOde, path: &ShaftPath, m: &mut TableMemory) {
+        m.peaks.turn = (path.cycle(path.t0), 0.0, 0.0);
     }
-
-    fn restore(&mut self, s: &[f64]) -> Result<(), String> {
-        let n_ind = <SewingTable as Model>::EVENT_INDICATORS;
-        if s.len() != Self::STATE_LEN && s.len() != Self::STATE_LEN + n_ind {
-            return Err(format!(
-                "elastodynamic state has {} numbers, expected {} or {}",
-                s.len(),
-                Self::STATE_LEN,
-                Self::STATE_LEN + n_ind
-            ));
+    fn absorb(ode: &TableOde, m: &mut TableMemory) {
+        m.peaks = Peaks::get(&ode.peaks, &ode.k_d);
+        m.liftoffs = ode.liftoffs.get();
+        m.impact = ode.impact.get();
+        m.landed = ode.landed.get();
+    }
+    fn save_memory(m: &TableMemory, out: &mut Vec<f64>) {
+        out.extend(m.peaks.save());
+        out.extend([m.liftoffs, m.impact, m.landed as i32 as f64]);
+    }
+    fn restore_memory(s: &[f64]) -> TableMemory {
+        TableMemory {
+            peaks: Peaks::restore(s),
+            liftoffs: s[4],
+            impact: s[5],
+            landed: s[6] != 0.0,
         }
-        self.g_prev = s[Self::STATE_LEN..].to_vec();
-        self.started = s[0] != 0.0;
-        self.y = [s[1], s[2], s[3]];
-        self.e0 = s[4];
-        self.peaks = (s[5], s[6], s[7]);
-        self.k_d = s[8];
-        self.integ.restore(&s[9..11]);
-        self.integ.stats.steps = s[11] as usize;
-        self.liftoffs = s[12];
-        self.impact = s[13];
-        self.landed = s[14] != 0.0;
-        self.integ.stats.events = s[15] as usize;
-        Ok(())
     }
 }
 
@@ -326,36 +305,6 @@ pub struct SewingTable {
 }
 
 impl SewingTable {
-    /// The elastodynamic state for Model Exchange, started from the inputs at `time` if new.
-    fn me_dynamic(&mut self, v: &Values<V>, time: f64) -> Option<(&Params, &mut Dynamic)> {
-        let d = self.dynamic.as_mut()?;
-        if !d.started {
-            d.start(&self.params, shaft::path(v, time), v[V::table_F_ext]);
-        }
-        Some((&self.params, d))
-    }
-
-    /// Model Exchange: the discrete bookkeeping at an event or a completed integrator step.
-    /// A contact that opened or closed since the last call is counted here, whichever comes
-    /// first: hosts such as FMPy call `fmi2CompletedIntegratorStep` at the event instant
-    /// before they enter event mode, so the event alone would find nothing changed.
-    fn me_transitions(&mut self, v: &Values<V>, time: f64, completed_step: bool) {
-        let f_ext = v[V::table_F_ext];
-        if let Some((p, d)) = self.me_dynamic(v, time) {
-            let ode = d.ode(p, shaft::path(v, time), f_ext);
-            let mut g = vec![0.0; Self::EVENT_INDICATORS];
-            ode.events(time, &d.y, &mut g);
-            if d.g_prev.len() == g.len() {
-                ode.on_event(time, &d.y, &d.g_prev, &g);
-            }
-            if completed_step {
-                ode.on_step(time, &d.y);
-            }
-            d.absorb(&ode);
-            d.g_prev = g;
-        }
-    }
-
     /// The physics parameters from the variables.
     pub fn params(v: &Values<V>) -> Params {
         Params {
@@ -418,27 +367,19 @@ impl Model for SewingTable {
                 });
             }
             let k = v[V::elastic_k];
-            Some(Dynamic {
+            let model = TableChain {
                 k,
                 c: TableOde::damping(&params, k, v[V::elastic_zeta]),
                 gap: 0.5 * v[V::cam_clearance],
-                integ: Integrator::new(Settings {
-                    method: Method::from_value(v.int(V::solver_method)),
-                    rtol: v[V::solver_rtol],
-                    atol: v[V::solver_atol],
-                    max_step: v[V::solver_max_step],
-                    ..Settings::default()
-                }),
-                started: false,
-                y: [0.0; 3],
-                e0: 0.0,
-                peaks: (0.0, 0.0, 0.0),
-                k_d: f64::NAN,
+            };
+            let integ = Integrator::new(chain::solver_settings(v));
+            let memory = TableMemory {
+                peaks: Peaks::new(0.0),
                 liftoffs: 0.0,
                 impact: 0.0,
                 landed: false,
-                g_prev: Vec::new(),
-            })
+            };
+            Some(Chain::new(model, integ, memory))
         } else {
             None
         };
@@ -449,93 +390,16 @@ impl Model for SewingTable {
         })
     }
 
-    fn do_step(
-        &mut self,
-        v: &mut Values<V>,
-        time: f64,
-        h: f64,
-        _log: &mut dyn Log,
-    ) -> Result<(), String> {
-        let Some(d) = self.dynamic.as_mut() else {
-            return Ok(());
-        };
-        let path = shaft::path(v, time);
-        let f_ext = v[V::table_F_ext];
-        if !d.started {
-            d.start(&self.params, path, f_ext);
-        }
-        let ode = d.ode(&self.params, path, f_ext);
-        let mut y = d.y;
-        let before = d.integ.clone();
-        if let Err(why) = d.integ.integrate(&ode, time, time + h, &mut y) {
-            d.integ = before; // the state before the step stays intact
-            return Err(why);
-        }
-        d.y = y;
-        d.absorb(&ode);
-        if v.int(V::drive_mode) == 1 {
-            let (_, w, a) = path.at(time + h);
-            v[V::shaft_phi] = path.absolute_phi(time + h) - v[V::drive_phi0];
-            v[V::shaft_w] = w;
-            v[V::shaft_a] = a;
-        }
-        Ok(())
-    }
-
     const STATES: usize = 3;
-    const EVENT_INDICATORS: usize = 7;
-
-    fn me_states(&mut self, v: &Values<V>, time: f64, x: &mut [f64]) {
-        match self.me_dynamic(v, time) {
-            Some((_, d)) => x.copy_from_slice(&d.y),
-            None => x.fill(0.0),
-        }
-    }
-
-    fn me_set_states(&mut self, v: &Values<V>, time: f64, x: &[f64]) {
-        if let Some((_, d)) = self.me_dynamic(v, time) {
-            d.y.copy_from_slice(x);
-        }
-    }
-
-    fn me_derivatives(&mut self, v: &Values<V>, time: f64, dx: &mut [f64]) {
-        let f_ext = v[V::table_F_ext];
-        match self.me_dynamic(v, time) {
-            Some((p, d)) => d.ode(p, shaft::path(v, time), f_ext).rhs(time, &d.y, dx),
-            None => dx.fill(0.0),
-        }
-    }
-
     /// The cyclogram's phase boundaries, both slot flanks (with clearance) and the rigid
     /// velocity's sign ([`TableOde`]'s events).
-    fn me_event_indicators(&mut self, v: &Values<V>, time: f64, z: &mut [f64]) {
-        let f_ext = v[V::table_F_ext];
-        match self.me_dynamic(v, time) {
-            Some((p, d)) => d.ode(p, shaft::path(v, time), f_ext).events(time, &d.y, z),
-            None => z.fill(1.0),
-        }
-    }
+    const EVENT_INDICATORS: usize = 7;
 
-    /// A flank contact opened or closed: counts the lift-off or marks the landing.
-    fn me_event(&mut self, v: &Values<V>, time: f64, _log: &mut dyn Log) {
-        self.me_transitions(v, time, false);
-    }
-
-    fn me_completed_step(&mut self, v: &Values<V>, time: f64) {
-        self.me_transitions(v, time, true);
-    }
-
-    fn save_state(&self) -> Vec<f64> {
-        self.dynamic.as_ref().map(Dynamic::save).unwrap_or_default()
-    }
-
-    fn restore_state(&mut self, s: &[f64]) -> Result<(), String> {
-        match self.dynamic.as_mut() {
-            Some(d) => d.restore(s),
-            None if s.is_empty() => Ok(()),
-            None => Err("FMU state of the elastodynamic level given to another level".into()),
-        }
-    }
+    // Co-Simulation, Model Exchange and the FMU state from solver::chain; at an event or a
+    // completed step a flank contact that opened or closed counts a lift-off or marks a landing
+    // ([`TableChain`])
+    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
+        me_event_indicators, me_event, me_completed_step, save_state, restore_state);
 
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
         let p = &self.params;
@@ -568,20 +432,13 @@ impl Model for SewingTable {
         v[V::rocking_M_inertia] = if kinetostatic { r.m_inertia } else { 0.0 };
         v[V::table_x_kin] = k.c.x;
         if let Some(d) = self.dynamic.as_ref() {
-            let ode = d.ode(p, shaft::path(v, time), f_ext);
-            let y = if d.started {
-                d.y
-            } else {
-                ode.initial_state(time)
-            };
+            let ode = d.ode(p, shaft::path(v, time), v);
+            let y = d.held_state(&ode, time);
             let pt = ode.point_at(&k, &y);
             let m = p.table_m;
-            v[V::elastic_x] = y[0];
-            v[V::elastic_xd] = y[1];
-            v[V::elastic_W] = y[2];
-            v[V::der_elastic_x] = y[1];
-            v[V::der_elastic_xd] = pt.xdd;
-            v[V::der_elastic_W] = pt.power;
+            let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
+            let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
+            chain::write_states(v, states, ders, &y, pt.xdd, pt.power);
             v[V::table_x] = pt.x;
             v[V::table_v] = pt.xd;
             v[V::table_a] = pt.xdd;
@@ -603,17 +460,9 @@ impl Model for SewingTable {
             } else {
                 0.0
             };
-            v[V::dyn_factor] = if d.k_d.is_nan() {
-                if d.peaks.2 > 0.0 {
-                    d.peaks.1 / d.peaks.2
-                } else {
-                    1.0
-                }
-            } else {
-                d.k_d
-            };
-            v[V::contact_liftoffs] = d.liftoffs;
-            v[V::contact_F_impact] = d.impact;
+            v[V::dyn_factor] = d.memory.peaks.dyn_factor();
+            v[V::contact_liftoffs] = d.memory.liftoffs;
+            v[V::contact_F_impact] = d.memory.impact;
             v[V::elastic_E_residual] = if d.started {
                 ode.energy(&pt) - d.e0 - y[2]
             } else {
@@ -739,7 +588,7 @@ mod tests {
         assert_eq!(bits(&r.save_state()), bits(&saved));
         r.me_set_states(&v, 0.0, &[x_kin, 0.0, 0.0]);
         r.me_completed_step(&v, 0.0);
-        assert_eq!(r.dynamic.as_ref().unwrap().liftoffs, 1.0);
+        assert_eq!(r.dynamic.as_ref().unwrap().memory.liftoffs, 1.0);
         // a Co-Simulation state (no indicators) is accepted; a truncated one is not
         let mut c = SewingTable::prepare(&v).unwrap();
         c.restore_state(&saved[..Dynamic::STATE_LEN]).unwrap();

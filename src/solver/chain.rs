@@ -1,0 +1,890 @@
+//! The skeleton of a mechanism's elastodynamic level (`../shared/spec/dynamics.md`): a compliant
+//! chain between the rigid motion φ(t) of the shaft and one body, integrated by [`Integrator`]
+//! inside `fmi2DoStep` (Co-Simulation) or handed to the host as three continuous states (Model
+//! Exchange).
+//!
+//! A mechanism implements [`ChainModel`]: its ODE (an [`OdeSystem`] that carries its
+//! bookkeeping, peaks of the chain force, K_d, contact counters..., in `Cell`s), how that
+//! bookkeeping (the [`ChainModel::Memory`]) starts, is read back from the ODE and is laid out in
+//! the FMU state snapshot, and what it does at events and steps where the common pattern does not
+//! fit. [`Chain`] holds what every mechanism carries between steps (integrator, states, initial
+//! energy, Model Exchange indicators); the free functions of this module are the hooks of
+//! [`crate::model::Model`] (`do_step`, `me_*`, `save_state`/`restore_state`) for a model with an
+//! `Option<Chain<_>>` (`None` below the elastodynamic level), each a one-line call, which
+//! [`crate::chain_hooks!`] writes into the model's `impl Model`.
+//!
+//! The states are always `y = [x, ẋ, W]`: the chain's free coordinate, its rate and the work `W`
+//! done on the chain by everything but its spring, for the energy balance `E − E0 − W`.
+//!
+//! A new mechanism with a compliant chain:
+//! 1. its ODE in `elastic.rs`: an [`OdeSystem`] on `y` with its bookkeeping in `Cell`s (a
+//!    dynamic factor: [`track_peaks`] in `on_step`, [`Peaks`] in the memory);
+//! 2. a struct of the chain's constants implementing [`ChainModel`]: the ODE from them and the
+//!    memory, how the memory starts and is read back, its place in the snapshot (a new FMU may
+//!    take `[Mem(n), Integ, Steps, Events]`), the hooks that differ from the defaults;
+//! 3. in the model, `Option<Chain<_>>` built at `prepare` with [`Chain::new`] and
+//!    `Integrator::new(`[`solver_settings`]`(v))`, the hooks by [`crate::chain_hooks!`], and in
+//!    `evaluate` the outputs at [`Chain::held_state`] ([`write_states`], [`Peaks::dyn_factor`]).
+
+use super::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use crate::model::shaft;
+use crate::model::{Log, Values, VarSet};
+use std::cell::Cell;
+use std::fmt::Debug;
+
+/// One entry of a mechanism's FMU state layout after the common head
+/// `[started, y0, y1, y2, e0]` ([`ChainModel::LAYOUT`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Slot {
+    /// The next `n` numbers of the mechanism's memory ([`ChainModel::save_memory`]).
+    Mem(usize),
+    /// [`Integrator::save`]: the next step size and the `auto` method's stiff mode (2 numbers).
+    Integ,
+    /// The integrator's accepted steps.
+    Steps,
+    /// The integrator's located events.
+    Events,
+    /// The integrator's rejected steps.
+    Rejected,
+}
+
+/// Numbers of the snapshot of a chain with this layout, without Model Exchange indicators.
+pub const fn state_len(layout: &[Slot]) -> usize {
+    let mut n = 5;
+    let mut i = 0;
+    while i < layout.len() {
+        n += match layout[i] {
+            Slot::Mem(k) => k,
+            Slot::Integ => 2,
+            Slot::Steps | Slot::Events | Slot::Rejected => 1,
+        };
+        i += 1;
+    }
+    n
+}
+
+/// What a mechanism supplies for its compliant chain. Implemented by the chain's constants
+/// (stiffness, damping, play...), fixed at `prepare`.
+pub trait ChainModel: Clone + Debug {
+    /// The variables of the mechanism's FMU.
+    type Var: VarSet;
+    /// The mechanism's physics the ODE borrows.
+    type Physics: 'static;
+    /// What the ODE tracks between steps besides the states (peaks, K_d, contact counters),
+    /// copied into the ODE's `Cell`s and read back from them ([`ChainModel::absorb`]).
+    type Memory: Clone + Debug + PartialEq;
+    /// The ODE of one communication step (or of one Model Exchange call).
+    type Ode<'a>: OdeSystem;
+
+    /// The FMU state layout after `[started, y0, y1, y2, e0]`; fixed once published, so that
+    /// saved states still restore.
+    const LAYOUT: &'static [Slot];
+    /// Numbers of that snapshot (without the indicators), checked against the layout when the
+    /// chain is built: the published length, so that a change of the layout is a deliberate
+    /// one.
+    const STATE_LEN: usize;
+    /// Event indicators appended to the snapshot (the last event's or step's, so that Model
+    /// Exchange transitions are counted after a restore too); 0: none. A snapshot without them
+    /// (Co-Simulation) restores as well.
+    const SAVED_INDICATORS: usize = 0;
+    /// How a wrong snapshot is named in the error.
+    const STATE_NAME: &'static str = "elastodynamic state";
+    /// Model Exchange: the indicators are taken again after a transition (the default hooks'
+    /// [`transitions`]), for an ODE whose events switch a mode its indicators depend on.
+    const REEVALUATE_INDICATORS: bool = false;
+    /// `drive.mode` = input: after a Co-Simulation step `shaft.phi` is set to the extrapolated
+    /// angle less `drive.phi0` (the input's meaning, [`shaft::state`]); `false`: the absolute
+    /// extrapolated angle (Perforators and DiscKnifeDrive have always written that; kept so
+    /// that their results do not change).
+    const EXTRAPOLATED_PHI_LESS_PHI0: bool = true;
+
+    /// The ODE on the shaft path `path` with the inputs in `v`, its bookkeeping from `memory`.
+    fn ode<'a>(
+        &self,
+        p: &'a Self::Physics,
+        path: ShaftPath,
+        v: &Values<Self::Var>,
+        memory: &Self::Memory,
+    ) -> Self::Ode<'a>;
+    /// The states at the start of the integration, time `t` (equilibrium on the rigid motion).
+    fn initial_state(ode: &Self::Ode<'_>, t: f64) -> [f64; 3];
+    /// The chain's energy (kinetic plus spring) at `(t, y)`.
+    fn energy(ode: &Self::Ode<'_>, t: f64, y: &[f64; 3]) -> f64;
+    /// The memory at the start of the integration on `path`.
+    fn start(ode: &Self::Ode<'_>, path: &ShaftPath, memory: &mut Self::Memory);
+    /// Reads the memory back from the ODE after a step, an event or a completed step.
+    fn absorb(ode: &Self::Ode<'_>, memory: &mut Self::Memory);
+    /// The memory as numbers, in the order of the [`Slot::Mem`] entries of the layout.
+    fn save_memory(memory: &Self::Memory, out: &mut Vec<f64>);
+    /// The memory from the numbers [`ChainModel::save_memory`] wrote.
+    fn restore_memory(s: &[f64]) -> Self::Memory;
+
+    /// Co-Simulation: after an accepted communication step from `t` over `h`, before
+    /// [`ChainModel::absorb`] (`memory` still holds the memory before the step: what changed
+    /// can be reported). Default: nothing.
+    fn after_step(
+        &self,
+        _ode: &Self::Ode<'_>,
+        _memory: &mut Self::Memory,
+        _t: f64,
+        _h: f64,
+        _log: &mut dyn Log,
+    ) {
+    }
+    /// Co-Simulation: the error of a refused step, from the solver's `why` and the partial
+    /// state `y`. Default: `why`.
+    fn step_failed(&self, _ode: &Self::Ode<'_>, _y: &[f64; 3], why: String) -> String {
+        why
+    }
+    /// Model Exchange: an event at `t`, before [`ChainModel::absorb`] (`memory` is the memory
+    /// before it). Default: the [`transitions`] of the indicators since the last call.
+    fn me_event(
+        &self,
+        ode: &Self::Ode<'_>,
+        t: f64,
+        y: &[f64; 3],
+        g_prev: &mut Vec<f64>,
+        _memory: &Self::Memory,
+        _log: &mut dyn Log,
+    ) {
+        transitions(ode, t, y, g_prev, Self::REEVALUATE_INDICATORS);
+    }
+    /// Model Exchange: the host completed an integrator step at `t`, before
+    /// [`ChainModel::absorb`]. Default: the [`transitions`] since the last call (hosts such as
+    /// FMPy call `fmi2CompletedIntegratorStep` at the event instant before they enter event
+    /// mode, so the event alone would find nothing changed), then the ODE's `on_step`.
+    fn me_completed_step(&self, ode: &Self::Ode<'_>, t: f64, y: &[f64; 3], g_prev: &mut Vec<f64>) {
+        transitions(ode, t, y, g_prev, Self::REEVALUATE_INDICATORS);
+        ode.on_step(t, y);
+    }
+}
+
+/// Model Exchange: the event indicators at `(t, y)`; if those of the last call are known, a
+/// transition from them is applied (`on_event`), and with `reevaluate` the indicators are taken
+/// again after it (where the event changes a mode they depend on). They become `g_prev`.
+pub fn transitions<O: OdeSystem>(
+    ode: &O,
+    t: f64,
+    y: &[f64; 3],
+    g_prev: &mut Vec<f64>,
+    reevaluate: bool,
+) {
+    let mut g = vec![0.0; ode.n_events()];
+    ode.events(t, y, &mut g);
+    if g_prev.len() == g.len() {
+        ode.on_event(t, y, g_prev, &g);
+        if reevaluate {
+            ode.events(t, y, &mut g);
+        }
+    }
+    *g_prev = g;
+}
+
+/// What the elastodynamic level carries between steps.
+#[derive(Clone, Debug)]
+pub struct Chain<C: ChainModel> {
+    /// The chain's constants.
+    pub model: C,
+    /// The integrator with its memory between steps (next step size, stiff mode, counters).
+    pub integ: Integrator,
+    /// The states have been initialized ([`Chain::start`]).
+    pub started: bool,
+    /// `[x, ẋ, W]`.
+    pub y: [f64; 3],
+    /// Energy at the start, for the balance `E − E0 − W`.
+    pub e0: f64,
+    /// The mechanism's bookkeeping.
+    pub memory: C::Memory,
+    /// Model Exchange: the event indicators at the last event or completed integrator step
+    /// (empty: none yet).
+    pub g_prev: Vec<f64>,
+}
+
+impl<C: ChainModel> Chain<C> {
+    /// Numbers of the FMU state snapshot (without Model Exchange indicators).
+    pub const STATE_LEN: usize = C::STATE_LEN;
+
+    /// A chain not started yet, with its initial memory.
+    pub fn new(model: C, integ: Integrator, memory: C::Memory) -> Self {
+        const {
+            assert!(
+                state_len(C::LAYOUT) == C::STATE_LEN,
+                "ChainModel::LAYOUT is not STATE_LEN long"
+            )
+        };
+        Chain {
+            model,
+            integ,
+            started: false,
+            y: [0.0; 3],
+            e0: 0.0,
+            memory,
+            g_prev: Vec::new(),
+        }
+    }
+
+    /// The ODE on `path` with the inputs in `v`.
+    pub fn ode<'a>(&self, p: &'a C::Physics, path: ShaftPath, v: &Values<C::Var>) -> C::Ode<'a> {
+        self.model.ode(p, path, v, &self.memory)
+    }
+
+    /// Starts the integration at `path.t0`: the states in equilibrium on the rigid motion, their
+    /// energy, the memory's start.
+    pub fn start(&mut self, p: &C::Physics, path: ShaftPath, v: &Values<C::Var>) {
+        let ode = self.ode(p, path, v);
+        self.y = C::initial_state(&ode, path.t0);
+        self.e0 = C::energy(&ode, path.t0, &self.y);
+        C::start(&ode, &path, &mut self.memory);
+        self.started = true;
+    }
+
+    /// The states to report at `t`: the integrated ones, or before the start those the
+    /// integration will start from.
+    pub fn held_state(&self, ode: &C::Ode<'_>, t: f64) -> [f64; 3] {
+        if self.started {
+            self.y
+        } else {
+            C::initial_state(ode, t)
+        }
+    }
+
+    /// The FMU state snapshot: `[started, y0, y1, y2, e0]`, then [`ChainModel::LAYOUT`], then
+    /// the Model Exchange indicators if the mechanism saves them.
+    pub fn save(&self) -> Vec<f64> {
+        let mut mem = Vec::new();
+        C::save_memory(&self.memory, &mut mem);
+        let mut mem = mem.into_iter();
+        let mut s = vec![
+            f64::from(u8::from(self.started)),
+            self.y[0],
+            self.y[1],
+            self.y[2],
+            self.e0,
+        ];
+        for slot in C::LAYOUT {
+            match *slot {
+                Slot::Mem(n) => s.extend(mem.by_ref().take(n)),
+                Slot::Integ => s.extend(self.integ.save()),
+                Slot::Steps => s.push(self.integ.stats.steps as f64),
+                Slot::Events => s.push(self.integ.stats.events as f64),
+                Slot::Rejected => s.push(self.integ.stats.rejected as f64),
+            }
+        }
+        debug_assert_eq!((s.len(), mem.next()), (Self::STATE_LEN, None));
+        if C::SAVED_INDICATORS > 0 {
+            s.extend_from_slice(&self.g_prev);
+        }
+        s
+    }
+
+    /// Restores [`Chain::save`].
+    pub fn restore(&mut self, s: &[f64]) -> Result<(), String> {
+        let n = Self::STATE_LEN;
+        let n_ind = C::SAVED_INDICATORS;
+        if n_ind > 0 {
+            if s.len() != n && s.len() != n + n_ind {
+                return Err(format!(
+                    "{} has {} numbers, expected {n} or {}",
+                    C::STATE_NAME,
+                    s.len(),
+                    n + n_ind
+                ));
+            }
+        } else if s.len() != n {
+            return Err(format!(
+                "{} has {} numbers, expected {n}",
+                C::STATE_NAME,
+                s.len()
+            ));
+        }
+        self.g_prev = s[n..].to_vec();
+        self.started = s[0] != 0.0;
+        self.y = [s[1], s[2], s[3]];
+        self.e0 = s[4];
+        let mut mem = Vec::new();
+        let mut i = 5;
+        for slot in C::LAYOUT {
+            match *slot {
+                Slot::Mem(k) => {
+                    mem.extend_from_slice(&s[i..i + k]);
+                    i += k;
+                }
+                Slot::Integ => {
+                    self.integ.restore(&s[i..i + 2]);
+                    i += 2;
+                }
+                Slot::Steps | Slot::Events | Slot::Rejected => {
+                    let x = s[i] as usize;
+                    match *slot {
+                        Slot::Steps => self.integ.stats.steps = x,
+                        Slot::Events => self.integ.stats.events = x,
+                        _ => self.integ.stats.rejected = x,
+                    }
+                    i += 1;
+                }
+            }
+        }
+        self.memory = C::restore_memory(&mem);
+        Ok(())
+    }
+}
+
+/// The chain for Model Exchange, started from the inputs at `time` if new.
+fn me_chain<'c, C: ChainModel>(
+    chain: Option<&'c mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+) -> Option<&'c mut Chain<C>> {
+    let d = chain?;
+    if !d.started {
+        d.start(p, shaft::path(v, time), v);
+    }
+    Some(d)
+}
+
+/// The hooks of [`crate::model::Model`] of a model whose elastodynamic level is the
+/// `Option<Chain<_>>` in field `$chain`, its ODE's physics in field `$physics`: each hook named
+/// becomes the one-line call of this module's function of that name. Used inside `impl Model`:
+///
+/// ```text
+/// crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
+///     me_event_indicators, me_event, me_completed_step, save_state, restore_state);
+/// ```
+///
+/// A hook not named keeps the model's own implementation (or the trait's default).
+#[macro_export]
+macro_rules! chain_hooks {
+    ($chain:ident, $physics:ident: $($hook:ident),+ $(,)?) => {
+        $($crate::chain_hooks!(@$hook $chain $physics);)+
+    };
+    (@do_step $chain:ident $physics:ident) => {
+        fn do_step(
+            &mut self,
+            v: &mut $crate::model::Values<Self::Var>,
+            time: f64,
+            h: f64,
+            log: &mut dyn $crate::model::Log,
+        ) -> Result<(), String> {
+            $crate::solver::chain::do_step(self.$chain.as_mut(), &self.$physics, v, time, h, log)
+        }
+    };
+    (@me_states $chain:ident $physics:ident) => {
+        fn me_states(&mut self, v: &$crate::model::Values<Self::Var>, time: f64, x: &mut [f64]) {
+            $crate::solver::chain::me_states(self.$chain.as_mut(), &self.$physics, v, time, x);
+        }
+    };
+    (@me_set_states $chain:ident $physics:ident) => {
+        fn me_set_states(&mut self, v: &$crate::model::Values<Self::Var>, time: f64, x: &[f64]) {
+            $crate::solver::chain::me_set_states(self.$chain.as_mut(), &self.$physics, v, time, x);
+        }
+    };
+    (@me_derivatives $chain:ident $physics:ident) => {
+        fn me_derivatives(
+            &mut self,
+            v: &$crate::model::Values<Self::Var>,
+            time: f64,
+            dx: &mut [f64],
+        ) {
+            $crate::solver::chain::me_derivatives(self.$chain.as_mut(), &self.$physics, v, time, dx);
+        }
+    };
+    (@me_event_indicators $chain:ident $physics:ident) => {
+        fn me_event_indicators(
+            &mut self,
+            v: &$crate::model::Values<Self::Var>,
+            time: f64,
+            z: &mut [f64],
+        ) {
+            $crate::solver::chain::me_event_indicators(
+                self.$chain.as_mut(),
+                &self.$physics,
+                v,
+                time,
+                z,
+            );
+        }
+    };
+    (@me_event $chain:ident $physics:ident) => {
+        fn me_event(
+            &mut self,
+            v: &$crate::model::Values<Self::Var>,
+            time: f64,
+            log: &mut dyn $crate::model::Log,
+        ) {
+            $crate::solver::chain::me_event(self.$chain.as_mut(), &self.$physics, v, time, log);
+        }
+    };
+    (@me_completed_step $chain:ident $physics:ident) => {
+        fn me_completed_step(&mut self, v: &$crate::model::Values<Self::Var>, time: f64) {
+            $crate::solver::chain::me_completed_step(self.$chain.as_mut(), &self.$physics, v, time);
+        }
+    };
+    (@save_state $chain:ident $physics:ident) => {
+        fn save_state(&self) -> Vec<f64> {
+            $crate::solver::chain::save_state(self.$chain.as_ref())
+        }
+    };
+    (@restore_state $chain:ident $physics:ident) => {
+        fn restore_state(&mut self, s: &[f64]) -> Result<(), String> {
+            $crate::solver::chain::restore_state(self.$chain.as_mut(), s)
+        }
+    };
+}
+
+/// [`crate::model::Model::do_step`]: integrates the chain over `[time, time + h]`. A refused step
+/// leaves the chain as it was before it (the caller returns `fmi2Discard`). With `drive.mode` =
+/// input the FMU extrapolates its shaft inputs to `time + h` until the host sets them.
+pub fn do_step<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &mut Values<C::Var>,
+    time: f64,
+    h: f64,
+    log: &mut dyn Log,
+) -> Result<(), String> {
+    let Some(d) = chain else {
+        return Ok(());
+    };
+    let path = shaft::path(v, time);
+    if !d.started {
+        d.start(p, path, v);
+    }
+    let ode = d.ode(p, path, v);
+    let mut y = d.y;
+    let before = d.integ.clone();
+    match d.integ.integrate(&ode, time, time + h, &mut y) {
+        Ok(_) => {
+            d.y = y;
+            d.model.after_step(&ode, &mut d.memory, time, h, log);
+            C::absorb(&ode, &mut d.memory);
+            let raw = v.raw_mut();
+            if raw[shaft::MODE as usize] as i32 == 1 {
+                // the FMU's own extrapolation of the inputs, until the host sets them
+                let (_, w, a) = path.at(time + h);
+                let phi = path.absolute_phi(time + h);
+                raw[shaft::PHI as usize] = if C::EXTRAPOLATED_PHI_LESS_PHI0 {
+                    phi - raw[shaft::PHI0 as usize]
+                } else {
+                    phi
+                };
+                raw[shaft::W as usize] = w;
+                raw[shaft::A as usize] = a;
+            }
+            Ok(())
+        }
+        Err(why) => {
+            d.integ = before; // the state before the step stays intact
+            Err(d.model.step_failed(&ode, &y, why))
+        }
+    }
+}
+
+/// [`crate::model::Model::me_states`].
+pub fn me_states<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+    x: &mut [f64],
+) {
+    match me_chain(chain, p, v, time) {
+        Some(d) => x.copy_from_slice(&d.y),
+        None => x.fill(0.0),
+    }
+}
+
+/// [`crate::model::Model::me_set_states`].
+pub fn me_set_states<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+    x: &[f64],
+) {
+    if let Some(d) = me_chain(chain, p, v, time) {
+        d.y.copy_from_slice(x);
+    }
+}
+
+/// [`crate::model::Model::me_derivatives`]: the ODE's right-hand side.
+pub fn me_derivatives<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+    dx: &mut [f64],
+) {
+    match me_chain(chain, p, v, time) {
+        Some(d) => d.ode(p, shaft::path(v, time), v).rhs(time, &d.y, dx),
+        None => dx.fill(0.0),
+    }
+}
+
+/// [`crate::model::Model::me_event_indicators`]: the ODE's event functions (1 below the
+/// elastodynamic level).
+pub fn me_event_indicators<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+    z: &mut [f64],
+) {
+    match me_chain(chain, p, v, time) {
+        Some(d) => d.ode(p, shaft::path(v, time), v).events(time, &d.y, z),
+        None => z.fill(1.0),
+    }
+}
+
+/// [`crate::model::Model::me_event`]: [`ChainModel::me_event`], then the memory read back.
+pub fn me_event<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+    log: &mut dyn Log,
+) {
+    if let Some(d) = me_chain(chain, p, v, time) {
+        let ode = d.ode(p, shaft::path(v, time), v);
+        d.model
+            .me_event(&ode, time, &d.y, &mut d.g_prev, &d.memory, log);
+        C::absorb(&ode, &mut d.memory);
+    }
+}
+
+/// [`crate::model::Model::me_completed_step`]: [`ChainModel::me_completed_step`], then the
+/// memory read back.
+pub fn me_completed_step<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+) {
+    if let Some(d) = me_chain(chain, p, v, time) {
+        let ode = d.ode(p, shaft::path(v, time), v);
+        d.model.me_completed_step(&ode, time, &d.y, &mut d.g_prev);
+        C::absorb(&ode, &mut d.memory);
+    }
+}
+
+/// [`crate::model::Model::save_state`] of a model whose only internal state is the chain.
+pub fn save_state<C: ChainModel>(chain: Option<&Chain<C>>) -> Vec<f64> {
+    chain.map(Chain::save).unwrap_or_default()
+}
+
+/// [`crate::model::Model::restore_state`] of a model whose only internal state is the chain.
+pub fn restore_state<C: ChainModel>(chain: Option<&mut Chain<C>>, s: &[f64]) -> Result<(), String> {
+    match chain {
+        Some(d) => d.restore(s),
+        None if s.is_empty() => Ok(()),
+        None => Err("FMU state of the elastodynamic level given to another level".into()),
+    }
+}
+
+/// The solver settings from the `solver.*` parameters ([`super::vars`]) among a model's
+/// variables.
+pub fn solver_settings<V: VarSet>(v: &Values<V>) -> Settings {
+    let value = |name: &str| {
+        let i = V::table()
+            .iter()
+            .position(|d| d.name == name)
+            .unwrap_or_else(|| panic!("the model declares no {name}"));
+        v.raw()[i]
+    };
+    Settings {
+        method: Method::from_value(value("solver.method") as i32),
+        rtol: value("solver.rtol"),
+        atol: value("solver.atol"),
+        max_step: value("solver.max_step"),
+        ..Settings::default()
+    }
+}
+
+/// Writes the Model Exchange states `y` into the variables `states` and their derivatives
+/// `[ẋ, ẍ, Ẇ]` = `[y[1], xdd, power]` into `derivatives` (the locals that show them).
+pub fn write_states<V: VarSet>(
+    v: &mut Values<V>,
+    states: [V; 3],
+    derivatives: [V; 3],
+    y: &[f64; 3],
+    xdd: f64,
+    power: f64,
+) {
+    for (s, x) in states.into_iter().zip(y) {
+        v[s] = *x;
+    }
+    v[derivatives[0]] = y[1];
+    v[derivatives[1]] = xdd;
+    v[derivatives[2]] = power;
+}
+
+/// Running peak tracking of the dynamic factor over shaft turns, at an accepted step in turn
+/// `cycle` with chain force `f_dyn` and rigid (kinetostatic) force `f_rigid` (magnitudes):
+/// `peaks` = (turn, peak dynamic force, peak rigid force) of the running turn; at a new turn
+/// `k_d` becomes the ratio of the finished turn's peaks.
+pub fn track_peaks(
+    peaks: &Cell<(f64, f64, f64)>,
+    k_d: &Cell<f64>,
+    cycle: f64,
+    f_dyn: f64,
+    f_rigid: f64,
+) {
+    let (c0, pd, pr) = peaks.get();
+    if cycle != c0 {
+        if pr > 0.0 {
+            k_d.set(pd / pr);
+        }
+        peaks.set((cycle, f_dyn, f_rigid));
+    } else {
+        peaks.set((c0, pd.max(f_dyn), pr.max(f_rigid)));
+    }
+}
+
+/// The dynamic-factor bookkeeping of [`track_peaks`] as a chain carries it between steps (the
+/// ODE holds it in two `Cell`s).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Peaks {
+    /// (turn, peak dynamic force, peak rigid force) of the running turn.
+    pub turn: (f64, f64, f64),
+    /// K_d of the last complete turn (NaN: none yet).
+    pub k_d: f64,
+}
+
+impl Peaks {
+    /// Nothing tracked yet, in turn `turn`, no K_d.
+    pub fn new(turn: f64) -> Peaks {
+        Peaks {
+            turn: (turn, 0.0, 0.0),
+            k_d: f64::NAN,
+        }
+    }
+
+    /// The ODE's cells `(peaks, k_d)` for these.
+    pub fn cells(&self) -> (Cell<(f64, f64, f64)>, Cell<f64>) {
+        (Cell::new(self.turn), Cell::new(self.k_d))
+    }
+
+    /// Read back from the ODE's cells.
+    pub fn get(peaks: &Cell<(f64, f64, f64)>, k_d: &Cell<f64>) -> Peaks {
+        Peaks {
+            turn: peaks.get(),
+            k_d: k_d.get(),
+        }
+    }
+
+    /// The four numbers of the FMU state: turn, peak dynamic force, peak rigid force, K_d.
+    pub fn save(&self) -> [f64; 4] {
+        let (c, pd, pr) = self.turn;
+        [c, pd, pr, self.k_d]
+    }
+
+    /// From the first four numbers of `s` ([`Peaks::save`]).
+    pub fn restore(s: &[f64]) -> Peaks {
+        Peaks {
+            turn: (s[0], s[1], s[2]),
+            k_d: s[3],
+        }
+    }
+
+    /// The dynamic factor K_d to report: that of the last complete turn, or before one is
+    /// complete the running turn's peak ratio (1 without a rigid force yet).
+    pub fn dyn_factor(&self) -> f64 {
+        if self.k_d.is_nan() {
+            if self.turn.2 > 0.0 {
+                self.turn.1 / self.turn.2
+            } else {
+                1.0
+            }
+        } else {
+            self.k_d
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::NoLog;
+
+    crate::model_variables! {
+        enum TV (nominal_rpm = 60.0) {
+            solver_method = crate::solver::vars::method(),
+            solver_rtol = crate::solver::vars::rtol(),
+            solver_atol = crate::solver::vars::atol(),
+            solver_max_step = crate::solver::vars::max_step(),
+        }
+    }
+
+    /// A mass on a spring of stiffness `k` (unit mass) whose other end follows `sin φ`; counts
+    /// the sign changes of x.
+    #[derive(Clone, Debug)]
+    struct Toy {
+        k: f64,
+    }
+
+    struct ToyOde {
+        k: f64,
+        path: ShaftPath,
+        crossings: Cell<f64>,
+    }
+
+    impl OdeSystem for ToyOde {
+        fn dim(&self) -> usize {
+            3
+        }
+        fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+            let f = -self.k * (y[0] - self.path.at(t).0.sin());
+            dy.copy_from_slice(&[y[1], f, 0.0]);
+        }
+        fn n_events(&self) -> usize {
+            1
+        }
+        fn events(&self, _t: f64, y: &[f64], g: &mut [f64]) {
+            g[0] = y[0];
+        }
+        fn on_event(&self, _t: f64, _y: &[f64], before: &[f64], after: &[f64]) {
+            if (before[0] > 0.0) != (after[0] > 0.0) {
+                self.crossings.set(self.crossings.get() + 1.0);
+            }
+        }
+    }
+
+    impl ChainModel for Toy {
+        type Var = TV;
+        type Physics = ();
+        type Memory = f64;
+        type Ode<'a> = ToyOde;
+        const LAYOUT: &'static [Slot] = &[Slot::Mem(1), Slot::Integ, Slot::Steps, Slot::Events];
+        const STATE_LEN: usize = 10;
+        const SAVED_INDICATORS: usize = 1;
+
+        fn ode(&self, _: &(), path: ShaftPath, _: &Values<TV>, m: &f64) -> ToyOde {
+            ToyOde {
+                k: self.k,
+                path,
+                crossings: Cell::new(*m),
+            }
+        }
+        fn initial_state(ode: &ToyOde, t: f64) -> [f64; 3] {
+            [ode.path.at(t).0.sin(), 0.0, 0.0]
+        }
+        fn energy(ode: &ToyOde, _t: f64, y: &[f64; 3]) -> f64 {
+            0.5 * y[1] * y[1] + 0.5 * ode.k * y[0] * y[0]
+        }
+        fn start(_: &ToyOde, _: &ShaftPath, m: &mut f64) {
+            *m = 0.0;
+        }
+        fn absorb(ode: &ToyOde, m: &mut f64) {
+            *m = ode.crossings.get();
+        }
+        fn save_memory(m: &f64, out: &mut Vec<f64>) {
+            out.push(*m);
+        }
+        fn restore_memory(s: &[f64]) -> f64 {
+            s[0]
+        }
+    }
+
+    fn toy(v: &Values<TV>, k: f64) -> Chain<Toy> {
+        Chain::new(Toy { k }, Integrator::new(solver_settings(v)), f64::NAN)
+    }
+
+    fn bits(s: &[f64]) -> Vec<u64> {
+        s.iter().map(|x| x.to_bits()).collect()
+    }
+
+    #[test]
+    fn layout_length() {
+        let layout = [Slot::Mem(3), Slot::Integ, Slot::Steps, Slot::Rejected];
+        assert_eq!(state_len(&layout), 5 + 3 + 2 + 1 + 1);
+        assert_eq!(Chain::<Toy>::STATE_LEN, state_len(Toy::LAYOUT));
+    }
+
+    #[test]
+    fn co_simulation_steps_save_and_restore() {
+        let mut v = Values::<TV>::start();
+        let w = v.raw()[shaft::W as usize];
+        let mut c = toy(&v, 400.0);
+        let h = 0.01;
+        for j in 0..100 {
+            do_step(Some(&mut c), &(), &mut v, j as f64 * h, h, &mut NoLog).unwrap();
+        }
+        // the FMU extrapolated its shaft input (one turn); the mass crossed zero
+        assert!((v.raw()[shaft::PHI as usize] - w).abs() < 1e-9);
+        assert!(c.started && c.memory >= 1.0, "{c:?}");
+        assert!(c.integ.stats.steps > 0);
+        let saved = c.save();
+        assert_eq!(saved.len(), Chain::<Toy>::STATE_LEN);
+        let mut r = toy(&v, 400.0);
+        r.restore(&saved).unwrap();
+        assert_eq!(bits(&r.save()), bits(&saved));
+        assert_eq!((r.y, r.memory), (c.y, c.memory));
+        assert_eq!(
+            r.restore(&saved[..3]),
+            Err("elastodynamic state has 3 numbers, expected 10 or 11".into())
+        );
+    }
+
+    #[test]
+    fn a_refused_step_leaves_the_chain_as_it_was() {
+        let mut v = Values::<TV>::start();
+        v[TV::solver_method] = 4.0; // rk4 at max_step on a stiff spring: refused
+        v[TV::solver_max_step] = 0.01;
+        let mut c = toy(&v, 1e8);
+        c.start(&(), shaft::path(&v, 0.0), &v);
+        let before = c.save();
+        assert!(do_step(Some(&mut c), &(), &mut v, 0.0, 0.01, &mut NoLog).is_err());
+        assert_eq!(bits(&c.save()), bits(&before));
+        assert_eq!(c.integ.stats, toy(&v, 1e8).integ.stats);
+        assert_eq!(
+            do_step::<Toy>(None, &(), &mut v, 0.0, 0.01, &mut NoLog),
+            Ok(())
+        );
+    }
+
+    #[test]
+    fn model_exchange_hooks() {
+        let v = Values::<TV>::start();
+        let mut c = toy(&v, 400.0);
+        let mut x = [0.0; 3];
+        me_states(Some(&mut c), &(), &v, 0.0, &mut x);
+        assert!(c.started && x == c.y);
+        me_set_states(Some(&mut c), &(), &v, 0.0, &[0.5, 0.0, 0.0]);
+        let mut dx = [0.0; 3];
+        me_derivatives(Some(&mut c), &(), &v, 0.0, &mut dx);
+        assert_eq!(dx[1], -400.0 * 0.5);
+        me_event(Some(&mut c), &(), &v, 0.0, &mut NoLog);
+        assert_eq!(c.g_prev, vec![0.5]);
+        // the mass crosses zero: the completed step counts it, and the indicators travel with
+        // the FMU state
+        me_set_states(Some(&mut c), &(), &v, 0.0, &[-0.5, 0.0, 0.0]);
+        me_completed_step(Some(&mut c), &(), &v, 0.0);
+        assert_eq!(c.memory, 1.0);
+        let saved = save_state(Some(&c));
+        assert_eq!(saved.len(), Chain::<Toy>::STATE_LEN + 1);
+        let mut r = toy(&v, 400.0);
+        restore_state(Some(&mut r), &saved).unwrap();
+        assert_eq!(r.g_prev, vec![-0.5]);
+        // below the elastodynamic level
+        let mut z = [0.0; 1];
+        me_event_indicators::<Toy>(None, &(), &v, 0.0, &mut z);
+        assert_eq!(z, [1.0]);
+        assert_eq!(save_state::<Toy>(None), Vec::<f64>::new());
+        assert!(restore_state::<Toy>(None, &[]).is_ok());
+        assert!(restore_state::<Toy>(None, &saved).is_err());
+    }
+
+    #[test]
+    fn peaks_and_dyn_factor() {
+        let peaks = Cell::new((0.0, 0.0, 0.0));
+        let k_d = Cell::new(f64::NAN);
+        track_peaks(&peaks, &k_d, 0.0, 2.0, 1.0);
+        track_peaks(&peaks, &k_d, 0.0, 1.0, 4.0);
+        assert_eq!(Peaks::get(&peaks, &k_d).dyn_factor(), 0.5);
+        track_peaks(&peaks, &k_d, 1.0, 3.0, 1.0);
+        let p = Peaks::get(&peaks, &k_d);
+        assert_eq!((p.turn, p.k_d, p.dyn_factor()), ((1.0, 3.0, 1.0), 0.5, 0.5));
+        assert_eq!(Peaks::restore(&p.save()), p);
+        assert_eq!(Peaks::new(0.0).dyn_factor(), 1.0);
+    }
+}
