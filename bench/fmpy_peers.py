@@ -1,9 +1,9 @@
 """The FMPy host of the peer benchmark (bench/run, BENCHMARKS.md).
 
 GenevaKnifeDrive, its PythonFMU peer and the C floor in FMPy 0.3.32's FMU2Slave, per
-communication step: setReal of the shaft angle, doStep, getReal of 19 Real values (every Real
-output of GenevaKnifeDrive's kinetostatic level; the floor's three outputs read cyclically to the
-same count), at the kinematic and the kinetostatic level. Interleaved rounds, one sample of each
+communication step: setReal of the shaft angle, doStep, getReal of 19 Real values (the first
+19 Real outputs by value reference, shaft.tau ... crank.tau, the same names in the PythonFMU peer;
+the floor's three outputs read cyclically to the same count), at the kinematic and the kinetostatic level. Interleaved rounds, one sample of each
 subject per round, median over the rounds, as the native host (benches/peers.rs) does.
 
     .venv-bench/bin/python bench/fmpy_peers.py --dir out/bench --json out/bench/fmpy.json

@@ -1,9 +1,9 @@
 //! The native host of the peer benchmark (`bench/run`, BENCHMARKS.md): GenevaKnifeDrive, its
 //! PythonFMU peer and the C floor, each loaded from its unpacked `.fmu` through the C ABI (the
 //! host of `tests/common`), and the bare Rust call of the same mechanism, per communication step:
-//! `fmi2SetReal` of the shaft angle, `fmi2DoStep`, `fmi2GetReal` of 19 Real values (every Real
-//! output of GenevaKnifeDrive; the floor's three outputs are read cyclically to the same count,
-//! so the host does the same work with every FMU). Not a test: `cargo test` never runs it.
+//! `fmi2SetReal` of the shaft angle, `fmi2DoStep`, `fmi2GetReal` of 19 Real values (the first 19
+//! Real outputs by value reference, `shaft.tau` … `crank.tau`; the floor's three outputs are read
+//! cyclically to the same count, so the host does the same work with every FMU). Not a test: `cargo test` never runs it.
 //!
 //! ```sh
 //! cargo bench --bench peers -- --dir out/bench/unpacked --json out/bench/native.json

@@ -15,6 +15,7 @@ G = 9.80665
 # (name, attribute) of every Real output, in the order of the Rust FMU's table.
 OUTPUTS = [
     ("shaft.tau", "shaft_tau"), ("shaft.P", "shaft_P"),
+    ("shaft.J_red", "shaft_J_red"), ("shaft.tau0", "shaft_tau0"),
     ("cross.gamma", "cross_gamma"), ("cross.w", "cross_w"), ("cross.a", "cross_a"),
     ("crank.theta", "crank_theta"), ("crank.w", "crank_w"), ("crank.a", "crank_a"),
     ("rod.nu", "rod_nu"), ("knife.s", "knife_s"), ("knife.v", "knife_v"), ("knife.a", "knife_a"),
@@ -111,9 +112,7 @@ class GenevaKnifeDrivePy(Fmi2Slave):
         i = float(self.gear_i)
         theta = wrap_angle(i * gamma) if engaged else 0.0
         cross_w = gamma_d * w
-        cross_a = gamma_dd * w * w + gamma_d * eps
         crank_w = i * cross_w
-        crank_a = i * cross_a
         # ---- central slider-crank (src/mechanics/slider_crank.rs)
         r, l = self.crank_r, self.rod_l
         st, ct = math.sin(theta), math.cos(theta)
@@ -132,7 +131,13 @@ class GenevaKnifeDrivePy(Fmi2Slave):
         nu = math.atan2(y, wl)
         sin_nu, cos_nu = y / l, wl / l
         v = ds * crank_w
-        a = dds * crank_w * crank_w + ds * crank_a
+
+        def accelerations(eps):
+            cross_a = gamma_dd * w * w + gamma_d * eps
+            crank_a = i * cross_a
+            return cross_a, crank_a, dds * crank_w * crank_w + ds * crank_a
+
+        cross_a, crank_a, a = accelerations(eps)
         self.cross_gamma, self.cross_w, self.cross_a = gamma, cross_w, cross_a
         self.crank_theta, self.crank_w, self.crank_a = theta, crank_w, crank_a
         self.rod_nu, self.knife_s, self.knife_v, self.knife_a = nu, s, v, a
@@ -140,6 +145,8 @@ class GenevaKnifeDrivePy(Fmi2Slave):
         if self.model_fidelity != 2:
             self.shaft_tau = 0.0
             self.shaft_P = 0.0
+            self.shaft_J_red = 0.0
+            self.shaft_tau0 = 0.0
             return
         # ---- kinetostatics (physics.rs, Params::kinetostatics)
         m_s = self.knife_m + 0.5 * self.rod_m
@@ -150,22 +157,37 @@ class GenevaKnifeDrivePy(Fmi2Slave):
                 f_cut = self.cut_F_max * (s - self.cut_s_start) / (self.cut_s_full - self.cut_s_start)
         else:
             f_cut = 0.0
-        rhs = m_s * (a - G) + f_cut
         sgn_v = 1.0 if v > 0.0 else (-1.0 if v < 0.0 else 0.0)
         kf = self.guide_mu * abs(sin_nu) * sgn_v
-        p = rhs / (cos_nu - kf) if rhs >= 0.0 else rhs / (cos_nu + kf)
         crank_inertia = self.crank_J + 0.5 * self.rod_m * r * r
-        crank_tau = p * ds * cos_nu + crank_inertia * crank_a
-        if crank_tau * crank_w >= 0.0:
-            gear = i * crank_tau / self.gear_eta
+
+        def forces(eps):
+            cross_a, crank_a, a = accelerations(eps)
+            rhs = m_s * (a - G) + f_cut
+            p = rhs / (cos_nu - kf) if rhs >= 0.0 else rhs / (cos_nu + kf)
+            crank_tau = p * ds * cos_nu + crank_inertia * crank_a
+            if crank_tau * crank_w >= 0.0:
+                gear = i * crank_tau / self.gear_eta
+            else:
+                gear = i * crank_tau * self.gear_eta
+            if engaged:
+                cross_tau = gear + self.cross_J * cross_a
+                return p, crank_tau, cross_tau, cross_tau / rho, cross_tau * gamma_d + self.driver_J * eps
+            return p, crank_tau, 0.0, 0.0, self.driver_J * eps
+
+        p, crank_tau, cross_tau, geneva_f, shaft_tau = forces(eps)
+        # shaft.tau = shaft.tau0 + shaft.J_red*shaft.a (src/model.rs, shaft::reduce_at)
+        if abs(eps) >= 1.0:
+            tau0 = forces(0.0)[4]
+            j_red = (shaft_tau - tau0) / eps
+        elif eps == 0.0:
+            tau0 = shaft_tau
+            j_red = forces(1.0)[4] - shaft_tau
         else:
-            gear = i * crank_tau * self.gear_eta
-        if engaged:
-            cross_tau = gear + self.cross_J * cross_a
-            geneva_f = cross_tau / rho
-            shaft_tau = cross_tau * gamma_d + self.driver_J * eps
-        else:
-            cross_tau, geneva_f, shaft_tau = 0.0, 0.0, self.driver_J * eps
+            tau0 = forces(0.0)[4]
+            j_red = forces(1.0)[4] - tau0
+        self.shaft_J_red = j_red
+        self.shaft_tau0 = tau0
         self.knife_F_cut = f_cut
         self.knife_F_inertia = -m_s * a
         self.rod_F = p
