@@ -92,11 +92,6 @@ pub trait ChainModel: Clone + Debug {
     /// Model Exchange: the indicators are taken again after a transition (the default hooks'
     /// [`transitions`]), for an ODE whose events switch a mode its indicators depend on.
     const REEVALUATE_INDICATORS: bool = false;
-    /// `drive.mode` = input: after a Co-Simulation step `shaft.phi` is set to the extrapolated
-    /// angle less `drive.phi0` (the input's meaning, [`shaft::state`]); `false`: the absolute
-    /// extrapolated angle (Perforators and DiscKnifeDrive have always written that; kept so
-    /// that their results do not change).
-    const EXTRAPOLATED_PHI_LESS_PHI0: bool = true;
 
     /// The ODE on the shaft path `path` with the inputs in `v`, its bookkeeping from `memory`.
     fn ode<'a>(
@@ -462,12 +457,9 @@ pub fn do_step<C: ChainModel>(
             if raw[shaft::MODE as usize] as i32 == 1 {
                 // the FMU's own extrapolation of the inputs, until the host sets them
                 let (_, w, a) = path.at(time + h);
-                let phi = path.absolute_phi(time + h);
-                raw[shaft::PHI as usize] = if C::EXTRAPOLATED_PHI_LESS_PHI0 {
-                    phi - raw[shaft::PHI0 as usize]
-                } else {
-                    phi
-                };
+                // the input's meaning: the shaft angle without the mechanism's phase, which
+                // shaft::state adds
+                raw[shaft::PHI as usize] = path.absolute_phi(time + h) - raw[shaft::PHI0 as usize];
                 raw[shaft::W as usize] = w;
                 raw[shaft::A as usize] = a;
             }

@@ -139,7 +139,6 @@ impl ChainModel for RodChain {
     const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Events];
     const STATE_LEN: usize = 13;
     const STATE_NAME: &'static str = "DiscKnifeDrive elastodynamic state";
-    const EXTRAPOLATED_PHI_LESS_PHI0: bool = false;
 
     fn ode<'a>(&self, p: &'a Params, path: ShaftPath, _: &Values<V>, m: &Peaks) -> RodOde<'a> {
         let (peaks, k_d) = m.cells();

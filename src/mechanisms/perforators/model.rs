@@ -272,7 +272,6 @@ impl ChainModel for LeverChain {
     type Ode<'a> = LeverOde<'a>;
     const LAYOUT: &'static [Slot] = &[Mem(10), Integ, Steps, Events, Mem(1), Rejected];
     const STATE_LEN: usize = 21;
-    const EXTRAPOLATED_PHI_LESS_PHI0: bool = false;
 
     fn ode<'a>(
         &self,
