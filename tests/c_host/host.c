@@ -230,10 +230,6 @@ int main(int argc, char **argv) {
         (GetRealOutputDerivatives)sym(lib, "fmi2GetRealOutputDerivatives");
     Variable *phi = lookup(vars, nv, "shaft.phi", 9), *w = lookup(vars, nv, "shaft.w", 7),
              *a = lookup(vars, nv, "shaft.a", 7);
-    if (run_up && (!phi || !w || !a)) {
-        fprintf(stderr, "host: --run-up needs shaft.phi, shaft.w and shaft.a\n");
-        return 2;
-    }
 
     char resources[4200];
     snprintf(resources, sizeof resources, "file://%s/resources", dir);
@@ -247,6 +243,11 @@ int main(int argc, char **argv) {
     CHECK(setup(c, 0, 0.0, 0.0, 1, stop));
     CHECK(enter(c));
     if (run_up) {
+        if (!phi || !w || !a) {
+            fprintf(stderr, "host: --run-up needs shaft.phi, shaft.w and shaft.a\n");
+            status = 2;
+            goto done;
+        }
         /* the elastodynamic level, driven by the shaft inputs */
         const char *level[] = {"model.fidelity", "drive.mode"};
         const fmi2Integer item[] = {3, 1};
