@@ -5,7 +5,21 @@
  * start values, runs fixed communication steps from 0 to the stop time and prints every output
  * as CSV (time first) on stdout. The FMI 2.0 types it needs are written here by hand.
  *
- *   host <extracted FMU dir> <stop time> <step size> [name=value ...]
+ *   host [--run-up values|derivatives <alpha>] <extracted FMU dir> <stop time> <step size>
+ *        [name=value ...]
+ *
+ * --run-up drives an FMU that declares canInterpolateInputs at its elastodynamic level
+ * (model.fidelity = 3) in input mode (drive.mode = 1), before the name=value assignments: the
+ * shaft runs up from its start speed w0 (shaft.w after the assignments) at the constant
+ * acceleration alpha, phi(t) = w0*t + alpha*t^2/2. At every communication point t, before the
+ * outputs are printed and the step from t is made, the host sets shaft.phi = phi(t) and
+ *   values:      shaft.w = w0 + alpha*t and shaft.a = alpha (also in initialization mode);
+ *   derivatives: only fmi2SetRealInputDerivatives of shaft.phi, orders 1 and 2 (w0 + alpha*t,
+ *                alpha); shaft.w and shaft.a are left to the FMU.
+ * Both describe the same path inside every step. After initialization it also calls
+ * fmi2GetRealOutputDerivatives once (shaft.phi's order 1): the FMU declares
+ * maxOutputDerivativeOrder = 0, so the call must return fmi2Error and log one error; any other
+ * status is a failure (exit 1), and this expected error does not count as one.
  *
  * Exit status 0 when every call returned fmi2OK; messages of the FMU go to stderr.
  * Build: gcc -Wall -Wextra -Werror -std=c99 -o host host.c -ldl
@@ -47,6 +61,10 @@ typedef fmi2Status (*SetReal)(fmi2Component, const fmi2ValueReference *, size_t,
 typedef fmi2Status (*SetInteger)(fmi2Component, const fmi2ValueReference *, size_t,
                                  const fmi2Integer *);
 typedef fmi2Status (*DoStep)(fmi2Component, fmi2Real, fmi2Real, fmi2Boolean);
+typedef fmi2Status (*SetRealInputDerivatives)(fmi2Component, const fmi2ValueReference *, size_t,
+                                              const fmi2Integer *, const fmi2Real *);
+typedef fmi2Status (*GetRealOutputDerivatives)(fmi2Component, const fmi2ValueReference *, size_t,
+                                               const fmi2Integer *, fmi2Real *);
 
 /* ---- the model description, read with plain string search ---- */
 enum { T_REAL, T_INTEGER, T_BOOLEAN };
@@ -106,6 +124,13 @@ static void logger(fmi2ComponentEnvironment env, fmi2String name, fmi2Status sta
     if (status >= fmi2Error) log_errors++;
 }
 
+/* The variable called `name` (its first n characters), or NULL. */
+static Variable *lookup(Variable *vars, size_t nv, const char *name, size_t n) {
+    for (size_t i = 0; i < nv; i++)
+        if (strlen(vars[i].name) == n && strncmp(vars[i].name, name, n) == 0) return &vars[i];
+    return NULL;
+}
+
 static void *sym(void *lib, const char *name) {
     void *p = dlsym(lib, name);
     if (!p) {
@@ -125,9 +150,23 @@ static void *sym(void *lib, const char *name) {
         }                                                                   \
     } while (0)
 
+enum { RUN_NONE, RUN_VALUES, RUN_DERIVATIVES };
+
 int main(int argc, char **argv) {
+    int run_up = RUN_NONE;
+    double alpha = 0.0;
+    if (argc > 3 && strcmp(argv[1], "--run-up") == 0) {
+        run_up = strcmp(argv[2], "values") == 0        ? RUN_VALUES
+                 : strcmp(argv[2], "derivatives") == 0 ? RUN_DERIVATIVES
+                                                       : RUN_NONE;
+        alpha = atof(argv[3]);
+        argv += 3;
+        argc -= 3;
+        if (run_up == RUN_NONE) argc = 0; /* usage */
+    }
     if (argc < 4) {
-        fprintf(stderr, "usage: host <extracted FMU dir> <stop time> <step size> [name=value ...]\n");
+        fprintf(stderr, "usage: host [--run-up values|derivatives <alpha>] <extracted FMU dir> "
+                        "<stop time> <step size> [name=value ...]\n");
         return 2;
     }
     const char *dir = argv[1];
@@ -185,6 +224,12 @@ int main(int argc, char **argv) {
     SetInteger set_integer = (SetInteger)sym(lib, "fmi2SetInteger");
     SetInteger set_boolean = (SetInteger)sym(lib, "fmi2SetBoolean");
     DoStep do_step = (DoStep)sym(lib, "fmi2DoStep");
+    SetRealInputDerivatives set_input_derivatives =
+        (SetRealInputDerivatives)sym(lib, "fmi2SetRealInputDerivatives");
+    GetRealOutputDerivatives get_output_derivatives =
+        (GetRealOutputDerivatives)sym(lib, "fmi2GetRealOutputDerivatives");
+    Variable *phi = lookup(vars, nv, "shaft.phi", 9), *w = lookup(vars, nv, "shaft.w", 7),
+             *a = lookup(vars, nv, "shaft.a", 7);
 
     char resources[4200];
     snprintf(resources, sizeof resources, "file://%s/resources", dir);
@@ -197,27 +242,63 @@ int main(int argc, char **argv) {
     }
     CHECK(setup(c, 0, 0.0, 0.0, 1, stop));
     CHECK(enter(c));
+    if (run_up) {
+        if (!phi || !w || !a) {
+            fprintf(stderr, "host: --run-up needs shaft.phi, shaft.w and shaft.a\n");
+            status = 2;
+            goto done;
+        }
+        /* the elastodynamic level, driven by the shaft inputs */
+        const char *level[] = {"model.fidelity", "drive.mode"};
+        const fmi2Integer item[] = {3, 1};
+        for (int k = 0; k < 2; k++) {
+            Variable *v = lookup(vars, nv, level[k], strlen(level[k]));
+            if (!v) {
+                fprintf(stderr, "host: --run-up needs %s\n", level[k]);
+                status = 2;
+                goto done;
+            }
+            CHECK(set_integer(c, &v->vr, 1, &item[k]));
+        }
+    }
     for (int k = 4; k < argc; k++) {
         char *eq = strchr(argv[k], '=');
-        size_t i = 0;
-        for (; eq && i < nv; i++)
-            if (strlen(vars[i].name) == (size_t)(eq - argv[k]) &&
-                strncmp(vars[i].name, argv[k], (size_t)(eq - argv[k])) == 0)
-                break;
-        if (!eq || i == nv) {
+        Variable *v = eq ? lookup(vars, nv, argv[k], (size_t)(eq - argv[k])) : NULL;
+        if (!v) {
             fprintf(stderr, "host: no variable for %s\n", argv[k]);
             status = 2;
             goto done;
         }
-        if (vars[i].type == T_REAL) {
+        if (v->type == T_REAL) {
             fmi2Real x = atof(eq + 1);
-            CHECK(set_real(c, &vars[i].vr, 1, &x));
+            CHECK(set_real(c, &v->vr, 1, &x));
         } else {
             fmi2Integer x = atoi(eq + 1);
-            CHECK((vars[i].type == T_BOOLEAN ? set_boolean : set_integer)(c, &vars[i].vr, 1, &x));
+            CHECK((v->type == T_BOOLEAN ? set_boolean : set_integer)(c, &v->vr, 1, &x));
         }
     }
+    fmi2Real w0 = 0.0;
+    if (run_up) {
+        CHECK(get_real(c, &w->vr, 1, &w0));
+        if (run_up == RUN_VALUES) CHECK(set_real(c, &a->vr, 1, &alpha));
+    }
     CHECK(exit_init(c));
+    if (run_up) {
+        /* refused: maxOutputDerivativeOrder is 0 (one error logged, the instance goes on) */
+        const fmi2Integer order = 1;
+        fmi2Real dx = -1.0;
+        int errors = log_errors;
+        fmi2Status s = get_output_derivatives(c, &phi->vr, 1, &order, &dx);
+        if (s != fmi2Error || log_errors != errors + 1) {
+            fprintf(stderr, "host: fmi2GetRealOutputDerivatives returned %d with %d error(s) "
+                            "logged, expected fmi2Error (%d) with 1\n",
+                    (int)s, log_errors - errors, (int)fmi2Error);
+            status = 1;
+            goto done;
+        }
+        fprintf(stderr, "host: fmi2GetRealOutputDerivatives refused (fmi2Error), as expected\n");
+        log_errors = errors;
+    }
 
     printf("time");
     for (size_t i = 0; i < nv; i++)
@@ -226,6 +307,19 @@ int main(int argc, char **argv) {
     long steps = (long)(stop / h + 0.5);
     for (long k = 0;; k++) {
         double t = k * h;
+        if (run_up) {
+            /* the run-up's angle at t, and how it goes on inside the step from t */
+            fmi2Real x[3] = {w0 * t + 0.5 * alpha * t * t, w0 + alpha * t, alpha};
+            if (run_up == RUN_VALUES) {
+                const fmi2ValueReference vr[3] = {phi->vr, w->vr, a->vr};
+                CHECK(set_real(c, vr, 3, x));
+            } else {
+                const fmi2ValueReference vr[2] = {phi->vr, phi->vr};
+                const fmi2Integer order[2] = {1, 2};
+                CHECK(set_real(c, &phi->vr, 1, &x[0]));
+                CHECK(set_input_derivatives(c, vr, 2, order, &x[1]));
+            }
+        }
         printf("%.17g", t);
         for (size_t i = 0; i < nv; i++) {
             if (!vars[i].output) continue;
