@@ -16,6 +16,7 @@ pub mod catalog;
 #[cfg(feature = "tools")]
 pub mod docs;
 pub mod fmi2;
+pub mod lifetime;
 #[cfg(feature = "tools")]
 pub mod machines;
 pub mod md;

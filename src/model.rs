@@ -1050,11 +1050,11 @@ macro_rules! model_variables {
         }
         impl $crate::model::VarSet for $name {
             fn table() -> &'static [$crate::model::Var] {
-                static TABLE: ::std::sync::OnceLock<Vec<$crate::model::Var>> = ::std::sync::OnceLock::new();
+                static TABLE: ::std::sync::OnceLock<&'static [$crate::model::Var]> = ::std::sync::OnceLock::new();
                 TABLE.get_or_init(|| {
                     #[allow(unused_imports)]
                     use $crate::model::{Var, shaft};
-                    vec![$( $decl ),*]
+                    $crate::lifetime::keep(vec![$( $decl ),*]).as_slice()
                 })
             }
             #[inline]
@@ -1075,7 +1075,7 @@ macro_rules! model_variables {
         }
         impl $crate::model::VarSet for $name {
             fn table() -> &'static [$crate::model::Var] {
-                static TABLE: ::std::sync::OnceLock<Vec<$crate::model::Var>> = ::std::sync::OnceLock::new();
+                static TABLE: ::std::sync::OnceLock<&'static [$crate::model::Var]> = ::std::sync::OnceLock::new();
                 TABLE.get_or_init(|| {
                     #[allow(unused_imports)]
                     use $crate::model::{Var, shaft};
@@ -1085,7 +1085,7 @@ macro_rules! model_variables {
                     t[shaft::P as usize].depends = $dep;
                     t[shaft::TAU as usize].needs = $needs;
                     t[shaft::P as usize].needs = $needs;
-                    t
+                    $crate::lifetime::keep(t).as_slice()
                 })
             }
             #[inline]

@@ -18,6 +18,12 @@ macro_rules! export_fmu {
             use $crate::fmi2::types::*;
             type M = $model;
 
+            /// Frees the library's caches when the loader unloads it ([`$crate::lifetime`]).
+            #[cfg(target_os = "linux")]
+            #[used]
+            #[unsafe(link_section = ".fini_array")]
+            static RELEASE_AT_UNLOAD: unsafe extern "C" fn() = $crate::lifetime::release_at_unload;
+
             #[unsafe(no_mangle)]
             pub extern "C" fn fmi2GetTypesPlatform() -> FmiString {
                 TYPES_PLATFORM.as_ptr()

@@ -920,14 +920,19 @@ pub fn resource_path(uri: &str) -> Option<PathBuf> {
 /// The GUID of `M`, computed once per model type: describing a model takes milliseconds, and a
 /// host may instantiate millions of times.
 fn guid_of<M: Model>() -> &'static str {
-    static GUIDS: std::sync::Mutex<Vec<(std::any::TypeId, &'static str)>> =
-        std::sync::Mutex::new(Vec::new());
+    type Guids = std::sync::Mutex<Vec<(std::any::TypeId, &'static str)>>;
+    static GUIDS: Guids = std::sync::Mutex::new(Vec::new());
     let id = std::any::TypeId::of::<M>();
     let mut guids = GUIDS.lock().unwrap_or_else(|e| e.into_inner());
     if let Some(&(_, g)) = guids.iter().find(|(t, _)| *t == id) {
         return g;
     }
-    let g: &'static str = Box::leak(md::describe::<M>().1.into_boxed_str());
+    if guids.is_empty() {
+        crate::lifetime::on_release(|| {
+            *GUIDS.lock().unwrap_or_else(|e| e.into_inner()) = Vec::new();
+        });
+    }
+    let g = crate::lifetime::keep(md::describe::<M>().1).as_str();
     guids.push((id, g));
     g
 }
@@ -1080,6 +1085,7 @@ pub unsafe fn instantiate<M: Model>(
             scene.clone(),
         ));
         inst.me.is_me = model_exchange;
+        crate::lifetime::instance_created();
         Box::into_raw(inst) as Component
     }));
     result.unwrap_or_else(|p| {
@@ -1102,6 +1108,7 @@ pub unsafe fn free_instance<M: Model>(c: Component) {
     if ok == Status::Ok {
         // SAFETY: entry checked the pointer is a live instance of ours.
         drop(unsafe { Box::from_raw(c as *mut Instance<M>) });
+        crate::lifetime::instance_freed();
     }
 }
 

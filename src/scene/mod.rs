@@ -897,7 +897,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         })
         .collect();
     let identifier = identifier(M::IDENTIFIER, &scene.name);
-    let leak = |s: String| -> &'static str { Box::leak(s.into_boxed_str()) };
+    let leak = |s: String| -> &'static str { crate::lifetime::keep(s).as_str() };
     let info = ModelInfo {
         identifier: leak(identifier.clone()),
         model_name: leak(identifier.clone()),
@@ -953,6 +953,11 @@ pub fn cached<M: Model>(text: &str) -> Result<std::sync::Arc<Tailored>, SceneErr
     }
     let t = Arc::new(tailor_text::<M>(text)?);
     let mut cache = CACHE.lock().unwrap_or_else(|e| e.into_inner());
+    if cache.is_empty() {
+        crate::lifetime::on_release(|| {
+            *CACHE.lock().unwrap_or_else(|e| e.into_inner()) = Vec::new();
+        });
+    }
     if cache.len() < 64 {
         cache.push((id, h, t.clone()));
     }
