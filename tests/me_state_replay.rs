@@ -34,10 +34,18 @@ struct Case<'a> {
     nz: usize,
     /// The first three Real inputs: the shaft connector of a mechanism, the loads of a drive.
     inputs: [u32; 3],
-    /// The nominal speed of a mechanism's shaft (rad/s), `shaft.w`'s start.
+    /// The mean speed of a mechanism's shaft (rad/s): its nominal one, `shaft.w`'s start, but
+    /// where said in `tag`.
     w0: f64,
+    /// What else sets the case apart, for the messages (empty: nothing).
+    tag: &'static str,
     outs: Vec<u32>,
-    /// The name of each column of a row: the outputs, the states, the indicators, `event`.
+    /// The Integer (and Enumeration) and Boolean outputs (counters and flags such as
+    /// `contact.liftoffs`, which events change).
+    int_outs: Vec<u32>,
+    bool_outs: Vec<u32>,
+    /// The name of each column of a row: the Real, Integer and Boolean outputs, the states, the
+    /// indicators, `event`.
     columns: Vec<String>,
     /// Step size and number of steps.
     h: f64,
@@ -47,8 +55,8 @@ struct Case<'a> {
 impl Case<'_> {
     fn label(&self) -> String {
         match self.level {
-            Some(l) => format!("{} level {l}", self.e.identifier),
-            None => self.e.identifier.to_string(),
+            Some(l) => format!("{} level {l}{}", self.e.identifier, self.tag),
+            None => format!("{}{}", self.e.identifier, self.tag),
         }
     }
 
@@ -163,11 +171,17 @@ impl Case<'_> {
         s.ok(st, &format!("{}: fmi2SetTime({t})", self.label()));
     }
 
-    /// The row at the current point: every Real output, the states, the indicators, then
-    /// `event` (1 if the step that led here had an event).
+    /// The row at the current point: every Real output, the Integer and Boolean outputs, the
+    /// states, the indicators, then `event` (1 if the step that led here had an event).
     fn row(&self, s: &Slave, event: bool) -> Vec<f64> {
         let (st, mut row) = s.get_real(&self.outs);
         s.ok(st, &format!("{}: fmi2GetReal", self.label()));
+        let (st, ints) = s.get_integer(&self.int_outs);
+        s.ok(st, &format!("{}: fmi2GetInteger", self.label()));
+        row.extend(ints.into_iter().map(f64::from));
+        let (st, bools) = s.get_boolean(&self.bool_outs);
+        s.ok(st, &format!("{}: fmi2GetBoolean", self.label()));
+        row.extend(bools.into_iter().map(|b| f64::from(u8::from(b))));
         row.extend(self.get(s, "fmi2GetContinuousStates", self.nx));
         row.extend(self.get(s, "fmi2GetEventIndicators", self.nz));
         row.push(f64::from(u8::from(event)));
@@ -278,7 +292,9 @@ impl Case<'_> {
 /// mechanism's elastodynamic level (3 states, its event indicators) with small steps over about
 /// a turn of its shaft, where its contacts open and close; its kinematic and kinetostatic levels
 /// (no states: zeros, indicators that never change sign) with larger ones; a drive (MainShaft:
-/// its own states, no indicators, no levels) as the elastodynamic level.
+/// its own states, no indicators, no levels) as the elastodynamic level. Perforators also at
+/// 130 rpm, above its lift-off speed: the roller lifts off the ramp and lands again and again
+/// (events that change `contact.liftoffs` and `roller.lost_contact`).
 fn cases<'a>(e: &'a Entry, f: &'a Fmu) -> Vec<Case<'a>> {
     let vars = (e.variables)();
     let nx = vars.iter().filter(|(_, v)| v.derivative.is_some()).count();
@@ -301,10 +317,17 @@ fn cases<'a>(e: &'a Entry, f: &'a Fmu) -> Vec<Case<'a>> {
     } else {
         0.0
     };
-    let mut columns: Vec<String> = real_output_names_of(e)
-        .into_iter()
-        .map(String::from)
-        .collect();
+    let outputs = |ty: fn(&VarType) -> bool| -> (Vec<u32>, Vec<String>) {
+        vars.iter()
+            .filter(|(_, v)| v.causality == Causality::Output && ty(&v.ty))
+            .map(|(vr, v)| (*vr, v.name.to_string()))
+            .unzip()
+    };
+    let (outs, mut columns) = outputs(|t| *t == VarType::Real);
+    let (int_outs, names) = outputs(|t| matches!(t, VarType::Integer | VarType::Enumeration(_)));
+    columns.extend(names);
+    let (bool_outs, names) = outputs(|t| *t == VarType::Boolean);
+    columns.extend(names);
     columns.extend((0..nx).map(|i| format!("state x[{i}]")));
     columns.extend((0..nz).map(|i| format!("event indicator z[{i}]")));
     columns.push("event".into());
@@ -318,7 +341,7 @@ fn cases<'a>(e: &'a Entry, f: &'a Fmu) -> Vec<Case<'a>> {
     } else {
         vec![(None, 5e-5, 4000)]
     };
-    levels
+    let mut cases: Vec<Case> = levels
         .into_iter()
         .map(|(level, h, n)| Case {
             e,
@@ -328,12 +351,30 @@ fn cases<'a>(e: &'a Entry, f: &'a Fmu) -> Vec<Case<'a>> {
             nz,
             inputs: [ins[0], ins[1], ins[2]],
             w0,
-            outs: real_outputs_of(e),
+            tag: "",
+            outs: outs.clone(),
+            int_outs: int_outs.clone(),
+            bool_outs: bool_outs.clone(),
             columns: columns.clone(),
             h,
             n,
         })
-        .collect()
+        .collect();
+    if e.identifier == "Perforators" {
+        let elastic = cases.last().expect("the elastodynamic level");
+        let lift_off = Case {
+            w0: 130.0 * std::f64::consts::PI / 30.0,
+            tag: " at 130 rpm",
+            n: 2000,
+            columns: elastic.columns.clone(),
+            outs: elastic.outs.clone(),
+            int_outs: elastic.int_outs.clone(),
+            bool_outs: elastic.bool_outs.clone(),
+            ..*elastic
+        };
+        cases.push(lift_off);
+    }
+    cases
 }
 
 /// Whether the step to point `i` of `rows` had an event.
@@ -341,26 +382,48 @@ fn event_at(rows: &[Vec<f64>], i: usize) -> bool {
     *rows[i].last().unwrap() != 0.0
 }
 
+/// Whether the step to point `i` changed an Integer or Boolean output (a counter or a flag).
+fn discrete_change(c: &Case, rows: &[Vec<f64>], i: usize) -> bool {
+    let discrete = c.outs.len()..c.outs.len() + c.int_outs.len() + c.bool_outs.len();
+    rows[i][discrete.clone()] != rows[i - 1][discrete]
+}
+
+/// The points to save at of [`model_exchange_fmu_states_replay_bit_identically`]: the middle,
+/// the point before the first event after it (the replay's first step has the event) and the
+/// point two steps before the first event that changes an Integer or Boolean output (its
+/// second step has it).
+fn middle_and_events(c: &Case, reference: &[Vec<f64>]) -> Vec<usize> {
+    let mut ks = vec![c.n / 2];
+    ks.extend(
+        (c.n / 2 + 2..=c.n)
+            .find(|&i| event_at(reference, i))
+            .map(|i| i - 1),
+    );
+    ks.extend(
+        (3..=c.n)
+            .find(|&i| event_at(reference, i) && discrete_change(c, reference, i))
+            .map(|i| i - 2),
+    );
+    ks
+}
+
 /// Checks 1 and 2 for one case: a reference run of a first instance; a second instance makes
-/// the same run, saving its state (fmi2GetFMUstate and fmi2SerializeFMUstate) at the middle
-/// point and at the point before the first event after it; from each saved state the rest of the
-/// run is replayed: the state set again on the same instance; serialized, freed, deserialized
-/// and set on the same instance; and on a fresh instance. The number of steps with events and
-/// the points saved at.
-fn assert_me_replays(c: &Case) -> (usize, Vec<usize>) {
+/// the same run, saving its state (fmi2GetFMUstate and fmi2SerializeFMUstate) at the points
+/// `save_at` chooses from the reference; from each saved state the rest of the run is
+/// replayed: the state set again on the same instance; serialized, freed, deserialized and set
+/// on the same instance; and on a fresh instance. The number of steps with events and the
+/// points saved at.
+fn assert_me_replays(
+    c: &Case,
+    save_at: fn(&Case, &[Vec<f64>]) -> Vec<usize>,
+) -> (usize, Vec<usize>) {
     let probe = c.start("reference", FmuType::ModelExchange);
     let reference = c.run(&probe, 0, c.n, false);
     drop(probe);
     let events = (1..=c.n).filter(|&i| event_at(&reference, i)).count();
-    // the middle, and the point before an event (the first after a quarter of the run, else
-    // the last): the replay's first step goes through it
-    let mut ks = vec![c.n / 2];
-    let after = (c.n / 4..=c.n).find(|&i| event_at(&reference, i));
-    if let Some(i) = after.or_else(|| (2..=c.n).rev().find(|&i| event_at(&reference, i))) {
-        ks.push(i - 1);
-        ks.sort_unstable();
-        ks.dedup();
-    }
+    let mut ks = save_at(c, &reference);
+    ks.sort_unstable();
+    ks.dedup();
     let s = c.start("run", FmuType::ModelExchange);
     let mut rows = Vec::with_capacity(c.n + 1);
     let mut saved = Vec::new();
@@ -373,7 +436,7 @@ fn assert_me_replays(c: &Case) -> (usize, Vec<usize>) {
         from = k;
     }
     let part = c.run(&s, from, c.n, event_at(&reference, from));
-    rows.extend(part.into_iter().skip(1));
+    rows.extend(part.into_iter().skip(usize::from(from > 0)));
     c.assert_replays(
         "the run that saved states vs. another instance's without",
         0,
@@ -430,7 +493,7 @@ fn model_exchange_fmu_states_replay_bit_identically() {
         let f = Fmu::of(&e);
         for c in cases(&e, &f) {
             let t = std::time::Instant::now();
-            let (events, ks) = assert_me_replays(&c);
+            let (events, ks) = assert_me_replays(&c, middle_and_events);
             eprintln!(
                 "{}: {} steps of {} s, {events} steps with events, saved at {ks:?}, {:.0?}",
                 c.label(),
@@ -447,7 +510,7 @@ fn model_exchange_fmu_states_replay_bit_identically() {
         }
     }
     // every FMU has Model Exchange
-    assert_eq!(covered.len(), 4 * 3 + 1, "{covered:?}");
+    assert_eq!(covered.len(), 4 * 3 + 1 + 1, "{covered:?}");
 }
 
 /// Co-Simulation steps of `c.h` from point `from` to `to`, the inputs set before each: the
@@ -586,4 +649,42 @@ fn fmu_states_between_model_exchange_and_co_simulation() {
             assert_states_cross_interfaces(&c, 50);
         }
     }
+}
+
+/// The point before each event that changes an Integer or Boolean output, for every case: the
+/// first step of the replay has the event.
+fn before_discrete_events(c: &Case, reference: &[Vec<f64>]) -> Vec<usize> {
+    (2..=c.n)
+        .filter(|&i| event_at(reference, i) && discrete_change(c, reference, i))
+        .map(|i| i - 1)
+        .take(3)
+        .collect()
+}
+
+/// A state saved in continuous-time mode one step before an event that changes a counter or a
+/// flag: the replay's first step (fmi2CompletedIntegratorStep, then the event) must make the
+/// same transition as the run.
+#[test]
+#[ignore = "runtime bug (src/solver/chain.rs, src/mechanisms/perforators): Perforators' LeverChain \
+    keeps SAVED_INDICATORS = 0, so its FMU state lacks the Model Exchange indicators of the last \
+    event (Chain::g_prev) that its me_event compares with to count a lift-off; restored one step \
+    before a lift-off, fmi2CompletedIntegratorStep takes the indicators after the lift-off as \
+    the last ones and the event counts nothing: Perforators level 3 at 130 rpm, saved at step \
+    1099, replays step 1100 with contact.liftoffs 0 where the run had 1"]
+fn model_exchange_replay_from_just_before_a_discrete_event() {
+    // every case runs (the panics of those that fail are printed); then the list of them
+    let mut failed = Vec::new();
+    for e in catalog::all() {
+        let f = Fmu::of(&e);
+        for c in cases(&e, &f) {
+            let run = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+                assert_me_replays(&c, before_discrete_events)
+            }));
+            match run {
+                Ok((_, ks)) => eprintln!("{}: saved at {ks:?}: replayed", c.label()),
+                Err(_) => failed.push(c.label()),
+            }
+        }
+    }
+    assert!(failed.is_empty(), "failed: {failed:?}");
 }
