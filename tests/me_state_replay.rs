@@ -3,11 +3,14 @@
 //! fmi2GetDerivatives / fmi2SetContinuousStates / fmi2SetTime, fmi2CompletedIntegratorStep,
 //! events at sign changes of the event indicators) saves the FMU state mid-run, goes on, and
 //! replays from the saved state: set again on the same instance, serialized and deserialized
-//! into the same instance and into a fresh one. Every Real output, the continuous states, the
-//! event indicators and the steps with events of the replay are those of the run, bit for bit,
-//! and so is the serialized state at the end. A state of one interface given to an instance of
-//! the other is refused with a reason and changes nothing, or, where the runtime accepts it,
-//! continues where it was taken.
+//! into the same instance and into a fresh one. Every output (Real, Integer, Boolean), the
+//! continuous states, the event indicators and the steps with events of the replay are those of
+//! the run, bit for bit, and so is the serialized state at the end. A state of one interface
+//! given to an instance of the other is refused with a reason and changes nothing, or, where the
+//! runtime accepts it, continues where it was taken.
+//!
+//! A state saved one step before an event that changes a counter or a flag does not replay for
+//! Perforators (its FMU state lacks the indicators of the last event): an ignored test shows it.
 
 mod common;
 
@@ -262,7 +265,7 @@ impl Case<'_> {
                 assert_eq!(
                     x.to_bits(),
                     y.to_bits(),
-                    "{}: {what}, saved at step {k}: step {} (t = {}), {}: replayed {x:e}, run {y:e}",
+                    "{}: {what}, from step {k}: step {} (t = {}), {}: replayed {x:e}, run {y:e}",
                     self.label(),
                     k + i,
                     self.time(k + i),
@@ -424,6 +427,9 @@ fn assert_me_replays(
     let mut ks = save_at(c, &reference);
     ks.sort_unstable();
     ks.dedup();
+    if ks.is_empty() {
+        return (events, ks);
+    }
     let s = c.start("run", FmuType::ModelExchange);
     let mut rows = Vec::with_capacity(c.n + 1);
     let mut saved = Vec::new();
@@ -438,7 +444,7 @@ fn assert_me_replays(
     let part = c.run(&s, from, c.n, event_at(&reference, from));
     rows.extend(part.into_iter().skip(usize::from(from > 0)));
     c.assert_replays(
-        "the run that saved states vs. another instance's without",
+        "the run that saved states vs. another instance's run",
         0,
         &reference,
         &rows,
@@ -485,7 +491,7 @@ fn assert_me_replays(
 
 /// Checks 1 and 2 for every FMU with Model Exchange, at each level: a replay from a saved FMU
 /// state, set again, or serialized and deserialized into the same or a fresh instance, is the
-/// run bit for bit (every Real output, the states, the indicators and where the events are).
+/// run bit for bit (every output, the states, the indicators and where the events are).
 #[test]
 fn model_exchange_fmu_states_replay_bit_identically() {
     let mut covered = Vec::new();
