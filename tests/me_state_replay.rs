@@ -9,8 +9,10 @@
 //! given to an instance of the other is refused with a reason and changes nothing, or, where the
 //! runtime accepts it, continues where it was taken.
 //!
-//! A state saved one step before an event that changes a counter or a flag does not replay for
-//! Perforators (its FMU state lacks the indicators of the last event): an ignored test shows it.
+//! A state saved one step before an event that changes a counter or a flag replays that event
+//! too: the FMU state holds the event indicators of the last event or completed step, which the
+//! next event is compared with (Perforators' lacked them and counted no lift-off after such a
+//! restore, found by this test).
 
 mod common;
 
@@ -671,12 +673,6 @@ fn before_discrete_events(c: &Case, reference: &[Vec<f64>]) -> Vec<usize> {
 /// flag: the replay's first step (fmi2CompletedIntegratorStep, then the event) must make the
 /// same transition as the run.
 #[test]
-#[ignore = "runtime bug (src/solver/chain.rs, src/mechanisms/perforators): Perforators' LeverChain \
-    keeps SAVED_INDICATORS = 0, so its FMU state lacks the Model Exchange indicators of the last \
-    event (Chain::g_prev) that its me_event compares with to count a lift-off; restored one step \
-    before a lift-off, fmi2CompletedIntegratorStep takes the indicators after the lift-off as \
-    the last ones and the event counts nothing: Perforators level 3 at 130 rpm, saved at step \
-    1099, replays step 1100 with contact.liftoffs 0 where the run had 1"]
 fn model_exchange_replay_from_just_before_a_discrete_event() {
     // every case runs (the panics of those that fail are printed); then the list of them
     let mut failed = Vec::new();

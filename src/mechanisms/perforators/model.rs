@@ -262,7 +262,8 @@ struct LeverMemory {
 /// What the elastodynamic level carries between steps: `y = [q, q̇, W]`, q the lever's
 /// deflection from its rigid rotation. Model Exchange: `g_prev` holds the event indicators just
 /// after the last event (or at the start), the contact mode the host's integration is in; they
-/// are not saved in the FMU state.
+/// travel with the FMU state (`SAVED_INDICATORS`), so that an event right after a restore
+/// (a lift-off, a landing) is counted as in the run.
 type Dynamic = Chain<LeverChain>;
 
 impl ChainModel for LeverChain {
@@ -272,6 +273,7 @@ impl ChainModel for LeverChain {
     type Ode<'a> = LeverOde<'a>;
     const LAYOUT: &'static [Slot] = &[Mem(10), Integ, Steps, Events, Mem(1), Rejected];
     const STATE_LEN: usize = 21;
+    const SAVED_INDICATORS: usize = <Perforators as Model>::EVENT_INDICATORS;
 
     fn ode<'a>(
         &self,
