@@ -85,7 +85,9 @@ pub trait ChainModel: Clone + Debug {
     const STATE_LEN: usize;
     /// Event indicators appended to the snapshot (the last event's or step's, so that Model
     /// Exchange transitions are counted after a restore too); 0: none. A snapshot without them
-    /// (Co-Simulation) restores as well.
+    /// (Co-Simulation) restores as well. A chain whose events count or switch anything (its
+    /// `on_event` compares with the last indicators) must save all of them: without, the first
+    /// event after a restore is missed (Perforators' lift-offs, `tests/me_state_replay.rs`).
     const SAVED_INDICATORS: usize = 0;
     /// How a wrong snapshot is named in the error.
     const STATE_NAME: &'static str = "elastodynamic state";
