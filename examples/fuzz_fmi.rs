@@ -30,6 +30,11 @@
 //!     --target-dir target/asan -p geneva-knife-drive-fmu ...
 //! LD_PRELOAD=$(gcc -print-file-name=libasan.so) target/release/examples/fuzz_fmi \
 //!     --lib-dir target/asan/x86_64-unknown-linux-gnu/release --execs 10000000
+//! # the leak check: a million instantiate/free cycles, then LeakSanitizer at exit (after the
+//! # binaries are unloaded: what they kept for their lifetime is freed by then, see
+//! # bindery_fmu::lifetime)
+//! LD_PRELOAD=$(gcc -print-file-name=libasan.so) target/release/examples/fuzz_fmi \
+//!     --lib-dir target/asan/x86_64-unknown-linux-gnu/release --cycles 1000000
 //! ```
 #![allow(clippy::type_complexity)]
 
