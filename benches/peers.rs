@@ -64,33 +64,6 @@ unsafe impl GlobalAlloc for Counting {
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 
-/// glibc's `struct mallinfo2` (glibc ≥ 2.33).
-#[repr(C)]
-#[derive(Default)]
-struct MallInfo2 {
-    arena: usize,
-    ordblks: usize,
-    smblks: usize,
-    hblks: usize,
-    hblkhd: usize,
-    usmblks: usize,
-    fsmblks: usize,
-    uordblks: usize,
-    fordblks: usize,
-    keepcost: usize,
-}
-
-unsafe extern "C" {
-    fn mallinfo2() -> MallInfo2;
-}
-
-/// Bytes in use in glibc's heap (small blocks in the arenas plus mmapped large blocks).
-fn malloc_in_use() -> isize {
-    // SAFETY: a plain glibc query.
-    let m = unsafe { mallinfo2() };
-    (m.uordblks + m.hblkhd) as isize
-}
-
 // ---- the model description, as much of it as a host needs ----------------------------------
 
 struct Description {
@@ -497,13 +470,13 @@ fn heap(a: &Args) -> String {
         let mut more: Vec<Running> = Vec::with_capacity(N);
         // The host's own allocations (its per-instance vectors) go through malloc too: they are
         // counted by the counting allocator and taken off.
-        let (before, host_before) = (malloc_in_use(), LIVE.load(Ordering::Relaxed));
+        let (before, host_before) = (common::heap::in_use(), LIVE.load(Ordering::Relaxed));
         for _ in 0..N {
             let mut r = start(&fmu, &d, &dir, Some(2));
             r.steps(1);
             more.push(r);
         }
-        let (after, host_after) = (malloc_in_use(), LIVE.load(Ordering::Relaxed));
+        let (after, host_after) = (common::heap::in_use(), LIVE.load(Ordering::Relaxed));
         more.clear();
         drop(first);
         let fmu_bytes = (after - before) - (host_after - host_before);

@@ -128,14 +128,7 @@ impl Case<'_> {
     /// fmi2NewDiscreteStates until no new discrete states are needed (in event mode).
     fn event_iteration(&self, s: &Slave, t: f64) {
         for _ in 0..10 {
-            let mut info = EventInfo {
-                new_discrete_states_needed: FALSE,
-                terminate_simulation: FALSE,
-                nominals_of_continuous_states_changed: FALSE,
-                values_of_continuous_states_changed: FALSE,
-                next_event_time_defined: FALSE,
-                next_event_time: 0.0,
-            };
+            let mut info = EventInfo::default();
             // SAFETY: the FMI function with a valid fmi2EventInfo.
             let st = unsafe { s.fmu.sym::<NewDiscrete>("fmi2NewDiscreteStates")(s.c, &mut info) };
             s.ok(

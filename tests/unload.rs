@@ -11,34 +11,6 @@ mod common;
 use bindery_fmu::catalog;
 use common::*;
 
-/// glibc's `struct mallinfo2` (glibc ≥ 2.33).
-#[repr(C)]
-#[derive(Default)]
-struct MallInfo2 {
-    arena: usize,
-    ordblks: usize,
-    smblks: usize,
-    hblks: usize,
-    hblkhd: usize,
-    usmblks: usize,
-    fsmblks: usize,
-    uordblks: usize,
-    fordblks: usize,
-    keepcost: usize,
-}
-
-unsafe extern "C" {
-    fn mallinfo2() -> MallInfo2;
-}
-
-/// Bytes in use on glibc's heap (every allocator in this process is glibc's malloc: the test's
-/// and each FMU binary's own copy of Rust's std).
-fn heap_in_use() -> usize {
-    // SAFETY: a plain glibc query without arguments.
-    let m = unsafe { mallinfo2() };
-    m.uordblks + m.hblkhd
-}
-
 /// One load–instantiate–step–free–unload cycle of the FMU `e`.
 fn cycle(e: &catalog::Entry) {
     let f = Fmu::of(e);
@@ -58,11 +30,11 @@ fn loading_and_unloading_an_fmu_loses_no_memory() {
         for _ in 0..5 {
             cycle(&e);
         }
-        let before = heap_in_use();
+        let before = heap::in_use();
         for _ in 0..CYCLES {
             cycle(&e);
         }
-        let per_cycle = heap_in_use().saturating_sub(before) as f64 / CYCLES as f64;
+        let per_cycle = (heap::in_use() - before).max(0) as f64 / CYCLES as f64;
         // the caches were 11-12 KB per cycle; what the host itself keeps (its log records of
         // every instance) and glibc's own bookkeeping of dlopen stay well under 1 KB
         assert!(

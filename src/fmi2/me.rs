@@ -23,17 +23,8 @@ pub struct MeMode {
     pub mode: Mode,
 }
 
-/// `fmi2EventInfo`.
-#[repr(C)]
-#[derive(Clone, Copy, Debug)]
-pub struct EventInfo {
-    pub new_discrete_states_needed: Boolean,
-    pub terminate_simulation: Boolean,
-    pub nominals_of_continuous_states_changed: Boolean,
-    pub values_of_continuous_states_changed: Boolean,
-    pub next_event_time_defined: Boolean,
-    pub next_event_time: Real,
-}
+/// `fmi2EventInfo`, declared with the other C types.
+pub use crate::fmi2::types::EventInfo;
 
 fn count(n: usize, what: &str, expected: usize) -> Result<(), String> {
     if n != expected {
@@ -71,14 +62,8 @@ pub unsafe fn new_discrete_states<M: Model>(c: Component, info: *mut EventInfo) 
             let model = inst.model.as_mut().expect("prepared");
             model.me_event(&inst.values, inst.time, &mut inst.logger);
             inst.dirty = true;
-            *info = EventInfo {
-                new_discrete_states_needed: FALSE,
-                terminate_simulation: FALSE,
-                nominals_of_continuous_states_changed: FALSE,
-                values_of_continuous_states_changed: FALSE,
-                next_event_time_defined: FALSE,
-                next_event_time: 0.0,
-            };
+            // no new discrete states, no termination, no state change, no time event
+            *info = EventInfo::default();
             Ok(Status::Ok)
         })
     }

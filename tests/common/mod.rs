@@ -2,6 +2,8 @@
 //! with libloading and calls it through the C ABI, recording what it logs.
 #![allow(dead_code)]
 
+#[cfg(target_os = "linux")]
+pub mod heap;
 pub mod ode;
 pub mod series;
 
