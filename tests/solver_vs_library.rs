@@ -23,6 +23,7 @@ use std::cell::Cell;
 fn ode(p: &Params, k: f64, zeta: f64) -> KnifeOde<'_> {
     KnifeOde {
         p,
+        geneva: p.geneva(),
         k,
         c: KnifeOde::damping(p, k, zeta),
         path: ShaftPath::new(0.0, 0.0, std::f64::consts::PI, 0.0),

@@ -19,6 +19,7 @@
 //! stack (ẋ = 0) and the rigid velocity reversing (friction direction).
 
 use super::physics::{Kinematics, Params};
+use crate::mechanics::geneva::Geneva;
 use crate::mechanics::{STANDARD_GRAVITY, sgn};
 use crate::solver::chain::track_peaks;
 use crate::solver::{OdeSystem, ShaftPath};
@@ -31,6 +32,9 @@ pub const V_STICK: f64 = 1e-5;
 /// The ODE of one communication step.
 pub struct KnifeOde<'a> {
     pub p: &'a Params,
+    /// `p`'s Geneva pair, built once per ODE ([`Params::geneva`] costs a sine; the
+    /// right-hand side is evaluated many times per step).
+    pub geneva: Geneva,
     /// Chain stiffness k, N/m.
     pub k: f64,
     /// Chain damping c, N.s/m.
@@ -73,7 +77,7 @@ impl KnifeOde<'_> {
     /// Evaluates the model at time t and state y.
     pub fn point(&self, t: f64, y: &[f64]) -> Point {
         let (phi, w, a) = self.path.at(t);
-        let kin = self.p.kinematics(phi, w, a);
+        let kin = self.p.kinematics_of(&self.geneva, phi, w, a);
         self.point_at(&kin, y)
     }
 
@@ -150,7 +154,7 @@ impl KnifeOde<'_> {
     /// chain, the spring holding the weight.
     pub fn initial_state(&self, t: f64) -> [f64; 3] {
         let (phi, w, a) = self.path.at(t);
-        let kin = self.p.kinematics(phi, w, a);
+        let kin = self.p.kinematics_of(&self.geneva, phi, w, a);
         let x = if self.k > 0.0 {
             kin.s + self.p.slider_mass() * STANDARD_GRAVITY / self.k
         } else {
@@ -201,8 +205,8 @@ impl OdeSystem for KnifeOde<'_> {
     }
     fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
         let (phi, w, a) = self.path.at(t);
-        let exit = 2.0 * self.p.geneva().half_engagement();
-        let kin = self.p.kinematics(phi, w, a);
+        let exit = 2.0 * self.geneva.half_engagement();
+        let kin = self.p.kinematics_of(&self.geneva, phi, w, a);
         g[0] = phi.sin();
         g[1] = (phi - exit).sin();
         g[2] = y[0] - self.p.cut_s_start;

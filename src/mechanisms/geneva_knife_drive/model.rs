@@ -158,6 +158,7 @@ impl ChainModel for KnifeChain {
         let (peaks, k_d) = m.peaks.cells();
         KnifeOde {
             p,
+            geneva: p.geneva(),
             k: self.k,
             c: self.c,
             path,
