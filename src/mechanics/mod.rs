@@ -40,6 +40,12 @@ pub fn sgn(x: f64) -> f64 {
     }
 }
 
+/// The dot product of two plane vectors.
+#[inline]
+pub fn dot(a: (f64, f64), b: (f64, f64)) -> f64 {
+    a.0 * b.0 + a.1 * b.1
+}
+
 /// The angle `phi` reduced to one turn, in `[0, 2π)`.
 ///
 /// Uses `rem_euclid`, so negative angles wrap forwards; rounding can make `rem_euclid` return

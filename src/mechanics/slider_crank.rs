@@ -55,6 +55,23 @@ pub struct Pose {
     pub ddnu: f64,
 }
 
+impl Pose {
+    /// This pose's velocities and accelerations for crank speed `theta_w` = θ̇ and acceleration
+    /// `theta_a` = θ̈ (chain rule, `interface.md`): no trigonometry, so a mechanism can take the
+    /// same pose at another crank acceleration cheaply.
+    #[inline]
+    pub fn motion(self, theta_w: f64, theta_a: f64) -> Motion {
+        let w2 = theta_w * theta_w;
+        Motion {
+            pose: self,
+            v: self.ds * theta_w,
+            a: self.dds * w2 + self.ds * theta_a,
+            nu_w: self.dnu * theta_w,
+            nu_a: self.ddnu * w2 + self.dnu * theta_a,
+        }
+    }
+}
+
 /// [`Pose`] plus time derivatives for a crank moving with `θ̇`, `θ̈`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
 pub struct Motion {
@@ -162,15 +179,7 @@ impl SliderCrank {
     /// acceleration `theta_a` = θ̈ (chain rule, `interface.md`).
     #[inline]
     pub fn motion(&self, theta: f64, theta_w: f64, theta_a: f64) -> Motion {
-        let p = self.pose(theta);
-        let w2 = theta_w * theta_w;
-        Motion {
-            pose: p,
-            v: p.ds * theta_w,
-            a: p.dds * w2 + p.ds * theta_a,
-            nu_w: p.dnu * theta_w,
-            nu_a: p.ddnu * w2 + p.dnu * theta_a,
-        }
+        self.pose(theta).motion(theta_w, theta_a)
     }
 
     /// Moment arm of the rod force about the crank axis, `r·sin(θ + ν)`: a rod force P (along

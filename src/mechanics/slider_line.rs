@@ -13,6 +13,8 @@
 // `!(x > 0.0)` is deliberate throughout: a NaN parameter fails the check too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
+use super::dot;
+
 /// The line and the link.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct SliderLine {
@@ -37,10 +39,6 @@ pub struct SliderPose {
     pub sin_nu: f64,
     /// `cos ν = √(l² − (e − n·A)²)/l`.
     pub cos_nu: f64,
-}
-
-fn dot(a: (f64, f64), b: (f64, f64)) -> f64 {
-    a.0 * b.0 + a.1 * b.1
 }
 
 impl SliderLine {

@@ -22,7 +22,7 @@
 //! only the label is in question.
 
 use crate::mechanics::geneva::Geneva;
-use crate::mechanics::slider_crank::SliderCrank;
+use crate::mechanics::slider_crank::{Pose, SliderCrank};
 use crate::mechanics::{ParamError, STANDARD_GRAVITY, sgn, wrap_angle};
 use std::f64::consts::PI;
 
@@ -123,10 +123,9 @@ pub struct Kinematics {
     pub sin_nu: f64,
     /// `cos ν`.
     pub cos_nu: f64,
-    /// `dν/dθ`, the rod's angular velocity ratio.
-    pub dnu_dtheta: f64,
-    /// `d²ν/dθ²`, 1/rad.
-    pub ddnu_dtheta: f64,
+    /// The slider-crank's pose at `theta` (positions and θ-derivatives), for the accelerations
+    /// at another shaft acceleration ([`Params::at_shaft_accel`]).
+    pub pose: Pose,
     /// Rod angular velocity ν̇, rad/s.
     pub nu_w: f64,
     /// Rod angular acceleration ν̈, rad/s².
@@ -390,8 +389,7 @@ impl Params {
             nu: p.nu,
             sin_nu: p.sin_nu,
             cos_nu: p.cos_nu,
-            dnu_dtheta: p.dnu,
-            ddnu_dtheta: p.ddnu,
+            pose: p,
             nu_w: m.nu_w,
             nu_a: 0.0,
             s: p.s,
@@ -419,12 +417,12 @@ impl Params {
         let i = f64::from(self.gear_i);
         let cross_a = k.gamma_dd * w * w + k.gamma_d * eps;
         let crank_a = i * cross_a;
-        let w2 = k.crank_w * k.crank_w;
+        let m = k.pose.motion(k.crank_w, crank_a);
         Kinematics {
             cross_a,
             crank_a,
-            nu_a: k.ddnu_dtheta * w2 + k.dnu_dtheta * crank_a,
-            a: k.dds_dtheta * w2 + k.ds_dtheta * crank_a,
+            nu_a: m.nu_a,
+            a: m.a,
             ..*k
         }
     }
@@ -1269,6 +1267,22 @@ mod tests {
 
     proptest! {
         #![proptest_config(ProptestConfig::with_cases(512))]
+
+        /// The kinematics at one shaft acceleration carried to another by `at_shaft_accel`
+        /// (what the torque split `shaft.tau0`/`shaft.J_red` evaluates) are the kinematics
+        /// computed there from scratch, to the bit.
+        #[test]
+        fn at_shaft_accel_is_the_full_evaluation(
+            phi in -20.0f64..20.0,
+            w in -100.0f64..100.0,
+            eps0 in -1e4f64..1e4,
+            eps in -1e4f64..1e4,
+        ) {
+            let p = params();
+            let g = p.geneva();
+            let moved = p.at_shaft_accel(&p.kinematics_of(&g, phi, w, eps0), w, eps);
+            prop_assert_eq!(moved, p.kinematics_of(&g, phi, w, eps));
+        }
 
         /// Any angle, speed and acceleration: every output finite; ψ in one turn.
         #[test]

@@ -37,7 +37,7 @@
 
 use super::physics::{Drive, Forces, Kinematics};
 use crate::mechanics::hertz::{line_contact_energy, line_contact_force, line_contact_stiffness};
-use crate::mechanics::{STANDARD_GRAVITY, sgn};
+use crate::mechanics::{STANDARD_GRAVITY, dot, sgn};
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
 use std::f64::consts::TAU;
@@ -194,10 +194,6 @@ pub struct Point {
     pub ga_fc: f64,
     /// dW/dt, W.
     pub power: f64,
-}
-
-fn dot(a: (f64, f64), b: (f64, f64)) -> f64 {
-    a.0 * b.0 + a.1 * b.1
 }
 
 impl LeverOde<'_> {

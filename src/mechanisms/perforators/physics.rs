@@ -25,7 +25,7 @@ use crate::mechanics::cyclogram::{CyclePoint, Cyclogram, Phase};
 use crate::mechanics::hertz::{Surface, line_contact_stress};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::slider_line::SliderLine;
-use crate::mechanics::{ParamError, STANDARD_GRAVITY, sgn};
+use crate::mechanics::{ParamError, STANDARD_GRAVITY, dot, sgn};
 use crate::mechanisms::sewing_table::physics::Params as TableParams;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
@@ -211,9 +211,6 @@ pub struct Forces {
     pub tau: f64,
 }
 
-fn dot(a: (f64, f64), b: (f64, f64)) -> f64 {
-    a.0 * b.0 + a.1 * b.1
-}
 fn cross(a: (f64, f64), b: (f64, f64)) -> f64 {
     a.0 * b.1 - a.1 * b.0
 }
