@@ -16,10 +16,11 @@ What the two hosts do (fmi-sim's src/sim/ against fmpy/simulation.py), and what 
 
 Co-Simulation. fmi-sim sets the start values (--init-values) and the inputs of the start time
 right after fmi2Instantiate, then calls fmi2SetupExperiment, fmi2EnterInitializationMode and
-fmi2ExitInitializationMode; FMPy sets both inside initialization mode. Then both record the
-outputs, set the inputs at t_k (linear interpolation of the CSV) and call fmi2DoStep(t_k, h): the
-row at t_k + h holds the outputs after the step from t_k with the inputs of t_k, whatever the FMU
-makes of its inputs within the step, so the comparison holds for any step semantics of the FMU.
+fmi2ExitInitializationMode; FMPy sets the start values after fmi2SetupExperiment and the inputs
+in initialization mode. Then both record the outputs, set the inputs at t_k (linear
+interpolation of the CSV) and call fmi2DoStep(t_k, h): the row at t_k + h holds the outputs after
+the step from t_k with the inputs of t_k, whatever the FMU makes of its inputs within the step, so
+the comparison holds for any step semantics of the FMU.
 Differences, all in the last bits:
 - fmi-sim passes the same h (the output interval) to every fmi2DoStep; FMPy passes
   t_{k+1} - t_k with t_k = k*h, which differs from h by up to 1.1e-13 relative (592 of the 600
@@ -38,8 +39,9 @@ Differences, all in the last bits:
 
 Model Exchange. fmi-sim integrates with forward Euler, one step per output interval (its --step
 option is unused), as does FMPy's solver='Euler' (its step_size only has to divide the output
-interval): x += h*dx, fmi2SetTime, inputs at the new time, fmi2CompletedIntegratorStep, then the
-event indicators against the previous step's (state events at the end of the step, not located).
+interval), with the same calls in the same order: x += h*dx, the event indicators (still at the old
+time and inputs) against the previous step's, fmi2SetTime, the inputs at the new time,
+fmi2CompletedIntegratorStep; state events are handled at the end of the step, not located.
 fmi-sim starts its "previous" indicators at 0 instead of reading them, so an indicator positive at
 the start makes an event at the first step (an fmi2EnterEventMode/fmi2NewDiscreteStates round that
 changes nothing here), and it records the outputs once more before every event: rows with a
