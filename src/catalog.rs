@@ -98,16 +98,7 @@ pub fn all() -> Vec<Entry> {
             info: ModelInfo::of::<crate::mechanisms::main_shaft::MainShaft>,
             variables: variables_of::<crate::mechanisms::main_shaft::MainShaft>,
             documentation: crate::mechanisms::main_shaft::docs::documentation,
-            // scenes tailor a mechanism driven through the shaft connector; the drive has none
-            tailor: |_| {
-                Err(crate::scene::SceneError {
-                    key: "mechanism".into(),
-                    line: None,
-                    message:
-                        "MainShaft drives the main shaft: scenes tailor the mechanism FMUs only"
-                            .into(),
-                })
-            },
+            tailor: crate::scene::tailor::<crate::mechanisms::main_shaft::MainShaft>,
             scene_documentation: crate::scene::docs::documentation::<
                 crate::mechanisms::main_shaft::MainShaft,
             >,
@@ -125,4 +116,24 @@ pub fn tailor(scene: &Scene) -> Result<(Entry, Tailored), SceneError> {
     };
     let t = (entry.tailor)(scene)?;
     Ok((entry, t))
+}
+
+/// The `.fmu` (bytes) tailored to a scene text, and its modelIdentifier: the mechanism's own
+/// binary (`binary(identifier)` gives its cdylib), the tailored description and documentation,
+/// and the scene in `resources/scene.toml`, which the binary reads at `fmi2Instantiate`.
+pub fn scene_fmu(
+    text: &str,
+    binary: &dyn Fn(&str) -> Result<Vec<u8>, String>,
+) -> Result<(String, Vec<u8>), String> {
+    let scene = Scene::parse(text).map_err(|e| e.to_string())?;
+    let (entry, t) = tailor(&scene).map_err(|e| e.to_string())?;
+    let fmu = crate::package::FmuContents {
+        identifier: t.identifier.clone(),
+        model_description: t.model_description.clone(),
+        binary: binary(entry.identifier)?,
+        documentation: (entry.scene_documentation)(&t)?,
+        icon: crate::docs::icon_png("Scene")?,
+        resources: vec![(crate::scene::RESOURCE_NAME.to_string(), text.into())],
+    };
+    Ok((t.identifier, fmu.to_zip()?))
 }

@@ -726,6 +726,14 @@ pub mod shaft {
     /// How many common variables precede a model's own.
     pub const COUNT: usize = 9;
 
+    /// Is `V` driven through the shaft connector, with the common variables at these value
+    /// references (a mechanism), rather than declared `standalone` (a drive such as MainShaft)?
+    pub fn is_driven<V: VarSet>() -> bool {
+        V::table()
+            .get(FIDELITY as usize)
+            .is_some_and(|v| v.name == "model.fidelity")
+    }
+
     /// Dependencies of a position: the angle only.
     pub const ON_PHI: &[u32] = &[PHI];
     /// Dependencies of a velocity.

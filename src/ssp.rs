@@ -2,14 +2,24 @@
 //! and Parameterization: a zip with `SystemStructure.ssd` and the FMUs under `resources/`).
 //!
 //! A machine is a small table ([`machines`]): its components (an FMU of the catalog, a name,
-//! parameter values) and its connections (output → input, 1:1 as SSP wants). The main shaft's
-//! load is summed by giving MainShaft one input pair per mechanism (`load1..3.tau0`,
-//! `load1..3.J_red`; unused ones stay 0), so any SSP tool can run it without an adder element.
-//! Parameter values are one `ParameterBinding` of the system with names `<component>.<variable>`
-//! (SSP 1.0, 5.3.3); FMPy's `simulate_ssp` takes them as its `parameter_set`.
+//! parameter values, the outputs a designer reads) and its connections (output → input, 1:1 as
+//! SSP wants). The main shaft's load is summed by giving MainShaft one input pair per mechanism
+//! (`load1..3.tau0`, `load1..3.J_red`; unused ones stay 0), so any SSP tool can run it without
+//! an adder element.
+//!
+//! Where a tool finds the machine's values: not every tool applies an SSD's parameter bindings
+//! (FMPy's `simulate_ssp` reads them but sets only a `parameter_set` passed by hand), so each
+//! component is an FMU tailored to the machine: a scene ([`scene_text`], `resources/scene.toml`
+//! of the FMU) whose start values are the machine's, whose outputs are the connected and the
+//! recorded ones, and whose binary is the catalog's. The same values are also the system's
+//! `ParameterBinding` (names `<component>.<variable>`, SSP 1.0, 5.3.3), for the tools that apply
+//! it, and for a user who edits it. The root system carries OMSimulator's vendor annotation
+//! (`org.openmodelica`: a fixed-step master and its step), without which OMSimulator 3.0 does
+//! not import a system; other readers skip it (SSP 1.0 annotations are `processContents="lax"`).
 
 use crate::catalog;
 use crate::model::Causality;
+use crate::scene::{Scene, Tailored};
 use std::f64::consts::PI;
 use std::io::Write;
 use zip::write::SimpleFileOptions;
@@ -21,11 +31,12 @@ pub struct Component {
     /// Element name; no name may be a prefix of another plus `.` (FMPy matches parameters by
     /// prefix).
     pub name: &'static str,
-    /// `modelIdentifier` of a catalog FMU.
+    /// `modelIdentifier` of the catalog FMU it is tailored from.
     pub fmu: &'static str,
-    /// Real parameter values `(variable, value)`.
+    /// Real parameter values `(variable, value)`; `drive.phi0` is a mechanism's mounting phase on
+    /// the shaft (its scene's `[drive]`).
     pub params: Vec<(&'static str, f64)>,
-    /// Outputs to record besides the connected ones.
+    /// Outputs a designer reads, besides the connected ones.
     pub record: Vec<&'static str>,
 }
 
@@ -44,6 +55,9 @@ pub struct Machine {
     pub nominal_w: f64,
     /// `DefaultExperiment` stop time, s.
     pub stop: f64,
+    /// Communication step of the fixed-step master, s (OMSimulator's annotation, the tailored
+    /// FMUs' `DefaultExperiment`).
+    pub step: f64,
 }
 
 const RPM: f64 = PI / 30.0;
@@ -82,6 +96,10 @@ pub fn trimmer_drive(fly_j: f64) -> Vec<(&'static str, f64)> {
 /// Default flywheel of the trimmer's main shaft, kg·m² (assumption).
 pub const TRIMMER_FLY_J: f64 = 3000.0;
 
+/// What a machine's drive shows besides the shaft it turns: the motor's torque (at the motor
+/// shaft), speed and power, and the load torque at the main shaft.
+const DRIVE_RECORD: &[&str] = &["motor.tau", "motor.w", "motor.P", "shaft.tau_load"];
+
 /// The two machines.
 pub fn machines() -> Vec<Machine> {
     let sewing = {
@@ -103,24 +121,39 @@ pub fn machines() -> Vec<Machine> {
                     name: "drive",
                     fmu: "MainShaft",
                     params: vec![],
-                    record: vec!["motor.tau", "motor.P", "shaft.tau_load"],
+                    record: DRIVE_RECORD.to_vec(),
                 },
                 Component {
                     name: "table",
                     fmu: "SewingTable",
                     params: vec![],
-                    record: vec!["table.x", "shaft.tau"],
+                    // cam contact force and its Hertz stress, the table's inertia force
+                    record: vec![
+                        "table.x",
+                        "cam.F",
+                        "cam.sigma_H",
+                        "table.F_inertia",
+                        "shaft.tau",
+                    ],
                 },
                 Component {
                     name: "perforators",
                     fmu: "Perforators",
                     params: vec![],
-                    record: vec!["perforators.s", "shaft.tau"],
+                    // rod force, ramp-roller contact force, piercing load (table.F is connected)
+                    record: vec![
+                        "perforators.s",
+                        "rod.F",
+                        "roller.F",
+                        "pierce.Q_T",
+                        "shaft.tau",
+                    ],
                 },
             ],
             connections,
             nominal_w: 100.0 * RPM,
             stop: 4.0,
+            step: 1e-3,
         }
     };
     let trimmer = {
@@ -135,7 +168,8 @@ pub fn machines() -> Vec<Machine> {
             } else {
                 vec![]
             },
-            record: vec!["knife.s", "shaft.tau"],
+            // rod force, cutting force, roller-slot contact force of the Geneva pair
+            record: vec!["knife.s", "rod.F", "knife.F_cut", "geneva.F", "shaft.tau"],
         };
         Machine {
             name: "ThreeKnifeTrimmer",
@@ -145,7 +179,7 @@ pub fn machines() -> Vec<Machine> {
                     name: "drive",
                     fmu: "MainShaft",
                     params: trimmer_drive(TRIMMER_FLY_J),
-                    record: vec!["motor.tau", "motor.P", "shaft.tau_load"],
+                    record: DRIVE_RECORD.to_vec(),
                 },
                 knife("side_left", 0.0),
                 knife("side_right", 0.0),
@@ -154,6 +188,7 @@ pub fn machines() -> Vec<Machine> {
             connections,
             nominal_w: 30.0 * RPM,
             stop: 12.0,
+            step: 2e-3,
         }
     };
     vec![sewing, trimmer]
@@ -225,9 +260,104 @@ pub fn check(m: &Machine) -> Result<(), String> {
     Ok(())
 }
 
-/// `SystemStructure.ssd` of a machine (SSP 1.0).
-pub fn ssd(m: &Machine) -> Result<String, String> {
+/// The connectors of a component in the SSD: its connected inputs and outputs, then the
+/// recorded outputs, each once, in that order: `(variable, kind)`.
+fn connectors<'a>(m: &'a Machine, c: &Component) -> Vec<(&'a str, &'static str)> {
+    let mut out: Vec<(&str, &str)> = Vec::new();
+    for ((e1, c1), (e2, c2)) in &m.connections {
+        if *e2 == c.name && !out.contains(&(c2, "input")) {
+            out.push((c2, "input"));
+        }
+        if *e1 == c.name && !out.contains(&(c1, "output")) {
+            out.push((c1, "output"));
+        }
+    }
+    for r in &c.record {
+        if !out.contains(&(r, "output")) {
+            out.push((r, "output"));
+        }
+    }
+    out
+}
+
+/// The scene a component's FMU is tailored to: the machine's parameter values as start values
+/// (`drive.phi0` as the `[drive]` phase), its connected and recorded outputs, the kinetostatic
+/// level (the catalog FMU's default) for a mechanism, the machine's experiment.
+pub fn scene_text(m: &Machine, c: &Component) -> String {
+    let mut x = format!(
+        "# {} of the {}: the FMU tailored to the machine (`bindery ssp`)\n",
+        c.name, m.name
+    );
+    x += &format!(
+        "name = \"{}_{}\"\nmechanism = \"{}\"\n",
+        m.name, c.name, c.fmu
+    );
+    if c.fmu != "MainShaft" {
+        x += "fidelity = \"kinetostatic\"\n";
+    }
+    let outputs: Vec<String> = connectors(m, c)
+        .into_iter()
+        .filter(|(_, kind)| *kind == "output")
+        .map(|(v, _)| format!("\"{v}\""))
+        .collect();
+    x += &format!("outputs = [{}]\n", outputs.join(", "));
+    let (phase, params): (Vec<_>, Vec<_>) = c.params.iter().partition(|(p, _)| *p == "drive.phi0");
+    if !params.is_empty() {
+        x += "\n[parameters]\n";
+        for (p, v) in params {
+            x += &format!("\"{p}\" = {}\n", crate::md::fmt_real(v));
+        }
+    }
+    if let Some((_, phi0)) = phase.first() {
+        x += &format!(
+            "\n[drive]\nmode = \"input\"\nphi0 = {}\n",
+            crate::md::fmt_real(*phi0)
+        );
+    }
+    x += &format!(
+        "\n[experiment]\nstop = {}\nstep = {}\n",
+        crate::md::fmt_real(m.stop),
+        crate::md::fmt_real(m.step)
+    );
+    x
+}
+
+/// The FMU of every component, tailored to the machine ([`scene_text`]), in component order;
+/// refuses a machine whose connectors are not all variables of these FMUs, with the right
+/// causality.
+pub fn tailored(m: &Machine) -> Result<Vec<Tailored>, String> {
     check(m)?;
+    let mut out = Vec::new();
+    for c in &m.components {
+        let text = scene_text(m, c);
+        let culprit =
+            |e: crate::scene::SceneError| format!("{}: component {}: {e}", m.name, c.name);
+        let (_, t) = catalog::tailor(&Scene::parse(&text).map_err(culprit)?).map_err(culprit)?;
+        for (name, kind) in connectors(m, c) {
+            let want = if kind == "input" {
+                Causality::Input
+            } else {
+                Causality::Output
+            };
+            if !t
+                .variables
+                .iter()
+                .any(|(_, v)| v.name == name && v.causality == want)
+            {
+                return Err(format!(
+                    "{}: {} has no {kind} {name} (the FMU tailored to {})",
+                    m.name, t.identifier, c.name
+                ));
+            }
+        }
+        out.push(t);
+    }
+    Ok(out)
+}
+
+/// `SystemStructure.ssd` of a machine (SSP 1.0), its components the FMUs [`tailored`] to it.
+pub fn ssd(m: &Machine) -> Result<String, String> {
+    let fmus = tailored(m)?;
     let mut x = String::from("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n");
     x += "<ssd:SystemStructureDescription xmlns:ssc=\"http://ssp-standard.org/SSP1/SystemStructureCommon\" xmlns:ssd=\"http://ssp-standard.org/SSP1/SystemStructureDescription\" xmlns:ssv=\"http://ssp-standard.org/SSP1/SystemStructureParameterValues\" version=\"1.0\"";
     x += &format!(
@@ -262,32 +392,13 @@ pub fn ssd(m: &Machine) -> Result<String, String> {
         x += "            </ssv:Parameters>\n          </ssv:ParameterSet>\n        </ssd:ParameterValues>\n      </ssd:ParameterBinding>\n    </ssd:ParameterBindings>\n";
     }
     x += "    <ssd:Elements>\n";
-    for c in &m.components {
+    for (c, t) in m.components.iter().zip(&fmus) {
         x += &format!(
             "      <ssd:Component name=\"{}\" type=\"application/x-fmu-sharedlibrary\" source=\"resources/{}.fmu\">\n        <ssd:Connectors>\n",
             esc(c.name),
-            esc(c.fmu)
+            esc(&t.identifier)
         );
-        // connected inputs and outputs, then the recorded outputs, each once, in that order
-        let mut seen: Vec<(&str, &str)> = Vec::new();
-        let mut connectors = Vec::new();
-        for ((e1, c1), (e2, c2)) in &m.connections {
-            if *e2 == c.name && !seen.contains(&(c2, "input")) {
-                seen.push((c2, "input"));
-                connectors.push((*c2, "input"));
-            }
-            if *e1 == c.name && !seen.contains(&(c1, "output")) {
-                seen.push((c1, "output"));
-                connectors.push((*c1, "output"));
-            }
-        }
-        for r in &c.record {
-            if !seen.contains(&(r, "output")) {
-                seen.push((r, "output"));
-                connectors.push((*r, "output"));
-            }
-        }
-        for (name, kind) in connectors {
+        for (name, kind) in connectors(m, c) {
             x += &format!(
                 "          <ssd:Connector name=\"{}\" kind=\"{kind}\"><ssc:Real/></ssd:Connector>\n",
                 esc(name)
@@ -305,25 +416,42 @@ pub fn ssd(m: &Machine) -> Result<String, String> {
             esc(c2)
         );
     }
-    x += "    </ssd:Connections>\n  </ssd:System>\n";
+    x += "    </ssd:Connections>\n";
+    // OMSimulator's vendor annotation: its fixed-step master ("oms-ma") at the machine's step;
+    // the tolerances are those it writes itself (the fixed-step master does not use them)
     x += &format!(
-        "  <ssd:DefaultExperiment startTime=\"0.0\" stopTime=\"{}\"/>\n",
-        crate::md::fmt_real(m.stop)
+        "    <ssd:Annotations>\n      <ssc:Annotation type=\"org.openmodelica\">\n        <oms:Annotations xmlns:oms=\"{OMS_NAMESPACE}\">\n          <oms:SimulationInformation>\n            <oms:FixedStepMaster description=\"oms-ma\" stepSize=\"{}\" absoluteTolerance=\"0.0001\" relativeTolerance=\"0.0001\"/>\n          </oms:SimulationInformation>\n        </oms:Annotations>\n      </ssc:Annotation>\n    </ssd:Annotations>\n",
+        crate::md::fmt_real(m.step)
+    );
+    x += "  </ssd:System>\n";
+    // and its result settings (the values it uses when none are given), without which it warns
+    // of "wrong/deprecated content" on import
+    x += &format!(
+        "  <ssd:DefaultExperiment startTime=\"0.0\" stopTime=\"{}\">\n    <ssd:Annotations>\n      <ssc:Annotation type=\"org.openmodelica\">\n        <oms:Annotations xmlns:oms=\"{OMS_NAMESPACE}\">\n          <oms:SimulationInformation resultFile=\"{}_res.mat\" loggingInterval=\"0.0\" bufferSize=\"10\" signalFilter=\".*\"/>\n        </oms:Annotations>\n      </ssc:Annotation>\n    </ssd:Annotations>\n  </ssd:DefaultExperiment>\n",
+        crate::md::fmt_real(m.stop),
+        esc(m.name)
     );
     x += "</ssd:SystemStructureDescription>\n";
     Ok(x)
 }
 
-/// The `.ssp` archive: `SystemStructure.ssd` and `resources/<id>.fmu` of every FMU used, read by
-/// `fmu(id)` (the built FMU's bytes). Reproducible: fixed order and timestamps.
+/// The namespace of OMSimulator's annotations (what OMSimulator writes).
+pub const OMS_NAMESPACE: &str =
+    "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd";
+
+/// The `.ssp` archive: `SystemStructure.ssd` and `resources/<id>.fmu`, the FMU [`tailored`] to
+/// each component, its binary the catalog FMU's, read by `binary(id)` (`id` the catalog
+/// modelIdentifier). Reproducible: fixed order and timestamps.
 pub fn package(
     m: &Machine,
-    mut fmu: impl FnMut(&str) -> Result<Vec<u8>, String>,
+    binary: &dyn Fn(&str) -> Result<Vec<u8>, String>,
 ) -> Result<Vec<u8>, String> {
     let ssd = ssd(m)?;
-    let mut ids: Vec<&str> = m.components.iter().map(|c| c.fmu).collect();
-    ids.sort_unstable();
-    ids.dedup();
+    let mut fmus = Vec::new();
+    for c in &m.components {
+        fmus.push(catalog::scene_fmu(&scene_text(m, c), binary)?);
+    }
+    fmus.sort_by(|a, b| a.0.cmp(&b.0));
     let mut zip = ZipWriter::new(std::io::Cursor::new(Vec::new()));
     let opts = SimpleFileOptions::default()
         .compression_method(CompressionMethod::Deflated)
@@ -332,8 +460,7 @@ pub fn package(
     zip.start_file("SystemStructure.ssd", opts)
         .map_err(|e| e.to_string())?;
     zip.write_all(ssd.as_bytes()).map_err(|e| e.to_string())?;
-    for id in ids {
-        let bytes = fmu(id)?;
+    for (id, bytes) in fmus {
         let path = format!("resources/{id}.fmu");
         zip.start_file(
             path.as_str(),
@@ -383,11 +510,114 @@ mod tests {
     }
 
     #[test]
+    fn every_component_is_tailored_to_the_machine() {
+        for m in machines() {
+            let fmus = tailored(&m).unwrap();
+            for (c, t) in m.components.iter().zip(&fmus) {
+                assert_eq!(t.identifier, format!("{}_{}_{}", c.fmu, m.name, c.name));
+                // the machine's values are the FMU's start values, and it lists them
+                for (p, x) in &c.params {
+                    let (vr, v) = t
+                        .variables
+                        .iter()
+                        .find(|(_, v)| v.name == *p)
+                        .unwrap_or_else(|| panic!("{}: {p} not listed", t.identifier));
+                    assert_eq!(t.start[*vr as usize], *x, "{}: {p}", t.identifier);
+                    assert_eq!(v.start, Some(*x), "{}: {p}", t.identifier);
+                }
+                // its outputs are the SSD's output connectors, nothing else
+                let mut outs: Vec<&str> = t
+                    .variables
+                    .iter()
+                    .filter(|(_, v)| v.causality == Causality::Output)
+                    .map(|(_, v)| v.name)
+                    .collect();
+                let mut want: Vec<&str> = connectors(&m, c)
+                    .into_iter()
+                    .filter(|c| c.1 == "output")
+                    .map(|c| c.0)
+                    .collect();
+                outs.sort_unstable();
+                want.sort_unstable();
+                assert_eq!(outs, want, "{}", t.identifier);
+                assert_eq!(t.info.experiment.stop, m.stop);
+                assert_eq!(t.info.experiment.step, m.step);
+            }
+        }
+        // the front knife's phase is a parameter of its FMU; the side knives' is not set
+        let trimmer = machines().remove(1);
+        let fmus = tailored(&trimmer).unwrap();
+        let phase = |i: usize| {
+            fmus[i]
+                .variables
+                .iter()
+                .find(|(_, v)| v.name == "drive.phi0")
+                .and_then(|(_, v)| v.start)
+        };
+        assert_eq!(trimmer.components[3].name, "front");
+        assert_eq!(phase(3), Some(PI));
+        assert_eq!(phase(1), None);
+        // the drive's: the trimmer's motor, gear and flywheel
+        let x = &fmus[0];
+        assert!(x.model_description.contains("name=\"fly.J\""));
+        assert_eq!(x.start[vr_of(x, "fly.J")], TRIMMER_FLY_J);
+        assert_eq!(x.start[vr_of(x, "gear.i")], 50.0);
+    }
+
+    fn vr_of(t: &Tailored, name: &str) -> usize {
+        t.variables.iter().find(|(_, v)| v.name == name).unwrap().0 as usize
+    }
+
+    #[test]
+    fn a_connector_the_tailored_fmu_leaves_out_is_refused() {
+        // a knife whose only output is its position: the tailored FMU has shaft.phi as its
+        // only input, so the connection of the shaft's acceleration has no end
+        let mut m = machines().remove(1);
+        m.components.truncate(2);
+        m.connections = vec![
+            (("drive", "shaft.phi"), ("side_left", "shaft.phi")),
+            (("drive", "shaft.a"), ("side_left", "shaft.a")),
+        ];
+        m.components[1].record = vec!["knife.s"];
+        let e = tailored(&m).unwrap_err();
+        assert!(
+            e.contains("GenevaKnifeDrive_ThreeKnifeTrimmer_side_left has no input shaft.a"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn the_ssd_carries_omsimulators_annotations_where_it_reads_them() {
+        for m in machines() {
+            let x = ssd(&m).unwrap();
+            let at = |s: &str| x.find(s).unwrap_or_else(|| panic!("{s} missing"));
+            // the root system's master, after its connections (SSP 1.0: last child of System)
+            let master = at(&format!(
+                "<oms:FixedStepMaster description=\"oms-ma\" stepSize=\"{}\"",
+                crate::md::fmt_real(m.step)
+            ));
+            assert!(at("</ssd:Connections>") < master && master < at("  </ssd:System>"));
+            // the result settings, inside the DefaultExperiment
+            let results = at(&format!(
+                "<oms:SimulationInformation resultFile=\"{}_res.mat\"",
+                m.name
+            ));
+            assert!(at("<ssd:DefaultExperiment ") < results);
+            assert!(results < at("</ssd:DefaultExperiment>"));
+            assert_eq!(
+                x.matches("<ssc:Annotation type=\"org.openmodelica\">")
+                    .count(),
+                2
+            );
+        }
+    }
+
+    #[test]
     fn archive_layout_and_reproducibility() {
         let m = machines().remove(1);
         let fake = |id: &str| Ok(id.as_bytes().to_vec());
-        let a = package(&m, fake).unwrap();
-        assert_eq!(a, package(&m, fake).unwrap());
+        let a = package(&m, &fake).unwrap();
+        assert_eq!(a, package(&m, &fake).unwrap());
         let mut z = zip::ZipArchive::new(std::io::Cursor::new(a)).unwrap();
         let names: Vec<String> = (0..z.len())
             .map(|i| z.by_index(i).unwrap().name().unwrap().to_string())
@@ -396,9 +626,34 @@ mod tests {
             names,
             [
                 "SystemStructure.ssd",
-                "resources/GenevaKnifeDrive.fmu",
-                "resources/MainShaft.fmu"
+                "resources/GenevaKnifeDrive_ThreeKnifeTrimmer_front.fmu",
+                "resources/GenevaKnifeDrive_ThreeKnifeTrimmer_side_left.fmu",
+                "resources/GenevaKnifeDrive_ThreeKnifeTrimmer_side_right.fmu",
+                "resources/MainShaft_ThreeKnifeTrimmer_drive.fmu",
             ]
         );
+        // each FMU carries its scene and the catalog binary under its own identifier
+        let mut f = z
+            .by_name("resources/MainShaft_ThreeKnifeTrimmer_drive.fmu")
+            .unwrap();
+        let mut bytes = Vec::new();
+        std::io::Read::read_to_end(&mut f, &mut bytes).unwrap();
+        let mut fmu = zip::ZipArchive::new(std::io::Cursor::new(bytes)).unwrap();
+        let mut so = Vec::new();
+        std::io::Read::read_to_end(
+            &mut fmu
+                .by_name("binaries/linux64/MainShaft_ThreeKnifeTrimmer_drive.so")
+                .unwrap(),
+            &mut so,
+        )
+        .unwrap();
+        assert_eq!(so, b"MainShaft");
+        let mut scene = String::new();
+        std::io::Read::read_to_string(
+            &mut fmu.by_name("resources/scene.toml").unwrap(),
+            &mut scene,
+        )
+        .unwrap();
+        assert_eq!(scene, scene_text(&m, &m.components[0]));
     }
 }

@@ -266,20 +266,30 @@ fn absolute(p: &Path) -> PathBuf {
     }
 }
 
-/// Writes every machine's `.ssp` from the built FMUs.
+/// Writes every machine's `.ssp`: the FMUs tailored to it, their binaries those of the built
+/// FMUs in `fmus`.
 fn ssp(fmus: &Path, out: &Path) -> Result<(), String> {
     let (fmus, out) = (absolute(fmus), absolute(out));
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-    for m in bindery_fmu::ssp::machines() {
-        let bytes = bindery_fmu::ssp::package(&m, |id| {
-            let p = fmus.join(format!("{id}.fmu"));
-            std::fs::read(&p).map_err(|e| {
-                format!(
-                    "{}: {e} (run `cargo run --release -- build` first)",
-                    p.display()
-                )
-            })
+    let binary = |id: &str| -> Result<Vec<u8>, String> {
+        let p = fmus.join(format!("{id}.fmu"));
+        let bytes = std::fs::read(&p).map_err(|e| {
+            format!(
+                "{}: {e} (run `cargo run --release -- build` first)",
+                p.display()
+            )
         })?;
+        let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes))
+            .map_err(|e| format!("{}: {e}", p.display()))?;
+        let mut so = zip
+            .by_name(&format!("binaries/linux64/{id}.so"))
+            .map_err(|e| format!("{}: binaries/linux64/{id}.so: {e}", p.display()))?;
+        let mut b = Vec::new();
+        std::io::Read::read_to_end(&mut so, &mut b).map_err(|e| format!("{}: {e}", p.display()))?;
+        Ok(b)
+    };
+    for m in bindery_fmu::ssp::machines() {
+        let bytes = bindery_fmu::ssp::package(&m, &binary)?;
         let path = out.join(format!("{}.ssp", m.name));
         std::fs::write(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
         eprintln!("wrote {}", path.display());

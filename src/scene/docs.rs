@@ -46,7 +46,8 @@ pub fn report<M: Model>(t: &Tailored) -> Report {
     let table = <M::Var as VarSet>::table();
     let stages = M::STAGES;
     let fid = t.scene.fidelity;
-    let fname = fidelity_name(fid);
+    let fname = fid.map_or("", fidelity_name);
+    let driven = shaft::is_driven::<M::Var>();
     let mut r = Report::default();
     for (vr, v) in table.iter().enumerate() {
         if t.exposed[vr] {
@@ -59,7 +60,7 @@ pub fn report<M: Model>(t: &Tailored) -> Report {
         match v.causality {
             Causality::Output | Causality::CalculatedParameter => {
                 let levels = levels_of(stages, v.needs);
-                r.outputs.push(item(if levels.contains(&fid) {
+                r.outputs.push(item(if fid.is_none_or(|f| levels.contains(&f)) {
                     "not among the scene's outputs".into()
                 } else {
                     format!(
@@ -78,11 +79,16 @@ pub fn report<M: Model>(t: &Tailored) -> Report {
             })),
             Causality::Parameter => {
                 let x = value_text(v, t.start[vr]);
-                let why = match vr as u32 {
+                // the common drive and level parameters of a mechanism (a drive has none)
+                let common = if driven { vr as u32 } else { u32::MAX };
+                let why = match common {
                     shaft::FIDELITY => format!("fixed by the scene's fidelity: {x}"),
                     shaft::MODE => format!("fixed by the scene's drive: {x}"),
-                    shaft::N | shaft::PHI0 => format!(
+                    shaft::N => format!(
                         "used by a constant_speed drive only; the scene drives through the inputs (kept at {x})"
+                    ),
+                    shaft::PHI0 => format!(
+                        "the scene sets no phase of the mechanism on the shaft (kept at {x})"
                     ),
                     _ => format!(
                         "influences only {} (kept inside at {x}), which no output of the scene needs",
@@ -109,7 +115,7 @@ pub fn report<M: Model>(t: &Tailored) -> Report {
             .collect();
         r.stages.push(LeftOut {
             name: s.name.to_string(),
-            why: if s.levels.contains(&fid) {
+            why: if fid.is_none_or(|f| s.levels.contains(&f)) {
                 format!(
                     "{}. Skipped: no output of the scene needs it (it computes {})",
                     s.description,
@@ -152,10 +158,12 @@ pub fn intro_html<M: Model>(t: &Tailored) -> String {
     let n_all = <M::Var as VarSet>::table().len();
     let _ = writeln!(
         out,
-        "<p>This FMU is <code>{}</code> tailored to the scene <code>{}</code> ({} level): it lists {} of the {} variables of the full <code>{}</code> FMU, and its binary (the mechanism's own) reads the scene from <code>resources/scene.toml</code> and computes only what those outputs need. The full FMU is the scene that asks for everything.</p>",
+        "<p>This FMU is <code>{}</code> tailored to the scene <code>{}</code>{}: it lists {} of the {} variables of the full <code>{}</code> FMU, and its binary (the mechanism's own) reads the scene from <code>resources/scene.toml</code> and computes only what those outputs need. The full FMU is the scene that asks for everything.</p>",
         escape(M::IDENTIFIER),
         escape(&t.scene.name),
-        fidelity_name(t.scene.fidelity),
+        t.scene
+            .fidelity
+            .map_or(String::new(), |f| format!(" ({} level)", fidelity_name(f))),
         t.variables.len(),
         n_all,
         escape(M::IDENTIFIER)

@@ -224,8 +224,9 @@ fn value(v: &DeValue) -> Option<Value> {
 /// The scene's drive (`[drive]`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Drive {
-    /// Driven through the shaft inputs (no `[drive]`, or `mode = "input"`).
-    Input,
+    /// Driven through the shaft inputs (no `[drive]`, or `mode = "input"`), mounted at the
+    /// phase `phi0` rad on the shaft when given (`drive.phi0` is added to `shaft.phi`).
+    Input { phi0: Option<f64> },
     /// Runs alone at `n` rpm from the shaft angle `phi0` rad.
     ConstantSpeed { rpm: f64, phi0: f64 },
 }
@@ -237,7 +238,8 @@ pub struct Scene {
     pub text: String,
     pub name: String,
     pub mechanism: String,
-    pub fidelity: Fidelity,
+    /// The level of a mechanism; `None` for a model without levels (the drive MainShaft).
+    pub fidelity: Option<Fidelity>,
     /// Output names and their byte spans.
     pub outputs: Vec<(String, Range<usize>)>,
     /// Parameter names, values and the spans of the key.
@@ -343,28 +345,32 @@ impl Scene {
         }
         let (mechanism, mechanism_span) =
             root.string("mechanism", root.require("mechanism", "a string")?)?;
-        let (fid, fidelity_span) = root.string(
-            "fidelity",
-            root.require("fidelity", "kinematic, kinetostatic or elastodynamic")?,
-        )?;
-        let fidelity = FIDELITIES
-            .iter()
-            .find(|(n, _)| *n == fid.as_str())
-            .map(|(_, f)| *f)
-            .ok_or_else(|| {
-                at(
-                    "fidelity",
-                    fidelity_span.clone(),
-                    format!(
-                        "unknown fidelity {fid:?}; valid: {}",
-                        FIDELITIES
-                            .iter()
-                            .map(|f| f.0)
-                            .collect::<Vec<_>>()
-                            .join(", ")
-                    ),
-                )
-            })?;
+        // required of a mechanism, refused for a drive (MainShaft): [`tailor`] knows which
+        let (fidelity, fidelity_span) = match root.get("fidelity") {
+            None => (None, 0..0),
+            Some(item) => {
+                let (fid, span) = root.string("fidelity", item)?;
+                let f = FIDELITIES
+                    .iter()
+                    .find(|(n, _)| *n == fid.as_str())
+                    .map(|(_, f)| *f)
+                    .ok_or_else(|| {
+                        at(
+                            "fidelity",
+                            span.clone(),
+                            format!(
+                                "unknown fidelity {fid:?}; valid: {}",
+                                FIDELITIES
+                                    .iter()
+                                    .map(|f| f.0)
+                                    .collect::<Vec<_>>()
+                                    .join(", ")
+                            ),
+                        )
+                    })?;
+                (Some(f), span)
+            }
+        };
         let outputs_item = root.require("outputs", "an array of output names")?;
         let outputs_span = outputs_item.1.clone();
         let DeValue::Array(list) = outputs_item.0 else {
@@ -449,7 +455,7 @@ impl Scene {
         };
         let mut drive_span = 0..0;
         let drive = match root.table("drive", "drive.")? {
-            None => Drive::Input,
+            None => Drive::Input { phi0: None },
             Some(d) => {
                 drive_span = d.span.clone();
                 d.only(DRIVE_KEYS)?;
@@ -460,16 +466,24 @@ impl Scene {
                     .get("phi0")
                     .map(|item| d.number("phi0", item))
                     .transpose()?;
+                let finite = |phi0: Option<(f64, Range<usize>)>| match phi0 {
+                    Some((x, s)) if !x.is_finite() => {
+                        Err(at("drive.phi0", s, "must be finite (rad)".into()))
+                    }
+                    p => Ok(p.map(|p| p.0)),
+                };
                 match mode.as_str() {
                     "input" => {
-                        if let Some((_, s)) = n.as_ref().or(phi0.as_ref()) {
+                        if let Some((_, s)) = n {
                             return Err(at(
-                                "drive",
-                                s.clone(),
-                                "n and phi0 apply to mode = \"constant_speed\" only".into(),
+                                "drive.n",
+                                s,
+                                "applies to mode = \"constant_speed\" only".into(),
                             ));
                         }
-                        Drive::Input
+                        Drive::Input {
+                            phi0: finite(phi0)?,
+                        }
                     }
                     "constant_speed" => {
                         let (rpm, n_span) = n.ok_or_else(|| {
@@ -489,11 +503,10 @@ impl Scene {
                                 ),
                             ));
                         }
-                        let (phi0, phi0_span) = phi0.unwrap_or((0.0, 0..0));
-                        if !phi0.is_finite() {
-                            return Err(at("drive.phi0", phi0_span, "must be finite (rad)".into()));
+                        Drive::ConstantSpeed {
+                            rpm,
+                            phi0: finite(phi0)?.unwrap_or(0.0),
                         }
-                        Drive::ConstantSpeed { rpm, phi0 }
                     }
                     other => {
                         return Err(at(
@@ -655,8 +668,45 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
     }
     let table = <M::Var as VarSet>::table();
     let stages = M::STAGES;
-    let fid = scene.fidelity;
     let vr_of = |name: &str| table.iter().position(|v| v.name == name);
+    // a mechanism is driven through the shaft connector and has levels; a drive (MainShaft)
+    // turns the shaft itself and has neither
+    let driven = shaft::is_driven::<M::Var>();
+    let fid = match (driven, scene.fidelity) {
+        (true, Some(f)) => Some(f),
+        (true, None) => {
+            return Err(SceneError {
+                key: "fidelity".into(),
+                line: None,
+                message: format!(
+                    "missing: a scene of {} needs `fidelity` (kinematic, kinetostatic or elastodynamic)",
+                    M::IDENTIFIER
+                ),
+            });
+        }
+        (false, Some(_)) => {
+            return Err(scene.error_at(
+                "fidelity",
+                &scene.spans.fidelity,
+                format!(
+                    "{} has no fidelity levels (it drives the shaft): leave `fidelity` out",
+                    M::IDENTIFIER
+                ),
+            ));
+        }
+        (false, None) => None,
+    };
+    let is_structural = |vr: u32| driven && structural(vr);
+    if !driven && !scene.spans.drive.is_empty() {
+        return Err(scene.error_at(
+            "drive",
+            &scene.spans.drive,
+            format!(
+                "{} drives the shaft itself: a scene of it has no [drive]",
+                M::IDENTIFIER
+            ),
+        ));
+    }
 
     // ---- outputs: exist, are outputs (or calculated parameters), computed at this fidelity
     let output_names: Vec<&str> = table
@@ -708,7 +758,9 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
             ));
         }
         let levels = levels_of(stages, v.needs);
-        if !levels.contains(&fid) {
+        if let Some(fid) = fid
+            && !levels.contains(&fid)
+        {
             let names: Vec<&str> = levels.iter().map(|f| fidelity_name(*f)).collect();
             return Err(scene.error_at(
                 key,
@@ -728,7 +780,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
     }
 
     // ---- the stages that run
-    let mut needed = always(stages, fid);
+    let mut needed = fid.map_or(Stages::NONE, |f| always(stages, f));
     for (vr, v) in table.iter().enumerate() {
         if wanted[vr] {
             needed = needed.or(v.needs);
@@ -748,7 +800,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
     let param_names: Vec<&str> = table
         .iter()
         .enumerate()
-        .filter(|(vr, v)| v.causality == Causality::Parameter && !structural(*vr as u32))
+        .filter(|(vr, v)| v.causality == Causality::Parameter && !is_structural(*vr as u32))
         .map(|(_, v)| v.name)
         .collect();
     for (name, x, span) in &scene.parameters {
@@ -785,7 +837,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
                 ),
             ));
         }
-        if structural(vr as u32) {
+        if is_structural(vr as u32) {
             return Err(scene.error_at(
                 key,
                 span,
@@ -802,14 +854,23 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         let x = value_of(v, x).map_err(|m| scene.error_at(key.clone(), span, m))?;
         values.raw_mut()[vr] = x;
     }
-    let raw = values.raw_mut();
-    raw[shaft::FIDELITY as usize] = fid as i32 as f64;
-    if let Drive::ConstantSpeed { rpm, phi0 } = scene.drive {
-        raw[shaft::MODE as usize] = 2.0;
-        raw[shaft::N as usize] = std::f64::consts::PI * (rpm / 30.0);
-        raw[shaft::PHI0 as usize] = phi0;
-    } else {
-        raw[shaft::MODE as usize] = 1.0;
+    // the drive's phase: a parameter of the FMU when the scene sets it
+    let phi0 = match scene.drive {
+        Drive::Input { phi0 } => phi0,
+        Drive::ConstantSpeed { phi0, .. } => Some(phi0),
+    };
+    if let Some(fid) = fid {
+        let raw = values.raw_mut();
+        raw[shaft::FIDELITY as usize] = fid as i32 as f64;
+        if let Drive::ConstantSpeed { rpm, .. } = scene.drive {
+            raw[shaft::MODE as usize] = 2.0;
+            raw[shaft::N as usize] = std::f64::consts::PI * (rpm / 30.0);
+        } else {
+            raw[shaft::MODE as usize] = 1.0;
+        }
+        if let Some(phi0) = phi0 {
+            raw[shaft::PHI0 as usize] = phi0;
+        }
     }
     values.stages = needed;
     let param_error = |e: crate::model::ParamError| {
@@ -855,7 +916,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
             }
         }
     }
-    if fid == Fidelity::Elastodynamic {
+    if fid == Some(Fidelity::Elastodynamic) {
         // the ODE extrapolates the shaft from all three inputs over a step
         for i in [shaft::PHI, shaft::W, shaft::A] {
             used_inputs[i as usize] = true;
@@ -874,8 +935,8 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
                         && !(constant_speed && matches!(r, shaft::PHI | shaft::W | shaft::A))
                 }
                 Causality::Parameter => {
-                    if structural(r) {
-                        constant_speed && matches!(r, shaft::N | shaft::PHI0)
+                    if is_structural(r) {
+                        (constant_speed && r == shaft::N) || (phi0.is_some() && r == shaft::PHI0)
                     } else {
                         v.feeds == Stages::ALL || v.feeds.intersects(needed)
                     }
@@ -902,17 +963,17 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         identifier: leak(identifier.clone()),
         model_name: leak(identifier.clone()),
         description: leak(format!(
-            "{} Tailored to the scene {:?} ({} level): only its outputs, the parameters and inputs they use.",
+            "{} Tailored to the scene {:?}{}: only its outputs, the parameters and inputs they use.",
             M::DESCRIPTION,
             scene.name,
-            fidelity_name(fid)
+            fid.map_or(String::new(), |f| format!(" ({} level)", fidelity_name(f)))
         )),
         experiment: scene.experiment.unwrap_or(M::EXPERIMENT),
         event_indicators: M::EVENT_INDICATORS as u32,
         // input derivatives shape the shaft path of the elastodynamic level only, and need the
         // shaft angle as an input
         can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS
-            && fid == Fidelity::Elastodynamic
+            && fid == Some(Fidelity::Elastodynamic)
             && exposed[shaft::PHI as usize],
     };
     let refs: Vec<(u32, &Var)> = variables.iter().map(|(vr, v)| (*vr, v)).collect();

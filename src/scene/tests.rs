@@ -101,7 +101,7 @@ fn every_example_scene_tailors_and_covers_every_level() {
     ] {
         for (n, f) in levels {
             assert!(
-                covered.contains(&(m.to_string(), *f)),
+                covered.contains(&(m.to_string(), Some(*f))),
                 "no example scene of {m} at {n}"
             );
         }
@@ -554,5 +554,151 @@ fn bad_parameters_are_named() {
         "parameters.\"law.forward\"",
         6,
         &["cycloidal, harmonic, poly345"],
+    );
+}
+
+const DRIVE: &str = r#"name = "d"
+mechanism = "MainShaft"
+outputs = ["shaft.phi", "shaft.w", "shaft.a", "motor.tau"]
+[parameters]
+"fly.J" = 30.0
+"gear.i" = 50.0
+"init.w" = 3.0
+"#;
+
+#[test]
+fn a_drive_scene_sets_its_start_values_and_has_no_level_or_drive() {
+    use crate::mechanisms::main_shaft::MainShaft;
+    let t = tailor_text::<MainShaft>(DRIVE).unwrap();
+    assert_eq!(t.identifier, "MainShaft_d");
+    let start = |name: &str| {
+        t.variables
+            .iter()
+            .find(|(_, v)| v.name == name)
+            .and_then(|(_, v)| v.start)
+    };
+    assert_eq!(start("fly.J"), Some(30.0));
+    assert_eq!(start("gear.i"), Some(50.0));
+    assert_eq!(start("init.w"), Some(3.0));
+    // untouched parameters keep the model's defaults: the drive's own common variables are not
+    // overwritten by a level or a drive mode (it has none)
+    let full = Values::<<MainShaft as Model>::Var>::start();
+    for (vr, v) in &t.variables {
+        if !["fly.J", "gear.i", "init.w"].contains(&v.name) {
+            assert_eq!(
+                t.start[*vr as usize],
+                full.raw()[*vr as usize],
+                "{}",
+                v.name
+            );
+        }
+    }
+    // shaft.a depends on the loads: all load inputs are listed; the load of a plain coupling too
+    let inputs: Vec<&str> = t
+        .variables
+        .iter()
+        .filter(|(_, v)| v.causality == Causality::Input)
+        .map(|(_, v)| v.name)
+        .collect();
+    assert_eq!(inputs.len(), 7, "{inputs:?}");
+    assert!(!t.info.description.contains("level"));
+    assert!(t.model_description.contains("<ModelExchange"));
+    // its outputs equal the full model's, bit for bit, over a start-up under a load
+    let mut full = Values::<<MainShaft as Model>::Var>::start();
+    full.raw_mut().copy_from_slice(&t.start);
+    let mut tail = full.clone();
+    tail.stages = t.stages;
+    let (mut mf, mut mt) = (
+        MainShaft::prepare(&full).unwrap(),
+        MainShaft::prepare(&tail).unwrap(),
+    );
+    let tau0 = vr_named::<MainShaft>("load1.tau0");
+    for k in 0..200 {
+        let time = k as f64 * 1e-3;
+        for v in [&mut full, &mut tail] {
+            v.raw_mut()[tau0] = 50.0 * (7.0 * time).sin();
+        }
+        mf.evaluate(&mut full, time, &mut NoLog);
+        mt.evaluate(&mut tail, time, &mut NoLog);
+        for (vr, _) in &t.variables {
+            let i = *vr as usize;
+            assert_eq!(full.raw()[i].to_bits(), tail.raw()[i].to_bits());
+        }
+        mf.do_step(&mut full, time, 1e-3, &mut NoLog).unwrap();
+        mt.do_step(&mut tail, time, 1e-3, &mut NoLog).unwrap();
+    }
+}
+
+fn vr_named<M: Model>(name: &str) -> usize {
+    <M::Var as VarSet>::table()
+        .iter()
+        .position(|v| v.name == name)
+        .unwrap()
+}
+
+#[test]
+fn an_input_driven_scene_can_set_its_phase_on_the_shaft() {
+    let t = tailor_text::<GenevaKnifeDrive>(
+        &(GENEVA.to_string() + "[drive]\nmode = \"input\"\nphi0 = 3.0\n"),
+    )
+    .unwrap();
+    let phi0 = t.variables.iter().find(|(_, v)| v.name == "drive.phi0");
+    assert_eq!(phi0.and_then(|(_, v)| v.start), Some(3.0));
+    assert_eq!(
+        t.start[shaft::MODE as usize],
+        1.0,
+        "still driven by the inputs"
+    );
+    assert!(t.variables.iter().any(|(_, v)| v.name == "shaft.phi"));
+    assert!(!t.variables.iter().any(|(_, v)| v.name == "drive.n"));
+    same_outputs::<GenevaKnifeDrive>(&t);
+    // the knife is where an unshifted one is 3 rad further on
+    let knife_s = |phi0: f64, phi: f64| {
+        let mut v = Values::<<GenevaKnifeDrive as Model>::Var>::start();
+        v.raw_mut().copy_from_slice(&t.start);
+        v.raw_mut()[shaft::PHI0 as usize] = phi0;
+        v.raw_mut()[shaft::PHI as usize] = phi;
+        let mut m = GenevaKnifeDrive::prepare(&v).unwrap();
+        m.evaluate(&mut v, 0.0, &mut NoLog);
+        v.raw()[vr_named::<GenevaKnifeDrive>("knife.s")]
+    };
+    assert!((knife_s(3.0, 0.5) - knife_s(0.0, 3.5)).abs() < 1e-12);
+    assert!((knife_s(3.0, 0.5) - knife_s(0.0, 0.5)).abs() > 1e-3);
+    // without a phase, drive.phi0 is not listed (as before)
+    let t = tailor_text::<GenevaKnifeDrive>(GENEVA).unwrap();
+    assert!(!t.variables.iter().any(|(_, v)| v.name == "drive.phi0"));
+}
+
+#[test]
+fn levels_and_drives_belong_to_mechanisms() {
+    let e = refusal(&GENEVA.replace("fidelity = \"kinematic\"\n", ""));
+    assert_eq!(e.key, "fidelity");
+    assert!(
+        e.message.contains("missing") && e.message.contains("GenevaKnifeDrive"),
+        "{e}"
+    );
+    assert_refused(
+        &DRIVE.replace("outputs", "fidelity = \"kinematic\"\noutputs"),
+        "fidelity",
+        3,
+        &["MainShaft has no fidelity levels"],
+    );
+    assert_refused(
+        &(DRIVE.to_string() + "[drive]\nmode = \"input\"\n"),
+        "drive",
+        8,
+        &["MainShaft drives the shaft itself"],
+    );
+    assert_refused(
+        &(GENEVA.to_string() + "[drive]\nmode = \"input\"\nn = 30\n"),
+        "drive.n",
+        7,
+        &["constant_speed"],
+    );
+    assert_refused(
+        &(GENEVA.to_string() + "[drive]\nmode = \"input\"\nphi0 = inf\n"),
+        "drive.phi0",
+        7,
+        &["finite"],
     );
 }

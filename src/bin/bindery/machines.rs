@@ -16,8 +16,6 @@ const RPM: f64 = 30.0 / std::f64::consts::PI;
 
 /// How a machine is run for the figures.
 struct Setup {
-    /// Communication step, s.
-    h: f64,
     /// Length of a steady run from the nominal speed, s, and the turns δ is measured over.
     stop: f64,
     turns: f64,
@@ -31,7 +29,6 @@ struct Setup {
 fn setup(m: &Machine) -> Setup {
     if m.name == "ThreeKnifeTrimmer" {
         Setup {
-            h: 2e-3,
             stop: 20.0,
             turns: 4.0,
             startup_stop: 30.0,
@@ -46,7 +43,6 @@ fn setup(m: &Machine) -> Setup {
         }
     } else {
         Setup {
-            h: 1e-3,
             stop: 8.0,
             turns: 4.0,
             startup_stop: 6.0,
@@ -83,21 +79,21 @@ pub fn machines(out: &Path) -> Result<(), String> {
         let j0 = fly_default(&m);
         let nominal = [("drive", "init.w", m.nominal_w)];
         eprintln!("{}: steady run", m.name);
-        let run = simulate(&m, &nominal, s.stop, s.h)?;
+        let run = simulate(&m, &nominal, s.stop, m.step)?;
         let st = steady(&run, s.turns);
         eprintln!("{}: flywheel for delta <= 1/40", m.name);
-        let j40 = flywheel_for(&m, TARGET, 0.0, s.fly_hi, s.stop, s.h, s.turns)?;
+        let j40 = flywheel_for(&m, TARGET, 0.0, s.fly_hi, s.stop, m.step, s.turns)?;
         let run40 = match j40 {
             Some(j) => Some(simulate(
                 &m,
                 &[("drive", "init.w", m.nominal_w), ("drive", "fly.J", j)],
                 s.stop,
-                s.h,
+                m.step,
             )?),
             None => None,
         };
         eprintln!("{}: start-up", m.name);
-        let up = simulate(&m, &s.startup_set, s.startup_stop, s.h)?;
+        let up = simulate(&m, &s.startup_set, s.startup_stop, m.step)?;
         let w_run = steady(&up, s.turns).w_mean;
         let t95 = startup_time(&up, 0.95, w_run);
         let i2 = (m.components[0].params.iter())

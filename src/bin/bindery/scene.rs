@@ -3,9 +3,6 @@
 //! in `resources/scene.toml`, and the binary reads it at `fmi2Instantiate`.
 
 use bindery_fmu::catalog;
-use bindery_fmu::docs::icon_png;
-use bindery_fmu::package::FmuContents;
-use bindery_fmu::scene::{RESOURCE_NAME, Scene};
 use std::path::{Path, PathBuf};
 
 /// Every `*.toml` in `dir`, sorted.
@@ -29,17 +26,5 @@ pub fn export(
     binary: &dyn Fn(&str) -> Result<Vec<u8>, String>,
 ) -> Result<(String, Vec<u8>), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    let culprit = |e: bindery_fmu::scene::SceneError| format!("{}: {e}", path.display());
-    let scene = Scene::parse(&text).map_err(culprit)?;
-    let (entry, t) = catalog::tailor(&scene).map_err(culprit)?;
-    let documentation = (entry.scene_documentation)(&t)?;
-    let fmu = FmuContents {
-        identifier: t.identifier.clone(),
-        model_description: t.model_description.clone(),
-        binary: binary(entry.identifier)?,
-        documentation,
-        icon: icon_png("Scene")?,
-        resources: vec![(RESOURCE_NAME.to_string(), text.into_bytes())],
-    };
-    Ok((t.identifier, fmu.to_zip()?))
+    catalog::scene_fmu(&text, binary).map_err(|e| format!("{}: {e}", path.display()))
 }
