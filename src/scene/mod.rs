@@ -909,11 +909,9 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         )),
         experiment: scene.experiment.unwrap_or(M::EXPERIMENT),
         event_indicators: M::EVENT_INDICATORS as u32,
-        // input derivatives shape the shaft path of the elastodynamic level only, and need the
-        // shaft angle as an input
-        can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS
-            && fid == Fidelity::Elastodynamic
-            && exposed[shaft::PHI as usize],
+        // input derivatives shape the shaft's path over a step at every level, and need the
+        // shaft angle as an input (not with a constant-speed drive)
+        can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS && exposed[shaft::PHI as usize],
     };
     let refs: Vec<(u32, &Var)> = variables.iter().map(|(vr, v)| (*vr, v)).collect();
     let (model_description, guid) = md::describe_vars(&info, &refs);

@@ -260,8 +260,8 @@ fn same_outputs<M: Model>(t: &Tailored) {
                 tail.raw()[vr]
             );
         }
-        mf.do_step(&mut full, time, h, &mut NoLog).unwrap();
-        mt.do_step(&mut tail, time, h, &mut NoLog).unwrap();
+        mf.step(&mut full, time, h, &mut NoLog).unwrap();
+        mt.step(&mut tail, time, h, &mut NoLog).unwrap();
     }
 }
 

@@ -429,13 +429,14 @@ macro_rules! chain_hooks {
     };
 }
 
-/// [`crate::model::Model::do_step`]: integrates the chain over `[time, time + h]`. A refused step
-/// leaves the chain as it was before it (the caller returns `fmi2Discard`). With `drive.mode` =
-/// input the FMU extrapolates its shaft inputs to `time + h` until the host sets them.
+/// [`crate::model::Model::do_step`]: integrates the chain over `[time, time + h]`, the shaft on
+/// [`shaft::path`] from the inputs at `time` (after the step [`crate::model::Model::step`] moves
+/// the inputs to `time + h` along that path, as at every level). A refused step leaves the chain
+/// as it was before it (the caller returns `fmi2Discard`).
 pub fn do_step<C: ChainModel>(
     chain: Option<&mut Chain<C>>,
     p: &C::Physics,
-    v: &mut Values<C::Var>,
+    v: &Values<C::Var>,
     time: f64,
     h: f64,
     log: &mut dyn Log,
@@ -455,16 +456,6 @@ pub fn do_step<C: ChainModel>(
             d.y = y;
             d.model.after_step(&ode, &mut d.memory, time, h, log);
             C::absorb(&ode, &mut d.memory);
-            let raw = v.raw_mut();
-            if raw[shaft::MODE as usize] as i32 == 1 {
-                // the FMU's own extrapolation of the inputs, until the host sets them
-                let (_, w, a) = path.at(time + h);
-                // the input's meaning: the shaft angle without the mechanism's phase, which
-                // shaft::state adds
-                raw[shaft::PHI as usize] = path.absolute_phi(time + h) - raw[shaft::PHI0 as usize];
-                raw[shaft::W as usize] = w;
-                raw[shaft::A as usize] = a;
-            }
             Ok(())
         }
         Err(why) => {
@@ -801,9 +792,15 @@ mod tests {
         let mut c = toy(&v, 400.0);
         let h = 0.01;
         for j in 0..100 {
-            do_step(Some(&mut c), &(), &mut v, j as f64 * h, h, &mut NoLog).unwrap();
+            let t = j as f64 * h;
+            let inputs = v.raw()[..3].to_vec();
+            do_step(Some(&mut c), &(), &v, t, h, &mut NoLog).unwrap();
+            assert_eq!(v.raw()[..3], inputs, "the chain's step leaves the inputs");
+            // what Model::step does after it: the inputs where the shaft's path led
+            let end = shaft::end_of_step(&v, t, h).unwrap().unwrap();
+            shaft::set_inputs(&mut v, end);
         }
-        // the FMU extrapolated its shaft input (one turn); the mass crossed zero
+        // one turn of the shaft; the mass crossed zero
         assert!((v.raw()[shaft::PHI as usize] - w).abs() < 1e-9);
         assert!(c.started && c.memory >= 1.0, "{c:?}");
         assert!(c.integ.stats.steps > 0);
@@ -827,13 +824,10 @@ mod tests {
         let mut c = toy(&v, 1e8);
         c.start(&(), shaft::path(&v, 0.0), &v);
         let before = c.save();
-        assert!(do_step(Some(&mut c), &(), &mut v, 0.0, 0.01, &mut NoLog).is_err());
+        assert!(do_step(Some(&mut c), &(), &v, 0.0, 0.01, &mut NoLog).is_err());
         assert_eq!(bits(&c.save()), bits(&before));
         assert_eq!(c.integ.stats, toy(&v, 1e8).integ.stats);
-        assert_eq!(
-            do_step::<Toy>(None, &(), &mut v, 0.0, 0.01, &mut NoLog),
-            Ok(())
-        );
+        assert_eq!(do_step::<Toy>(None, &(), &v, 0.0, 0.01, &mut NoLog), Ok(()));
     }
 
     #[test]

@@ -216,8 +216,8 @@ impl Model for MainShaft {
     }
 
     const STATES: usize = 2;
-    // Its inputs are load torques and inertias, held over a step: no shaft path to extrapolate.
-    const CAN_INTERPOLATE_INPUTS: bool = false;
+    // standalone: its inputs (load torques and inertias) are held over a step, and it declares
+    // no canInterpolateInputs (the default for a standalone model)
 
     fn me_states(&mut self, _v: &Values<V>, _time: f64, x: &mut [f64]) {
         x.copy_from_slice(&self.y);

@@ -185,7 +185,7 @@ fn liftoff_figure() -> Figure {
         m.evaluate(&mut v, 0.0, &mut NoLog);
         for i in 0..(stop / dt).round() as usize {
             let t = i as f64 * dt;
-            if m.do_step(&mut v, t, dt, &mut NoLog).is_err() {
+            if m.step(&mut v, t, dt, &mut NoLog).is_err() {
                 break;
             }
             m.evaluate(&mut v, t + dt, &mut NoLog);
