@@ -718,8 +718,11 @@ pub trait Model: Sized + Send + 'static {
     /// Model Exchange: an event at `time` (discrete modes switch here).
     fn me_event(&mut self, _values: &Values<Self::Var>, _time: f64, _log: &mut dyn Log) {}
 
-    /// Model Exchange: the host completed an integrator step at `time`.
-    fn me_completed_step(&mut self, _values: &Values<Self::Var>, _time: f64) {}
+    /// Model Exchange: the host completed an integrator step at `time`. What a Co-Simulation
+    /// step tracks over its span (turn statistics, step counters, what happened during the
+    /// step) a model tracks here over the span since the last completed step, so that an output
+    /// means the same in both interfaces.
+    fn me_completed_step(&mut self, _values: &Values<Self::Var>, _time: f64, _log: &mut dyn Log) {}
 
     /// Internal state beyond the variables, for `fmi2GetFMUstate` and serialization.
     fn save_state(&self) -> Vec<f64> {

@@ -32,6 +32,16 @@ use crate::model::{Log, Values, VarSet};
 use std::cell::Cell;
 use std::fmt::Debug;
 
+/// Where the elastodynamic level takes what it tracks over steps (peaks, turn minima, impact
+/// forces), in the words of a variable's description (use it in `concat!`): the same in both
+/// interfaces, on the points of whichever integration runs.
+#[macro_export]
+macro_rules! at_accepted_steps {
+    () => {
+        "at the accepted integration steps: the FMU's integrator's inside fmi2DoStep in Co-Simulation, the host's completed integrator steps in Model Exchange"
+    };
+}
+
 /// One entry of a mechanism's FMU state layout after the common head
 /// `[started, y0, y1, y2, e0]` ([`ChainModel::LAYOUT`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -413,7 +423,12 @@ macro_rules! chain_hooks {
         }
     };
     (@me_completed_step $chain:ident $physics:ident) => {
-        fn me_completed_step(&mut self, v: &$crate::model::Values<Self::Var>, time: f64) {
+        fn me_completed_step(
+            &mut self,
+            v: &$crate::model::Values<Self::Var>,
+            time: f64,
+            _log: &mut dyn $crate::model::Log,
+        ) {
             $crate::solver::chain::me_completed_step(self.$chain.as_mut(), &self.$physics, v, time);
         }
     };
@@ -538,7 +553,8 @@ pub fn me_event<C: ChainModel>(
 }
 
 /// [`crate::model::Model::me_completed_step`]: [`ChainModel::me_completed_step`], then the
-/// memory read back.
+/// memory read back. The host's step is counted with the integrator's accepted steps
+/// (`solver.steps`: the FMU's own steps in Co-Simulation, the host's in Model Exchange).
 pub fn me_completed_step<C: ChainModel>(
     chain: Option<&mut Chain<C>>,
     p: &C::Physics,
@@ -549,6 +565,7 @@ pub fn me_completed_step<C: ChainModel>(
         let ode = d.ode(p, shaft::path(v, time), v);
         d.model.me_completed_step(&ode, time, &d.y, &mut d.g_prev);
         C::absorb(&ode, &mut d.memory);
+        d.integ.stats.steps += 1;
     }
 }
 
@@ -848,6 +865,7 @@ mod tests {
         me_set_states(Some(&mut c), &(), &v, 0.0, &[-0.5, 0.0, 0.0]);
         me_completed_step(Some(&mut c), &(), &v, 0.0);
         assert_eq!(c.memory, 1.0);
+        assert_eq!(c.integ.stats.steps, 1, "the host's step is counted");
         let saved = save_state(Some(&c));
         assert_eq!(saved.len(), Chain::<Toy>::STATE_LEN + 1);
         let mut r = toy(&v, 400.0);
