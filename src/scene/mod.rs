@@ -855,8 +855,14 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
             }
         }
     }
-    if fid == Fidelity::Elastodynamic {
-        // the ODE extrapolates the shaft from all three inputs over a step
+    if fid == Fidelity::Elastodynamic
+        || [shaft::PHI, shaft::W, shaft::A]
+            .iter()
+            .any(|&i| used_inputs[i as usize])
+    {
+        // a step moves the shaft from all three inputs (Model::step, at every level; the ODE
+        // of the elastodynamic level on that path): an output of the angle alone at an instant
+        // is, after the step, one of the angle, speed and acceleration at the step's start
         for i in [shaft::PHI, shaft::W, shaft::A] {
             used_inputs[i as usize] = true;
         }

@@ -172,8 +172,8 @@ fn an_input_driven_scene_lists_the_inputs_its_outputs_depend_on() {
         .collect();
     assert_eq!(
         inputs,
-        ["shaft.phi"],
-        "a position depends on the angle only"
+        ["shaft.phi", "shaft.w", "shaft.a"],
+        "a position depends on the angle only, but a step moves the angle with all three"
     );
     let t = tailor_text::<SewingTable>(
         "name = \"f\"\nmechanism = \"SewingTable\"\nfidelity = \"kinetostatic\"\noutputs = [\"cam.F\"]\n",
