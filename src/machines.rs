@@ -52,7 +52,7 @@ impl<M: Model> Instance for Inst<M> {
     }
     fn step(&mut self, t: f64, h: f64) -> Result<(), String> {
         let m = self.m.as_mut().ok_or("not initialized")?;
-        m.do_step(&mut self.v, t, h, &mut NoLog)
+        m.step(&mut self.v, t, h, &mut NoLog)
             .map_err(|e| format!("{}: {e}", self.id))?;
         m.evaluate(&mut self.v, t + h, &mut NoLog);
         Ok(())

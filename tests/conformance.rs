@@ -1069,7 +1069,8 @@ fn out_of_bounds_parameters_are_refused_naming_them() {
 
 /// NaN and ±Inf inputs are refused and the previous value is kept bit for bit; huge angles give
 /// finite outputs; zero, negative, non-finite and overflowing steps are refused; tiny and huge
-/// steps are taken.
+/// steps are taken, but one along which the shaft's angle would leave the finite numbers is
+/// discarded with the state kept.
 #[test]
 fn bad_values_keep_the_instance_going() {
     let _shared = shared();
@@ -1135,6 +1136,19 @@ fn bad_values_keep_the_instance_going() {
             assert!(s.get_real(&outs).1.iter().all(|x| x.is_finite()));
             continue;
         }
+        // the shaft accelerating at 0.3 rad/s2 for 1e300 s ends at an infinite angle: the step
+        // is refused with the reason, before anything moved
+        let mut before: FMUstate = std::ptr::null_mut();
+        assert_eq!(s.get_state(&mut before), Status::Ok);
+        let kept = s.get_real(&inputs).1;
+        assert_eq!(s.do_step(1e-300, 1e300), Status::Discard);
+        let why = s.logs().last().map(|l| l.2.clone()).unwrap_or_default();
+        assert!(why.contains("leads to shaft.phi = inf"), "{why}");
+        assert_eq!(s.get_real(&inputs).1, kept);
+        assert_eq!(s.set_state(before), Status::Ok);
+        assert_eq!(s.free_state(&mut before), Status::Ok);
+        // at constant speed the angle stays finite: the step is taken
+        assert_eq!(s.set_real(&[vr_of(&e, "shaft.a")], &[0.0]), Status::Ok);
         assert_eq!(s.do_step(1e-300, 1e300), Status::Ok);
         assert!(s.get_real(&outs).1.iter().all(|x| x.is_finite()));
         // a step whose end time overflows is refused, not taken to t = inf

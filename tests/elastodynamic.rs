@@ -53,7 +53,7 @@ fn geneva(c: &Case, stop: f64) -> Result<Run, String> {
     };
     let mut t = 0.0;
     for i in 0..n {
-        m.do_step(&mut v, t, c.dt, &mut NoLog)?;
+        m.step(&mut v, t, c.dt, &mut NoLog)?;
         t = (i + 1) as f64 * c.dt;
         m.evaluate(&mut v, t, &mut NoLog);
         let outputs = [
@@ -312,7 +312,7 @@ fn table(
         impact: 0.0,
     };
     for i in 0..n {
-        m.do_step(&mut v, i as f64 * dt, dt, &mut NoLog)?;
+        m.step(&mut v, i as f64 * dt, dt, &mut NoLog)?;
         m.evaluate(&mut v, (i + 1) as f64 * dt, &mut NoLog);
         let outputs = [
             S::table_x,

@@ -63,7 +63,7 @@ fn disc_with(c: &Case, stop: f64, start: &Values<D>) -> Result<Run, String> {
         ..Run::default()
     };
     for i in 0..n {
-        m.do_step(&mut v, i as f64 * c.dt, c.dt, &mut NoLog)?;
+        m.step(&mut v, i as f64 * c.dt, c.dt, &mut NoLog)?;
         let t = (i + 1) as f64 * c.dt;
         m.evaluate(&mut v, t, &mut NoLog);
         let outputs = [

@@ -93,7 +93,7 @@ fn run(c: &Case, stop: f64) -> Result<Run, String> {
     };
     let mut log = Warnings::default();
     for i in 0..n {
-        m.do_step(&mut v, i as f64 * c.dt, c.dt, &mut log)?;
+        m.step(&mut v, i as f64 * c.dt, c.dt, &mut log)?;
         m.evaluate(&mut v, (i + 1) as f64 * c.dt, &mut NoLog);
         let outputs = [
             P::lever_gamma,
@@ -402,13 +402,13 @@ fn the_fmu_state_round_trips_through_save_and_restore() {
     let mut m = Perforators::prepare(&v).unwrap();
     let dt = 2e-3;
     for i in 0..20 {
-        m.do_step(&mut v, i as f64 * dt, dt, &mut NoLog).unwrap();
+        m.step(&mut v, i as f64 * dt, dt, &mut NoLog).unwrap();
     }
     let saved = m.save_state();
     let v_saved = v.raw().to_vec();
     let go = |m: &mut Perforators, v: &mut Values<P>| {
         for i in 20..60 {
-            m.do_step(v, i as f64 * dt, dt, &mut NoLog).unwrap();
+            m.step(v, i as f64 * dt, dt, &mut NoLog).unwrap();
         }
         m.evaluate(v, 60.0 * dt, &mut NoLog);
         v.raw().to_vec()
@@ -431,8 +431,7 @@ fn model_exchange_hooks_give_the_integrators_right_hand_side() {
     let mut v = values(&BASE);
     let mut m = Perforators::prepare(&v).unwrap();
     for i in 0..30 {
-        m.do_step(&mut v, i as f64 * 1e-3, 1e-3, &mut NoLog)
-            .unwrap();
+        m.step(&mut v, i as f64 * 1e-3, 1e-3, &mut NoLog).unwrap();
     }
     let t = 0.03;
     let mut x = [0.0; 3];

@@ -3,7 +3,11 @@
 //! host that sets only `shaft.phi` at coarse communication points and its time derivatives
 //! with `fmi2SetRealInputDerivatives` gets the same trajectory as one that sets `shaft.w` and
 //! `shaft.a`, and a different one when it sets neither. Run for every FMU of the catalog that
-//! declares the capability, at its elastodynamic level.
+//! declares the capability, at each of its levels: every level moves the shaft over a step
+//! along that path and ends the step where it leads.
+
+/// The fidelity levels of a mechanism.
+const LEVELS: [i32; 3] = [1, 2, 3];
 
 mod common;
 
@@ -46,11 +50,11 @@ fn alpha(e: &Entry) -> f64 {
 const RUN_UP_PARAMETERS: &[(&str, &str, f64)] = &[("DiscKnifeDrive", "support.mu", 0.0)];
 
 /// Every Real output at every communication point.
-fn run(f: &Fmu, e: &Entry, host: Host, h: f64, n: usize) -> Vec<Vec<f64>> {
+fn run(f: &Fmu, e: &Entry, level: i32, host: Host, h: f64, n: usize) -> Vec<Vec<f64>> {
     let s = f.slave("interp");
     assert_eq!(s.setup(0.0, None), Status::Ok);
     let fid = vr_of(e, "model.fidelity");
-    assert_eq!(s.set_integer(&[fid], &[3]), Status::Ok);
+    assert_eq!(s.set_integer(&[fid], &[level]), Status::Ok);
     for (_, name, x) in RUN_UP_PARAMETERS.iter().filter(|p| p.0 == e.identifier) {
         assert_eq!(s.set_real(&[vr_of(e, name)], &[*x]), Status::Ok);
     }
@@ -140,38 +144,40 @@ fn shaft_phi_with_its_derivatives_drives_as_well_as_shaft_w_and_shaft_a() {
         }
         let f = Fmu::of(&e);
         let (h, n) = (0.05, 40);
-        let reference = run(&f, &e, Host::Values, h, n);
-        for host in [Host::PhiDerivatives, Host::PhiAndWDerivatives] {
-            // the same path inside every step: the same run to rounding (the outputs that use
-            // shaft.w read the FMU's extrapolated value instead of the host's)
-            let (d, name, _) = max_rel_diff(&e, &run(&f, &e, host, h, n), &reference);
-            assert!(
-                d <= 1e-9,
-                "{} {host:?}: {name} differs by {d:e} of its range",
+        for level in LEVELS {
+            let reference = run(&f, &e, level, Host::Values, h, n);
+            for host in [Host::PhiDerivatives, Host::PhiAndWDerivatives] {
+                // the same path inside every step: the same run to rounding (the outputs that
+                // use shaft.w read the FMU's extrapolated value instead of the host's)
+                let (d, name, _) = max_rel_diff(&e, &run(&f, &e, level, host, h, n), &reference);
+                assert!(
+                    d <= 1e-9,
+                    "{} level {level} {host:?}: {name} differs by {d:e} of its range",
+                    e.identifier
+                );
+            }
+            let phi_only = run(&f, &e, level, Host::PhiOnly, h, n);
+            if phi_only.len() < n {
+                // refused with a reason (above): different enough
+                tested += 1;
+                continue;
+            }
+            let (d, name, n_off) = max_rel_diff(&e, &phi_only, &reference);
+            eprintln!(
+                "{} level {level}: shaft.phi alone at h = {h} s: {n_off} outputs off by more than 1 % of their range (worst {name}, {d:.3e})",
                 e.identifier
             );
-        }
-        let phi_only = run(&f, &e, Host::PhiOnly, h, n);
-        if phi_only.len() < n {
-            // refused with a reason (above): different enough
+            // without derivatives shaft.w stays at its start value: the step ends elsewhere,
+            // and positions, velocities and forces go wrong, not only one output
+            assert!(
+                n_off >= 5,
+                "{} level {level}: without derivatives the run should differ: {n_off} outputs, worst {name} {d:e}",
+                e.identifier
+            );
             tested += 1;
-            continue;
         }
-        let (d, name, n_off) = max_rel_diff(&e, &phi_only, &reference);
-        eprintln!(
-            "{}: shaft.phi alone at h = {h} s: {n_off} outputs off by more than 1 % of their range (worst {name}, {d:.3e})",
-            e.identifier
-        );
-        // without derivatives shaft.w stays at its start value: positions, velocities and
-        // forces go wrong, not only one output
-        assert!(
-            n_off >= 5,
-            "{}: without derivatives the run should differ: {n_off} outputs, worst {name} {d:e}",
-            e.identifier
-        );
-        tested += 1;
     }
-    assert!(tested >= 1, "no FMU declares canInterpolateInputs");
+    assert_eq!(tested, 12, "four mechanisms at three levels");
 }
 
 /// Derivatives apply to one step: the step after falls back to `shaft.w`/`shaft.a`, which the
@@ -183,67 +189,69 @@ fn derivatives_expire_after_the_step_and_travel_with_fmu_states() {
             continue;
         }
         let f = Fmu::of(&e);
-        let elastodynamic = Start {
-            integers: &[(vr_of(&e, "model.fidelity"), 3)],
-            ..Start::default()
-        };
-        let s = f.started("expire", &elastodynamic);
-        let (phi, w, a) = (
-            vr_of(&e, "shaft.phi"),
-            vr_of(&e, "shaft.w"),
-            vr_of(&e, "shaft.a"),
-        );
-        let w0 = s.get_real(&[w]).1[0];
-        assert_eq!(
-            s.set_input_derivatives(&[phi, phi], &[1, 2], &[2.0 * w0, 5.0]),
-            Status::Ok
-        );
-        // saved with the derivatives, restored after a step that consumed them
-        let mut st: FMUstate = std::ptr::null_mut();
-        assert_eq!(s.get_state(&mut st), Status::Ok);
-        let (_, bytes) = s.serialize(st);
-        assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
-        let (_, after) = s.get_real(&[phi, w, a]);
-        assert!(
-            (after[0] - (2.0 * w0 * 0.01 + 0.5 * 5.0 * 1e-4)).abs() < 1e-12,
-            "{}: the step followed the derivatives: {after:?}",
-            e.identifier
-        );
-        assert!((after[1] - (2.0 * w0 + 0.05)).abs() < 1e-12 && after[2] == 5.0);
-        let mut st2: FMUstate = std::ptr::null_mut();
-        assert_eq!(s.get_state(&mut st2), Status::Ok);
-        let (_, consumed) = s.serialize(st2);
-        assert!(consumed.len() < bytes.len(), "expired after the step");
-        // a restored state repeats the step exactly
-        let outs: Vec<u32> = real_outputs_of(&e);
-        let out = |s: &Slave| {
-            let (st, y) = s.get_real(&outs);
-            assert_eq!(st, Status::Ok);
-            bits(&y)
-        };
-        let f1 = out(&s);
-        assert_eq!(s.set_state(st), Status::Ok);
-        assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
-        assert_eq!(out(&s), f1);
-        // also through the serialized bytes
-        let mut st3: FMUstate = std::ptr::null_mut();
-        assert_eq!(s.deserialize(&bytes, &mut st3), Status::Ok);
-        assert_eq!(s.set_state(st3), Status::Ok);
-        assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
-        assert_eq!(out(&s), f1);
-        // reset forgets them: a fresh run equals one that never set any
-        assert_eq!(s.set_input_derivatives(&[phi], &[1], &[3.0]), Status::Ok);
-        assert_eq!(s.call0("fmi2Reset"), Status::Ok);
-        let mut st4: FMUstate = std::ptr::null_mut();
-        assert_eq!(s.get_state(&mut st4), Status::Ok);
-        let fresh = f.slave("fresh");
-        let mut st5: FMUstate = std::ptr::null_mut();
-        assert_eq!(fresh.get_state(&mut st5), Status::Ok);
-        assert_eq!(s.serialize(st4).1, fresh.serialize(st5).1);
-        for p in [&mut st, &mut st2, &mut st3, &mut st4] {
-            assert_eq!(s.free_state(p), Status::Ok);
+        for level in LEVELS {
+            let at_level = Start {
+                integers: &[(vr_of(&e, "model.fidelity"), level)],
+                ..Start::default()
+            };
+            let s = f.started("expire", &at_level);
+            let (phi, w, a) = (
+                vr_of(&e, "shaft.phi"),
+                vr_of(&e, "shaft.w"),
+                vr_of(&e, "shaft.a"),
+            );
+            let w0 = s.get_real(&[w]).1[0];
+            assert_eq!(
+                s.set_input_derivatives(&[phi, phi], &[1, 2], &[2.0 * w0, 5.0]),
+                Status::Ok
+            );
+            // saved with the derivatives, restored after a step that consumed them
+            let mut st: FMUstate = std::ptr::null_mut();
+            assert_eq!(s.get_state(&mut st), Status::Ok);
+            let (_, bytes) = s.serialize(st);
+            assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
+            let (_, after) = s.get_real(&[phi, w, a]);
+            assert!(
+                (after[0] - (2.0 * w0 * 0.01 + 0.5 * 5.0 * 1e-4)).abs() < 1e-12,
+                "{}: the step followed the derivatives: {after:?}",
+                e.identifier
+            );
+            assert!((after[1] - (2.0 * w0 + 0.05)).abs() < 1e-12 && after[2] == 5.0);
+            let mut st2: FMUstate = std::ptr::null_mut();
+            assert_eq!(s.get_state(&mut st2), Status::Ok);
+            let (_, consumed) = s.serialize(st2);
+            assert!(consumed.len() < bytes.len(), "expired after the step");
+            // a restored state repeats the step exactly
+            let outs: Vec<u32> = real_outputs_of(&e);
+            let out = |s: &Slave| {
+                let (st, y) = s.get_real(&outs);
+                assert_eq!(st, Status::Ok);
+                bits(&y)
+            };
+            let f1 = out(&s);
+            assert_eq!(s.set_state(st), Status::Ok);
+            assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
+            assert_eq!(out(&s), f1);
+            // also through the serialized bytes
+            let mut st3: FMUstate = std::ptr::null_mut();
+            assert_eq!(s.deserialize(&bytes, &mut st3), Status::Ok);
+            assert_eq!(s.set_state(st3), Status::Ok);
+            assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
+            assert_eq!(out(&s), f1);
+            // reset forgets them: a fresh run equals one that never set any
+            assert_eq!(s.set_input_derivatives(&[phi], &[1], &[3.0]), Status::Ok);
+            assert_eq!(s.call0("fmi2Reset"), Status::Ok);
+            let mut st4: FMUstate = std::ptr::null_mut();
+            assert_eq!(s.get_state(&mut st4), Status::Ok);
+            let fresh = f.slave("fresh");
+            let mut st5: FMUstate = std::ptr::null_mut();
+            assert_eq!(fresh.get_state(&mut st5), Status::Ok);
+            assert_eq!(s.serialize(st4).1, fresh.serialize(st5).1);
+            for p in [&mut st, &mut st2, &mut st3, &mut st4] {
+                assert_eq!(s.free_state(p), Status::Ok);
+            }
+            assert_eq!(fresh.free_state(&mut st5), Status::Ok);
         }
-        assert_eq!(fresh.free_state(&mut st5), Status::Ok);
     }
 }
 
@@ -265,54 +273,56 @@ fn the_extrapolated_shaft_phi_leaves_drive_phi0_out() {
         for (_, name, x) in RUN_UP_PARAMETERS.iter().filter(|p| p.0 == e.identifier) {
             reals.push((vr_of(&e, name), *x));
         }
-        let start = Start {
-            reals: &reals,
-            integers: &[(vr_of(&e, "model.fidelity"), 3)],
-            ..Start::default()
-        };
-        let outs = real_outputs_of(&e);
-        let (h, n) = (0.01, 30);
-        let run = |every_step: bool| {
-            let s = f.started("phase", &start);
-            let w0 = s.get_real(&[vr_of(&e, "shaft.w")]).1[0];
-            let mut rows = vec![];
-            for i in 0..n {
-                let t = i as f64 * h;
-                if every_step || i == 0 {
-                    s.ok(s.set_real(&[phi], &[w0 * t]), "shaft.phi");
-                }
-                s.ok(
-                    s.do_step(t, h),
-                    &format!("{} step at t = {t}", e.identifier),
-                );
-                if !every_step {
-                    let got = s.get_real(&[phi]).1[0];
-                    let want = w0 * (t + h);
-                    assert!(
-                        (got - want).abs() <= 1e-9 * want.abs().max(1.0),
-                        "{}: shaft.phi after the step to {} is {got}, the extrapolated angle \
-                         without drive.phi0 is {want}",
-                        e.identifier,
-                        t + h
+        for level in LEVELS {
+            let start = Start {
+                reals: &reals,
+                integers: &[(vr_of(&e, "model.fidelity"), level)],
+                ..Start::default()
+            };
+            let outs = real_outputs_of(&e);
+            let (h, n) = (0.01, 30);
+            let run = |every_step: bool| {
+                let s = f.started("phase", &start);
+                let w0 = s.get_real(&[vr_of(&e, "shaft.w")]).1[0];
+                let mut rows = vec![];
+                for i in 0..n {
+                    let t = i as f64 * h;
+                    if every_step || i == 0 {
+                        s.ok(s.set_real(&[phi], &[w0 * t]), "shaft.phi");
+                    }
+                    s.ok(
+                        s.do_step(t, h),
+                        &format!("{} step at t = {t}", e.identifier),
                     );
+                    if !every_step {
+                        let got = s.get_real(&[phi]).1[0];
+                        let want = w0 * (t + h);
+                        assert!(
+                            (got - want).abs() <= 1e-9 * want.abs().max(1.0),
+                            "{}: shaft.phi after the step to {} is {got}, the extrapolated angle \
+                         without drive.phi0 is {want}",
+                            e.identifier,
+                            t + h
+                        );
+                    }
+                    rows.push(s.get_real(&outs).1);
                 }
-                rows.push(s.get_real(&outs).1);
-            }
-            rows
-        };
-        let (every, once) = (run(true), run(false));
-        // the same run: the angle differs by rounding (phi0 + w*t less phi0 in the one, w*t in
-        // the other), which the adaptive solver may answer with other steps, so the compliant
-        // chain's outputs agree to its tolerance (DiscKnifeDrive's stiff rod: 2e-4 of the force's
-        // range, 5e-3 of the energy residual's); a phase error of drive.phi0 = 0.7 rad puts them
-        // off by tens of per cent
-        let (worst, name, _) = max_rel_diff(&e, &once, &every);
-        assert!(
-            worst <= 1e-2,
-            "{}: inputs set once vs at every point: {name} off by {worst:e} of its range",
-            e.identifier
-        );
-        tested += 1;
+                rows
+            };
+            let (every, once) = (run(true), run(false));
+            // the same run: the angle differs by rounding (phi0 + w*t less phi0 in the one, w*t in
+            // the other), which the adaptive solver may answer with other steps, so the compliant
+            // chain's outputs agree to its tolerance (DiscKnifeDrive's stiff rod: 2e-4 of the force's
+            // range, 5e-3 of the energy residual's); a phase error of drive.phi0 = 0.7 rad puts them
+            // off by tens of per cent
+            let (worst, name, _) = max_rel_diff(&e, &once, &every);
+            assert!(
+                worst <= 1e-2,
+                "{} level {level}: inputs set once vs at every point: {name} off by {worst:e} of its range",
+                e.identifier
+            );
+            tested += 1;
+        }
     }
-    assert_eq!(tested, 4, "the four mechanisms with an elastodynamic level");
+    assert_eq!(tested, 12, "four mechanisms at three levels");
 }

@@ -131,6 +131,52 @@ fn row(out: &mut String, vr: u32, v: &Var) {
     );
 }
 
+/// What a communication step does, the same for every FMU: the outputs after `fmi2DoStep(t, h)`
+/// are at `t + h`; how the inputs move over the step (the shaft's extrapolation where the FMU
+/// takes input derivatives, held otherwise); what the outputs kept over steps are formed over in
+/// each interface.
+fn steps_html(info: &ModelInfo, vars: &[(u32, &Var)]) -> String {
+    let me = vars.iter().any(|(_, v)| v.derivative.is_some());
+    let inputs = vars.iter().any(|(_, v)| v.causality == Causality::Input);
+    let mut s = String::from(
+        "<h2>Communication steps</h2>\n<p>After <code>fmi2DoStep(t, h)</code> every output is at \
+         <i>t</i>&nbsp;+&nbsp;<i>h</i>, at every fidelity level. ",
+    );
+    if info.can_interpolate_inputs {
+        s.push_str(
+            "Over the step the shaft turns as its inputs at <i>t</i> say, \
+             &phi;(<i>t</i>&nbsp;+&nbsp;&tau;) = <code>shaft.phi</code> + <code>shaft.w</code>&middot;&tau; \
+             + <code>shaft.a</code>&middot;&tau;&sup2;/2, or with the derivatives of \
+             <code>shaft.phi</code> (orders 1, 2) and <code>shaft.w</code> (order 1) set for that step \
+             with <code>fmi2SetRealInputDerivatives</code> (<code>canInterpolateInputs</code>); the FMU \
+             then leaves <code>shaft.phi</code>, <code>shaft.w</code> and <code>shaft.a</code> where that \
+             leads, until the host sets them. Co-Simulation thus gives what Model Exchange gives at \
+             <i>t</i>&nbsp;+&nbsp;<i>h</i> with the inputs of that instant: exactly for a shaft at \
+             constant acceleration, otherwise to the order of the extrapolation (angle \
+             <i>h</i>&sup3;, speed <i>h</i>&sup2;, acceleration <i>h</i>). A host that sets the inputs \
+             of <i>t</i>&nbsp;+&nbsp;<i>h</i> before it reads gets the outputs at its own values.",
+        );
+    } else if inputs {
+        s.push_str("The inputs are held over the step.");
+    } else {
+        s.push_str("The FMU drives its shaft itself; it has no inputs.");
+    }
+    s.push_str("</p>\n");
+    if me {
+        s.push_str(
+            "<p>Outputs that keep something across steps (statistics of the last shaft turn, \
+             counters, what happened during the last step, the step count) are formed over the same \
+             spans in Co-Simulation and Model Exchange: a communication step, or the span between the \
+             host's completed integrator steps (<code>fmi2CompletedIntegratorStep</code>); their \
+             descriptions below say how. Peaks taken at the accepted integration steps are as fine \
+             as those steps: in Model Exchange the host's (FMPy completes one at each output \
+             point), so an output interval short against the fastest oscillation catches them as the \
+             FMU's own integrator does.</p>\n",
+        );
+    }
+    s
+}
+
 /// The documentation page of a model: its name and description, `intro_html` (inserted as
 /// is: the caller's own HTML, e.g. what the mechanism is and which paper it follows), the
 /// default experiment, a table of every variable in `vars` (value reference, declaration)
@@ -184,6 +230,7 @@ pub fn index_html(
         let _ = write!(out, ", tolerance {}", fmt_real(tol));
     }
     out.push_str(".</p>\n");
+    out.push_str(&steps_html(info, vars));
 
     let _ = writeln!(
         out,
@@ -322,5 +369,33 @@ mod tests {
         assert!(page.contains("tolerance 1e-6"));
         assert!(!page.contains("<h2>Figures</h2>"));
         assert_eq!(page, index_html(&info(), &refs, "", &[]), "deterministic");
+    }
+
+    #[test]
+    fn every_page_says_what_a_step_does() {
+        let vars = vars();
+        let refs: Vec<(u32, &Var)> = vars
+            .iter()
+            .enumerate()
+            .map(|(i, v)| (i as u32, v))
+            .collect();
+        let page = |info: &ModelInfo, refs: &[(u32, &Var)]| index_html(info, refs, "", &[]);
+        let held = page(&info(), &refs);
+        assert!(held.contains("every output is at <i>t</i>&nbsp;+&nbsp;<i>h</i>"));
+        let shaft = page(
+            &ModelInfo {
+                can_interpolate_inputs: true,
+                ..info()
+            },
+            &refs,
+        );
+        assert!(shaft.contains("fmi2SetRealInputDerivatives") && !held.contains("fmi2SetReal"));
+        assert!(held.contains("The inputs are held over the step."));
+        let outputs: Vec<(u32, &Var)> = refs
+            .iter()
+            .copied()
+            .filter(|(_, v)| v.causality != Causality::Input)
+            .collect();
+        assert!(page(&info(), &outputs).contains("drives its shaft itself"));
     }
 }

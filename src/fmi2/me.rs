@@ -101,7 +101,7 @@ pub unsafe fn completed_integrator_step<M: Model>(
             }
             inst.prepared()?;
             let model = inst.model.as_mut().expect("prepared");
-            model.me_completed_step(&inst.values, inst.time);
+            model.me_completed_step(&inst.values, inst.time, &mut inst.logger);
             *enter_event_mode = FALSE;
             *terminate = FALSE;
             Ok(Status::Ok)

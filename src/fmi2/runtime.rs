@@ -1447,10 +1447,10 @@ pub unsafe fn set_string<M: Model>(
 
 /// `fmi2SetRealInputDerivatives` (`canInterpolateInputs`, [`Model::CAN_INTERPOLATE_INPUTS`]):
 /// time derivatives of Real inputs at the current communication point, for the next
-/// `fmi2DoStep` only. The elastodynamic level extrapolates the shaft angle with those of
-/// `shaft.phi` (orders 1 and 2) and of `shaft.w` (order 1) ([`shaft::path`]); when that step is
-/// done they expire and the next step uses `shaft.w` and `shaft.a` again, unless the host sets
-/// derivatives anew. Setting an input's value does not cancel its derivatives (a host may set
+/// `fmi2DoStep` only. The step moves the shaft angle (at every level, and ends it) along the
+/// path of those of `shaft.phi` (orders 1 and 2) and of `shaft.w` (order 1) ([`shaft::path`]);
+/// when that step is done they expire and the next step uses `shaft.w` and `shaft.a` again,
+/// unless the host sets derivatives anew. Setting an input's value does not cancel its derivatives (a host may set
 /// them in either order at one point). FMU states and `fmi2Reset` include them. Derivatives of
 /// the other inputs, or orders the path does not use, are stored and ignored with
 /// `fmi2Warning`. Refused, changing nothing: a model without the capability, a Model Exchange
@@ -1472,7 +1472,7 @@ pub unsafe fn set_real_input_derivatives<M: Model>(
         entry::<M>(c, Call::SetRealInputDerivatives, |inst| {
             if !M::CAN_INTERPOLATE_INPUTS {
                 return Err(
-                    "not supported: canInterpolateInputs is false (this FMU has no elastodynamic level to extrapolate the inputs in)"
+                    "not supported: canInterpolateInputs is false (this FMU holds its inputs over a step)"
                         .into(),
                 );
             }
@@ -1480,7 +1480,7 @@ pub unsafe fn set_real_input_derivatives<M: Model>(
                 && !t.info.can_interpolate_inputs
             {
                 return Err(format!(
-                    "not supported: canInterpolateInputs is false for {} (its scene has no elastodynamic level driven through shaft.phi)",
+                    "not supported: canInterpolateInputs is false for {} (its scene is not driven through shaft.phi)",
                     t.identifier
                 ));
             }
@@ -1525,8 +1525,10 @@ pub unsafe fn set_real_input_derivatives<M: Model>(
     }
 }
 
-/// `fmi2DoStep`: checks the communication point, `h > 0` and the stop time; the outputs at the
-/// new time are computed when read.
+/// `fmi2DoStep`: checks the communication point, `h > 0` and the stop time, then
+/// [`Model::step`]: the model's own step and its inputs moved to `t + h` as the step moved them
+/// (at every fidelity level). The outputs at the new time are computed when read. A step the
+/// model refuses is `fmi2Discard` with its reason.
 ///
 /// # Safety
 /// As [`entry`].
@@ -1561,7 +1563,7 @@ pub unsafe fn do_step<M: Model>(c: Component, t: f64, h: f64, _no_prior: Boolean
             }
             inst.prepared()?;
             let model = inst.model.as_mut().expect("prepared");
-            if let Err(why) = model.do_step(&mut inst.values, t, h, &mut inst.logger) {
+            if let Err(why) = model.step(&mut inst.values, t, h, &mut inst.logger) {
                 inst.state = State::StepFailed;
                 inst.logger.emit(
                     Status::Discard,
@@ -1573,8 +1575,8 @@ pub unsafe fn do_step<M: Model>(c: Component, t: f64, h: f64, _no_prior: Boolean
             inst.time = t + h;
             inst.dirty = true;
             // input derivatives apply to the step they were set for (FMI 2.0: "with respect to
-            // the beginning of a communication time step"); the next step falls back to
-            // shaft.w and shaft.a, which the step left at the extrapolated values
+            // the beginning of a communication time step"); the next step starts from the
+            // inputs as Model::step left them at t + h, unless the host sets them
             inst.values.clear_input_derivatives();
             Ok(Status::Ok)
         })

@@ -916,8 +916,15 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
             }
         }
     }
-    if fid == Some(Fidelity::Elastodynamic) {
-        // the ODE extrapolates the shaft from all three inputs over a step
+    if <M::Var as VarSet>::SHAFT_CONNECTOR
+        && (fid == Some(Fidelity::Elastodynamic)
+            || [shaft::PHI, shaft::W, shaft::A]
+                .iter()
+                .any(|&i| used_inputs[i as usize]))
+    {
+        // a step moves the shaft from all three inputs (Model::step, at every level; the ODE
+        // of the elastodynamic level on that path): an output of the angle alone at an instant
+        // is, after the step, one of the angle, speed and acceleration at the step's start
         for i in [shaft::PHI, shaft::W, shaft::A] {
             used_inputs[i as usize] = true;
         }
@@ -970,11 +977,9 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         )),
         experiment: scene.experiment.unwrap_or(M::EXPERIMENT),
         event_indicators: M::EVENT_INDICATORS as u32,
-        // input derivatives shape the shaft path of the elastodynamic level only, and need the
-        // shaft angle as an input
-        can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS
-            && fid == Some(Fidelity::Elastodynamic)
-            && exposed[shaft::PHI as usize],
+        // input derivatives shape the shaft's path over a step at every level, and need the
+        // shaft angle as an input (not with a constant-speed drive)
+        can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS && exposed[shaft::PHI as usize],
     };
     let refs: Vec<(u32, &Var)> = variables.iter().map(|(vr, v)| (*vr, v)).collect();
     let (model_description, guid) = md::describe_vars(&info, &refs);

@@ -32,6 +32,16 @@ use crate::model::{Log, Values, VarSet};
 use std::cell::Cell;
 use std::fmt::Debug;
 
+/// Where the elastodynamic level takes what it tracks over steps (peaks, turn minima, impact
+/// forces), in the words of a variable's description (use it in `concat!`): the same in both
+/// interfaces, on the points of whichever integration runs.
+#[macro_export]
+macro_rules! at_accepted_steps {
+    () => {
+        "at the accepted integration steps: the FMU's integrator's inside fmi2DoStep in Co-Simulation, the host's completed integrator steps in Model Exchange"
+    };
+}
+
 /// One entry of a mechanism's FMU state layout after the common head
 /// `[started, y0, y1, y2, e0]` ([`ChainModel::LAYOUT`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -413,7 +423,12 @@ macro_rules! chain_hooks {
         }
     };
     (@me_completed_step $chain:ident $physics:ident) => {
-        fn me_completed_step(&mut self, v: &$crate::model::Values<Self::Var>, time: f64) {
+        fn me_completed_step(
+            &mut self,
+            v: &$crate::model::Values<Self::Var>,
+            time: f64,
+            _log: &mut dyn $crate::model::Log,
+        ) {
             $crate::solver::chain::me_completed_step(self.$chain.as_mut(), &self.$physics, v, time);
         }
     };
@@ -429,13 +444,14 @@ macro_rules! chain_hooks {
     };
 }
 
-/// [`crate::model::Model::do_step`]: integrates the chain over `[time, time + h]`. A refused step
-/// leaves the chain as it was before it (the caller returns `fmi2Discard`). With `drive.mode` =
-/// input the FMU extrapolates its shaft inputs to `time + h` until the host sets them.
+/// [`crate::model::Model::do_step`]: integrates the chain over `[time, time + h]`, the shaft on
+/// [`shaft::path`] from the inputs at `time` (after the step [`crate::model::Model::step`] moves
+/// the inputs to `time + h` along that path, as at every level). A refused step leaves the chain
+/// as it was before it (the caller returns `fmi2Discard`).
 pub fn do_step<C: ChainModel>(
     chain: Option<&mut Chain<C>>,
     p: &C::Physics,
-    v: &mut Values<C::Var>,
+    v: &Values<C::Var>,
     time: f64,
     h: f64,
     log: &mut dyn Log,
@@ -455,16 +471,6 @@ pub fn do_step<C: ChainModel>(
             d.y = y;
             d.model.after_step(&ode, &mut d.memory, time, h, log);
             C::absorb(&ode, &mut d.memory);
-            let raw = v.raw_mut();
-            if raw[shaft::MODE as usize] as i32 == 1 {
-                // the FMU's own extrapolation of the inputs, until the host sets them
-                let (_, w, a) = path.at(time + h);
-                // the input's meaning: the shaft angle without the mechanism's phase, which
-                // shaft::state adds
-                raw[shaft::PHI as usize] = path.absolute_phi(time + h) - raw[shaft::PHI0 as usize];
-                raw[shaft::W as usize] = w;
-                raw[shaft::A as usize] = a;
-            }
             Ok(())
         }
         Err(why) => {
@@ -547,7 +553,8 @@ pub fn me_event<C: ChainModel>(
 }
 
 /// [`crate::model::Model::me_completed_step`]: [`ChainModel::me_completed_step`], then the
-/// memory read back.
+/// memory read back. The host's step is counted with the integrator's accepted steps
+/// (`solver.steps`: the FMU's own steps in Co-Simulation, the host's in Model Exchange).
 pub fn me_completed_step<C: ChainModel>(
     chain: Option<&mut Chain<C>>,
     p: &C::Physics,
@@ -558,6 +565,7 @@ pub fn me_completed_step<C: ChainModel>(
         let ode = d.ode(p, shaft::path(v, time), v);
         d.model.me_completed_step(&ode, time, &d.y, &mut d.g_prev);
         C::absorb(&ode, &mut d.memory);
+        d.integ.stats.steps += 1;
     }
 }
 
@@ -801,9 +809,15 @@ mod tests {
         let mut c = toy(&v, 400.0);
         let h = 0.01;
         for j in 0..100 {
-            do_step(Some(&mut c), &(), &mut v, j as f64 * h, h, &mut NoLog).unwrap();
+            let t = j as f64 * h;
+            let inputs = v.raw()[..3].to_vec();
+            do_step(Some(&mut c), &(), &v, t, h, &mut NoLog).unwrap();
+            assert_eq!(v.raw()[..3], inputs, "the chain's step leaves the inputs");
+            // what Model::step does after it: the inputs where the shaft's path led
+            let end = shaft::end_of_step(&v, t, h).unwrap().unwrap();
+            shaft::set_inputs(&mut v, end);
         }
-        // the FMU extrapolated its shaft input (one turn); the mass crossed zero
+        // one turn of the shaft; the mass crossed zero
         assert!((v.raw()[shaft::PHI as usize] - w).abs() < 1e-9);
         assert!(c.started && c.memory >= 1.0, "{c:?}");
         assert!(c.integ.stats.steps > 0);
@@ -827,13 +841,10 @@ mod tests {
         let mut c = toy(&v, 1e8);
         c.start(&(), shaft::path(&v, 0.0), &v);
         let before = c.save();
-        assert!(do_step(Some(&mut c), &(), &mut v, 0.0, 0.01, &mut NoLog).is_err());
+        assert!(do_step(Some(&mut c), &(), &v, 0.0, 0.01, &mut NoLog).is_err());
         assert_eq!(bits(&c.save()), bits(&before));
         assert_eq!(c.integ.stats, toy(&v, 1e8).integ.stats);
-        assert_eq!(
-            do_step::<Toy>(None, &(), &mut v, 0.0, 0.01, &mut NoLog),
-            Ok(())
-        );
+        assert_eq!(do_step::<Toy>(None, &(), &v, 0.0, 0.01, &mut NoLog), Ok(()));
     }
 
     #[test]
@@ -854,6 +865,7 @@ mod tests {
         me_set_states(Some(&mut c), &(), &v, 0.0, &[-0.5, 0.0, 0.0]);
         me_completed_step(Some(&mut c), &(), &v, 0.0);
         assert_eq!(c.memory, 1.0);
+        assert_eq!(c.integ.stats.steps, 1, "the host's step is counted");
         let saved = save_state(Some(&c));
         assert_eq!(saved.len(), Chain::<Toy>::STATE_LEN + 1);
         let mut r = toy(&v, 400.0);

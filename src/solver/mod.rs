@@ -166,6 +166,21 @@ pub mod vars {
         )
         .min(1e-9)
     }
+    /// `solver.steps` (Integer output).
+    pub fn steps() -> Var {
+        Var::int_output(
+            "solver.steps",
+            "Accepted integration steps since initialization: in Co-Simulation those of the FMU's integrator inside fmi2DoStep, in Model Exchange the host's (its fmi2CompletedIntegratorStep calls); 0 where nothing is integrated (below the elastodynamic level)",
+        )
+    }
+    /// `elastic.E_residual`.
+    pub fn e_residual() -> Var {
+        Var::output(
+            "elastic.E_residual",
+            "J",
+            "Energy-balance residual E - E0 - W of the integration, W a state: of the FMU's integrator in Co-Simulation, of the host's in Model Exchange (elastodynamic level)",
+        )
+    }
 }
 
 /// Solver settings.

@@ -19,7 +19,7 @@ import numpy as np
 import pytest
 from fmpy.fmi1 import FMICallException
 from fmpy.fmi2 import FMU2Slave
-from fmpy.util import read_csv
+from fmpy.util import read_csv, read_ref_opt_file
 from fmpy.validation import validate_fmu
 
 from harness import (MD_DIR, SHAFT_INPUTS, callbacks_with, captured_log, columns_close,
@@ -259,6 +259,28 @@ def test_cross_check_reproduces_reference(extracted):
         columns_close(result[name], ref[name], rtol=1e-9, name=name)
 
 
+@pytest.mark.parametrize("fmi_type", ["CoSimulation", "ModelExchange"])
+def test_cross_check_in_both_interfaces(extracted, fmi_type):
+    """A host's Co-Simulation and Model Exchange runs of the cross-check input both give the
+    reference within its relative tolerance (_ref.opt): after fmi2DoStep(t, h) the outputs are
+    at t + h, as Model Exchange has them at t + h, at every level. In Model Exchange FMPy
+    integrates the states (MainShaft's; none move below the elastodynamic level) with CVode at a
+    hundredth of that tolerance: its global error, not its local one, must stay inside it
+    (MainShaft's speed drifts by 1e-5 of its range at CVode's rtol 1e-6)."""
+    paths = cross_check_paths(extracted.fmu.stem)
+    if not all(p.is_file() for p in paths.values()):
+        pytest.fail("no cross-check files (see test_cross_check_files_exist)")
+    opt = read_ref_opt_file(str(paths["opt"]))
+    ref = read_csv(str(paths["ref"]))
+    columns = [n for n in ref.dtype.names if n != "time"]
+    result = simulate_cross_check(extracted, paths, columns, fmi_type=fmi_type,
+                                  relative_tolerance=opt["RelTol"] / 100 if fmi_type == "ModelExchange" else None)
+    assert len(result) == len(ref), f"{len(result)} rows simulated, {len(ref)} in the reference"
+    np.testing.assert_allclose(result["time"], ref["time"], rtol=0, atol=1e-12)
+    for name in columns:
+        columns_close(result[name], ref[name], rtol=opt["RelTol"], name=f"{fmi_type} {name}")
+
+
 # --- bad calls get fmi2Error, never a crash (interface.md) ------------------------------------------
 
 def _instance(extracted, start_values=None, name="robustness", log=None):
@@ -303,16 +325,16 @@ def _non_finite_input(extracted, log):
         outs = [extracted.vars[n].valueReference for n in extracted.outputs()]
         fmu.setReal([vr], [0.3])
         fmu.doStep(0.0, 1e-3)
+        # after the step a mechanism's shaft.phi is where the step took it (0.3 + shaft.w*h)
+        kept = fmu.getReal([vr])
         before = fmu.getReal(outs)
         for bad in (math.nan, math.inf, -math.inf):
             assert _status(lambda: fmu.setReal([vr], [bad])) == 3, f"fmi2SetReal({name} = {bad}) accepted"
-            assert fmu.getReal([vr]) == [0.3], "the previous input value was not kept"
+            assert fmu.getReal([vr]) == kept, "the previous input value was not kept"
         assert log.errors(), "no error logged"
+        assert fmu.getReal(outs) == before, "a refused input changed an output"
         fmu.doStep(1e-3, 1e-3)  # the instance can go on
-        if is_drive(extracted):  # its states move on: the outputs stay finite
-            assert all(math.isfinite(x) for x in fmu.getReal(outs))
-        else:
-            assert fmu.getReal(outs) == pytest.approx(before, rel=1e-12, abs=1e-12)
+        assert all(math.isfinite(x) for x in fmu.getReal(outs))
         fmu.terminate()
     finally:
         fmu.freeInstance()

@@ -181,7 +181,7 @@ fn run<M: Model>(c: &Case, method: i32, tol: f64, dt: f64) -> Result<Trace, Stri
     let mut t = 0.0;
     for i in 0..n {
         for j in 0..per {
-            m.do_step(&mut v, t, dt, &mut NoLog)?;
+            m.step(&mut v, t, dt, &mut NoLog)?;
             t = (i * per + j + 1) as f64 * dt;
         }
         m.evaluate(&mut v, t, &mut NoLog);

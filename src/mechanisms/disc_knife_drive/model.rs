@@ -104,9 +104,9 @@ crate::model_variables! {
         elastic_deflection = Var::output("elastic.deflection", "m", "Shortening of rod 4, rigid rod length - |C - B| (elastodynamic level; 0 at the others)").depends(ON_PHI).needs(stage::ELASTIC),
         elastic_F = Var::output("elastic.F", "N", "Dynamic rod force k*deflection + c*deflection rate, compression positive; rod.F equals it at the elastodynamic level (0 at the others)").depends(ON_PHI_W).needs(stage::ELASTIC),
         rod_F_kin = Var::output("rod.F_kin", "N", "Kinetostatic rod force on the rigid motion, the reference of dyn.factor (elastodynamic level; equals rod.F at kinetostatic, 0 at kinematic)").depends(ON_ALL).needs(stage::FORCES),
-        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak |elastic.F| over the peak kinetostatic rod force, of the last complete shaft turn (the running one until a turn is complete; elastodynamic level, 1 at the others)").needs(stage::ELASTIC),
-        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)").needs(stage::ELASTIC),
-        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)").feeds(stage::ELASTIC),
+        dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak |elastic.F| over the peak kinetostatic rod force, of the last complete shaft turn (the running one until a turn is complete), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level, 1 at the others)")).needs(stage::ELASTIC),
+        elastic_E_residual = crate::solver::vars::e_residual().needs(stage::ELASTIC),
+        solver_steps = crate::solver::vars::steps().feeds(stage::ELASTIC),
         // ---- Model Exchange states of the elastodynamic level and their derivatives
         elastic_x = Var::local("elastic.x", "m", "State: position x of slider 5 along its guide (elastodynamic level)").needs(stage::ELASTIC),
         elastic_xd = Var::local("elastic.xd", "m/s", "State: velocity of slider 5 (elastodynamic level)").needs(stage::ELASTIC),

@@ -97,9 +97,9 @@ crate::model_variables! {
         knife_s_kin = Var::output("knife.s_kin", "m", "Rigid reference position of the knife s(phi) (elastodynamic level; equals knife.s at the others)").depends(ON_PHI),
         elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the drive chain knife.s_kin - knife.s (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
         elastic_F = Var::output("elastic.F", "N", "Dynamic chain force on the knife along s, k*deflection + c*deflection rate (elastodynamic level)").depends(ON_PHI_W).needs(stage::ELASTIC),
-        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) chain force, of the last complete driver turn (the running one until a turn is complete; elastodynamic level)").needs(stage::ELASTIC),
-        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)").needs(stage::ELASTIC),
-        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)").needs(stage::ELASTIC),
+        dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) chain force, of the last complete driver turn (the running one until a turn is complete), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
+        elastic_E_residual = crate::solver::vars::e_residual().needs(stage::ELASTIC),
+        solver_steps = crate::solver::vars::steps().needs(stage::ELASTIC),
         // ---- Model Exchange states of the elastodynamic level and their derivatives
         elastic_x = Var::local("elastic.x", "m", "State: knife position x, down positive (elastodynamic level)").needs(stage::ELASTIC),
         elastic_xd = Var::local("elastic.xd", "m/s", "State: knife velocity (elastodynamic level)").needs(stage::ELASTIC),

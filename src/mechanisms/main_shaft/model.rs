@@ -21,7 +21,7 @@ crate::model_variables! {
         motor_s = Var::output("motor.s", "", "Motor slip (motor.n_sync - motor.w)/motor.n_sync").depends(&[]),
         motor_P = Var::output("motor.P", "W", "Mechanical power of the motor motor.tau*motor.w").depends(&[]),
         bearing_tau = Var::output("bearing.tau", "N.m", "Friction torque of the main shaft's bearings").depends(&[]),
-        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization"),
+        solver_steps = crate::solver::vars::steps(),
         // ---- inputs: the loads
         load_tau = Var::input("load.tau", 0.0, "N.m", "Load torque given as a whole (plain torque coupling: a mechanism's shaft.tau; its inertia then acts one communication step late)"),
         load1_J_red = Var::input("load1.J_red", 0.0, "kg.m2", "Reduced moment of inertia of mechanism 1 (its shaft.J_red; 0 if none)"),
@@ -216,8 +216,8 @@ impl Model for MainShaft {
     }
 
     const STATES: usize = 2;
-    // Its inputs are load torques and inertias, held over a step: no shaft path to extrapolate.
-    const CAN_INTERPOLATE_INPUTS: bool = false;
+    // standalone: its inputs (load torques and inertias) are held over a step, and it declares
+    // no canInterpolateInputs (the default for a standalone model)
 
     fn me_states(&mut self, _v: &Values<V>, _time: f64, x: &mut [f64]) {
         x.copy_from_slice(&self.y);
@@ -233,6 +233,12 @@ impl Model for MainShaft {
             load: Self::load(v),
         }
         .rhs(time, &self.y, dx);
+    }
+
+    /// The host's accepted step, counted in `solver.steps` as the own integrator's in
+    /// Co-Simulation.
+    fn me_completed_step(&mut self, _v: &Values<V>, _time: f64, _log: &mut dyn Log) {
+        self.integ.stats.steps += 1;
     }
 
     fn save_state(&self) -> Vec<f64> {

@@ -1,18 +1,21 @@
 //! The Perforators FMU: its variables, declared once, and the glue from them to
 //! [`super::physics`] (`../shared/spec/perforators.md`).
 //!
-//! Per-cycle quantities live in the model's state, advanced in `do_step`: the smallest ramp
-//! contact force of the current and of the last completed shaft turn (`roller.F_margin`), and
-//! whether the roller lost contact during the last communication step (`roller.lost_contact`,
-//! with a `logWarning` naming the shaft angle where it starts). The step is sampled at most
-//! 0.25° of shaft angle apart, the shaft extrapolated from its inputs (`φ + ω·τ + ε·τ²/2`).
+//! Per-cycle quantities of the kinetostatic level live in the model's state ([`CycleState`]): the
+//! smallest ramp contact force of the current and of the last completed shaft turn
+//! (`roller.F_margin`), and whether the roller lost contact during the last step
+//! (`roller.lost_contact`, with a `logWarning` naming the shaft angle where it starts). A step's
+//! span is watched along the shaft's path, sampled at most 0.25° of shaft angle apart, the shaft
+//! extrapolated from its state at the step's start (`φ + ω·τ + ε·τ²/2`, as the step moves it): in
+//! Co-Simulation each communication step, in Model Exchange the span since the last completed
+//! integrator step (the same samples for the same steps, so the outputs mean the same).
 
 use super::elastic::{Contact, ContactLaw, LeverOde, N_EVENTS, Peaks, Track};
 use super::physics::{Drive, Mode, Params};
 use crate::mechanics::cyclogram::Phase;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
-use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
+use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
 use crate::solver::chain::Slot::{Events, Integ, Mem, Rejected, Steps};
 use crate::solver::chain::{self, Chain, ChainModel, Slot};
@@ -69,7 +72,7 @@ pub static STAGES: &[Stage] = &[
     },
     Stage {
         name: "contact_watch",
-        description: "Inside fmi2DoStep, the ramp contact force sampled every 0.25 deg of shaft angle: lift-off detection and warning, smallest force per turn",
+        description: "Over each step (inside fmi2DoStep; in Model Exchange between completed integrator steps), the ramp contact force sampled every 0.25 deg of shaft angle: lift-off detection and warning, smallest force per turn",
         levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
         requires: stage::FORCES,
         always: false,
@@ -178,8 +181,8 @@ crate::model_variables! {
         spring_M = Var::output("spring.M", "N.m", "Spring moment on the lever, -(M0 + kt*gamma) (kinetostatic level)").depends(ON_PHI).needs(stage::FORCES),
         roller_F = Var::output("roller.F", "N", "Contact force the ramp must push the roller with; < 0: the spring cannot hold it (kinetostatic level; at the elastodynamic level the dynamic force elastic.F, >= 0)").depends(ON_ALL).needs(stage::FORCES),
         roller_sigma_H = Var::output("roller.sigma_H", "Pa", "Hertz stress roller - ramp, paper 002 eq. 8 (kinetostatic level)").depends(ON_ALL).needs(stage::HERTZ),
-        roller_lost_contact = Var::bool_output("roller.lost_contact", "True if the ramp would have to pull the roller now or during the last communication step (kinetostatic level; elastodynamic: the roller is off the ramp now or lifted off during the last step)").depends(ON_ALL).needs(stage::WATCH),
-        roller_F_margin = Var::output("roller.F_margin", "N", "Smallest contact force over the last completed shaft turn (during the first turn: so far) (kinetostatic level; elastodynamic: of elastic.F, 0 when the roller lifted off)").depends(ON_ALL).needs(stage::WATCH),
+        roller_lost_contact = Var::bool_output("roller.lost_contact", "True if the ramp would have to pull the roller now or did during the last step: the last communication step in Co-Simulation, the span since the previous completed integrator step in Model Exchange (one that ends at an event continues it), the shaft's path over it sampled at most 0.25 deg apart (kinetostatic level); elastodynamic: the roller is off the ramp now or lifted off during that step").depends(ON_ALL).needs(stage::WATCH),
+        roller_F_margin = Var::output("roller.F_margin", "N", concat!("Smallest contact force over the last completed shaft turn (during the first turn: so far, and now). Kinetostatic level: along the shaft's path over each step, sampled at most 0.25 deg apart (communication steps in Co-Simulation, the spans between completed integrator steps in Model Exchange: the same samples for the same steps); elastodynamic: of elastic.F ", crate::at_accepted_steps!(), ", 0 when the roller lifted off")).depends(ON_ALL).needs(stage::WATCH),
         table_x = Var::output("table.x", "m", "Table position x_t: 0 at loading, table.stroke at sewing").depends(ON_PHI),
         table_F = Var::output("table.F", "N", "Force of the perforator drive on the table along +x (towards sewing): wire into SewingTable.table.F_ext").depends(ON_ALL).needs(stage::FORCES),
         // ---- elastodynamic level (dynamics.md)
@@ -197,11 +200,11 @@ crate::model_variables! {
         contact_pen = Var::output("contact.penetration", "m", "Penetration of the roller into the ramp along its normal; < 0: the gap of a lifted roller (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
         elastic_F = Var::output("elastic.F", "N", "Dynamic contact force of the ramp on the roller, >= 0 (elastodynamic level; equals roller.F there)").depends(ON_PHI_W).needs(stage::ELASTIC),
         roller_F_kin = Var::output("roller.F_kin", "N", "Kinetostatic contact force on the rigid motion, the reference of elastic.F (elastodynamic level)").depends(ON_ALL).needs(stage::FORCES),
-        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak elastic.F over the peak |kinetostatic contact force| of the last complete shaft turn (the running one until a turn is complete; elastodynamic level)").needs(stage::ELASTIC),
-        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller lifted off the ramp (elastodynamic level)").needs(stage::ELASTIC),
-        contact_F_impact = Var::output("contact.F_impact", "N", "Largest contact force in the first compression after a landing of the roller (elastodynamic level)").needs(stage::ELASTIC),
-        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)").needs(stage::ELASTIC),
-        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)").feeds(stage::ELASTIC),
+        dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak elastic.F over the peak |kinetostatic contact force| of the last complete shaft turn (the running one until a turn is complete), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
+        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller lifted off the ramp: contact-opening events, located by the FMU's integrator in Co-Simulation, by the host in Model Exchange (elastodynamic level)").needs(stage::ELASTIC),
+        contact_F_impact = Var::output("contact.F_impact", "N", concat!("Largest contact force in the first compression after a landing of the roller, taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
+        elastic_E_residual = crate::solver::vars::e_residual().needs(stage::ELASTIC),
+        solver_steps = crate::solver::vars::steps().feeds(stage::ELASTIC),
         // ---- Model Exchange states of the elastodynamic level and their derivatives
         elastic_q = Var::local("elastic.q", "rad", "State: lever deflection from its rigid rotation, lever.gamma_kin - lever.gamma (elastodynamic level)").needs(stage::ELASTIC),
         elastic_qd = Var::local("elastic.qd", "rad/s", "State: rate of the lever deflection (elastodynamic level)").needs(stage::ELASTIC),
@@ -215,7 +218,7 @@ crate::model_variables! {
 /// Largest curvature radius reported, m: a flat stretch of the ramp is reported as this.
 pub const RHO_FLAT: f64 = 1000.0;
 
-/// Per-cycle state advanced by `do_step`.
+/// Per-cycle state of the kinetostatic level, advanced by [`CycleState::watch`] over each step.
 #[derive(Clone, Copy, Debug, PartialEq)]
 struct CycleState {
     /// Index of the shaft turn being sampled (NaN before the first step).
@@ -228,6 +231,10 @@ struct CycleState {
     lost_step: bool,
     /// The last sample was negative (to log the onset once).
     prev_negative: bool,
+    /// Model Exchange: the time of the last completed integrator step (NaN: none yet) and the
+    /// shaft there, where the next completed step's span starts.
+    me_t: f64,
+    me_shaft: ShaftState,
 }
 
 impl Default for CycleState {
@@ -238,6 +245,122 @@ impl Default for CycleState {
             last_min: f64::INFINITY,
             lost_step: false,
             prev_negative: false,
+            me_t: f64::NAN,
+            me_shaft: ShaftState {
+                phi: f64::NAN,
+                w: f64::NAN,
+                a: f64::NAN,
+            },
+        }
+    }
+}
+
+impl CycleState {
+    /// Numbers of [`CycleState::save`] (5 before Model Exchange watched its steps: still
+    /// restored).
+    const LEN: usize = 9;
+
+    /// Watches the contact force along the shaft's path from `st` at `t0` over `h` (`h = 0`: the
+    /// one point): samples at most 0.25° of shaft angle apart, the turn minima, a negative force
+    /// (`lost_step`, the onset logged with the angle).
+    fn watch(&mut self, d: &Drive, st: ShaftState, t0: f64, h: f64, log: &mut dyn Log) {
+        let dphi = (st.w * h).abs() + 0.5 * (st.a * h * h).abs();
+        let n = ((dphi / 0.25f64.to_radians()).ceil() as usize).clamp(1, 4000);
+        let s = self;
+        s.lost_step = false;
+        for j in 0..=n {
+            let tau = h * j as f64 / n as f64;
+            let phi = st.phi + st.w * tau + 0.5 * st.a * tau * tau;
+            let w = st.w + st.a * tau;
+            let f = d.forces(&d.kinematics(phi, w, st.a)).roller_f;
+            let cycle = ((phi - d.cyc.phi0) / TAU).floor();
+            if s.cycle.is_nan() {
+                s.cycle = cycle;
+            } else if cycle != s.cycle {
+                s.last_min = s.cur_min;
+                s.cur_min = f64::INFINITY;
+                s.cycle = cycle;
+            }
+            s.cur_min = s.cur_min.min(f);
+            let negative = f < 0.0;
+            if negative {
+                s.lost_step = true;
+                if !s.prev_negative {
+                    let psi = crate::mechanics::wrap_angle(phi - d.cyc.phi0);
+                    let phase = d.cyc.at(phi).phase;
+                    log.log(
+                        Severity::Warning,
+                        &format!(
+                            "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn, {}) at t = {:.6} s, {:.1} rpm: the ramp would have to pull with {:.2} N; spring.M0 = {} N.m, spring.kt = {} N.m/rad are too weak at this speed",
+                            phi.to_degrees(),
+                            psi.to_degrees(),
+                            if phase == Phase::Forward { "forward travel" } else { "return travel" },
+                            t0 + tau,
+                            w * 30.0 / std::f64::consts::PI,
+                            -f,
+                            d.p.spring_m0,
+                            d.p.spring_kt
+                        ),
+                    );
+                }
+            }
+            s.prev_negative = negative;
+        }
+    }
+
+    /// Model Exchange, at a completed integrator step at `time` with the shaft `now`: the span
+    /// since the last one watched as a Co-Simulation step over it would be (the first: the
+    /// point alone), and `now` kept as the next span's start.
+    fn me_watch(&mut self, d: &Drive, now: ShaftState, time: f64, log: &mut dyn Log) {
+        if self.me_t.is_nan() {
+            self.watch(d, now, time, 0.0, log);
+        } else if time > self.me_t {
+            let (t0, st) = (self.me_t, self.me_shaft);
+            self.watch(d, st, t0, time - t0, log);
+        }
+        self.me_t = time;
+        self.me_shaft = now;
+    }
+
+    fn save(&self) -> Vec<f64> {
+        vec![
+            self.cycle,
+            self.cur_min,
+            self.last_min,
+            self.lost_step as u8 as f64,
+            self.prev_negative as u8 as f64,
+            self.me_t,
+            self.me_shaft.phi,
+            self.me_shaft.w,
+            self.me_shaft.a,
+        ]
+    }
+
+    fn restore(state: &[f64]) -> Result<CycleState, String> {
+        match *state {
+            [] => Ok(CycleState::default()),
+            [cycle, cur_min, last_min, lost, prev, ref me @ ..]
+                if me.is_empty() || me.len() == 4 =>
+            {
+                let mut s = CycleState {
+                    cycle,
+                    cur_min,
+                    last_min,
+                    lost_step: lost != 0.0,
+                    prev_negative: prev != 0.0,
+                    ..CycleState::default()
+                };
+                if let [t, phi, w, a] = *me {
+                    s.me_t = t;
+                    s.me_shaft = ShaftState { phi, w, a };
+                }
+                Ok(s)
+            }
+            _ => Err(format!(
+                "Perforators state has {} values, expected {} (or 5)",
+                state.len(),
+                Self::LEN
+            )),
         }
     }
 }
@@ -255,8 +378,68 @@ struct LeverChain {
 #[derive(Clone, Debug, PartialEq)]
 struct LeverMemory {
     track: Track,
-    /// The roller lifted off during the last communication step.
-    lost_step: bool,
+    /// Whether the roller lifted off during the last step.
+    lost: Lost,
+}
+
+/// Whether the roller lifted off during the last step (`roller.lost_contact` of the
+/// elastodynamic level): the last communication step in Co-Simulation; in Model Exchange the
+/// span between the host's last two completed integrator steps, where a step that ends at an
+/// event does not end the span (a host stops its integration at the event, as a Co-Simulation
+/// step locates it inside and runs on).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Lost {
+    /// Reported: a lift-off during the last step.
+    step: bool,
+    /// Model Exchange: a lift-off during the span running since.
+    pending: bool,
+    /// Model Exchange: the last call was a completed step, and `step` before it (an event now
+    /// continues the span that step ended).
+    just_completed: bool,
+    before: bool,
+}
+
+impl Lost {
+    /// A Co-Simulation step, in which the roller `lifted` off or not.
+    fn co_simulation_step(&mut self, lifted: bool) {
+        *self = Lost {
+            step: lifted,
+            ..Lost::default()
+        };
+    }
+    /// Model Exchange: the host completed an integrator step.
+    fn completed(&mut self) {
+        self.before = self.step;
+        self.step = std::mem::take(&mut self.pending);
+        self.just_completed = true;
+    }
+    /// Model Exchange: an event, at which the roller `lifted` off or not.
+    fn event(&mut self, lifted: bool) {
+        if std::mem::take(&mut self.just_completed) {
+            self.pending = self.step;
+            self.step = self.before;
+        }
+        self.pending |= lifted;
+    }
+    /// The flags as one number of the FMU state (a state saved before Model Exchange tracked
+    /// them holds `step` as 0 or 1).
+    fn save(&self) -> f64 {
+        f64::from(
+            u8::from(self.step)
+                | u8::from(self.pending) << 1
+                | u8::from(self.just_completed) << 2
+                | u8::from(self.before) << 3,
+        )
+    }
+    fn restore(x: f64) -> Lost {
+        let b = x as u8;
+        Lost {
+            step: b & 1 != 0,
+            pending: b & 2 != 0,
+            just_completed: b & 4 != 0,
+            before: b & 8 != 0,
+        }
+    }
 }
 
 /// What the elastodynamic level carries between steps: `y = [q, q̇, W]`, q the lever's
@@ -299,7 +482,7 @@ impl ChainModel for LeverChain {
     }
     fn start(_: &LeverOde, path: &ShaftPath, m: &mut LeverMemory) {
         m.track = Track::new(path.cycle(path.t0));
-        m.lost_step = false;
+        m.lost = Lost::default();
     }
     fn absorb(ode: &LeverOde, m: &mut LeverMemory) {
         m.track = ode.track.get();
@@ -317,7 +500,7 @@ impl ChainModel for LeverChain {
             t.lift_phi,
             t.impact,
             t.landed as i32 as f64,
-            m.lost_step as i32 as f64,
+            m.lost.save(),
         ]);
     }
     fn restore_memory(s: &[f64]) -> LeverMemory {
@@ -336,7 +519,7 @@ impl ChainModel for LeverChain {
                 impact: s[8],
                 landed: s[9] != 0.0,
             },
-            lost_step: s[10] != 0.0,
+            lost: Lost::restore(s[10]),
         }
     }
 
@@ -352,7 +535,7 @@ impl ChainModel for LeverChain {
         let drive = ode.d;
         let tr = ode.track.get();
         let new = tr.liftoffs - m.track.liftoffs;
-        m.lost_step = new > 0.0;
+        m.lost.co_simulation_step(new > 0.0);
         if new > 0.0 {
             let phi = tr.lift_phi;
             let psi = crate::mechanics::wrap_angle(phi - drive.cyc.phi0);
@@ -546,6 +729,13 @@ impl Perforators {
         &self.drive
     }
 
+    /// Does the kinetostatic level watch the contact force over the steps ([`CycleState`])?
+    fn watching(&self, v: &Values<V>) -> bool {
+        self.dynamic.is_none()
+            && shaft::fidelity(v) == Fidelity::Kinetostatic
+            && v.wants(stage::WATCH)
+    }
+
     /// Outputs of the elastodynamic level; returns the shaft torque.
     fn evaluate_dynamic(&self, v: &mut Values<V>, time: f64) -> f64 {
         let d = self.dynamic.as_ref().expect("elastodynamic level");
@@ -576,7 +766,7 @@ impl Perforators {
         };
         v[V::table_F] = f.table_f;
         let lost = !(pt.pen > 0.0 && pt.f_pre > 0.0);
-        v.set_flag(V::roller_lost_contact, d.memory.lost_step || lost);
+        v.set_flag(V::roller_lost_contact, d.memory.lost.step || lost);
         let t = &d.memory.track;
         v[V::roller_F_margin] = if t.last_min.is_finite() {
             t.last_min
@@ -621,12 +811,6 @@ impl Perforators {
         shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
         f.tau
     }
-
-    fn contact_force(&self, phi: f64, w: f64, eps: f64) -> f64 {
-        self.drive
-            .forces(&self.drive.kinematics(phi, w, eps))
-            .roller_f
-    }
 }
 
 impl Model for Perforators {
@@ -654,7 +838,7 @@ impl Model for Perforators {
             };
             let memory = LeverMemory {
                 track: Track::new(0.0),
-                lost_step: false,
+                lost: Lost::default(),
             };
             Chain::new(model, Integrator::new(chain::solver_settings(v)), memory)
         });
@@ -748,53 +932,10 @@ impl Model for Perforators {
         if self.dynamic.is_some() {
             return chain::do_step(self.dynamic.as_mut(), &self.drive, v, time, h, log);
         }
-        if shaft::fidelity(v) != Fidelity::Kinetostatic || !v.wants(stage::WATCH) {
-            return Ok(());
+        if self.watching(v) {
+            self.state
+                .watch(&self.drive, shaft::state(v, time), time, h, log);
         }
-        let st = shaft::state(v, time);
-        let dphi = (st.w * h).abs() + 0.5 * (st.a * h * h).abs();
-        let n = ((dphi / 0.25f64.to_radians()).ceil() as usize).clamp(1, 4000);
-        let mut s = self.state;
-        s.lost_step = false;
-        for j in 0..=n {
-            let tau = h * j as f64 / n as f64;
-            let phi = st.phi + st.w * tau + 0.5 * st.a * tau * tau;
-            let w = st.w + st.a * tau;
-            let f = self.contact_force(phi, w, st.a);
-            let cycle = ((phi - self.drive.cyc.phi0) / TAU).floor();
-            if s.cycle.is_nan() {
-                s.cycle = cycle;
-            } else if cycle != s.cycle {
-                s.last_min = s.cur_min;
-                s.cur_min = f64::INFINITY;
-                s.cycle = cycle;
-            }
-            s.cur_min = s.cur_min.min(f);
-            let negative = f < 0.0;
-            if negative {
-                s.lost_step = true;
-                if !s.prev_negative {
-                    let psi = crate::mechanics::wrap_angle(phi - self.drive.cyc.phi0);
-                    let phase = self.drive.cyc.at(phi).phase;
-                    log.log(
-                        Severity::Warning,
-                        &format!(
-                            "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn, {}) at t = {:.6} s, {:.1} rpm: the ramp would have to pull with {:.2} N; spring.M0 = {} N.m, spring.kt = {} N.m/rad are too weak at this speed",
-                            phi.to_degrees(),
-                            psi.to_degrees(),
-                            if phase == Phase::Forward { "forward travel" } else { "return travel" },
-                            time + tau,
-                            w * 30.0 / std::f64::consts::PI,
-                            -f,
-                            self.drive.p.spring_m0,
-                            self.drive.p.spring_kt
-                        ),
-                    );
-                }
-            }
-            s.prev_negative = negative;
-        }
-        self.state = s;
         Ok(())
     }
 
@@ -803,46 +944,48 @@ impl Model for Perforators {
 
     // Model Exchange from solver::chain ([`LeverChain`]'s hooks)
     crate::chain_hooks!(dynamic, drive: me_states, me_set_states, me_derivatives,
-        me_event_indicators, me_event, me_completed_step);
+        me_event_indicators);
+
+    /// Elastodynamic: [`LeverChain`]'s hook; a lift-off counted here is reported by the next
+    /// completed step ([`Lost`]), as a Co-Simulation step reports one inside it. Kinetostatic:
+    /// the first event (after initialization) starts the watched spans.
+    fn me_event(&mut self, v: &Values<V>, time: f64, log: &mut dyn Log) {
+        if let Some(d) = self.dynamic.as_mut() {
+            let before = d.started.then_some(d.memory.track.liftoffs);
+            chain::me_event(Some(&mut *d), &self.drive, v, time, log);
+            let lifted = before.is_some_and(|n| d.memory.track.liftoffs > n);
+            d.memory.lost.event(lifted);
+        } else if self.state.me_t.is_nan() && self.watching(v) {
+            self.state
+                .me_watch(&self.drive, shaft::state(v, time), time, log);
+        }
+    }
+
+    /// Elastodynamic: [`LeverChain`]'s hook, and `roller.lost_contact` of the span since the
+    /// last completed step. Kinetostatic: that span watched as a Co-Simulation step over it.
+    fn me_completed_step(&mut self, v: &Values<V>, time: f64, log: &mut dyn Log) {
+        if let Some(d) = self.dynamic.as_mut() {
+            chain::me_completed_step(Some(&mut *d), &self.drive, v, time);
+            d.memory.lost.completed();
+        } else if self.watching(v) {
+            self.state
+                .me_watch(&self.drive, shaft::state(v, time), time, log);
+        }
+    }
 
     fn save_state(&self) -> Vec<f64> {
         if let Some(d) = self.dynamic.as_ref() {
             return d.save();
         }
-        let s = &self.state;
-        vec![
-            s.cycle,
-            s.cur_min,
-            s.last_min,
-            s.lost_step as u8 as f64,
-            s.prev_negative as u8 as f64,
-        ]
+        self.state.save()
     }
 
     fn restore_state(&mut self, state: &[f64]) -> Result<(), String> {
         if let Some(d) = self.dynamic.as_mut() {
             return d.restore(state);
         }
-        match *state {
-            [] => {
-                self.state = CycleState::default();
-                Ok(())
-            }
-            [cycle, cur_min, last_min, lost, prev] => {
-                self.state = CycleState {
-                    cycle,
-                    cur_min,
-                    last_min,
-                    lost_step: lost != 0.0,
-                    prev_negative: prev != 0.0,
-                };
-                Ok(())
-            }
-            _ => Err(format!(
-                "Perforators state has {} values, expected 5",
-                state.len()
-            )),
-        }
+        self.state = CycleState::restore(state)?;
+        Ok(())
     }
 }
 

@@ -198,11 +198,11 @@ crate::model_variables! {
         table_x_kin = Var::output("table.x_kin", "m", "Rigid reference position of the table (elastodynamic level; equals table.x at the others)").depends(ON_PHI),
         elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the follower chain table.x_kin - table.x, play included (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
         elastic_F = Var::output("elastic.F", "N", "Dynamic force of the cam on the table along +x (0 while the roller crosses the play; elastodynamic level)").depends(ON_PHI_W).needs(stage::ELASTIC),
-        dyn_factor = Var::output("dyn.factor", "", "Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) cam force along x, of the last complete shaft turn (the running one before; elastodynamic level)").needs(stage::ELASTIC),
-        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller left a slot flank (with play; elastodynamic level)").needs(stage::ELASTIC),
-        contact_F_impact = Var::output("contact.F_impact", "N", "Largest cam force after a landing of the roller on a flank (with play; elastodynamic level)").needs(stage::ELASTIC),
-        elastic_E_residual = Var::output("elastic.E_residual", "J", "Energy-balance residual of the integration E - E0 - W (elastodynamic level)").needs(stage::ELASTIC),
-        solver_steps = Var::int_output("solver.steps", "Internal integration steps since initialization (elastodynamic level)").needs(stage::ELASTIC),
+        dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) cam force along x, of the last complete shaft turn (the running one before), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
+        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller left a slot flank: contact-opening events, located by the FMU's integrator in Co-Simulation, by the host in Model Exchange (with play; elastodynamic level)").needs(stage::ELASTIC),
+        contact_F_impact = Var::output("contact.F_impact", "N", concat!("Largest cam force after a landing of the roller on a flank, taken ", crate::at_accepted_steps!(), " (with play; elastodynamic level)")).needs(stage::ELASTIC),
+        elastic_E_residual = crate::solver::vars::e_residual().needs(stage::ELASTIC),
+        solver_steps = crate::solver::vars::steps().needs(stage::ELASTIC),
         // ---- Model Exchange states of the elastodynamic level and their derivatives
         elastic_x = Var::local("elastic.x", "m", "State: table position x (elastodynamic level)").needs(stage::ELASTIC),
         elastic_xd = Var::local("elastic.xd", "m/s", "State: table velocity (elastodynamic level)").needs(stage::ELASTIC),
@@ -575,7 +575,7 @@ mod tests {
         let x_kin = v[V::table_x_kin];
         // the roller pressed on a flank (deflection 2*gap > gap), a completed step sees it
         m.me_set_states(&v, 0.0, &[x_kin - 2.0 * gap, 0.0, 0.0]);
-        m.me_completed_step(&v, 0.0);
+        m.me_completed_step(&v, 0.0, &mut NoLog);
         let saved = m.save_state();
         assert_eq!(
             saved.len(),
@@ -587,7 +587,7 @@ mod tests {
         r.restore_state(&saved).unwrap();
         assert_eq!(bits(&r.save_state()), bits(&saved));
         r.me_set_states(&v, 0.0, &[x_kin, 0.0, 0.0]);
-        r.me_completed_step(&v, 0.0);
+        r.me_completed_step(&v, 0.0, &mut NoLog);
         assert_eq!(r.dynamic.as_ref().unwrap().memory.liftoffs, 1.0);
         // a Co-Simulation state (no indicators) is accepted; a truncated one is not
         let mut c = SewingTable::prepare(&v).unwrap();

@@ -92,9 +92,14 @@ fn lift_off_is_flagged_and_logged_with_the_shaft_angle() {
 fn state_round_trips() {
     let (mut m, mut v, _) = run(100.0, 0.5, 0.7, 1e-3);
     let saved = m.save_state();
+    let bits = |s: &[f64]| s.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
     let mut fresh = Perforators::prepare(&v).unwrap();
     fresh.restore_state(&saved).unwrap();
-    assert_eq!(fresh.save_state(), saved);
+    assert_eq!(bits(&fresh.save_state()), bits(&saved));
+    // a state saved before Model Exchange watched its steps (5 numbers) still restores
+    let mut old = Perforators::prepare(&v).unwrap();
+    old.restore_state(&saved[..5]).unwrap();
+    assert_eq!(bits(&old.save_state()[..5]), bits(&saved[..5]));
     let mut log = Rec(vec![]);
     let (mut a, mut b) = (v.clone(), v.clone());
     m.do_step(&mut a, 0.7, 1e-3, &mut log).unwrap();
@@ -104,4 +109,47 @@ fn state_round_trips() {
     assert_eq!(a.raw(), b.raw());
     assert!(fresh.restore_state(&[1.0]).is_err());
     m.evaluate(&mut v, 0.7, &mut log);
+}
+
+/// The elastodynamic level's lift-off flag in Model Exchange covers the span between the host's
+/// completed steps, and a step that ends at an event (FMPy completes it at the root, then enters
+/// event mode) continues the span: a lift-off and a landing inside one output interval are
+/// reported at its end, as a Co-Simulation step over that interval reports them.
+#[test]
+fn the_lift_off_flag_spans_the_hosts_steps_through_their_events() {
+    let mut l = Lost::default();
+    l.completed(); // t1
+    l.completed(); // the host stops at a root: the lift-off
+    l.event(true);
+    assert!(!l.step, "until the span ends, the last span's flag");
+    l.completed(); // the next root: the landing
+    l.event(false);
+    assert!(!l.step);
+    l.completed(); // t2
+    assert!(l.step, "the span (t1, t2] had a lift-off");
+    l.completed(); // t3
+    assert!(!l.step);
+    // saved in one number; a state saved before holds 0 or 1
+    let all = Lost {
+        step: true,
+        pending: true,
+        just_completed: false,
+        before: true,
+    };
+    assert_eq!(Lost::restore(all.save()), all);
+    assert_eq!(
+        Lost::restore(1.0),
+        Lost {
+            step: true,
+            ..Lost::default()
+        }
+    );
+    l.co_simulation_step(true);
+    assert_eq!(
+        l,
+        Lost {
+            step: true,
+            ..Lost::default()
+        }
+    );
 }
