@@ -570,18 +570,17 @@ mod tests {
 
     #[test]
     fn a_connector_the_tailored_fmu_leaves_out_is_refused() {
-        // a knife whose only output is its position: the tailored FMU has shaft.phi as its
-        // only input, so the connection of the shaft's acceleration has no end
-        let mut m = machines().remove(1);
-        m.components.truncate(2);
-        m.connections = vec![
-            (("drive", "shaft.phi"), ("side_left", "shaft.phi")),
-            (("drive", "shaft.a"), ("side_left", "shaft.a")),
-        ];
-        m.components[1].record = vec!["knife.s"];
+        // a table whose only output is its position: the tailored FMU has no use for the
+        // needles' force table.F_ext, so the connection from the perforators has no end
+        let mut m = machines().remove(0);
+        m.components.retain(|c| c.name != "drive");
+        m.connections = vec![(("perforators", "table.F"), ("table", "table.F_ext"))];
+        for c in &mut m.components {
+            c.record = if c.name == "table" { vec!["table.x"] } else { vec![] };
+        }
         let e = tailored(&m).unwrap_err();
         assert!(
-            e.contains("GenevaKnifeDrive_ThreeKnifeTrimmer_side_left has no input shaft.a"),
+            e.contains("SewingTable_ThreadSewingMachine_table has no input table.F_ext"),
             "{e}"
         );
     }
