@@ -156,9 +156,10 @@ pub trait ChainModel: Clone + Debug {
     }
 }
 
-/// Model Exchange: the event indicators at `(t, y)`; if those of the last call are known, a
-/// transition from them is applied (`on_event`), and with `reevaluate` the indicators are taken
-/// again after it (where the event changes a mode they depend on). They become `g_prev`.
+/// Model Exchange: the event indicators at `(t, y)` (those resting at zero holding their sign in
+/// `g_prev`, [`OdeSystem::events_held`]); if those of the last call are known, a transition from
+/// them is applied (`on_event`), and with `reevaluate` the indicators are taken again after it
+/// (where the event changes a mode they depend on). They become `g_prev`.
 pub fn transitions<O: OdeSystem>(
     ode: &O,
     t: f64,
@@ -167,11 +168,11 @@ pub fn transitions<O: OdeSystem>(
     reevaluate: bool,
 ) {
     let mut g = vec![0.0; ode.n_events()];
-    ode.events(t, y, &mut g);
+    ode.events_held(t, y, g_prev, &mut g);
     if g_prev.len() == g.len() {
         ode.on_event(t, y, g_prev, &g);
         if reevaluate {
-            ode.events(t, y, &mut g);
+            ode.events_held(t, y, g_prev, &mut g);
         }
     }
     *g_prev = g;
@@ -192,8 +193,10 @@ pub struct Chain<C: ChainModel> {
     pub e0: f64,
     /// The mechanism's bookkeeping.
     pub memory: C::Memory,
-    /// Model Exchange: the event indicators at the last event or completed integrator step
-    /// (empty: none yet).
+    /// The event indicators at the last event or step (empty: none yet): Model Exchange's at
+    /// its last event or completed integrator step, Co-Simulation's at the end of the last
+    /// communication step. An indicator resting at zero holds its sign in them
+    /// ([`crate::solver::hold_signs`]).
     pub g_prev: Vec<f64>,
 }
 
@@ -450,9 +453,11 @@ pub fn do_step<C: ChainModel>(
     let ode = d.ode(p, path, v);
     let mut y = d.y;
     let before = d.integ.clone();
-    match d.integ.integrate(&ode, time, time + h, &mut y) {
+    let mut held = d.g_prev.clone();
+    match d.integ.integrate_held(&ode, time, time + h, &mut y, &mut held) {
         Ok(_) => {
             d.y = y;
+            d.g_prev = held;
             d.model.after_step(&ode, &mut d.memory, time, h, log);
             C::absorb(&ode, &mut d.memory);
             let raw = v.raw_mut();
@@ -515,8 +520,9 @@ pub fn me_derivatives<C: ChainModel>(
     }
 }
 
-/// [`crate::model::Model::me_event_indicators`]: the ODE's event functions (1 below the
-/// elastodynamic level).
+/// [`crate::model::Model::me_event_indicators`]: the ODE's event functions, those resting at
+/// zero holding the sign they had at the last event or completed step
+/// ([`OdeSystem::events_held`]); 1 below the elastodynamic level.
 pub fn me_event_indicators<C: ChainModel>(
     chain: Option<&mut Chain<C>>,
     p: &C::Physics,
@@ -525,7 +531,9 @@ pub fn me_event_indicators<C: ChainModel>(
     z: &mut [f64],
 ) {
     match me_chain(chain, p, v, time) {
-        Some(d) => d.ode(p, shaft::path(v, time), v).events(time, &d.y, z),
+        Some(d) => d
+            .ode(p, shaft::path(v, time), v)
+            .events_held(time, &d.y, &d.g_prev, z),
         None => z.fill(1.0),
     }
 }
@@ -808,7 +816,9 @@ mod tests {
         assert!(c.started && c.memory >= 1.0, "{c:?}");
         assert!(c.integ.stats.steps > 0);
         let saved = c.save();
-        assert_eq!(saved.len(), Chain::<Toy>::STATE_LEN);
+        // the indicators at the end of the step travel with the state (their held signs)
+        assert_eq!(saved.len(), Chain::<Toy>::STATE_LEN + 1);
+        assert_eq!(c.g_prev, vec![c.y[0]]);
         let mut r = toy(&v, 400.0);
         r.restore(&saved).unwrap();
         assert_eq!(bits(&r.save()), bits(&saved));

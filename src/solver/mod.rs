@@ -18,7 +18,10 @@
 //! Events: every step is checked for sign changes of the system's event functions; the earliest
 //! is located (a root of the Hermite interpolant, then confirmed with real steps to a bracket of
 //! `1e-10` of the step) and the step ends just after it, so a discontinuity of the right-hand
-//! side is never stepped over.
+//! side is never stepped over. An event function that rests at exactly zero over an interval (a
+//! rigid velocity in a dwell) keeps the sign it had before ([`hold_signs`]): an event is where
+//! it takes the other sign, never where it merely reaches zero, and a Model Exchange host's root
+//! finder (CVODE) sees the same functions.
 //!
 //! Failure is an `Err` with the reason (step-size collapse, step budget, non-finite state, an
 //! explicit method out of its stability region): the caller returns `fmi2Discard` and keeps the
@@ -59,8 +62,19 @@ pub trait OdeSystem {
     fn n_events(&self) -> usize {
         0
     }
-    /// Event functions: an event is a strict sign change of one of them.
+    /// Event functions: an event is a strict sign change of one of them. One may be exactly zero
+    /// over an interval (a rigid velocity in a dwell); the integrators and the Model Exchange
+    /// hooks take them through [`OdeSystem::events_held`].
     fn events(&self, _t: f64, _y: &[f64], _g: &mut [f64]) {}
+    /// The event functions as the integrators and a Model Exchange host see them: [`events`]
+    /// with each one that is exactly zero holding the sign it had in `last` (the event
+    /// functions at the last step or event; [`hold_signs`]).
+    ///
+    /// [`events`]: OdeSystem::events
+    fn events_held(&self, t: f64, y: &[f64], last: &[f64], g: &mut [f64]) {
+        self.events(t, y, g);
+        hold_signs(g, last);
+    }
     /// Called after every accepted step (for peak tracking with interior mutability).
     fn on_step(&self, _t: f64, _y: &[f64]) {}
     /// Called when a step ends just after a located event, with the event functions before
@@ -74,6 +88,32 @@ pub trait OdeSystem {
     /// balance); default none.
     fn error_weight(&self, _i: usize) -> f64 {
         1.0
+    }
+}
+
+/// The magnitude an event function reports while it rests at zero ([`hold_signs`]): far below
+/// any value an event function of these models takes off its zero (lengths, speeds, forces in SI
+/// units), and the square root of the smallest normal number, so that the product of two such
+/// values, which some hosts form to compare signs, is not rounded to zero.
+pub const HELD: f64 = 1.4916681462400413e-154;
+
+/// An event function exactly zero over an interval is no event function: the integrator (and a
+/// host's root finder, CVODE's `cvRcheck2` aborts on it: "Root found at and very near t") cannot
+/// tell a crossing from a rest. So each `g[i]` that is exactly zero takes the sign it had in
+/// `last` (the event functions at the last accepted step or event; positive where `last` has
+/// none), with the magnitude [`HELD`]: resting at zero it keeps its sign, and an event is where
+/// it leaves zero to the other side. The sign so held is a discrete memory: it changes only at
+/// the events (and steps) whose indicators become `last`, and travels with the FMU state with
+/// them.
+pub fn hold_signs(g: &mut [f64], last: &[f64]) {
+    for (i, gi) in g.iter_mut().enumerate() {
+        if *gi == 0.0 {
+            *gi = if last.get(i).is_some_and(|l| *l < 0.0) {
+                -HELD
+            } else {
+                HELD
+            };
+        }
     }
 }
 
@@ -385,8 +425,22 @@ impl Integrator {
         t1: f64,
         y: &mut [f64],
     ) -> Result<Stats, String> {
+        self.integrate_held(sys, t0, t1, y, &mut Vec::new())
+    }
+
+    /// As [`Integrator::integrate`], with `held` the event functions at `t0` as the last call
+    /// left them (empty: none), whose signs the functions resting at zero keep
+    /// ([`hold_signs`]); on `Ok` they become those at `t1`, on `Err` they are left as they were.
+    pub fn integrate_held(
+        &mut self,
+        sys: &dyn OdeSystem,
+        t0: f64,
+        t1: f64,
+        y: &mut [f64],
+        held: &mut Vec<f64>,
+    ) -> Result<Stats, String> {
         let mut st = Stats::default();
-        let r = self.run(sys, t0, t1, y, &mut st);
+        let r = self.run(sys, t0, t1, y, held, &mut st);
         self.stats.add(&st);
         r.map(|_| st)
     }
@@ -397,6 +451,7 @@ impl Integrator {
         t0: f64,
         t1: f64,
         y: &mut [f64],
+        held: &mut Vec<f64>,
         st: &mut Stats,
     ) -> Result<(), String> {
         let n = sys.dim();
@@ -416,7 +471,7 @@ impl Integrator {
         st.rhs_evals += 1;
         let mut g0 = vec![0.0; ne];
         let mut g1 = vec![0.0; ne];
-        sys.events(t, y, &mut g0);
+        sys.events_held(t, y, held, &mut g0);
         let mut y1 = vec![0.0; n];
         let mut f1 = vec![0.0; n];
         let mut yt = vec![0.0; n];
@@ -560,7 +615,7 @@ impl Integrator {
             }
             // events
             let mut hacc = hs;
-            sys.events(t + hs, &y1, &mut g1);
+            sys.events_held(t + hs, &y1, &g0, &mut g1);
             let crossed = |ga: &[f64], gb: &[f64]| {
                 ga.iter()
                     .zip(gb)
@@ -583,7 +638,7 @@ impl Integrator {
                             0.5 * (lo + hi)
                         };
                         hermite(y, &f0, &y1, &f1, hs, mid, &mut yt);
-                        sys.events(t + mid, &yt, &mut gt);
+                        sys.events_held(t + mid, &yt, &g0, &mut gt);
                         if gt[i] * glo > 0.0 {
                             lo = mid;
                             glo = gt[i];
@@ -624,7 +679,7 @@ impl Integrator {
                         lo = s; // treat as not yet crossed; bisection continues
                         continue;
                     }
-                    sys.events(t + s, &yt, &mut gt);
+                    sys.events_held(t + s, &yt, &g0, &mut gt);
                     if crossed(&g0, &gt) {
                         hi = s;
                         yhi.copy_from_slice(&yt);
@@ -636,9 +691,9 @@ impl Integrator {
                 hacc = hi;
                 y1.copy_from_slice(&yhi);
                 f1.copy_from_slice(&fhi);
-                sys.events(t + hacc, &y1, &mut g1);
+                sys.events_held(t + hacc, &y1, &g0, &mut g1);
                 sys.on_event(t + hacc, &y1, &g0, &g1);
-                sys.events(t + hacc, &y1, &mut g1);
+                sys.events_held(t + hacc, &y1, &g0, &mut g1);
                 st.events += 1;
             }
             // accept
@@ -679,6 +734,7 @@ impl Integrator {
         if !fixed {
             self.h_next = h;
         }
+        *held = g0;
         Ok(())
     }
 
