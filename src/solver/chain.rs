@@ -170,7 +170,7 @@ pub fn transitions<O: OdeSystem>(
     let mut g = vec![0.0; ode.n_events()];
     ode.events_held(t, y, g_prev, &mut g);
     if g_prev.len() == g.len() {
-        ode.on_event(t, y, g_prev, &g);
+        ode.on_event_held(t, y, g_prev, &g);
         if reevaluate {
             ode.events_held(t, y, g_prev, &mut g);
         }
@@ -295,6 +295,16 @@ impl<C: ChainModel> Chain<C> {
                 "{} has {} numbers, expected {n}",
                 C::STATE_NAME,
                 s.len()
+            ));
+        }
+        // a snapshot is data a host may have altered: no model runs on non-finite states
+        let names = crate::model::state_names::<C::Var>();
+        if let Some(i) = (0..3).find(|&i| !s[1 + i].is_finite()) {
+            return Err(format!(
+                "{} refused: {} = {} is not finite",
+                C::STATE_NAME,
+                names.get(i).copied().unwrap_or("a state"),
+                s[1 + i]
             ));
         }
         self.g_prev = s[n..].to_vec();

@@ -19,9 +19,10 @@
 //! is located (a root of the Hermite interpolant, then confirmed with real steps to a bracket of
 //! `1e-10` of the step) and the step ends just after it, so a discontinuity of the right-hand
 //! side is never stepped over. An event function that rests at exactly zero over an interval (a
-//! rigid velocity in a dwell) keeps the sign it had before ([`hold_signs`]): an event is where
-//! it takes the other sign, never where it merely reaches zero, and a Model Exchange host's root
-//! finder (CVODE) sees the same functions.
+//! rigid velocity in a dwell) keeps the sign it had before ([`hold_signs`]), so that a Model
+//! Exchange host's root finder (CVODE) sees an event where one takes the other sign and none
+//! while it rests; the integrators here see the same functions with their own test
+//! ([`event_between`]).
 //!
 //! Failure is an `Err` with the reason (step-size collapse, step budget, non-finite state, an
 //! explicit method out of its stability region): the caller returns `fmi2Discard` and keeps the
@@ -78,8 +79,19 @@ pub trait OdeSystem {
     /// Called after every accepted step (for peak tracking with interior mutability).
     fn on_step(&self, _t: f64, _y: &[f64]) {}
     /// Called when a step ends just after a located event, with the event functions before
-    /// and after it: a system may switch a discrete mode here (interior mutability).
+    /// and after it as [`OdeSystem::events`] gives them (a held zero is zero again): a system
+    /// may switch a discrete mode here (interior mutability).
     fn on_event(&self, _t: f64, _y: &[f64], _g_before: &[f64], _g_after: &[f64]) {}
+    /// [`OdeSystem::on_event`] for held event functions ([`OdeSystem::events_held`]), as the
+    /// integrators and the Model Exchange hooks keep them.
+    fn on_event_held(&self, t: f64, y: &[f64], before: &[f64], after: &[f64]) {
+        let raw = |g: &[f64]| -> Vec<f64> {
+            g.iter()
+                .map(|x| if x.abs() == HELD { 0.0 } else { *x })
+                .collect()
+        };
+        self.on_event(t, y, &raw(before), &raw(after));
+    }
     /// Discrete modes of the system (saved with the state), and their restoration.
     fn modes(&self) -> Vec<f64> {
         Vec::new()
@@ -115,6 +127,16 @@ pub fn hold_signs(g: &mut [f64], last: &[f64]) {
             };
         }
     }
+}
+
+/// The integrators' event test between the (held) event function `a` at the start of a step
+/// and `b` later in it, as it has always been on the functions themselves: from a value off zero,
+/// a change of sign or reaching zero (`b` held). Reaching a rest ends a step where a rigid
+/// velocity comes to a dwell, a kink of the right-hand side; leaving a rest is no event here (a
+/// Model Exchange host sees one where the sign changes): the dwells of these mechanisms end at
+/// their phase events.
+fn event_between(a: f64, b: f64) -> bool {
+    a.abs() != HELD && ((a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0) || b.abs() == HELD)
 }
 
 /// `solver.method`.
@@ -616,16 +638,13 @@ impl Integrator {
             // events
             let mut hacc = hs;
             sys.events_held(t + hs, &y1, &g0, &mut g1);
-            let crossed = |ga: &[f64], gb: &[f64]| {
-                ga.iter()
-                    .zip(gb)
-                    .any(|(a, b)| a * b < 0.0 || (*a != 0.0 && *b == 0.0))
-            };
+            let crossed =
+                |ga: &[f64], gb: &[f64]| ga.iter().zip(gb).any(|(a, b)| event_between(*a, *b));
             if ne > 0 && crossed(&g0, &g1) {
                 // earliest root on the interpolant
                 let mut s_star = hs;
                 for i in 0..ne {
-                    if !(g0[i] * g1[i] < 0.0 || (g0[i] != 0.0 && g1[i] == 0.0)) {
+                    if !event_between(g0[i], g1[i]) {
                         continue;
                     }
                     let (mut lo, mut hi) = (0.0, hs);
@@ -639,7 +658,7 @@ impl Integrator {
                         };
                         hermite(y, &f0, &y1, &f1, hs, mid, &mut yt);
                         sys.events_held(t + mid, &yt, &g0, &mut gt);
-                        if gt[i] * glo > 0.0 {
+                        if !event_between(g0[i], gt[i]) {
                             lo = mid;
                             glo = gt[i];
                         } else {
@@ -692,7 +711,7 @@ impl Integrator {
                 y1.copy_from_slice(&yhi);
                 f1.copy_from_slice(&fhi);
                 sys.events_held(t + hacc, &y1, &g0, &mut g1);
-                sys.on_event(t + hacc, &y1, &g0, &g1);
+                sys.on_event_held(t + hacc, &y1, &g0, &g1);
                 sys.events_held(t + hacc, &y1, &g0, &mut g1);
                 st.events += 1;
             }

@@ -204,24 +204,29 @@ fn an_event_function_resting_at_zero_holds_its_sign() {
     assert_eq!(g, [-HELD, -HELD, 2.0, HELD, HELD]);
     assert!(HELD * HELD > 0.0 && HELD * HELD < f64::MIN_POSITIVE * 1.0001);
     // through the integrator, in communication steps that carry the held signs: an event where
-    // the next lobe has the other sign (t = 1, 2, 3, 4), none where a lobe comes to rest
-    // (t = 0.5, 1.5, ...) and none at the start (the first lobe keeps the held sign)
+    // a lobe comes to rest (t = 0.5, 1.5, ..., held at the lobe's sign), none where the next
+    // one leaves it (the integrator's test, as before holding) and none at the start
     let sys = Dwells {
         seen: Default::default(),
     };
     let mut it = Integrator::new(Settings::default());
     let (mut y, mut held) = ([0.0], Vec::new());
     let h = 0.01;
-    for j in 0..425 {
+    for j in 0..475 {
         let t = j as f64 * h;
         it.integrate_held(&sys, t, t + h, &mut y, &mut held).unwrap();
         assert!(held[0] != 0.0, "t = {t}");
     }
     let seen = sys.seen.borrow();
-    assert_eq!(seen.len(), 4, "{seen:?}");
+    assert_eq!(seen.len(), 5, "{seen:?}");
     for (k, &(t, before, after)) in seen.iter().enumerate() {
-        assert!((t - (k + 1) as f64).abs() < 1e-9, "{seen:?}");
-        assert!(before * after < 0.0 && before.abs() == HELD, "{seen:?}");
+        assert!((t - (k as f64 + 0.5)).abs() < 1e-9, "{seen:?}");
+        // the system sees its own values (a held zero is zero again)
+        let lobe = if k % 2 == 0 { 1.0 } else { -1.0 };
+        assert!(before * lobe > 0.0 && after == 0.0, "{seen:?}");
     }
-    assert_eq!(it.stats.events, 4);
+    assert_eq!(it.stats.events, 5);
+    // the held signs the steps pass on: at t = 4.75 the last lobe's, positive
+    // while the function rests
+    assert_eq!(held, vec![HELD]);
 }

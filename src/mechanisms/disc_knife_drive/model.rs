@@ -395,19 +395,28 @@ impl Model for DiscKnifeDrive {
 }
 
 impl DiscKnifeDrive {
-    /// One warning per entry into a self-locking zone.
+    /// One warning per entry into a self-locking zone. A slider position where the holder does
+    /// not assemble (a Model Exchange host's state far off the motion: no holder angle, so no
+    /// friction criterion either) is named as such, not as a self-locking.
     fn warn_locked(&mut self, locked: bool, k: &Kinematics, time: f64, log: &mut dyn Log) {
         let p = &self.params;
         if locked && !self.was_locked {
-            log.log(
-                Severity::Warning,
-                &format!(
-                    "t = {time}: friction self-locks a slider at crank angle {:.2} deg (|tan(beta + alpha)| = {:.4} < support.mu = {}): no unique force solution; forces computed without friction while sliders.locked",
+            let tan = (k.beta + p.support_alpha).tan().abs();
+            let msg = if tan.is_finite() {
+                format!(
+                    "t = {time}: friction self-locks a slider at crank angle {:.2} deg (|tan(beta + alpha)| = {tan:.4} < support.mu = {}): no unique force solution; forces computed without friction while sliders.locked",
                     k.phi.to_degrees(),
-                    (k.beta + p.support_alpha).tan().abs(),
                     p.support_mu
-                ),
-            );
+                )
+            } else {
+                format!(
+                    "t = {time}: slider 5 at x = {} m (crank angle {:.2} deg): the holder does not assemble there (eq. 5 has no solution: holder.beta = {}), the chain's kinematics and forces are not defined",
+                    k.x_c,
+                    k.phi.to_degrees(),
+                    k.beta
+                )
+            };
+            log.log(Severity::Warning, &msg);
         }
         self.was_locked = locked;
     }

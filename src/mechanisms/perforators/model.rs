@@ -414,7 +414,7 @@ impl ChainModel for LeverChain {
         let mut g = vec![0.0; N_EVENTS];
         ode.events_held(time + dt, &y_after, g_prev, &mut g);
         if g_prev.len() == g.len() {
-            ode.on_event(time, y, g_prev, &g);
+            ode.on_event_held(time, y, g_prev, &g);
             let tr = ode.track.get();
             if tr.liftoffs > m.track.liftoffs {
                 let phi = tr.lift_phi;
