@@ -87,7 +87,9 @@ pub trait ChainModel: Clone + Debug {
     /// Exchange transitions are counted after a restore too); 0: none. A snapshot without them
     /// (Co-Simulation) restores as well. A chain whose events count or switch anything (its
     /// `on_event` compares with the last indicators) must save all of them: without, the first
-    /// event after a restore is missed (Perforators' lift-offs, `tests/me_state_replay.rs`).
+    /// event after a restore is missed (Perforators' lift-offs, `tests/me_state_replay.rs`); so
+    /// must one with an indicator that can rest at zero, whose held sign they are
+    /// ([`crate::solver::hold_signs`]).
     const SAVED_INDICATORS: usize = 0;
     /// How a wrong snapshot is named in the error.
     const STATE_NAME: &'static str = "elastodynamic state";
@@ -193,9 +195,8 @@ pub struct Chain<C: ChainModel> {
     pub e0: f64,
     /// The mechanism's bookkeeping.
     pub memory: C::Memory,
-    /// The event indicators at the last event or step (empty: none yet): Model Exchange's at
-    /// its last event or completed integrator step, Co-Simulation's at the end of the last
-    /// communication step. An indicator resting at zero holds its sign in them
+    /// Model Exchange: the event indicators at the last event or completed integrator step
+    /// (empty: none yet); an indicator resting at zero holds its sign in them
     /// ([`crate::solver::hold_signs`]).
     pub g_prev: Vec<f64>,
 }
@@ -303,7 +304,7 @@ impl<C: ChainModel> Chain<C> {
             return Err(format!(
                 "{} refused: {} = {} is not finite",
                 C::STATE_NAME,
-                names.get(i).copied().unwrap_or("a state"),
+                names.get(i).map_or(format!("state {i}"), |n| n.to_string()),
                 s[1 + i]
             ));
         }
@@ -463,11 +464,9 @@ pub fn do_step<C: ChainModel>(
     let ode = d.ode(p, path, v);
     let mut y = d.y;
     let before = d.integ.clone();
-    let mut held = d.g_prev.clone();
-    match d.integ.integrate_held(&ode, time, time + h, &mut y, &mut held) {
+    match d.integ.integrate(&ode, time, time + h, &mut y) {
         Ok(_) => {
             d.y = y;
-            d.g_prev = held;
             d.model.after_step(&ode, &mut d.memory, time, h, log);
             C::absorb(&ode, &mut d.memory);
             let raw = v.raw_mut();
@@ -826,9 +825,7 @@ mod tests {
         assert!(c.started && c.memory >= 1.0, "{c:?}");
         assert!(c.integ.stats.steps > 0);
         let saved = c.save();
-        // the indicators at the end of the step travel with the state (their held signs)
-        assert_eq!(saved.len(), Chain::<Toy>::STATE_LEN + 1);
-        assert_eq!(c.g_prev, vec![c.y[0]]);
+        assert_eq!(saved.len(), Chain::<Toy>::STATE_LEN);
         let mut r = toy(&v, 400.0);
         r.restore(&saved).unwrap();
         assert_eq!(bits(&r.save()), bits(&saved));
@@ -837,6 +834,14 @@ mod tests {
             r.restore(&saved[..3]),
             Err("elastodynamic state has 3 numbers, expected 10 or 11".into())
         );
+        // a snapshot a host altered: a non-finite state is refused, the chain kept
+        let mut bad = saved.clone();
+        bad[2] = f64::INFINITY;
+        assert_eq!(
+            r.restore(&bad),
+            Err("elastodynamic state refused: state 1 = inf is not finite".into())
+        );
+        assert_eq!(bits(&r.save()), bits(&saved));
     }
 
     #[test]

@@ -109,14 +109,15 @@ pub trait OdeSystem {
 /// values, which some hosts form to compare signs, is not rounded to zero.
 pub const HELD: f64 = 1.4916681462400413e-154;
 
-/// An event function exactly zero over an interval is no event function: the integrator (and a
-/// host's root finder, CVODE's `cvRcheck2` aborts on it: "Root found at and very near t") cannot
-/// tell a crossing from a rest. So each `g[i]` that is exactly zero takes the sign it had in
-/// `last` (the event functions at the last accepted step or event; positive where `last` has
-/// none), with the magnitude [`HELD`]: resting at zero it keeps its sign, and an event is where
-/// it leaves zero to the other side. The sign so held is a discrete memory: it changes only at
-/// the events (and steps) whose indicators become `last`, and travels with the FMU state with
-/// them.
+/// An event function exactly zero over an interval is no event indicator for a host's root
+/// finder: it cannot tell a crossing from a rest (CVODE finds a root where one reaches zero, and
+/// after it aborts in `cvRcheck2`, "Root found at and very near t", when the function is still
+/// zero a little later). So each `g[i]` that is exactly zero takes the sign it had in `last`
+/// (the event functions at the last step or event; positive where `last` has none), with the
+/// magnitude [`HELD`]: resting at zero it keeps its sign, and a root is where it leaves zero to
+/// the other side. The sign so held is a discrete memory: in Model Exchange the indicators of
+/// the last event or completed step, which travel with the FMU state
+/// ([`chain::ChainModel::SAVED_INDICATORS`]).
 pub fn hold_signs(g: &mut [f64], last: &[f64]) {
     for (i, gi) in g.iter_mut().enumerate() {
         if *gi == 0.0 {
@@ -447,22 +448,8 @@ impl Integrator {
         t1: f64,
         y: &mut [f64],
     ) -> Result<Stats, String> {
-        self.integrate_held(sys, t0, t1, y, &mut Vec::new())
-    }
-
-    /// As [`Integrator::integrate`], with `held` the event functions at `t0` as the last call
-    /// left them (empty: none), whose signs the functions resting at zero keep
-    /// ([`hold_signs`]); on `Ok` they become those at `t1`, on `Err` they are left as they were.
-    pub fn integrate_held(
-        &mut self,
-        sys: &dyn OdeSystem,
-        t0: f64,
-        t1: f64,
-        y: &mut [f64],
-        held: &mut Vec<f64>,
-    ) -> Result<Stats, String> {
         let mut st = Stats::default();
-        let r = self.run(sys, t0, t1, y, held, &mut st);
+        let r = self.run(sys, t0, t1, y, &mut st);
         self.stats.add(&st);
         r.map(|_| st)
     }
@@ -473,7 +460,6 @@ impl Integrator {
         t0: f64,
         t1: f64,
         y: &mut [f64],
-        held: &mut Vec<f64>,
         st: &mut Stats,
     ) -> Result<(), String> {
         let n = sys.dim();
@@ -493,7 +479,9 @@ impl Integrator {
         st.rhs_evals += 1;
         let mut g0 = vec![0.0; ne];
         let mut g1 = vec![0.0; ne];
-        sys.events_held(t, y, held, &mut g0);
+        // (the held signs do not change the integrators' test, [`event_between`]: no memory
+        // of them is carried from the last call)
+        sys.events_held(t, y, &[], &mut g0);
         let mut y1 = vec![0.0; n];
         let mut f1 = vec![0.0; n];
         let mut yt = vec![0.0; n];
@@ -753,7 +741,6 @@ impl Integrator {
         if !fixed {
             self.h_next = h;
         }
-        *held = g0;
         Ok(())
     }
 
