@@ -15,7 +15,6 @@
 mod common;
 
 use bindery_fmu::catalog::{self, Entry};
-use bindery_fmu::fmi2::types::*;
 use common::*;
 use std::f64::consts::TAU;
 
