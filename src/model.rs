@@ -442,6 +442,19 @@ pub trait VarSet: Copy + 'static {
     fn vr(self) -> u32;
 }
 
+/// The names of a model's continuous states (Model Exchange), in the order of
+/// `fmi2GetContinuousStates`: the variables its state derivatives are the derivatives of
+/// ([`Var::derivative_of`]), in the order of the derivatives (the model description's
+/// `<Derivatives>`).
+pub fn state_names<V: VarSet>() -> Vec<&'static str> {
+    let table = V::table();
+    table
+        .iter()
+        .filter_map(|v| v.derivative)
+        .map(|s| table[s as usize].name)
+        .collect()
+}
+
 /// The current values of a model's variables, indexed by its [`VarSet`].
 /// Integer, Boolean and Enumeration values are held as exact `f64`.
 #[derive(Clone, Debug, PartialEq)]

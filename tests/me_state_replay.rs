@@ -502,10 +502,12 @@ fn model_exchange_fmu_states_replay_bit_identically() {
                 c.h,
                 t.elapsed()
             );
-            // the elastodynamic level's contacts open and close in the run (the replays go
-            // through events)
+            // the elastodynamic level's contacts open and close, or its phases change, in the
+            // run (the replays go through events; SewingTable's third of a turn has one, the end
+            // of the forward travel: its start on a cyclogram boundary, where the indicators
+            // hold their signs, is none)
             if c.level == Some(3) {
-                assert!(events >= 2, "{}: {events} events", c.label());
+                assert!(events >= 1, "{}: {events} events", c.label());
             }
             covered.push(c.label());
         }

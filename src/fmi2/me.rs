@@ -33,6 +33,44 @@ fn count(n: usize, what: &str, expected: usize) -> Result<(), String> {
     Ok(())
 }
 
+/// `name = value, ...` of the continuous states `x`, for the messages.
+fn named_states<M: Model>(x: &[f64]) -> String {
+    crate::model::state_names::<M::Var>()
+        .iter()
+        .zip(x)
+        .map(|(n, v)| format!("{n} = {v}"))
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
+/// A function of the states returned non-finite values: where the model has no finite value
+/// at the states the host set (a Newton iterate far off the motion, a lever outside the
+/// linkage), `fmi2Discard` (FMI 2.0: "a function is outside of its domain": the host should
+/// retry with a smaller step), logged with the states and the first value named. `Ok` if all
+/// are finite.
+fn discard_non_finite<M: Model>(
+    inst: &mut Instance<M>,
+    call: &str,
+    values: &[f64],
+    name: impl Fn(usize) -> String,
+) -> Status {
+    let Some(i) = values.iter().position(|v| !v.is_finite()) else {
+        return Status::Ok;
+    };
+    let mut x = vec![0.0; M::STATES];
+    let model = inst.model.as_mut().expect("prepared");
+    model.me_states(&inst.values, inst.time, &mut x);
+    let msg = format!(
+        "fmi2{call}: {} = {} at t = {} is not finite: the model has no finite value at the states {} (outside its domain); a smaller step is needed",
+        name(i),
+        values[i],
+        inst.time,
+        named_states::<M>(&x)
+    );
+    inst.logger.emit(Status::Discard, "logStatusDiscard", &msg);
+    Status::Discard
+}
+
 /// `fmi2EnterEventMode`.
 ///
 /// # Safety
@@ -137,8 +175,14 @@ pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: 
         entry::<M>(c, Call::SetContinuousStates, |inst| {
             count(nx, "nx", M::STATES)?;
             let x = slice(x, nx, "x")?;
-            if let Some(bad) = x.iter().find(|v| !v.is_finite()) {
-                return Err(format!("a state {bad} is not finite; the states are kept"));
+            // refused before anything reads it: the model keeps its states
+            if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+                return Err(format!(
+                    "{} = {} is not finite; the states are kept ({})",
+                    crate::model::state_names::<M::Var>()[i],
+                    x[i],
+                    named_states::<M>(&inst.me_states()?)
+                ));
             }
             inst.prepared()?;
             let model = inst.model.as_mut().expect("prepared");
@@ -162,7 +206,10 @@ pub unsafe fn get_derivatives<M: Model>(c: Component, dx: *mut Real, nx: usize) 
             inst.prepared()?;
             let model = inst.model.as_mut().expect("prepared");
             model.me_derivatives(&inst.values, inst.time, dx);
-            Ok(Status::Ok)
+            let names = crate::model::state_names::<M::Var>();
+            Ok(discard_non_finite(inst, "GetDerivatives", dx, |i| {
+                format!("der({})", names[i])
+            }))
         })
     }
 }
@@ -180,7 +227,9 @@ pub unsafe fn get_event_indicators<M: Model>(c: Component, z: *mut Real, ni: usi
             inst.prepared()?;
             let model = inst.model.as_mut().expect("prepared");
             model.me_event_indicators(&inst.values, inst.time, z);
-            Ok(Status::Ok)
+            Ok(discard_non_finite(inst, "GetEventIndicators", z, |i| {
+                format!("event indicator {i}")
+            }))
         })
     }
 }
@@ -195,9 +244,7 @@ pub unsafe fn get_continuous_states<M: Model>(c: Component, x: *mut Real, nx: us
         entry::<M>(c, Call::GetContinuousStates, |inst| {
             count(nx, "nx", M::STATES)?;
             let x = slice_mut(x, nx, "x")?;
-            inst.prepared()?;
-            let model = inst.model.as_mut().expect("prepared");
-            model.me_states(&inst.values, inst.time, x);
+            x.copy_from_slice(&inst.me_states()?);
             Ok(Status::Ok)
         })
     }
@@ -215,5 +262,16 @@ pub unsafe fn get_nominals<M: Model>(c: Component, x: *mut Real, nx: usize) -> S
             slice_mut(x, nx, "x_nominal")?.fill(1.0);
             Ok(Status::Ok)
         })
+    }
+}
+
+impl<M: Model> Instance<M> {
+    /// The model's continuous states.
+    fn me_states(&mut self) -> Result<Vec<f64>, String> {
+        self.prepared()?;
+        let mut x = vec![0.0; M::STATES];
+        let model = self.model.as_mut().expect("prepared");
+        model.me_states(&self.values, self.time, &mut x);
+        Ok(x)
     }
 }

@@ -97,7 +97,9 @@ pub trait ChainModel: Clone + Debug {
     /// Exchange transitions are counted after a restore too); 0: none. A snapshot without them
     /// (Co-Simulation) restores as well. A chain whose events count or switch anything (its
     /// `on_event` compares with the last indicators) must save all of them: without, the first
-    /// event after a restore is missed (Perforators' lift-offs, `tests/me_state_replay.rs`).
+    /// event after a restore is missed (Perforators' lift-offs, `tests/me_state_replay.rs`); so
+    /// must one with an indicator that can rest at zero, whose held sign they are
+    /// ([`crate::solver::hold_signs`]).
     const SAVED_INDICATORS: usize = 0;
     /// How a wrong snapshot is named in the error.
     const STATE_NAME: &'static str = "elastodynamic state";
@@ -166,9 +168,10 @@ pub trait ChainModel: Clone + Debug {
     }
 }
 
-/// Model Exchange: the event indicators at `(t, y)`; if those of the last call are known, a
-/// transition from them is applied (`on_event`), and with `reevaluate` the indicators are taken
-/// again after it (where the event changes a mode they depend on). They become `g_prev`.
+/// Model Exchange: the event indicators at `(t, y)` (those resting at zero holding their sign in
+/// `g_prev`, [`OdeSystem::events_held`]); if those of the last call are known, a transition from
+/// them is applied (`on_event`), and with `reevaluate` the indicators are taken again after it
+/// (where the event changes a mode they depend on). They become `g_prev`.
 pub fn transitions<O: OdeSystem>(
     ode: &O,
     t: f64,
@@ -177,11 +180,11 @@ pub fn transitions<O: OdeSystem>(
     reevaluate: bool,
 ) {
     let mut g = vec![0.0; ode.n_events()];
-    ode.events(t, y, &mut g);
+    ode.events_held(t, y, g_prev, &mut g);
     if g_prev.len() == g.len() {
-        ode.on_event(t, y, g_prev, &g);
+        ode.on_event_held(t, y, g_prev, &g);
         if reevaluate {
-            ode.events(t, y, &mut g);
+            ode.events_held(t, y, g_prev, &mut g);
         }
     }
     *g_prev = g;
@@ -203,7 +206,8 @@ pub struct Chain<C: ChainModel> {
     /// The mechanism's bookkeeping.
     pub memory: C::Memory,
     /// Model Exchange: the event indicators at the last event or completed integrator step
-    /// (empty: none yet).
+    /// (empty: none yet); an indicator resting at zero holds its sign in them
+    /// ([`crate::solver::hold_signs`]).
     pub g_prev: Vec<f64>,
 }
 
@@ -302,6 +306,16 @@ impl<C: ChainModel> Chain<C> {
                 "{} has {} numbers, expected {n}",
                 C::STATE_NAME,
                 s.len()
+            ));
+        }
+        // a snapshot is data a host may have altered: no model runs on non-finite states
+        let names = crate::model::state_names::<C::Var>();
+        if let Some(i) = (0..3).find(|&i| !s[1 + i].is_finite()) {
+            return Err(format!(
+                "{} refused: {} = {} is not finite",
+                C::STATE_NAME,
+                names.get(i).map_or(format!("state {i}"), |n| n.to_string()),
+                s[1 + i]
             ));
         }
         self.g_prev = s[n..].to_vec();
@@ -521,8 +535,9 @@ pub fn me_derivatives<C: ChainModel>(
     }
 }
 
-/// [`crate::model::Model::me_event_indicators`]: the ODE's event functions (1 below the
-/// elastodynamic level).
+/// [`crate::model::Model::me_event_indicators`]: the ODE's event functions, those resting at
+/// zero holding the sign they had at the last event or completed step
+/// ([`OdeSystem::events_held`]); 1 below the elastodynamic level.
 pub fn me_event_indicators<C: ChainModel>(
     chain: Option<&mut Chain<C>>,
     p: &C::Physics,
@@ -531,7 +546,9 @@ pub fn me_event_indicators<C: ChainModel>(
     z: &mut [f64],
 ) {
     match me_chain(chain, p, v, time) {
-        Some(d) => d.ode(p, shaft::path(v, time), v).events(time, &d.y, z),
+        Some(d) => d
+            .ode(p, shaft::path(v, time), v)
+            .events_held(time, &d.y, &d.g_prev, z),
         None => z.fill(1.0),
     }
 }
@@ -831,6 +848,14 @@ mod tests {
             r.restore(&saved[..3]),
             Err("elastodynamic state has 3 numbers, expected 10 or 11".into())
         );
+        // a snapshot a host altered: a non-finite state is refused, the chain kept
+        let mut bad = saved.clone();
+        bad[2] = f64::INFINITY;
+        assert_eq!(
+            r.restore(&bad),
+            Err("elastodynamic state refused: state 1 = inf is not finite".into())
+        );
+        assert_eq!(bits(&r.save()), bits(&saved));
     }
 
     #[test]

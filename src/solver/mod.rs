@@ -18,7 +18,11 @@
 //! Events: every step is checked for sign changes of the system's event functions; the earliest
 //! is located (a root of the Hermite interpolant, then confirmed with real steps to a bracket of
 //! `1e-10` of the step) and the step ends just after it, so a discontinuity of the right-hand
-//! side is never stepped over.
+//! side is never stepped over. An event function that rests at exactly zero over an interval (a
+//! rigid velocity in a dwell) keeps the sign it had before ([`hold_signs`]), so that a Model
+//! Exchange host's root finder (CVODE) sees an event where one takes the other sign and none
+//! while it rests; the integrators here see the same functions with their own test
+//! ([`event_between`]).
 //!
 //! Failure is an `Err` with the reason (step-size collapse, step budget, non-finite state, an
 //! explicit method out of its stability region): the caller returns `fmi2Discard` and keeps the
@@ -59,13 +63,35 @@ pub trait OdeSystem {
     fn n_events(&self) -> usize {
         0
     }
-    /// Event functions: an event is a strict sign change of one of them.
+    /// Event functions: an event is a strict sign change of one of them. One may be exactly zero
+    /// over an interval (a rigid velocity in a dwell); the integrators and the Model Exchange
+    /// hooks take them through [`OdeSystem::events_held`].
     fn events(&self, _t: f64, _y: &[f64], _g: &mut [f64]) {}
+    /// The event functions as the integrators and a Model Exchange host see them: [`events`]
+    /// with each one that is exactly zero holding the sign it had in `last` (the event
+    /// functions at the last step or event; [`hold_signs`]).
+    ///
+    /// [`events`]: OdeSystem::events
+    fn events_held(&self, t: f64, y: &[f64], last: &[f64], g: &mut [f64]) {
+        self.events(t, y, g);
+        hold_signs(g, last);
+    }
     /// Called after every accepted step (for peak tracking with interior mutability).
     fn on_step(&self, _t: f64, _y: &[f64]) {}
     /// Called when a step ends just after a located event, with the event functions before
-    /// and after it: a system may switch a discrete mode here (interior mutability).
+    /// and after it as [`OdeSystem::events`] gives them (a held zero is zero again): a system
+    /// may switch a discrete mode here (interior mutability).
     fn on_event(&self, _t: f64, _y: &[f64], _g_before: &[f64], _g_after: &[f64]) {}
+    /// [`OdeSystem::on_event`] for held event functions ([`OdeSystem::events_held`]), as the
+    /// integrators and the Model Exchange hooks keep them.
+    fn on_event_held(&self, t: f64, y: &[f64], before: &[f64], after: &[f64]) {
+        let raw = |g: &[f64]| -> Vec<f64> {
+            g.iter()
+                .map(|x| if x.abs() == HELD { 0.0 } else { *x })
+                .collect()
+        };
+        self.on_event(t, y, &raw(before), &raw(after));
+    }
     /// Discrete modes of the system (saved with the state), and their restoration.
     fn modes(&self) -> Vec<f64> {
         Vec::new()
@@ -75,6 +101,43 @@ pub trait OdeSystem {
     fn error_weight(&self, _i: usize) -> f64 {
         1.0
     }
+}
+
+/// The magnitude an event function reports while it rests at zero ([`hold_signs`]): far below
+/// any value an event function of these models takes off its zero (lengths, speeds, forces in SI
+/// units), and the square root of the smallest normal number, so that the product of two such
+/// values, which some hosts form to compare signs, is not rounded to zero.
+pub const HELD: f64 = 1.4916681462400413e-154;
+
+/// An event function exactly zero over an interval is no event indicator for a host's root
+/// finder: it cannot tell a crossing from a rest (CVODE finds a root where one reaches zero, and
+/// after it aborts in `cvRcheck2`, "Root found at and very near t", when the function is still
+/// zero a little later). So each `g[i]` that is exactly zero takes the sign it had in `last`
+/// (the event functions at the last step or event; positive where `last` has none), with the
+/// magnitude [`HELD`]: resting at zero it keeps its sign, and a root is where it leaves zero to
+/// the other side. The sign so held is a discrete memory: in Model Exchange the indicators of
+/// the last event or completed step, which travel with the FMU state
+/// ([`chain::ChainModel::SAVED_INDICATORS`]).
+pub fn hold_signs(g: &mut [f64], last: &[f64]) {
+    for (i, gi) in g.iter_mut().enumerate() {
+        if *gi == 0.0 {
+            *gi = if last.get(i).is_some_and(|l| *l < 0.0) {
+                -HELD
+            } else {
+                HELD
+            };
+        }
+    }
+}
+
+/// The integrators' event test between the (held) event function `a` at the start of a step
+/// and `b` later in it, as it has always been on the functions themselves: from a value off zero,
+/// a change of sign or reaching zero (`b` held). Reaching a rest ends a step where a rigid
+/// velocity comes to a dwell, a kink of the right-hand side; leaving a rest is no event here (a
+/// Model Exchange host sees one where the sign changes): the dwells of these mechanisms end at
+/// their phase events.
+fn event_between(a: f64, b: f64) -> bool {
+    a.abs() != HELD && ((a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0) || b.abs() == HELD)
 }
 
 /// `solver.method`.
@@ -431,7 +494,9 @@ impl Integrator {
         st.rhs_evals += 1;
         let mut g0 = vec![0.0; ne];
         let mut g1 = vec![0.0; ne];
-        sys.events(t, y, &mut g0);
+        // (the held signs do not change the integrators' test, [`event_between`]: no memory
+        // of them is carried from the last call)
+        sys.events_held(t, y, &[], &mut g0);
         let mut y1 = vec![0.0; n];
         let mut f1 = vec![0.0; n];
         let mut yt = vec![0.0; n];
@@ -575,17 +640,14 @@ impl Integrator {
             }
             // events
             let mut hacc = hs;
-            sys.events(t + hs, &y1, &mut g1);
-            let crossed = |ga: &[f64], gb: &[f64]| {
-                ga.iter()
-                    .zip(gb)
-                    .any(|(a, b)| a * b < 0.0 || (*a != 0.0 && *b == 0.0))
-            };
+            sys.events_held(t + hs, &y1, &g0, &mut g1);
+            let crossed =
+                |ga: &[f64], gb: &[f64]| ga.iter().zip(gb).any(|(a, b)| event_between(*a, *b));
             if ne > 0 && crossed(&g0, &g1) {
                 // earliest root on the interpolant
                 let mut s_star = hs;
                 for i in 0..ne {
-                    if !(g0[i] * g1[i] < 0.0 || (g0[i] != 0.0 && g1[i] == 0.0)) {
+                    if !event_between(g0[i], g1[i]) {
                         continue;
                     }
                     let (mut lo, mut hi) = (0.0, hs);
@@ -598,8 +660,8 @@ impl Integrator {
                             0.5 * (lo + hi)
                         };
                         hermite(y, &f0, &y1, &f1, hs, mid, &mut yt);
-                        sys.events(t + mid, &yt, &mut gt);
-                        if gt[i] * glo > 0.0 {
+                        sys.events_held(t + mid, &yt, &g0, &mut gt);
+                        if !event_between(g0[i], gt[i]) {
                             lo = mid;
                             glo = gt[i];
                         } else {
@@ -639,7 +701,7 @@ impl Integrator {
                         lo = s; // treat as not yet crossed; bisection continues
                         continue;
                     }
-                    sys.events(t + s, &yt, &mut gt);
+                    sys.events_held(t + s, &yt, &g0, &mut gt);
                     if crossed(&g0, &gt) {
                         hi = s;
                         yhi.copy_from_slice(&yt);
@@ -651,9 +713,9 @@ impl Integrator {
                 hacc = hi;
                 y1.copy_from_slice(&yhi);
                 f1.copy_from_slice(&fhi);
-                sys.events(t + hacc, &y1, &mut g1);
-                sys.on_event(t + hacc, &y1, &g0, &g1);
-                sys.events(t + hacc, &y1, &mut g1);
+                sys.events_held(t + hacc, &y1, &g0, &mut g1);
+                sys.on_event_held(t + hacc, &y1, &g0, &g1);
+                sys.events_held(t + hacc, &y1, &g0, &mut g1);
                 st.events += 1;
             }
             // accept

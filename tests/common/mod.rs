@@ -4,6 +4,7 @@
 
 #[cfg(target_os = "linux")]
 pub mod heap;
+pub mod me;
 pub mod ode;
 pub mod series;
 

@@ -491,17 +491,24 @@ impl OdeSystem for RodOde<'_> {
     fn n_events(&self) -> usize {
         5
     }
+    /// The event indicators (Model Exchange's too). The rigid speeds `g[0]`, `g[1]`, `g[4]` are
+    /// exactly zero while the shaft stands still; the integrators and the Model Exchange hooks
+    /// hold their signs then ([`crate::solver::hold_signs`]).
     fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
         let r = self.rigid(t);
         let p = self.p;
+        // the crank dead centres (slider 5's rigid velocity: working stroke, its friction)
         g[0] = r.kin.x_c_d;
+        // slider 7's rigid velocity along EQ (its friction)
         g[1] = r.kin.d_d.dot(&p.support_dir());
         let rx = y[0] - r.kin.b.x;
         let ry = p.crank_e - r.kin.b.y;
         let l = rx.hypot(ry);
+        // the jamming window and its friction fade (at the elastic geometry)
         let lock_g = self.lock_indicator(y[0], [rx / l, ry / l]);
         g[2] = lock_g;
         g[3] = lock_g - WEDGE_BAND;
+        // the shaft reversing
         g[4] = r.kin.w;
     }
     fn error_weight(&self, i: usize) -> f64 {

@@ -7,7 +7,7 @@ use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
 use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
 use crate::solver::chain::{self, Chain, ChainModel, Peaks, Slot};
-use crate::solver::{Integrator, OdeSystem, Settings, ShaftPath};
+use crate::solver::{Integrator, Settings, ShaftPath};
 
 /// The computations a scene may leave out (`scenes.md`); the variables below say which they
 /// need (`.needs`) or feed (`.feeds`). The kinematics always run.
@@ -126,8 +126,10 @@ struct RodChain {
     c_dead: f64,
 }
 
-/// What the elastodynamic level carries between steps (no Model Exchange event handling: the
-/// rod's events only end the solver's steps).
+/// What the elastodynamic level carries between steps. The rod's events switch nothing (they
+/// end the solver's steps at the kinks of the right-hand side); the indicators of the last event
+/// or step travel with the FMU state for the signs of those resting at zero (the rigid speeds
+/// with the shaft at a standstill, [`crate::solver::hold_signs`]).
 type Dynamic = Chain<RodChain>;
 
 impl ChainModel for RodChain {
@@ -138,6 +140,7 @@ impl ChainModel for RodChain {
     type Ode<'a> = RodOde<'a>;
     const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Events];
     const STATE_LEN: usize = 13;
+    const SAVED_INDICATORS: usize = <DiscKnifeDrive as Model>::EVENT_INDICATORS;
     const STATE_NAME: &'static str = "DiscKnifeDrive elastodynamic state";
 
     fn ode<'a>(&self, p: &'a Params, path: ShaftPath, _: &Values<V>, m: &Peaks) -> RodOde<'a> {
@@ -186,11 +189,6 @@ impl ChainModel for RodChain {
         } else {
             why
         }
-    }
-
-    /// No transitions to count: the ODE's `on_step` only.
-    fn me_completed_step(&self, ode: &RodOde, t: f64, y: &[f64; 3], _: &mut Vec<f64>) {
-        ode.on_step(t, y);
     }
 }
 
@@ -311,10 +309,10 @@ impl Model for DiscKnifeDrive {
     const STATES: usize = 3;
     const EVENT_INDICATORS: usize = 5;
 
-    // Co-Simulation and Model Exchange from solver::chain; no `me_event`: the rod's events only
-    // end the host's steps
+    // Co-Simulation and Model Exchange from solver::chain (the FMU state is the model's own:
+    // the self-locking flag first)
     crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
-        me_event_indicators, me_completed_step);
+        me_event_indicators, me_event, me_completed_step);
 
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, log: &mut dyn Log) {
         let p = &self.params;
@@ -397,19 +395,28 @@ impl Model for DiscKnifeDrive {
 }
 
 impl DiscKnifeDrive {
-    /// One warning per entry into a self-locking zone.
+    /// One warning per entry into a self-locking zone. A slider position where the holder does
+    /// not assemble (a Model Exchange host's state far off the motion: no holder angle, so no
+    /// friction criterion either) is named as such, not as a self-locking.
     fn warn_locked(&mut self, locked: bool, k: &Kinematics, time: f64, log: &mut dyn Log) {
         let p = &self.params;
         if locked && !self.was_locked {
-            log.log(
-                Severity::Warning,
-                &format!(
-                    "t = {time}: friction self-locks a slider at crank angle {:.2} deg (|tan(beta + alpha)| = {:.4} < support.mu = {}): no unique force solution; forces computed without friction while sliders.locked",
+            let tan = (k.beta + p.support_alpha).tan().abs();
+            let msg = if tan.is_finite() {
+                format!(
+                    "t = {time}: friction self-locks a slider at crank angle {:.2} deg (|tan(beta + alpha)| = {tan:.4} < support.mu = {}): no unique force solution; forces computed without friction while sliders.locked",
                     k.phi.to_degrees(),
-                    (k.beta + p.support_alpha).tan().abs(),
                     p.support_mu
-                ),
-            );
+                )
+            } else {
+                format!(
+                    "t = {time}: slider 5 at x = {} m (crank angle {:.2} deg): the holder does not assemble there (eq. 5 has no solution: holder.beta = {}), the chain's kinematics and forces are not defined",
+                    k.x_c,
+                    k.phi.to_degrees(),
+                    k.beta
+                )
+            };
+            log.log(Severity::Warning, &msg);
         }
         self.was_locked = locked;
     }

@@ -16,7 +16,8 @@
 //!
 //! Events: Geneva entry and exit (ψ = 0 and ψ = 2φe, where γ'' jumps), the stack's edges
 //! (`cut.s_start`, `cut.s_full`, cut-through at `cut.s_end`), the knife stopping inside the
-//! stack (ẋ = 0) and the rigid velocity reversing (friction direction).
+//! stack (ẋ = 0) and the rigid velocity reversing (friction direction; at rest in the dwell it
+//! holds the sign of its last motion).
 
 use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
@@ -203,18 +204,26 @@ impl OdeSystem for KnifeOde<'_> {
     fn n_events(&self) -> usize {
         8
     }
+    /// The event indicators (Model Exchange's too). `g[7]`, the rigid knife velocity, is
+    /// exactly zero through the dwell (three quarters of a turn); the integrators and the Model
+    /// Exchange hooks hold its sign there ([`crate::solver::hold_signs`]), so that its events are
+    /// its reversals: the bottom of the stroke and the start of the next working stroke.
     fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
         let (phi, w, a) = self.path.at(t);
         let exit = 2.0 * self.geneva.half_engagement();
         let kin = self.p.kinematics_of(&self.geneva, phi, w, a);
+        // Geneva entry (ψ = 0) and exit (ψ = 2φe): γ'' jumps
         g[0] = phi.sin();
         g[1] = (phi - exit).sin();
+        // the elastic knife at the stack's top, at full cutting force, cut through
         g[2] = y[0] - self.p.cut_s_start;
         g[3] = y[0] - self.p.cut_s_full;
         g[4] = y[0] - self.p.cut_s_end;
+        // in the uncut stack: the knife's velocity leaving the sticking band ±V_STICK
         let stack = self.in_stack(y[0]);
         g[5] = if stack { y[1] - V_STICK } else { 1.0 };
         g[6] = if stack { y[1] + V_STICK } else { 1.0 };
+        // the rigid velocity: the guide friction's direction
         g[7] = kin.v;
     }
     fn on_event(&self, _t: f64, _y: &[f64], before: &[f64], after: &[f64]) {

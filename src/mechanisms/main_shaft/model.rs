@@ -259,6 +259,13 @@ impl Model for MainShaft {
                 s.len()
             ));
         }
+        if let Some(i) = (0..2).find(|&i| !s[i].is_finite()) {
+            return Err(format!(
+                "MainShaft state refused: {} = {} is not finite",
+                crate::model::state_names::<V>()[i],
+                s[i]
+            ));
+        }
         self.y = [s[0], s[1]];
         self.integ.restore(&s[2..4]);
         self.integ.stats.steps = s[4] as usize;

@@ -30,8 +30,9 @@
 //!
 //! Events: the four cyclogram phase boundaries, contact opening and closing (δ = 0), the contact
 //! force reaching zero while pressed in (released by the damping), the rigid lever velocity's
-//! sign (friction and piercing direction), and the piercing load's corners (`pierce.s_in`, their
-//! middle, `pierce.s_out`, at the elastic needle position).
+//! sign (friction and piercing direction; at rest it holds the sign of its last motion), and
+//! the piercing load's corners (`pierce.s_in`, their middle, `pierce.s_out`, at the elastic
+//! needle position).
 
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
@@ -435,9 +436,14 @@ impl OdeSystem for LeverOde<'_> {
     fn n_events(&self) -> usize {
         N_EVENTS
     }
+    /// The event indicators (Model Exchange's too). `g[6]`, the rigid lever velocity, is exactly
+    /// zero while the table dwells and while the roller is on the ramp's flat; the integrators
+    /// and the Model Exchange hooks hold its sign there ([`crate::solver::hold_signs`]), so that
+    /// its events are its reversals.
     fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
         let (phi, w, a) = self.path.at(t);
         let abs_phi = phi + self.path.turns * TAU;
+        // the four cyclogram phase boundaries of the table
         for (i, b) in self.boundaries().iter().enumerate() {
             g[i] = ((abs_phi - b) * 0.5).sin();
         }
@@ -448,6 +454,8 @@ impl OdeSystem for LeverOde<'_> {
         let (rr, rr1, _) = p.roller(rigid.gamma);
         let (r, r1, _) = p.roller(g_el);
         let pen = dot(n, (rr.0 - r.0, rr.1 - r.1));
+        // contact opening and closing (penetration δ = 0), the contact force reaching zero
+        // while pressed in (released by the damping)
         g[4] = pen;
         g[5] = if pen > 0.0 {
             let n_t = (rigid.normal_x.0 * rigid.v_t, rigid.normal_x.1 * rigid.v_t);
@@ -457,7 +465,9 @@ impl OdeSystem for LeverOde<'_> {
         } else {
             1.0
         };
+        // the rigid lever velocity: the friction's and the piercing load's direction
         g[6] = rigid.gamma_w;
+        // the piercing load's corners at the elastic needle position
         let q = (p.carriage(g_el).s - self.d.s0) / self.d.stroke;
         g[7] = q - p.pierce_s_in;
         g[8] = q - 0.5 * (p.pierce_s_in + p.pierce_s_out);

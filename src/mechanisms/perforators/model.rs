@@ -595,9 +595,9 @@ impl ChainModel for LeverChain {
         ode.rhs(time, y, &mut dy);
         let y_after: Vec<f64> = y.iter().zip(&dy).map(|(y, f)| y + dt * f).collect();
         let mut g = vec![0.0; N_EVENTS];
-        ode.events(time + dt, &y_after, &mut g);
+        ode.events_held(time + dt, &y_after, g_prev, &mut g);
         if g_prev.len() == g.len() {
-            ode.on_event(time, y, g_prev, &g);
+            ode.on_event_held(time, y, g_prev, &g);
             let tr = ode.track.get();
             if tr.liftoffs > m.track.liftoffs {
                 let phi = tr.lift_phi;
@@ -621,7 +621,7 @@ impl ChainModel for LeverChain {
         ode.on_step(time, y);
         if g_prev.is_empty() {
             let mut g = vec![0.0; N_EVENTS];
-            ode.events(time, y, &mut g);
+            ode.events_held(time, y, g_prev, &mut g);
             *g_prev = g;
         }
     }

@@ -13,7 +13,8 @@
 //!
 //! States `y = [x, ẋ, W]`, W the work on table and follower spring (energy balance).
 //! Events: the four cyclogram phase boundaries, both flanks (δ = ±g, with clearance only), the
-//! rigid velocity's sign (friction direction).
+//! rigid velocity's sign (friction direction; at rest in the dwells it holds the sign of its
+//! last motion).
 
 use super::physics::{Kinematics, Params};
 use crate::mechanics::{STANDARD_GRAVITY, sgn};
@@ -159,14 +160,19 @@ impl OdeSystem for TableOde<'_> {
     fn n_events(&self) -> usize {
         7
     }
+    /// The event indicators (Model Exchange's too). `g[6]`, the rigid table velocity, is
+    /// exactly zero through both dwells; the integrators and the Model Exchange hooks hold its
+    /// sign there ([`crate::solver::hold_signs`]), so that its events are its reversals.
     fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
         let (phi, w, a) = self.path.at(t);
         let abs_phi = phi + self.path.turns * std::f64::consts::TAU;
+        // the four cyclogram phase boundaries (forward travel, far dwell, return, near dwell)
         for (i, b) in self.boundaries().iter().enumerate() {
             g[i] = ((abs_phi - b) * 0.5).sin();
         }
         let kin = self.p.kinematics(phi, w, a);
         let delta = kin.c.x - y[0];
+        // with play: the roller on the pushing flank (δ > g), on the other one (δ < −g)
         if self.gap > 0.0 {
             g[4] = delta - self.gap;
             g[5] = delta + self.gap;
@@ -174,6 +180,7 @@ impl OdeSystem for TableOde<'_> {
             g[4] = 1.0;
             g[5] = 1.0;
         }
+        // the rigid velocity: the guide friction's direction
         g[6] = kin.v;
     }
     fn on_event(&self, _t: f64, _y: &[f64], before: &[f64], after: &[f64]) {
