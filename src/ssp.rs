@@ -576,7 +576,11 @@ mod tests {
         m.components.retain(|c| c.name != "drive");
         m.connections = vec![(("perforators", "table.F"), ("table", "table.F_ext"))];
         for c in &mut m.components {
-            c.record = if c.name == "table" { vec!["table.x"] } else { vec![] };
+            c.record = if c.name == "table" {
+                vec!["table.x"]
+            } else {
+                vec![]
+            };
         }
         let e = tailored(&m).unwrap_err();
         assert!(
