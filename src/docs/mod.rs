@@ -16,6 +16,35 @@ pub use plot::{FIGURE_SIZE, ICON_SIZE, icon_png, render_png, render_svg};
 use crate::md::ModelInfo;
 use crate::model::Var;
 
+/// `x` for people: at most `sig` significant digits, no trailing zeros, scientific (`2e8`,
+/// `1.5e-5`) from 1e6 up and below 1e-4: 31.4159 for 31.41592653589793 at `sig` 6.
+pub fn number(x: f64, sig: usize) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    let sig = sig.max(1);
+    let trim = |s: &str| -> String {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s.to_string()
+        }
+    };
+    let e = x.abs().log10().floor() as i32;
+    if !(-4..6).contains(&e) {
+        let s = format!("{:.*e}", sig - 1, x);
+        let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
+        format!("{}e{exp}", trim(mantissa))
+    } else {
+        let decimals = (sig as i32 - 1 - e).max(0) as usize;
+        let s = trim(&format!("{x:.decimals$}"));
+        if s == "-0" { "0".into() } else { s }
+    }
+}
+
 /// One line of a figure.
 #[derive(Clone, Debug, Default, PartialEq)]
 pub struct Series {
@@ -90,6 +119,20 @@ pub fn documentation(
 mod tests {
     use super::*;
     use crate::model::Experiment;
+
+    #[test]
+    fn numbers_for_people() {
+        assert_eq!(number(std::f64::consts::PI * 10.0, 6), "31.4159");
+        assert_eq!(number(0.10471975511965978, 6), "0.10472");
+        assert_eq!(number(15000.0, 6), "15000");
+        assert_eq!(number(300.00000000001, 6), "300");
+        assert_eq!(number(2e8, 6), "2e8");
+        assert_eq!(number(1.5e-5, 6), "1.5e-5");
+        assert_eq!(number(0.0035, 6), "0.0035");
+        assert_eq!(number(-0.0, 6), "0");
+        assert_eq!(number(-113.6512, 5), "-113.65");
+        assert_eq!(number(1.0 / 15.0, 4), "0.06667");
+    }
 
     #[test]
     fn documentation_files() {

@@ -165,6 +165,16 @@ fn unit_def(name: &str) -> Option<&'static UnitDef> {
     UNITS.iter().find(|u| u.name == name)
 }
 
+/// The factor of a display unit of `unit` (display value = factor × SI value), as declared in
+/// the model description: `display_factor("rad/s", "rpm")` = 30/π.
+pub fn display_factor(unit: &str, display: &str) -> Option<f64> {
+    unit_def(unit)?
+        .display
+        .iter()
+        .find(|(n, _)| *n == display)
+        .map(|(_, f)| *f)
+}
+
 /// Formats a real the way every attribute is written: shortest round-trip form.
 pub fn fmt_real(x: f64) -> String {
     format!("{x:?}")
