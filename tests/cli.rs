@@ -135,6 +135,76 @@ fn build_names_each_fmu_it_writes_with_its_size() {
     assert!(!here.join("fmus/SewingTable.fmu").exists());
 }
 
+/// The `modelDescription.xml` inside an `.fmu`.
+fn packaged_description(fmu: &Path) -> String {
+    use std::io::Read;
+    let file = std::fs::File::open(fmu).unwrap();
+    let mut zip = zip::ZipArchive::new(file).unwrap();
+    let mut xml = String::new();
+    zip.by_name("modelDescription.xml")
+        .unwrap()
+        .read_to_string(&mut xml)
+        .unwrap();
+    xml
+}
+
+#[test]
+fn a_build_is_dated_by_its_commit_and_reproducible() {
+    let here = scratch("dated");
+    let root = env!("CARGO_MANIFEST_DIR");
+    let build = |out: &str, env: &[(&str, &str)]| {
+        let mut all = vec![("CARGO", "true")];
+        all.extend_from_slice(env);
+        let (ok, _, err) = bindery(
+            &here,
+            &["--root", root, "build", "MainShaft", "--out", out],
+            &all,
+        );
+        assert!(ok, "{err}");
+        (
+            std::fs::read(here.join(out).join("MainShaft.fmu")).unwrap(),
+            err,
+        )
+    };
+    let epoch = [("SOURCE_DATE_EPOCH", "1700000000")];
+    let (a, err) = build("a", &epoch);
+    let (b, _) = build("b", &epoch);
+    assert!(a == b, "same commit date, same bytes");
+    assert!(
+        err.contains("generationDateAndTime 2023-11-14T22:13:20Z (SOURCE_DATE_EPOCH)"),
+        "{err}"
+    );
+    let xml = packaged_description(&here.join("a/MainShaft.fmu"));
+    let (committed, guid) =
+        bindery_fmu::md::describe::<bindery_fmu::mechanisms::main_shaft::MainShaft>();
+    assert_eq!(
+        xml,
+        bindery_fmu::md::stamp(&committed, "2023-11-14T22:13:20Z")
+    );
+    assert!(xml.contains(&format!("guid=\"{guid}\"")));
+    // without SOURCE_DATE_EPOCH: the checkout's commit, as git tells it
+    let git = Command::new("git")
+        .args(["-C", root, "log", "-1", "--format=%ct"])
+        .output()
+        .expect("git");
+    let secs: i64 = String::from_utf8_lossy(&git.stdout)
+        .trim()
+        .parse()
+        .expect("a commit");
+    let (_, err) = build("c", &[]);
+    let date = bindery_fmu::md::date_time(secs);
+    assert!(
+        err.contains(&format!(
+            "generationDateAndTime {date} (the date of commit "
+        )),
+        "{err}"
+    );
+    assert!(
+        packaged_description(&here.join("c/MainShaft.fmu"))
+            .contains(&format!("generationDateAndTime=\"{date}\""))
+    );
+}
+
 #[test]
 fn names_are_checked_against_the_catalog() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));

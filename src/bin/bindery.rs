@@ -196,10 +196,12 @@ fn build(models: &[String], out: &Option<PathBuf>) -> Result<(), String> {
     compile(&entries)?;
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let bar = Progress::new(entries.len() as u64, "{bar:30} {pos}/{len} {msg}")?;
+    let (date, source) = place::generation_date()?;
+    bar.line(format!("generationDateAndTime {date} ({source})"));
     for e in &entries {
         bar.doing(e.identifier);
         let binary = binary_of(e.identifier)?;
-        let (model_description, _guid) = (e.describe)();
+        let model_description = bindery_fmu::md::stamp(&(e.describe)().0, &date);
         let (documentation, icon) = (e.documentation)()?;
         let fmu = FmuContents {
             identifier: e.identifier.into(),
@@ -248,8 +250,10 @@ fn scenes(files: &[PathBuf], out: &Option<PathBuf>) -> Result<(), String> {
     let out = folder(out, "out/scenes")?;
     compile(&selected(&mechanisms)?)?;
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let (date, source) = place::generation_date()?;
+    eprintln!("generationDateAndTime {date} ({source})");
     for f in &files {
-        let (id, bytes) = scene::export(f, &binary_of)?;
+        let (id, bytes) = scene::export(f, &binary_of, &date)?;
         let path = out.join(format!("{id}.fmu"));
         std::fs::write(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
         eprintln!(

@@ -3,6 +3,7 @@
 //! current folder, default outputs go under the checkout's `out/`.
 
 use std::path::{Path, PathBuf};
+use std::process::Command;
 use std::sync::OnceLock;
 
 static ROOT: OnceLock<Result<PathBuf, String>> = OnceLock::new();
@@ -66,4 +67,39 @@ pub fn folder(given: &Option<PathBuf>, default: &str) -> Result<PathBuf, String>
         Some(p) => Ok(absolute(p)),
         None => Ok(root().map_err(|e| format!("{e}, or --out"))?.join(default)),
     }
+}
+
+/// `generationDateAndTime` of the FMUs built here, and where it comes from: `SOURCE_DATE_EPOCH`
+/// (the reproducible-builds convention) if set, else the date of the checkout's commit
+/// (`git log -1`), else [`bindery_fmu::md::VERSION_DATE`]. So a commit always builds the same
+/// bytes.
+pub fn generation_date() -> Result<(String, String), String> {
+    use bindery_fmu::md::{VERSION_DATE, date_time};
+    if let Some(s) = std::env::var_os("SOURCE_DATE_EPOCH") {
+        let s = s.to_string_lossy().into_owned();
+        let secs: i64 = s
+            .trim()
+            .parse()
+            .map_err(|_| format!("SOURCE_DATE_EPOCH={s:?}: want seconds since 1970"))?;
+        return Ok((date_time(secs), "SOURCE_DATE_EPOCH".into()));
+    }
+    let git = Command::new("git")
+        .arg("-C")
+        .arg(root()?)
+        .args(["log", "-1", "--format=%ct %h"])
+        .output();
+    if let Ok(out) = git
+        && out.status.success()
+    {
+        let text = String::from_utf8_lossy(&out.stdout).into_owned();
+        if let Some((secs, hash)) = text.trim().split_once(' ')
+            && let Ok(secs) = secs.parse::<i64>()
+        {
+            return Ok((date_time(secs), format!("the date of commit {hash}")));
+        }
+    }
+    Ok((
+        VERSION_DATE.to_string(),
+        "no commit date at hand (no git, no SOURCE_DATE_EPOCH): the version's date".into(),
+    ))
 }

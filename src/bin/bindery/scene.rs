@@ -57,10 +57,11 @@ pub fn resolve(arg: &Path, root: Option<&Path>) -> Result<PathBuf, String> {
 }
 
 /// The `.fmu` of one scene file (bytes) and its modelIdentifier; `binary` gives a
-/// mechanism's cdylib.
+/// mechanism's cdylib, `date` the `generationDateAndTime`.
 pub fn export(
     path: &Path,
     binary: &dyn Fn(&str) -> Result<Vec<u8>, String>,
+    date: &str,
 ) -> Result<(String, Vec<u8>), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
     let culprit = |e: bindery_fmu::scene::SceneError| format!("{}: {e}", path.display());
@@ -69,7 +70,7 @@ pub fn export(
     let documentation = (entry.scene_documentation)(&t)?;
     let fmu = FmuContents {
         identifier: t.identifier.clone(),
-        model_description: t.model_description.clone(),
+        model_description: bindery_fmu::md::stamp(&t.model_description, date),
         binary: binary(entry.identifier)?,
         documentation,
         icon: icon_png("Scene")?,
