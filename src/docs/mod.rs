@@ -1,6 +1,7 @@
 //! The `documentation/` folder of every FMU and its `model.png` icon, generic over mechanisms:
-//! a page ([`index_html`]) with the mechanism's introduction, a table of every variable and
-//! the figures, each figure a PNG line plot ([`render_png`]).
+//! a page ([`page_html`]) in the order a designer reads (what it is, the questions it answers
+//! with numbers at the defaults from [`sweep`], the figures, how it is modelled, every variable
+//! grouped), each figure a PNG line plot ([`render_png`]).
 //!
 //! No system library and no system font: plots are drawn with plotters into memory, text in
 //! DejaVu Sans embedded in the binary, and PNGs are encoded here. Everything is
@@ -9,9 +10,11 @@
 
 mod html;
 mod plot;
+mod sweep;
 
-pub use html::{escape, index_html};
+pub use html::{Page, Question, anchor, escape, page_html};
 pub use plot::{FIGURE_SIZE, ICON_SIZE, icon_png, render_png, render_svg};
+pub use sweep::{Stat, Sweep, defaults, quantity, sweep};
 
 use crate::md::ModelInfo;
 use crate::model::Var;
@@ -78,22 +81,40 @@ pub struct Figure {
     pub caption: String,
     /// One unit as long on both axes (paths of a point in the plane).
     pub equal_axes: bool,
+    /// A marker at every point (few points that each are a measurement, e.g. a ladder of
+    /// tolerances); the x axis is then padded too, so no marker sits on an axis.
+    pub markers: bool,
 }
 
-/// Every file of `documentation/`, in order: `index.html`, then each figure's PNG.
-/// Fails on a figure that cannot be drawn or a file name that is not a plain, unique
-/// `*.png` name.
+/// Every file of a plain `documentation/` (an introduction, the variables, the figures), in
+/// order: `index.html`, then each figure's PNG. See [`page_files`].
 pub fn documentation(
     info: &ModelInfo,
     vars: &[(u32, &Var)],
     intro_html: &str,
     figures: &[Figure],
 ) -> Result<Vec<(String, Vec<u8>)>, String> {
-    let mut files = vec![(
-        "index.html".to_string(),
-        index_html(info, vars, intro_html, figures).into_bytes(),
-    )];
-    for fig in figures {
+    page_files(&Page {
+        figures,
+        ..Page::plain(info, vars, intro_html)
+    })
+}
+
+/// Every file of `documentation/` for a page, in order: `index.html`, then the picture's and
+/// each figure's PNG. Fails on a figure that cannot be drawn, a file name that is not a plain,
+/// unique `*.png` name, or a question naming an output the model does not have.
+pub fn page_files(page: &Page) -> Result<Vec<(String, Vec<u8>)>, String> {
+    for q in page.questions {
+        if let Some(o) = q
+            .outputs
+            .iter()
+            .find(|o| !page.vars.iter().any(|(_, v)| v.name == **o))
+        {
+            return Err(format!("question {:?}: no variable {o}", q.ask));
+        }
+    }
+    let mut files = vec![("index.html".to_string(), page_html(page).into_bytes())];
+    for fig in page.picture.into_iter().chain(page.figures) {
         let plain = fig.file.len() > 4
             && fig.file.ends_with(".png")
             && !fig.file.starts_with('.')

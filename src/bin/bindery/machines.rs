@@ -303,6 +303,7 @@ pub fn machines(out: &Option<PathBuf>, options: &Options) -> Result<(), String> 
             series,
             caption: String::new(),
             equal_axes: false,
+            markers: false,
         });
         figures.push(Figure {
             file: format!("{}_startup.png", m.name),
@@ -319,6 +320,7 @@ pub fn machines(out: &Option<PathBuf>, options: &Options) -> Result<(), String> 
             )],
             caption: String::new(),
             equal_axes: false,
+            markers: false,
         });
     }
     md += "| machine | nominal, rpm | running speed, rpm | fly.J, kg.m2 | delta | fly.J for delta <= 1/40, kg.m2 | peak motor torque, N.m | RMS motor torque, N.m | start-up to 95 %, s |\n";
