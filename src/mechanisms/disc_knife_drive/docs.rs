@@ -505,9 +505,9 @@ fn questions(s: &Sweep, n: &Numbers) -> Vec<Question> {
             "Which force does the rod carry?",
             &["rod.F"],
             format!(
-                "rigid links: {} (the wedge as the crank leaves the locking window); compliant rod: {}",
+                "rigid links: {} on a 0.5 deg grid, without bound at the edge of the locking window (the wedge); compliant rod: {} kN",
                 s.peak("rod.F"),
-                format!("{} kN", number(n.jam_peak / 1e3, 3))
+                number(n.jam_peak / 1e3, 3)
             ),
         ),
         Question::new(
