@@ -230,17 +230,25 @@ fn group(name: &str) -> &str {
     name.split_once('.').map_or(name, |(g, _)| g)
 }
 
-/// A table of variables with a column set; `cells` writes a row's cells after the name.
-fn table(
-    out: &mut String,
-    title: &str,
-    id: &str,
-    lead: &str,
-    columns: &[(&str, &str)],
-    vars: &[(u32, &Var)],
+/// A table of variables: its heading, anchor, a sentence under the heading, its columns
+/// (heading, `col` class) and whether its rows are grouped by subsystem.
+struct Table<'a> {
+    title: &'a str,
+    id: &'a str,
+    lead: &'a str,
+    columns: &'a [(&'a str, &'a str)],
     grouped: bool,
-    cells: &dyn Fn(&Var) -> Vec<String>,
-) {
+}
+
+/// Writes a table of `vars`; `cells` gives a row's cells after the name.
+fn table(out: &mut String, t: Table, vars: &[(u32, &Var)], cells: &dyn Fn(&Var) -> Vec<String>) {
+    let Table {
+        title,
+        id,
+        lead,
+        columns,
+        grouped,
+    } = t;
     if vars.is_empty() {
         return;
     }
@@ -445,12 +453,14 @@ pub fn page_html(p: &Page) -> String {
     );
     table(
         &mut out,
-        "Inputs",
-        "inputs",
-        "",
-        &[("Name", "name"), ("Start", "value"), ("Description", "")],
+        Table {
+            title: "Inputs",
+            id: "inputs",
+            lead: "",
+            columns: &[("Name", "name"), ("Start", "value"), ("Description", "")],
+            grouped: false,
+        },
         &inputs,
-        false,
         &|v| vec![value(v, v.start.unwrap_or(0.0)), description(v)],
     );
     let turn = p
@@ -468,12 +478,14 @@ pub fn page_html(p: &Page) -> String {
     };
     table(
         &mut out,
-        "Outputs",
-        "outputs",
-        "By subsystem.",
-        &out_cols,
+        Table {
+            title: "Outputs",
+            id: "outputs",
+            lead: "By subsystem.",
+            columns: &out_cols,
+            grouped: true,
+        },
         &outputs,
-        true,
         &|v| {
             let mut c = vec![unit(v)];
             if let Some(s) = p.sweep.filter(|s| s.rpm.is_finite()) {
@@ -491,31 +503,35 @@ pub fn page_html(p: &Page) -> String {
     );
     table(
         &mut out,
-        "Parameters",
-        "parameters",
-        "By subsystem; a value outside its range is refused at initialization.",
-        &[
-            ("Name", "name"),
-            ("Value", "value"),
-            ("Range", "unit"),
-            ("Description", ""),
-        ],
+        Table {
+            title: "Parameters",
+            id: "parameters",
+            lead: "By subsystem; a value outside its range is refused at initialization.",
+            columns: &[
+                ("Name", "name"),
+                ("Value", "value"),
+                ("Range", "unit"),
+                ("Description", ""),
+            ],
+            grouped: true,
+        },
         &parameters,
-        true,
         &|v| vec![value(v, v.start.unwrap_or(0.0)), bounds(v), description(v)],
     );
     table(
         &mut out,
-        "Calculated parameters",
-        "calculated",
-        "Derived from the parameters at initialization.",
-        &[
-            ("Name", "name"),
-            ("At the defaults", "value"),
-            ("Description", ""),
-        ],
+        Table {
+            title: "Calculated parameters",
+            id: "calculated",
+            lead: "Derived from the parameters at initialization.",
+            columns: &[
+                ("Name", "name"),
+                ("At the defaults", "value"),
+                ("Description", ""),
+            ],
+            grouped: false,
+        },
         &calculated,
-        false,
         &|v| {
             vec![
                 p.sweep
@@ -527,12 +543,14 @@ pub fn page_html(p: &Page) -> String {
     );
     table(
         &mut out,
-        "Model Exchange states",
-        "states",
-        "The continuous states and their derivatives a Model Exchange host integrates.",
-        &[("Name", "name"), ("Unit", "unit"), ("Description", "")],
+        Table {
+            title: "Model Exchange states",
+            id: "states",
+            lead: "The continuous states and their derivatives a Model Exchange host integrates.",
+            columns: &[("Name", "name"), ("Unit", "unit"), ("Description", "")],
+            grouped: false,
+        },
         &locals,
-        false,
         &|v| vec![unit(v), description(v)],
     );
     out.push_str("</section>\n");

@@ -20,6 +20,8 @@ rod, guides and hinges, whether a slider self-locks, and the shaft torque.</p>"#
 
 /// How the drive is modelled, with the numbers of the defaults.
 fn notes(n: &Numbers) -> String {
+    let jam_peak = format!("{} kN", number(n.jam_peak / 1e3, 3));
+    let rigid_peak = format!("{:.2e} N", n.rigid_peak);
     format!(
         r#"<p>Crank 3 (l<sub>1</sub>) turns with the shaft (angle &phi;) and moves slider 5 (hinge C)
 through rod 4 (l<sub>2</sub> = &lambda;<sub>2</sub>l<sub>1</sub>, &lambda;<sub>2</sub> = 2); knife holder 6 (CD,
@@ -71,8 +73,6 @@ printed 23 and 6 mm.</p>"#,
         series_s = number(n.series_s, 3),
         lock_from = number(n.lock.0, 5),
         lock_to = number(n.lock.1, 5),
-        jam_peak = format!("{} kN", number(n.jam_peak / 1e3, 3)),
-        rigid_peak = format!("{:.2e} N", n.rigid_peak),
         k_d = number(n.k_d, 3),
         rpm = number(n.rpm, 4),
         y45 = number(n.y_range[0], 3),
