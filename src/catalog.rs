@@ -124,12 +124,13 @@ pub fn tailor(scene: &Scene) -> Result<(Entry, Tailored), SceneError> {
 pub fn scene_fmu(
     text: &str,
     binary: &dyn Fn(&str) -> Result<Vec<u8>, String>,
+    date: &str,
 ) -> Result<(String, Vec<u8>), String> {
     let scene = Scene::parse(text).map_err(|e| e.to_string())?;
     let (entry, t) = tailor(&scene).map_err(|e| e.to_string())?;
     let fmu = crate::package::FmuContents {
         identifier: t.identifier.clone(),
-        model_description: t.model_description.clone(),
+        model_description: crate::md::stamp(&t.model_description, date),
         binary: binary(entry.identifier)?,
         documentation: (entry.scene_documentation)(&t)?,
         icon: crate::docs::icon_png("Scene")?,

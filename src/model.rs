@@ -806,7 +806,7 @@ pub mod shaft {
     /// `model.fidelity`.
     pub static FIDELITY_LEVEL: EnumType = EnumType {
         name: "Fidelity",
-        description: "Level of physics computed (interface.md)",
+        description: "Level of physics computed",
         items: &[
             (
                 "kinematic",
@@ -818,7 +818,7 @@ pub mod shaft {
             ),
             (
                 "elastodynamic",
-                "compliant drive chain and contacts: an ODE integrated inside fmi2DoStep (dynamics.md)",
+                "compliant drive chain and contacts: an ODE integrated inside fmi2DoStep",
             ),
         ],
     };

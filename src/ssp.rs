@@ -441,15 +441,17 @@ pub const OMS_NAMESPACE: &str =
 
 /// The `.ssp` archive: `SystemStructure.ssd` and `resources/<id>.fmu`, the FMU [`tailored`] to
 /// each component, its binary the catalog FMU's, read by `binary(id)` (`id` the catalog
-/// modelIdentifier). Reproducible: fixed order and timestamps.
+/// modelIdentifier), `date` their `generationDateAndTime`. Reproducible: fixed order and
+/// timestamps.
 pub fn package(
     m: &Machine,
     binary: &dyn Fn(&str) -> Result<Vec<u8>, String>,
+    date: &str,
 ) -> Result<Vec<u8>, String> {
     let ssd = ssd(m)?;
     let mut fmus = Vec::new();
     for c in &m.components {
-        fmus.push(catalog::scene_fmu(&scene_text(m, c), binary)?);
+        fmus.push(catalog::scene_fmu(&scene_text(m, c), binary, date)?);
     }
     fmus.sort_by(|a, b| a.0.cmp(&b.0));
     let mut zip = ZipWriter::new(std::io::Cursor::new(Vec::new()));
@@ -619,8 +621,9 @@ mod tests {
     fn archive_layout_and_reproducibility() {
         let m = machines().remove(1);
         let fake = |id: &str| Ok(id.as_bytes().to_vec());
-        let a = package(&m, &fake).unwrap();
-        assert_eq!(a, package(&m, &fake).unwrap());
+        let date = crate::md::VERSION_DATE;
+        let a = package(&m, &fake, date).unwrap();
+        assert_eq!(a, package(&m, &fake, date).unwrap());
         let mut z = zip::ZipArchive::new(std::io::Cursor::new(a)).unwrap();
         let names: Vec<String> = (0..z.len())
             .map(|i| z.by_index(i).unwrap().name().unwrap().to_string())

@@ -5,9 +5,20 @@
 //! - `bindery ssp`: the two machines as SSP 1.0 files of the built FMUs, `out/ssp/<machine>.ssp`.
 //! - `bindery scene [FILE...]`: exports the FMU tailored to each scene (default: every
 //!   `scenes/*.toml`) into `out/scenes/`.
+//!
+//! The checkout is the folder at or above the current one holding `Cargo.toml` and
+//! `modelDescription/` (or `--root`); relative `--out` paths are relative to the current folder.
 
+#[path = "bindery/liftoff.rs"]
+mod liftoff;
 #[path = "bindery/machines.rs"]
 mod machines;
+#[path = "bindery/params.rs"]
+mod params;
+#[path = "bindery/place.rs"]
+mod place;
+#[path = "bindery/progress.rs"]
+mod progress;
 #[path = "bindery/report.rs"]
 mod report;
 #[path = "bindery/scene.rs"]
@@ -16,7 +27,8 @@ mod scene;
 use bindery_fmu::catalog::{self, Entry};
 use bindery_fmu::package::FmuContents;
 use clap::{Parser, Subcommand};
-use indicatif::{ProgressBar, ProgressStyle};
+use place::{folder, root};
+use progress::Progress;
 use std::path::{Path, PathBuf};
 use std::process::{Command, ExitCode};
 
@@ -26,6 +38,10 @@ use std::process::{Command, ExitCode};
     about = "Bookbinding mechanisms as FMI 2.0 co-simulation FMUs"
 )]
 struct Cli {
+    /// The checkout to work in (default: the folder at or above the current one that holds
+    /// Cargo.toml and modelDescription/)
+    #[arg(long, global = true)]
+    root: Option<PathBuf>,
     #[command(subcommand)]
     command: Cmd,
 }
@@ -36,40 +52,50 @@ enum Cmd {
     Build {
         /// Only these modelIdentifiers
         models: Vec<String>,
-        /// Output folder
-        #[arg(long, default_value = "out/fmus")]
-        out: PathBuf,
+        /// Output folder (default: out/fmus in the checkout)
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
     /// Write each FMU's documentation/ folder (index.html and figures) unpacked, to read or to
     /// pick a figure from
     Docs {
-        /// Output folder; one subfolder per FMU
-        #[arg(long, default_value = "out/docs")]
-        out: PathBuf,
+        /// Output folder, one subfolder per FMU (default: out/docs in the checkout)
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
     /// The lowest main-shaft speed at which the Perforators' spring lets the roller lift off
-    /// the ramp (default parameters, bisection on the speed with the Rust model)
+    /// the ramp (kinetostatic model, bisection on the speed), for the default parameters or
+    /// those set
+    #[command(
+        after_help = "Values are in the parameter's display unit where it has one (rpm for \
+        rad/s, deg for rad, mm for m, MPa for Pa), else in SI; a unit may follow the number \
+        (--set synth.gamma0=0.1rad). Examples:\n  bindery liftoff --m0 8 --kt 25\n  \
+        bindery liftoff --set perf.m=1.2 --set roller.r=12"
+    )]
     Liftoff {
-        /// Search from this speed, rpm (no lift-off there)
-        #[arg(long, default_value_t = 100.0)]
+        /// Search from this speed, rpm
+        #[arg(long, default_value_t = 100.0, allow_negative_numbers = true)]
         from: f64,
         /// Up to this speed, rpm
-        #[arg(long, default_value_t = 2000.0)]
+        #[arg(long, default_value_t = 2000.0, allow_negative_numbers = true)]
         to: f64,
-        /// Spring moment spring.M0 in the lowest position, N.m
-        #[arg(long, default_value_t = 6.0)]
-        m0: f64,
-        /// Spring rate spring.kt, N.m/rad
-        #[arg(long, default_value_t = 20.0)]
-        kt: f64,
+        /// Spring moment spring.M0 in the lowest position, N.m (same as --set spring.M0=...)
+        #[arg(long, allow_negative_numbers = true)]
+        m0: Option<f64>,
+        /// Spring rate spring.kt, N.m/rad (same as --set spring.kt=...)
+        #[arg(long, allow_negative_numbers = true)]
+        kt: Option<f64>,
+        /// Any parameter of the Perforators FMU, NAME=VALUE (repeatable)
+        #[arg(long = "set", value_name = "NAME=VALUE")]
+        set: Vec<String>,
     },
     /// Error against wall time of the elastodynamic level: every solver method over a ladder of
     /// tolerances and communication steps, against FMPy + CVode on Model Exchange (needs .venv
     /// and the built FMUs for that line): out/report/report.md and work-precision PNGs
     Report {
-        /// Output folder
-        #[arg(long, default_value = "out/report")]
-        out: PathBuf,
+        /// Output folder (default: out/report in the checkout)
+        #[arg(long)]
+        out: Option<PathBuf>,
         /// Leave out the FMPy baseline
         #[arg(long)]
         no_fmpy: bool,
@@ -80,27 +106,31 @@ enum Cmd {
     /// The two machines (thread-sewing machine, three-knife trimmer) as SSP 1.0 files of the FMUs
     /// built into out/fmus/ (run `build` first): out/ssp/<machine>.ssp
     Ssp {
-        /// Folder of the built FMUs
-        #[arg(long, default_value = "out/fmus")]
-        fmus: PathBuf,
-        /// Output folder
-        #[arg(long, default_value = "out/ssp")]
-        out: PathBuf,
+        /// Folder of the built FMUs (default: out/fmus in the checkout)
+        #[arg(long)]
+        fmus: Option<PathBuf>,
+        /// Output folder (default: out/ssp in the checkout)
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
     /// What a machine designer asks of the two machines: speed fluctuation, the flywheel for
     /// delta <= 1/40, motor torque, start-up time: out/machines/machines.md and PNG plots
     Machines {
-        /// Output folder
-        #[arg(long, default_value = "out/machines")]
-        out: PathBuf,
+        /// Output folder (default: out/machines in the checkout)
+        #[arg(long)]
+        out: Option<PathBuf>,
+        #[command(flatten)]
+        options: machines::Options,
     },
-    /// Export the FMU tailored to each scene file (scenes.md) into out/scenes/<modelIdentifier>.fmu
+    /// Export the FMU tailored to each scene (scenes/README.md) into
+    /// out/scenes/<modelIdentifier>.fmu
     Scene {
-        /// Scene files (TOML); none: every scenes/*.toml
+        /// Scene files (TOML) or names of scenes in scenes/ (e.g. geneva-cut-forces); none:
+        /// every scenes/*.toml
         files: Vec<PathBuf>,
-        /// Output folder
-        #[arg(long, default_value = "out/scenes")]
-        out: PathBuf,
+        /// Output folder (default: out/scenes in the checkout)
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
     /// Write modelDescription/<id>.xml for every FMU
     Describe {
@@ -110,14 +140,11 @@ enum Cmd {
     },
 }
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn target_dir() -> PathBuf {
-    std::env::var_os("CARGO_TARGET_DIR")
-        .map(PathBuf::from)
-        .unwrap_or_else(|| root().join("target"))
+fn target_dir() -> Result<PathBuf, String> {
+    match std::env::var_os("CARGO_TARGET_DIR") {
+        Some(dir) => Ok(place::absolute(Path::new(&dir))),
+        None => Ok(root()?.join("target")),
+    }
 }
 
 fn selected(models: &[String]) -> Result<Vec<Entry>, String> {
@@ -128,7 +155,7 @@ fn selected(models: &[String]) -> Result<Vec<Entry>, String> {
     {
         let known: Vec<_> = all.iter().map(|e| e.identifier).collect();
         return Err(format!(
-            "unknown model {bad:?}; known: {}",
+            "unknown model {bad:?}; valid: {}",
             known.join(", ")
         ));
     }
@@ -142,7 +169,7 @@ fn selected(models: &[String]) -> Result<Vec<Entry>, String> {
 fn compile(entries: &[Entry]) -> Result<(), String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut cmd = Command::new(cargo);
-    cmd.current_dir(root())
+    cmd.current_dir(root()?)
         .args(["build", "--release", "--lib"]);
     for e in entries {
         cmd.args(["-p", e.package]);
@@ -157,29 +184,24 @@ fn compile(entries: &[Entry]) -> Result<(), String> {
 
 /// The built binary of a modelIdentifier.
 fn binary_of(identifier: &str) -> Result<Vec<u8>, String> {
-    let so = target_dir()
+    let so = target_dir()?
         .join("release")
         .join(format!("lib{identifier}.so"));
     std::fs::read(&so).map_err(|err| format!("{}: {err}", so.display()))
 }
 
-fn build(models: &[String], out: &Path) -> Result<(), String> {
+fn build(models: &[String], out: &Option<PathBuf>) -> Result<(), String> {
     let entries = selected(models)?;
+    let out = folder(out, "out/fmus")?;
     compile(&entries)?;
-    let out = if out.is_absolute() {
-        out.to_path_buf()
-    } else {
-        root().join(out)
-    };
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let bar = ProgressBar::new(entries.len() as u64);
-    bar.set_style(
-        ProgressStyle::with_template("{bar:30} {pos}/{len} {msg}").map_err(|e| e.to_string())?,
-    );
+    let bar = Progress::new(entries.len() as u64, "{bar:30} {pos}/{len} {msg}")?;
+    let (date, source) = place::generation_date()?;
+    bar.line(format!("generationDateAndTime {date} ({source})"));
     for e in &entries {
-        bar.set_message(e.identifier);
+        bar.doing(e.identifier);
         let binary = binary_of(e.identifier)?;
-        let (model_description, _guid) = (e.describe)();
+        let model_description = bindery_fmu::md::stamp(&(e.describe)().0, &date);
         let (documentation, icon) = (e.documentation)()?;
         let fmu = FmuContents {
             identifier: e.identifier.into(),
@@ -190,11 +212,12 @@ fn build(models: &[String], out: &Path) -> Result<(), String> {
             resources: vec![],
         };
         let path = out.join(format!("{}.fmu", e.identifier));
-        std::fs::write(&path, fmu.to_zip()?).map_err(|err| format!("{}: {err}", path.display()))?;
-        bar.inc(1);
-        bar.println(format!("wrote {}", path.display()));
+        let zip = fmu.to_zip()?;
+        std::fs::write(&path, &zip).map_err(|err| format!("{}: {err}", path.display()))?;
+        bar.inc();
+        bar.line(format!("wrote {} ({} bytes)", path.display(), zip.len()));
     }
-    bar.finish_and_clear();
+    bar.finish();
     if let Err(stale) = check_descriptions(&entries, true) {
         eprintln!(
             "warning: {stale}; run `cargo run --release -- describe` and commit modelDescription/"
@@ -205,11 +228,14 @@ fn build(models: &[String], out: &Path) -> Result<(), String> {
 
 /// Exports every scene (all of `scenes/` when none is named): checks every file first, then
 /// compiles the mechanisms' binaries and writes the FMUs.
-fn scenes(files: &[PathBuf], out: &Path) -> Result<(), String> {
+fn scenes(files: &[PathBuf], out: &Option<PathBuf>) -> Result<(), String> {
     let files = if files.is_empty() {
-        scene::scene_files(&root().join("scenes"))?
+        scene::scene_files(&root()?.join("scenes"))?
     } else {
-        files.to_vec()
+        files
+            .iter()
+            .map(|f| scene::resolve(f, root().ok().as_deref()))
+            .collect::<Result<_, _>>()?
     };
     let mut mechanisms: Vec<String> = Vec::new();
     for f in &files {
@@ -221,28 +247,27 @@ fn scenes(files: &[PathBuf], out: &Path) -> Result<(), String> {
             mechanisms.push(s.mechanism);
         }
     }
+    let out = folder(out, "out/scenes")?;
     compile(&selected(&mechanisms)?)?;
-    let out = if out.is_absolute() {
-        out.to_path_buf()
-    } else {
-        root().join(out)
-    };
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
+    let (date, source) = place::generation_date()?;
+    eprintln!("generationDateAndTime {date} ({source})");
     for f in &files {
-        let (id, bytes) = scene::export(f, &binary_of)?;
+        let (id, bytes) = scene::export(f, &binary_of, &date)?;
         let path = out.join(format!("{id}.fmu"));
-        std::fs::write(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
-        eprintln!("wrote {} ({})", path.display(), f.display());
+        std::fs::write(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+        eprintln!(
+            "wrote {} ({} bytes, from {})",
+            path.display(),
+            bytes.len(),
+            f.display()
+        );
     }
     Ok(())
 }
 
-fn docs(out: &Path) -> Result<(), String> {
-    let out = if out.is_absolute() {
-        out.to_path_buf()
-    } else {
-        root().join(out)
-    };
+fn docs(out: &Option<PathBuf>) -> Result<(), String> {
+    let out = folder(out, "out/docs")?;
     for e in catalog::all() {
         let dir = out.join(e.identifier);
         std::fs::create_dir_all(&dir).map_err(|err| format!("{}: {err}", dir.display()))?;
@@ -253,23 +278,15 @@ fn docs(out: &Path) -> Result<(), String> {
         {
             std::fs::write(dir.join(name), bytes).map_err(|err| format!("{name}: {err}"))?;
         }
-        eprintln!("wrote {}", dir.display());
+        eprintln!("wrote {} ({} files)", dir.display(), files.len() + 1);
     }
     Ok(())
 }
 
-fn absolute(p: &Path) -> PathBuf {
-    if p.is_absolute() {
-        p.to_path_buf()
-    } else {
-        root().join(p)
-    }
-}
-
 /// Writes every machine's `.ssp`: the FMUs tailored to it, their binaries those of the built
 /// FMUs in `fmus`.
-fn ssp(fmus: &Path, out: &Path) -> Result<(), String> {
-    let (fmus, out) = (absolute(fmus), absolute(out));
+fn ssp(fmus: &Option<PathBuf>, out: &Option<PathBuf>) -> Result<(), String> {
+    let (fmus, out) = (folder(fmus, "out/fmus")?, folder(out, "out/ssp")?);
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let binary = |id: &str| -> Result<Vec<u8>, String> {
         let p = fmus.join(format!("{id}.fmu"));
@@ -288,11 +305,12 @@ fn ssp(fmus: &Path, out: &Path) -> Result<(), String> {
         std::io::Read::read_to_end(&mut so, &mut b).map_err(|e| format!("{}: {e}", p.display()))?;
         Ok(b)
     };
+    let (date, _) = place::generation_date()?;
     for m in bindery_fmu::ssp::machines() {
-        let bytes = bindery_fmu::ssp::package(&m, &binary)?;
+        let bytes = bindery_fmu::ssp::package(&m, &binary, &date)?;
         let path = out.join(format!("{}.ssp", m.name));
-        std::fs::write(&path, bytes).map_err(|e| format!("{}: {e}", path.display()))?;
-        eprintln!("wrote {}", path.display());
+        std::fs::write(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+        eprintln!("wrote {} ({} bytes)", path.display(), bytes.len());
     }
     Ok(())
 }
@@ -301,7 +319,7 @@ fn ssp(fmus: &Path, out: &Path) -> Result<(), String> {
 fn check_descriptions(entries: &[Entry], check: bool) -> Result<(), String> {
     let mut stale = Vec::new();
     for e in entries {
-        let path = root()
+        let path = root()?
             .join("modelDescription")
             .join(format!("{}.xml", e.identifier));
         let (xml, _) = (e.describe)();
@@ -322,48 +340,24 @@ fn check_descriptions(entries: &[Entry], check: bool) -> Result<(), String> {
     }
 }
 
-/// Samples per shaft turn of the lift-off search.
-const LIFTOFF_SAMPLES: usize = 7200;
-
-fn liftoff(from: f64, to: f64, m0: f64, kt: f64) -> Result<(), String> {
-    use bindery_fmu::mechanisms::perforators::physics::Params;
-    let rad = std::f64::consts::PI / 30.0;
-    let p = Params {
-        spring_m0: m0,
-        spring_kt: kt,
-        ..Params::default()
-    };
-    let d = p.drive().map_err(|e| e.to_string())?;
-    match d.liftoff_speed(from * rad, to * rad, 1e-6, LIFTOFF_SAMPLES) {
-        Some(w) => {
-            let (f, phi) = d.min_contact_force(w, LIFTOFF_SAMPLES);
-            let (f_below, _) = d.min_contact_force(w - 1e-4, LIFTOFF_SAMPLES);
-            println!(
-                "spring.M0 = {m0} N.m, spring.kt = {kt} N.m/rad: the roller lifts off the ramp above {:.2} rpm \
-                 (first at shaft angle {:.2} deg, phase {:?}; smallest contact force {f:.4} N there, {f_below:.4} N just below)",
-                w / rad,
-                phi.to_degrees(),
-                d.cyc.at(phi).phase
-            );
-            Ok(())
-        }
-        None => Err(format!(
-            "no lift-off threshold between {from} and {to} rpm (it lifts off already at {from}, or not even at {to})"
-        )),
-    }
-}
-
 fn main() -> ExitCode {
     let cli = Cli::parse();
+    place::init(cli.root);
     let result = match cli.command {
         Cmd::Build { models, out } => build(&models, &out),
         Cmd::Docs { out } => docs(&out),
         Cmd::Scene { files, out } => scenes(&files, &out),
         Cmd::Describe { check } => check_descriptions(&catalog::all(), check),
-        Cmd::Liftoff { from, to, m0, kt } => liftoff(from, to, m0, kt),
-        Cmd::Report { out, no_fmpy, only } => report::report(&root(), &out, !no_fmpy, &only),
+        Cmd::Liftoff {
+            from,
+            to,
+            m0,
+            kt,
+            set,
+        } => liftoff::settings(m0, kt, &set).and_then(|s| liftoff::liftoff(from, to, &s)),
+        Cmd::Report { out, no_fmpy, only } => report::report(&out, !no_fmpy, &only),
         Cmd::Ssp { fmus, out } => ssp(&fmus, &out),
-        Cmd::Machines { out } => machines::machines(&absolute(&out)),
+        Cmd::Machines { out, options } => machines::machines(&out, &options),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

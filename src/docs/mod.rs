@@ -1,6 +1,7 @@
 //! The `documentation/` folder of every FMU and its `model.png` icon, generic over mechanisms:
-//! a page ([`index_html`]) with the mechanism's introduction, a table of every variable and
-//! the figures, each figure a PNG line plot ([`render_png`]).
+//! a page ([`page_html`]) in the order a designer reads (what it is, the questions it answers
+//! with numbers at the defaults from [`sweep`], the figures, how it is modelled, every variable
+//! grouped), each figure a PNG line plot ([`render_png`]).
 //!
 //! No system library and no system font: plots are drawn with plotters into memory, text in
 //! DejaVu Sans embedded in the binary, and PNGs are encoded here. Everything is
@@ -9,12 +10,43 @@
 
 mod html;
 mod plot;
+mod sweep;
 
-pub use html::{escape, index_html};
+pub use html::{Page, Question, anchor, escape, page_html};
 pub use plot::{FIGURE_SIZE, ICON_SIZE, icon_png, render_png, render_svg};
+pub use sweep::{Stat, Sweep, defaults, quantity, sweep};
 
 use crate::md::ModelInfo;
 use crate::model::Var;
+
+/// `x` for people: at most `sig` significant digits, no trailing zeros, scientific (`2e8`,
+/// `1.5e-5`) from 1e6 up and below 1e-4: 31.4159 for 31.41592653589793 at `sig` 6.
+pub fn number(x: f64, sig: usize) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    if !x.is_finite() {
+        return format!("{x}");
+    }
+    let sig = sig.max(1);
+    let trim = |s: &str| -> String {
+        if s.contains('.') {
+            s.trim_end_matches('0').trim_end_matches('.').to_string()
+        } else {
+            s.to_string()
+        }
+    };
+    let e = x.abs().log10().floor() as i32;
+    if !(-4..6).contains(&e) {
+        let s = format!("{:.*e}", sig - 1, x);
+        let (mantissa, exp) = s.split_once('e').unwrap_or((&s, "0"));
+        format!("{}e{exp}", trim(mantissa))
+    } else {
+        let decimals = (sig as i32 - 1 - e).max(0) as usize;
+        let s = trim(&format!("{x:.decimals$}"));
+        if s == "-0" { "0".into() } else { s }
+    }
+}
 
 /// One line of a figure.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -49,22 +81,40 @@ pub struct Figure {
     pub caption: String,
     /// One unit as long on both axes (paths of a point in the plane).
     pub equal_axes: bool,
+    /// A marker at every point (few points that each are a measurement, e.g. a ladder of
+    /// tolerances); the x axis is then padded too, so no marker sits on an axis.
+    pub markers: bool,
 }
 
-/// Every file of `documentation/`, in order: `index.html`, then each figure's PNG.
-/// Fails on a figure that cannot be drawn or a file name that is not a plain, unique
-/// `*.png` name.
+/// Every file of a plain `documentation/` (an introduction, the variables, the figures), in
+/// order: `index.html`, then each figure's PNG. See [`page_files`].
 pub fn documentation(
     info: &ModelInfo,
     vars: &[(u32, &Var)],
     intro_html: &str,
     figures: &[Figure],
 ) -> Result<Vec<(String, Vec<u8>)>, String> {
-    let mut files = vec![(
-        "index.html".to_string(),
-        index_html(info, vars, intro_html, figures).into_bytes(),
-    )];
-    for fig in figures {
+    page_files(&Page {
+        figures,
+        ..Page::plain(info, vars, intro_html)
+    })
+}
+
+/// Every file of `documentation/` for a page, in order: `index.html`, then the picture's and
+/// each figure's PNG. Fails on a figure that cannot be drawn, a file name that is not a plain,
+/// unique `*.png` name, or a question naming an output the model does not have.
+pub fn page_files(page: &Page) -> Result<Vec<(String, Vec<u8>)>, String> {
+    for q in page.questions {
+        if let Some(o) = q
+            .outputs
+            .iter()
+            .find(|o| !page.vars.iter().any(|(_, v)| v.name == **o))
+        {
+            return Err(format!("question {:?}: no variable {o}", q.ask));
+        }
+    }
+    let mut files = vec![("index.html".to_string(), page_html(page).into_bytes())];
+    for fig in page.picture.into_iter().chain(page.figures) {
         let plain = fig.file.len() > 4
             && fig.file.ends_with(".png")
             && !fig.file.starts_with('.')
@@ -90,6 +140,20 @@ pub fn documentation(
 mod tests {
     use super::*;
     use crate::model::Experiment;
+
+    #[test]
+    fn numbers_for_people() {
+        assert_eq!(number(std::f64::consts::PI * 10.0, 6), "31.4159");
+        assert_eq!(number(0.10471975511965978, 6), "0.10472");
+        assert_eq!(number(15000.0, 6), "15000");
+        assert_eq!(number(300.00000000001, 6), "300");
+        assert_eq!(number(2e8, 6), "2e8");
+        assert_eq!(number(1.5e-5, 6), "1.5e-5");
+        assert_eq!(number(0.0035, 6), "0.0035");
+        assert_eq!(number(-0.0, 6), "0");
+        assert_eq!(number(-113.6512, 5), "-113.65");
+        assert_eq!(number(1.0 / 15.0, 4), "0.06667");
+    }
 
     #[test]
     fn documentation_files() {

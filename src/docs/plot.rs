@@ -133,6 +133,31 @@ fn segments(points: &[(f64, f64)]) -> Vec<Vec<(f64, f64)>> {
         .collect()
 }
 
+/// A polyline cut where it turns back on itself (the direction changes by more than 90° in
+/// plot units `(sx, sy)` per data unit), the turning point in both pieces. The bitmap backend
+/// fills a thick polyline as one polygon, and a path that retraces itself (a saddle going and
+/// coming back, a force spike up and down) cancels out to a hollow double line.
+fn unfolded(points: &[(f64, f64)], (sx, sy): (f64, f64)) -> Vec<Vec<(f64, f64)>> {
+    let mut out = vec![];
+    let mut piece: Vec<(f64, f64)> = vec![];
+    let mut dir = (0.0, 0.0);
+    for &p in points {
+        if let Some(&q) = piece.last() {
+            let d = ((p.0 - q.0) * sx, (p.1 - q.1) * sy);
+            if d == (0.0, 0.0) {
+                continue;
+            }
+            if d.0 * dir.0 + d.1 * dir.1 < 0.0 {
+                out.push(std::mem::replace(&mut piece, vec![q]));
+            }
+            dir = d;
+        }
+        piece.push(p);
+    }
+    out.push(piece);
+    out
+}
+
 /// Does the segment `a`–`b` touch the rectangle `[x0, x1] × [y0, y1]`? (Liang–Barsky)
 fn segment_hits(a: (f64, f64), b: (f64, f64), (x0, x1, y0, y1): (f64, f64, f64, f64)) -> bool {
     let (dx, dy) = (b.0 - a.0, b.1 - a.1);
@@ -234,7 +259,15 @@ fn ranges(fig: &Figure) -> Result<(Span, Span), String> {
     let (x_lo, x_hi) = min_max(|p| p.0);
     let (y_lo, y_hi) = min_max(|p| p.1);
     Ok((
-        padded(x_lo, x_hi, if fig.equal_axes { 0.05 } else { 0.0 }),
+        padded(
+            x_lo,
+            x_hi,
+            if fig.equal_axes || fig.markers {
+                0.05
+            } else {
+                0.0
+            },
+        ),
         padded(y_lo, y_hi, 0.05),
     ))
 }
@@ -376,26 +409,48 @@ fn draw_chart<DB: DrawingBackend>(
         .y_desc(fig.y_label.as_str())
         .draw()
         .map_err(err)?;
+    // pixels per data unit, to find where a line turns back
+    let (pw, ph) = chart.plotting_area().dim_in_pixel();
+    let per_unit = (f64::from(pw) / (xr.1 - xr.0), f64::from(ph) / (yr.1 - yr.0));
+    let radius = s(4) as i32;
     for (i, sr) in fig.series.iter().enumerate() {
         let color = COLORS[i % COLORS.len()];
-        for (k, seg) in segments(&sr.points).into_iter().enumerate() {
-            let drawn = if seg.len() == 1 {
-                chart
-                    .draw_series(
-                        seg.into_iter()
-                            .map(|p| Circle::new(p, s(3), color.filled())),
-                    )
-                    .map_err(err)?
-            } else {
-                chart
-                    .draw_series(LineSeries::new(seg, color.stroke_width(s(2))))
-                    .map_err(err)?
-            };
-            if k == 0 && legend.is_some() {
-                let len = (lsym - s(10)) as i32;
-                drawn.label(sr.label.as_str()).legend(move |(x, y)| {
-                    PathElement::new(vec![(x, y), (x + len, y)], color.stroke_width(s(3)))
-                });
+        let len = (lsym - s(10)) as i32;
+        let mut labelled = legend.is_none();
+        for seg in segments(&sr.points) {
+            if seg.len() > 1 {
+                for piece in unfolded(&seg, per_unit) {
+                    let drawn = chart
+                        .draw_series(LineSeries::new(piece, color.stroke_width(s(2))))
+                        .map_err(err)?;
+                    if !labelled {
+                        labelled = true;
+                        let label = drawn.label(sr.label.as_str());
+                        let line = move |(x, y): (i32, i32)| {
+                            PathElement::new(vec![(x, y), (x + len, y)], color.stroke_width(s(3)))
+                        };
+                        if fig.markers {
+                            label.legend(move |(x, y)| {
+                                EmptyElement::at((x, y))
+                                    + line((0, 0))
+                                    + Circle::new((len / 2, 0), radius, color.filled())
+                            });
+                        } else {
+                            label.legend(line);
+                        }
+                    }
+                }
+            }
+            if seg.len() == 1 || fig.markers {
+                let drawn = chart
+                    .draw_series(seg.iter().map(|&p| Circle::new(p, radius, color.filled())))
+                    .map_err(err)?;
+                if !labelled {
+                    labelled = true;
+                    drawn.label(sr.label.as_str()).legend(move |(x, y)| {
+                        Circle::new((x + len / 2, y), radius, color.filled())
+                    });
+                }
             }
         }
     }
@@ -979,6 +1034,7 @@ mod tests {
             ],
             caption: "A test figure.".into(),
             equal_axes: false,
+            markers: false,
         }
     }
 
@@ -1037,6 +1093,7 @@ mod tests {
             x_label: "x [mm]".into(),
             y_label: "y [mm]".into(),
             equal_axes: true,
+            markers: false,
             ..Default::default()
         };
         fig.series.push(Series::new("path", circle));
@@ -1073,6 +1130,72 @@ mod tests {
             );
             assert!(a.len() < 30_000, "{} bytes", a.len());
         }
+    }
+
+    /// Pixels of a figure within 60 of `c` in every channel (the line and its anti-aliasing).
+    fn pixels_like(rgb: &[u8], c: RGBColor) -> usize {
+        rgb.chunks_exact(3)
+            .filter(|p| {
+                (p[0] as i32 - c.0 as i32).abs() < 60
+                    && (p[1] as i32 - c.1 as i32).abs() < 60
+                    && (p[2] as i32 - c.2 as i32).abs() < 60
+            })
+            .count()
+    }
+
+    #[test]
+    fn a_path_that_turns_back_is_drawn_as_a_line_not_hollow() {
+        assert_eq!(
+            unfolded(&[(0.0, 0.0), (1.0, 1.0), (2.0, 2.0)], (1.0, 1.0)).len(),
+            1
+        );
+        let out_and_back = [(0.0, 0.0), (1.0, 1.0), (2.0, 2.0), (1.0, 1.0), (0.0, 0.0)];
+        let pieces = unfolded(&out_and_back, (1.0, 1.0));
+        assert_eq!(
+            pieces,
+            vec![
+                vec![(0.0, 0.0), (1.0, 1.0), (2.0, 2.0)],
+                vec![(2.0, 2.0), (1.0, 1.0), (0.0, 0.0)]
+            ]
+        );
+        // drawn: as many line pixels as the one-way path (the filled polygon of a retraced
+        // polyline cancelled to a hollow outline)
+        let fig = |pts: &[(f64, f64)]| Figure {
+            series: vec![Series::new("s", pts.to_vec())],
+            ..Default::default()
+        };
+        let once = pixels_like(&draw_figure(&fig(&out_and_back[..3])).unwrap(), COLORS[0]);
+        let twice = pixels_like(&draw_figure(&fig(&out_and_back)).unwrap(), COLORS[0]);
+        assert!(
+            once > 500 && twice as f64 > 0.95 * once as f64,
+            "{once} {twice}"
+        );
+    }
+
+    #[test]
+    fn markers_sit_inside_the_axes() {
+        let mut fig = Figure {
+            series: vec![
+                Series::new("a", vec![(0.0, 1.0), (1.0, 2.0), (2.0, 1.5)]),
+                Series::new("b", vec![(0.5, 1.0), (1.5, 1.2)]),
+            ],
+            ..Default::default()
+        };
+        let ((x0, x1), _) = ranges(&fig).unwrap();
+        assert_eq!((x0, x1), (0.0, 2.0), "lines over a turn end at the axes");
+        fig.markers = true;
+        let ((x0, x1), _) = ranges(&fig).unwrap();
+        assert!(x0 < -0.09 && x1 > 2.09, "{x0} {x1}");
+        let plain = pixels_like(
+            &draw_figure(&Figure {
+                markers: false,
+                ..fig.clone()
+            })
+            .unwrap(),
+            COLORS[0],
+        );
+        let marked = pixels_like(&draw_figure(&fig).unwrap(), COLORS[0]);
+        assert!(marked > plain + 100, "markers drawn: {plain} {marked}");
     }
 
     #[test]

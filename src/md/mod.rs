@@ -5,6 +5,12 @@
 //! UnitDefinitions, TypeDefinitions, LogCategories, DefaultExperiment, ModelVariables,
 //! ModelStructure. Nothing time- or machine-dependent goes in, so the file (and the GUID) is
 //! reproducible.
+//!
+//! `generationDateAndTime` is the one date: [`VERSION_DATE`] in what [`describe`] writes (the
+//! committed `modelDescription/*.xml`), and the date of the commit an FMU is built from in the
+//! packaged file ([`stamp`]; the CLI takes it from `SOURCE_DATE_EPOCH` or `git log`). The GUID
+//! is the hash of the description without it, so it names the interface, not the moment of
+//! packaging, and both files carry the same GUID.
 
 use crate::model::{
     Causality, EnumType, Experiment, Initial, Model, Var, VarSet, VarType, Variability,
@@ -26,6 +32,51 @@ pub const LOG_CATEGORIES: &[(&str, &str)] = &[
     ("logStatusFatal", "Calls that return fmi2Fatal"),
     ("logAll", "Every message, including each FMI call"),
 ];
+
+/// Who makes the FMUs and on which terms: Cargo.toml's version and license; it names no
+/// authors, so the project does.
+pub const AUTHOR: &str = "the bindery-fmu authors";
+pub const COPYRIGHT: &str = "Copyright the bindery-fmu authors";
+pub const LICENSE: &str = env!("CARGO_PKG_LICENSE");
+
+/// `generationDateAndTime` of the committed descriptions and of a build with no commit date at
+/// hand (no git, no `SOURCE_DATE_EPOCH`): the date of the repository's first commit, where
+/// version 0.1.0 began. Stable, so the committed files do not go stale with every commit.
+pub const VERSION_DATE: &str = "2026-11-22T10:56:58Z";
+
+/// A description written by [`describe`] with its `generationDateAndTime` set to `date`
+/// (xs:dateTime, e.g. from [`date_time`]); the GUID does not change.
+pub fn stamp(xml: &str, date: &str) -> String {
+    xml.replacen(
+        &format!("generationDateAndTime=\"{VERSION_DATE}\""),
+        &format!(
+            "generationDateAndTime=\"{}\"",
+            quick_xml::escape::escape(date)
+        ),
+        1,
+    )
+}
+
+/// Seconds since 1970-01-01T00:00:00Z as an xs:dateTime in UTC, e.g. `2026-11-22T10:56:58Z`
+/// (days to civil date: H. Hinnant, "chrono-compatible low-level date algorithms").
+pub fn date_time(epoch: i64) -> String {
+    let (days, secs) = (epoch.div_euclid(86_400), epoch.rem_euclid(86_400));
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}-{m:02}-{d:02}T{:02}:{:02}:{:02}Z",
+        secs / 3600,
+        secs % 3600 / 60,
+        secs % 60
+    )
+}
 
 /// What the description says of the model besides its variables.
 #[derive(Clone, Debug)]
@@ -165,6 +216,16 @@ fn unit_def(name: &str) -> Option<&'static UnitDef> {
     UNITS.iter().find(|u| u.name == name)
 }
 
+/// The factor of a display unit of `unit` (display value = factor × SI value), as declared in
+/// the model description: `display_factor("rad/s", "rpm")` = 30/π.
+pub fn display_factor(unit: &str, display: &str) -> Option<f64> {
+    unit_def(unit)?
+        .display
+        .iter()
+        .find(|(n, _)| *n == display)
+        .map(|(_, f)| *f)
+}
+
 /// Formats a real the way every attribute is written: shortest round-trip form.
 pub fn fmt_real(x: f64) -> String {
     format!("{x:?}")
@@ -183,8 +244,21 @@ struct Fmd {
     guid: String,
     #[serde(rename = "@description")]
     description: String,
+    #[serde(rename = "@author")]
+    author: &'static str,
+    #[serde(rename = "@version")]
+    version: &'static str,
+    #[serde(rename = "@copyright")]
+    copyright: &'static str,
+    #[serde(rename = "@license")]
+    license: &'static str,
     #[serde(rename = "@generationTool")]
     generation_tool: String,
+    #[serde(
+        rename = "@generationDateAndTime",
+        skip_serializing_if = "Option::is_none"
+    )]
+    generation_date: Option<&'static str>,
     #[serde(rename = "@variableNamingConvention")]
     naming: &'static str,
     #[serde(rename = "@numberOfEventIndicators")]
@@ -574,7 +648,9 @@ fn scalar_variable(vr: u32, v: &Var, index_of: impl Fn(u32) -> Option<usize>) ->
     }
 }
 
-fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
+/// The description with this GUID; `dated`: with [`VERSION_DATE`] (the GUID is the hash of
+/// the undated one).
+fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str, dated: bool) -> Fmd {
     // Value reference -> 1-based index in ModelVariables.
     let index_of = |vr: u32| vars.iter().position(|(r, _)| *r == vr).map(|p| p + 1);
     let mut used_units: Vec<&'static UnitDef> = vars
@@ -673,7 +749,12 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
         model_name: info.model_name.to_string(),
         guid: guid.to_string(),
         description: info.description.to_string(),
+        author: AUTHOR,
+        version: env!("CARGO_PKG_VERSION"),
+        copyright: COPYRIGHT,
+        license: LICENSE,
         generation_tool: format!("bindery-fmu {}", env!("CARGO_PKG_VERSION")),
+        generation_date: dated.then_some(VERSION_DATE),
         naming: "structured",
         event_indicators: if derivatives.is_empty() {
             0
@@ -768,11 +849,11 @@ pub fn format_guid(h: u128) -> String {
 }
 
 /// The model description of the given variables (by value reference) and its GUID, which is
-/// the hash of the description written with an empty GUID.
+/// the hash of the description written with an empty GUID and no `generationDateAndTime`.
 pub fn describe_vars(info: &ModelInfo, vars: &[(u32, &Var)]) -> (String, String) {
-    let unsigned = to_xml(&build(info, vars, ""));
+    let unsigned = to_xml(&build(info, vars, "", false));
     let guid = format_guid(fnv1a_128(unsigned.as_bytes()));
-    (to_xml(&build(info, vars, &guid)), guid)
+    (to_xml(&build(info, vars, &guid, true)), guid)
 }
 
 /// The full model description of a model type, and its GUID.
@@ -788,6 +869,16 @@ pub fn describe<M: Model>() -> (String, String) {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn dates() {
+        assert_eq!(date_time(0), "1970-01-01T00:00:00Z");
+        assert_eq!(date_time(1_700_000_000), "2023-11-14T22:13:20Z");
+        assert_eq!(date_time(951_782_400), "2000-02-29T00:00:00Z");
+        assert_eq!(date_time(-1), "1969-12-31T23:59:59Z");
+        // the first commit's committer date, as git gives it (%ct, %cI)
+        assert_eq!(date_time(1_795_345_018), VERSION_DATE);
+    }
 
     #[test]
     fn guid_format_and_stability() {

@@ -170,7 +170,7 @@ impl Method {
 /// The Enumeration type of `solver.method`.
 pub static SOLVER_METHOD: EnumType = EnumType {
     name: "SolverMethod",
-    description: "Integrator of the elastodynamic level inside fmi2DoStep (dynamics.md)",
+    description: "Integrator of the elastodynamic level inside fmi2DoStep",
     items: &[
         (
             "auto",

@@ -19,12 +19,47 @@ pub fn scene_files(dir: &Path) -> Result<Vec<PathBuf>, String> {
     Ok(files)
 }
 
+/// A scene named on the command line: a file (against the current folder), or the name of a
+/// scene in the checkout's `scenes/` (`geneva-cut-forces`); else an error listing those names.
+pub fn resolve(arg: &Path, root: Option<&Path>) -> Result<PathBuf, String> {
+    if arg.is_file() {
+        return Ok(arg.to_path_buf());
+    }
+    let dir = root.map(|r| r.join("scenes"));
+    let plain = arg.components().count() == 1 && arg.extension().is_none();
+    if let Some(dir) = &dir {
+        let named = dir.join(arg).with_extension("toml");
+        if plain && named.is_file() {
+            return Ok(named);
+        }
+    }
+    let names: Vec<String> = dir
+        .and_then(|d| scene_files(&d).ok())
+        .unwrap_or_default()
+        .iter()
+        .filter_map(|f| f.file_stem().map(|s| s.to_string_lossy().into_owned()))
+        .collect();
+    Err(format!(
+        "{}: no such scene file{}",
+        arg.display(),
+        if names.is_empty() {
+            String::new()
+        } else {
+            format!(
+                ", and no scene of that name in scenes/; valid names: {}",
+                names.join(", ")
+            )
+        }
+    ))
+}
+
 /// The `.fmu` of one scene file (bytes) and its modelIdentifier; `binary` gives a
-/// mechanism's cdylib.
+/// mechanism's cdylib, `date` the `generationDateAndTime`.
 pub fn export(
     path: &Path,
     binary: &dyn Fn(&str) -> Result<Vec<u8>, String>,
+    date: &str,
 ) -> Result<(String, Vec<u8>), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    catalog::scene_fmu(&text, binary).map_err(|e| format!("{}: {e}", path.display()))
+    catalog::scene_fmu(&text, binary, date).map_err(|e| format!("{}: {e}", path.display()))
 }

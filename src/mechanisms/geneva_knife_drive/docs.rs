@@ -4,23 +4,32 @@
 use super::model::GenevaKnifeDrive;
 use super::physics::Params;
 use crate::catalog::{Documentation, variables_of};
-use crate::docs::{Figure, Series, icon_png};
+use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
 use crate::md::ModelInfo;
 use std::f64::consts::PI;
 
-const INTRO: &str = r#"<p>A three-knife trimmer cuts book blocks, brochures and magazines on three sides.
-Paper 003 drives its knives with a <b>4-slot Geneva mechanism</b>: driver 1 on the main shaft (angle
-&phi;) carries a roller that enters the slots of cross 2 and turns it by 90&deg;; gear 3, fixed to the
-cross, drives gear 4 with crank 5; rod 6 moves slider 7 with the knife housing in guides 8. The gear
-ratio <i>i</i> = 4 makes the crank turn 360&deg; while the driver turns 90&deg;: the knife makes its
-working and idle strokes while the cross moves, and stands still at the top for the other 3/4 of the
-driver turn.</p>
-<p>Inputs: the shaft connector <code>shaft.phi</code>, <code>shaft.w</code>, <code>shaft.a</code>
-(Modelica <code>GeneralAngleToTorqueAdaptor</code> convention); or set <code>drive.mode</code> =
-<code>constant_speed</code> to run alone at <code>drive.n</code>. Level <code>kinematic</code> gives
-positions, velocities and accelerations in closed form (exact); <code>kinetostatic</code> (default) adds
-the cutting resistance, inertia, guide friction, gear losses and the shaft torque
-<code>shaft.tau</code>.</p>
+const WHAT: &str = r#"<p>A three-knife trimmer cuts book blocks, brochures and magazines on three sides.
+This FMU is the drive of one of its knives (paper 003): a <b>4-slot Geneva mechanism</b> on the
+main shaft turns a gear pair and a crank, and a rod moves the knife slider. While the Geneva driver
+turns through a quarter of its turn the crank turns once, so the knife makes its working stroke down
+through the stack and its idle stroke back up; for the other three quarters the cross is locked and
+the knife stands still at the top.</p>
+<p>Drive it through <code>shaft.phi</code>, <code>shaft.w</code>, <code>shaft.a</code> (the main
+shaft's angle, speed and acceleration) or let it run alone (<code>drive.mode</code>); it gives the
+knife's motion, the forces in the chain and the torque the main shaft needs,
+<code>shaft.tau</code>.</p>"#;
+
+const NOTES: &str = r#"<p>Driver 1 on the main shaft (angle &phi;) carries a roller that enters the slots
+of cross 2 and turns it by 90&deg;; gear 3, fixed to the cross, drives gear 4 with crank 5; rod 6
+moves slider 7 with the knife housing in guides 8. The gear ratio <i>i</i> = 4 makes the crank turn
+360&deg; while the driver turns 90&deg;.</p>
+<p>Level <code>kinematic</code> gives positions, velocities and accelerations in closed form (exact);
+<code>kinetostatic</code> (default) adds the cutting resistance, inertia, guide friction, gear losses
+and the shaft torque; <code>elastodynamic</code> ties the knife to its rigid motion through the
+drive chain's stiffness <code>elastic.k</code> and damping <code>elastic.zeta</code>: the knife sticks
+at the cut front while the chain winds up, and cut-through is an event. Its equation of motion is
+integrated inside <code>fmi2DoStep</code> (<code>solver.*</code>) and offered to Model Exchange
+hosts as states.</p>
 <p>Two errata of the paper are not copied: it multiplies the slider's displacement invariant
 6 &minus; cos 4&gamma; &minus; 5 cos &nu; by S = 2r<sub>2</sub> (the factor is r<sub>2</sub>), and its
 slider velocity leaves out the gear ratio (&theta;' = i&gamma;').</p>"#;
@@ -54,6 +63,7 @@ fn figure(
         }],
         caption: caption.into(),
         equal_axes: false,
+        markers: false,
     }
 }
 
@@ -68,7 +78,9 @@ pub fn figures() -> Vec<Figure> {
             "Fig. 2: cross angle",
             "gamma, rad",
             "gamma(phi)",
-            turn(n, |f| k(f).gamma),
+            // the left limit at 360 deg: gamma within the index that ends there, not the
+            // next index's 0 (a vertical line at the wrap)
+            turn(n, |f| k(f.min(2.0 * PI * (1.0 - 1e-12))).gamma),
             "Cross angle within its index over one driver turn (paper 003, Fig. 2).",
         ),
         figure(
@@ -148,14 +160,113 @@ pub fn figures() -> Vec<Figure> {
     ]
 }
 
+/// The questions a designer brings, answered at the defaults.
+fn questions(s: &Sweep) -> Vec<Question> {
+    let dwell = s.stat("knife.dwell").map_or(f64::NAN, |d| d.true_fraction);
+    let k_d = s.stat("dyn.factor").map_or(f64::NAN, |d| d.max);
+    vec![
+        Question::new(
+            "How far does the knife travel, and how long does it stand still?",
+            &["knife.s", "knife.dwell"],
+            format!(
+                "stroke {} ({}); at the top for {} % of the driver turn",
+                s.value("knife.stroke"),
+                s.range("knife.s"),
+                number(100.0 * dwell, 3)
+            ),
+        ),
+        Question::new(
+            "How fast does the knife move?",
+            &["knife.v", "knife.a"],
+            format!(
+                "up to {}; acceleration up to {}",
+                s.peak("knife.v"),
+                s.peak("knife.a")
+            ),
+        ),
+        Question::new(
+            "What force cuts the stack?",
+            &["knife.F_cut"],
+            format!(
+                "the assumed cutting resistance cut.F_max = {}: {}",
+                s.value("cut.F_max"),
+                s.peak("knife.F_cut")
+            ),
+        ),
+        Question::new(
+            "The knife force in the chain: rod and Geneva slot",
+            &["rod.F", "geneva.F"],
+            format!(
+                "rod.F peaks at {}, geneva.F at {}",
+                s.peak("rod.F"),
+                s.peak("geneva.F")
+            ),
+        ),
+        Question::new(
+            "Which load do the slider guides take?",
+            &["guide.N"],
+            s.peak("guide.N"),
+        ),
+        Question::new(
+            "Which torque does the main shaft need?",
+            &["shaft.tau"],
+            format!("peak {}, RMS {}", s.peak("shaft.tau"), s.rms("shaft.tau")),
+        ),
+        Question::new(
+            "What does a drive model need (implicit coupling)?",
+            &["shaft.tau0", "shaft.J_red"],
+            format!(
+                "torque at zero shaft acceleration {}; reduced inertia {}",
+                s.range("shaft.tau0"),
+                s.range("shaft.J_red")
+            ),
+        ),
+        Question::new(
+            "How much does the chain's compliance raise the force?",
+            &["dyn.factor", "elastic.F"],
+            format!(
+                "dynamic factor K_d = {} (elastodynamic level, elastic.k = {}); chain force {}",
+                number(k_d, 3),
+                s.value("elastic.k"),
+                s.peak("elastic.F")
+            ),
+        ),
+    ]
+}
+
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
     let vars = variables_of::<GenevaKnifeDrive>();
-    let files = crate::docs::documentation(
-        &ModelInfo::of::<GenevaKnifeDrive>(),
-        &vars,
-        INTRO,
-        &figures(),
-    )?;
+    let s = sweep::<GenevaKnifeDrive>()?;
+    let mut figs = figures();
+    let picture = figs.pop();
+    let files = crate::docs::page_files(&Page {
+        info: &ModelInfo::of::<GenevaKnifeDrive>(),
+        vars: &vars,
+        what: WHAT,
+        picture: picture.as_ref(),
+        questions: &questions(&s),
+        figures: &figs,
+        notes: NOTES,
+        sweep: Some(&s),
+    })?;
     Ok((files, icon_png("Geneva")?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn fig2_has_no_wrap_around_line() {
+        let fig = &figures()[0];
+        assert_eq!(fig.file, "fig2_gamma.png");
+        let pts = &fig.series[0].points;
+        assert_eq!(pts.last().unwrap().0, 360.0);
+        // the cross ends the turn locked at the end of its index, as it started it at 0
+        assert!((pts.last().unwrap().1 - PI / 2.0).abs() < 1e-9);
+        for w in pts.windows(2) {
+            assert!((w[1].1 - w[0].1).abs() < 0.05, "a jump at {} deg", w[1].0);
+        }
+    }
 }

@@ -26,7 +26,7 @@ use std::f64::consts::TAU;
 /// `synth.mode`.
 pub static SYNTH_MODE: EnumType = EnumType {
     name: "SynthMode",
-    description: "Which lever swing the ramp is built for (perforators.md)",
+    description: "Which lever swing the ramp is built for",
     items: &[
         (
             "paper",
@@ -100,7 +100,7 @@ pub static STAGES: &[Stage] = &[
 /// `contact.law`.
 pub static CONTACT_LAW: EnumType = EnumType {
     name: "ContactLaw",
-    description: "Force law of the unilateral ramp contact (dynamics.md)",
+    description: "Force law of the unilateral ramp contact",
     items: &[
         (
             "hertz",

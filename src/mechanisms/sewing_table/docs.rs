@@ -4,31 +4,41 @@
 use super::model::SewingTable;
 use super::physics::{Kind, Params};
 use crate::catalog::{Documentation, variables_of};
-use crate::docs::{Figure, Series, icon_png};
+use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
 use crate::md::ModelInfo;
 use std::f64::consts::PI;
 
-const INTRO: &str = r#"<p>A thread-sewing machine (analogue: the BNSh-6A) sews book blocks signature by
-signature. Its rocking table takes a half-open signature on its saddle at the loading position I,
-carries it to the sewing position III under the sewing carriage, dwells while it is sewn, and returns.
-Paper 000 replaces it by a <b>translating table</b>: slot cam 1 on the main shaft, roller 2, pusher 3
-fixed to table 4 with saddle 4', running on rollers 5, 5' in guides 6. Its travel
-l<sub>2</sub> = 3.72 relative units (0.11152 m with the 30 mm unit) follows from the rocking table's
-geometry (calculated parameters <code>synth.*</code>).</p>
-<p>One shaft turn: forward travel (<code>cycle.forward</code>, 82&deg;), dwell at sewing, return, dwell at
-loading, with the laws <code>law.forward</code>, <code>law.return</code> (cycloidal by default: the
-smooth stop at the sewing position). Level <code>kinetostatic</code> adds inertia, guide friction, the
-external force <code>table.F_ext</code> (e.g. the perforators' reaction <code>Perforators.table.F</code>),
-the slot cam's pressure angle, contact force, loaded-flank curvature and Hertz stress, and the shaft
-torque. A cam whose convex flank would be undercut is refused at initialization, naming the angle and
-the smallest <code>cam.R0</code> (also given as <code>cam.R0_min</code>).</p>
-<p><code>table.kind</code> = <code>rocking</code> computes the rocking table it replaces, with the same
-cyclogram applied to its swing; the outputs <code>rocking.*</code> (saddle path, inertia torque) are
-always given for comparison.</p>
-<p>Note on the synthesis: the paper's k<sub>0</sub> = k<sub>1</sub> &minus; k<sub>2</sub> subtracts the
-saddle's height at loading from the distance of the chord A<sub>1</sub>A<sub>2</sub> to the axis; the
-saddle's true end-to-end displacement on its circle is 3.686 horizontally and 1.003 vertically (chord
-3.82). The FMU keeps the paper's l<sub>2</sub> = 3.72 as the translating table's travel.</p>"#;
+const WHAT: &str = r#"<p>A thread-sewing machine sews book blocks signature by signature. Its table takes a
+half-open signature on its saddle at the loading position, carries it to the sewing position under
+the sewing carriage, dwells while it is sewn, and returns. This FMU is the <b>translating table</b>
+that paper 000 puts in place of the machine's rocking table: a slot cam on the main shaft moves the
+table through a roller and pusher, in a cyclogram of forward travel, dwell at sewing, return and
+dwell at loading.</p>
+<p>Drive it through <code>shaft.phi</code>, <code>shaft.w</code>, <code>shaft.a</code> or let it run
+alone (<code>drive.mode</code>); it gives the table's motion, the cam's pressure angle, contact force
+and Hertz stress, and the torque the main shaft needs. The perforators ride on this table: wire
+<code>Perforators.table.F</code> into <code>table.F_ext</code>.</p>"#;
+
+const NOTES: &str = r#"<p>Slot cam 1 on the main shaft, roller 2, pusher 3 fixed to table 4 with saddle 4',
+running on rollers 5, 5' in guides 6. The table's travel l<sub>2</sub> = 3.72 relative units
+(0.11152 m with the 30 mm unit) follows from the rocking table's geometry (calculated parameters
+<code>synth.*</code>). The motion laws <code>law.forward</code>, <code>law.return</code> are cycloidal by
+default: the smooth stop at the sewing position.</p>
+<p>Level <code>kinetostatic</code> (default) adds inertia, guide friction, the external force
+<code>table.F_ext</code>, the slot cam's pressure angle, contact force, loaded-flank curvature and Hertz
+stress, and the shaft torque. A cam whose convex flank would be undercut is refused at initialization,
+naming the angle and the smallest <code>cam.R0</code> (also given as <code>cam.R0_min</code>).
+<code>table.kind</code> = <code>rocking</code> computes the rocking table it replaces with the same
+cyclogram; the outputs <code>rocking.*</code> are always given for comparison. Level
+<code>elastodynamic</code> ties the table to its rigid motion through the follower chain's stiffness
+<code>elastic.k</code>, with optional play in the cam slot <code>cam.clearance</code>: the roller leaves
+a flank, crosses the play and impacts the other (<code>contact.liftoffs</code>,
+<code>contact.F_impact</code>); its equation of motion is integrated inside <code>fmi2DoStep</code> and
+offered to Model Exchange hosts.</p>
+<p>On the synthesis: the paper's k<sub>0</sub> = k<sub>1</sub> &minus; k<sub>2</sub> subtracts the saddle's
+height at loading from the distance of the chord A<sub>1</sub>A<sub>2</sub> to the axis; the saddle's
+true end-to-end displacement on its circle is 3.686 horizontally and 1.003 vertically (chord 3.82).
+The FMU keeps the paper's l<sub>2</sub> = 3.72 as the translating table's travel.</p>"#;
 
 fn turn(n: usize, f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
     (0..=n)
@@ -48,6 +58,7 @@ fn fig(file: &str, title: &str, y: &str, series: Vec<Series>, caption: &str) -> 
         series,
         caption: caption.into(),
         equal_axes: false,
+        markers: false,
     }
 }
 
@@ -121,6 +132,7 @@ pub fn figures() -> Vec<Figure> {
         Figure {
             x_label: "x, mm".into(),
             equal_axes: true,
+            markers: false,
             ..fig(
                 "rocking_saddle.png",
                 "Saddle paths: rocking and translating table",
@@ -146,10 +158,92 @@ pub fn figures() -> Vec<Figure> {
     ]
 }
 
+/// The questions a designer brings, answered at the defaults.
+fn questions(s: &Sweep) -> Vec<Question> {
+    vec![
+        Question::new(
+            "How far does the table travel, and when?",
+            &["table.x", "table.phase"],
+            format!(
+                "travel {} ({}); shaft angles: forward {}, dwell at sewing {}, return {}, dwell at loading {}",
+                s.value("table.stroke"),
+                s.range("table.x"),
+                s.value("cycle.forward"),
+                s.value("cycle.dwell_sew"),
+                s.value("cycle.return"),
+                s.value("cycle.dwell_load")
+            ),
+        ),
+        Question::new(
+            "How fast does it move?",
+            &["table.v", "table.a"],
+            format!(
+                "velocity peaks at {}, acceleration at {}",
+                s.peak("table.v"),
+                s.peak("table.a")
+            ),
+        ),
+        Question::new(
+            "How steep is the cam?",
+            &["cam.theta"],
+            format!("pressure angle up to {}", s.peak("cam.theta")),
+        ),
+        Question::new(
+            "Which force and stress does the cam carry?",
+            &["cam.F", "cam.sigma_H"],
+            format!(
+                "contact force {}, Hertz stress {}",
+                s.peak("cam.F"),
+                s.peak("cam.sigma_H")
+            ),
+        ),
+        Question::new(
+            "How small may the cam be?",
+            &["cam.R0_min"],
+            format!(
+                "smallest base radius without undercut {} (cam.R0 = {})",
+                s.value("cam.R0_min"),
+                s.value("cam.R0")
+            ),
+        ),
+        Question::new(
+            "Which torque does the main shaft need?",
+            &["shaft.tau"],
+            format!("peak {}, RMS {}", s.peak("shaft.tau"), s.rms("shaft.tau")),
+        ),
+        Question::new(
+            "And the rocking table it replaces?",
+            &["rocking.M_inertia"],
+            format!("inertia torque up to {}", s.peak("rocking.M_inertia")),
+        ),
+        Question::new(
+            "How much does the follower chain's compliance raise the force?",
+            &["dyn.factor", "elastic.F"],
+            format!(
+                "dynamic factor K_d = {} (elastodynamic level, elastic.k = {}); chain force {}",
+                number(s.stat("dyn.factor").map_or(f64::NAN, |d| d.max), 3),
+                s.value("elastic.k"),
+                s.peak("elastic.F")
+            ),
+        ),
+    ]
+}
+
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
     let vars = variables_of::<SewingTable>();
-    let files =
-        crate::docs::documentation(&ModelInfo::of::<SewingTable>(), &vars, INTRO, &figures())?;
+    let s = sweep::<SewingTable>()?;
+    let mut figs = figures();
+    let picture = figs.remove(0);
+    let files = crate::docs::page_files(&Page {
+        info: &ModelInfo::of::<SewingTable>(),
+        vars: &vars,
+        what: WHAT,
+        picture: Some(&picture),
+        questions: &questions(&s),
+        figures: &figs,
+        notes: NOTES,
+        sweep: Some(&s),
+    })?;
     Ok((files, icon_png("Sewing table")?))
 }

@@ -14,7 +14,7 @@ use std::cell::Cell;
 /// `law.*` (`motion-laws.md`), shared by SewingTable and Perforators.
 pub static MOTION_LAW: EnumType = EnumType {
     name: "MotionLaw",
-    description: "Normalized cam motion law (motion-laws.md)",
+    description: "Normalized cam motion law",
     items: &[
         ("cycloidal", "sine acceleration; paper 002's 'Co'"),
         (
@@ -37,7 +37,7 @@ pub fn motion_law(item: i32) -> MotionLaw {
 /// `table.kind`.
 pub static TABLE_KIND: EnumType = EnumType {
     name: "TableKind",
-    description: "Which sewing table (sewing-table.md)",
+    description: "Which sewing table",
     items: &[
         ("translating", "paper 000's translating table on a slot cam"),
         (
@@ -188,9 +188,9 @@ crate::model_variables! {
         rocking_y = Var::output("rocking.y", "m", "Rocking table's saddle: vertical displacement from loading, up positive").depends(ON_PHI).needs(stage::ROCKING),
         rocking_M_inertia = Var::output("rocking.M_inertia", "N.m", "Rocking table's inertia torque -J*beta'' about its axis").depends(ON_ALL).needs(stage::ROCKING.or(stage::FORCES)),
         // ---- elastodynamic level (dynamics.md; translating table)
-        elastic_k = Var::parameter("elastic.k", 1e7, "N/m", "Stiffness of the cam-follower chain between the rigid table position and the table (elastodynamic level; assumption, dynamics.md)").min(1.0).feeds(stage::ELASTIC),
+        elastic_k = Var::parameter("elastic.k", 1e7, "N/m", "Stiffness of the cam-follower chain between the rigid table position and the table (elastodynamic level; assumption)").min(1.0).feeds(stage::ELASTIC),
         elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the follower chain, c = 2*zeta*sqrt(k*m) (elastodynamic level; assumption)").min(0.0).feeds(stage::ELASTIC),
-        cam_clearance = Var::parameter("cam.clearance", 0.0, "m", "Play of the roller in the cam slot (total); with play the roller crosses it and impacts the other flank (elastodynamic level; dynamics.md)").min(0.0).feeds(stage::ELASTIC),
+        cam_clearance = Var::parameter("cam.clearance", 0.0, "m", "Play of the roller in the cam slot (total); with play the roller crosses it and impacts the other flank (elastodynamic level)").min(0.0).feeds(stage::ELASTIC),
         solver_method = crate::solver::vars::method().feeds(stage::ELASTIC),
         solver_rtol = crate::solver::vars::rtol().feeds(stage::ELASTIC),
         solver_atol = crate::solver::vars::atol().feeds(stage::ELASTIC),
