@@ -779,7 +779,7 @@ mod tests {
             .enumerate()
             .map(|(i, v)| (i as u32, v))
             .collect();
-        let page = |info: &ModelInfo, refs: &[(u32, &Var)]| index_html(info, refs, "", &[]);
+        let page = |info: &ModelInfo, refs: &[(u32, &Var)]| page_html(&Page::plain(info, refs, ""));
         let held = page(&info(), &refs);
         assert!(held.contains("every output is at <i>t</i>&nbsp;+&nbsp;<i>h</i>"));
         let shaft = page(
