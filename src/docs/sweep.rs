@@ -80,7 +80,7 @@ fn run<M: Model>(fidelity: Fidelity) -> Result<(Vec<Stat>, Vec<f64>), String> {
     for k in 0..2 * SAMPLES {
         let t = k as f64 * h;
         set(&mut v, t);
-        m.do_step(&mut v, t, h, &mut NoLog)
+        m.step(&mut v, t, h, &mut NoLog)
             .map_err(|e| format!("{id} at {t} s: {e}"))?;
         set(&mut v, t + h);
         m.evaluate(&mut v, t + h, &mut NoLog);
