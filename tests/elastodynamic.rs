@@ -98,9 +98,7 @@ fn compare(a: &Run, b: &Run) -> (f64, f64) {
 /// chain force within `force_tol` (relative), the energy-balance residual within 1e-4 of the
 /// energy scale. Returns the case's error message when it is a Discard.
 fn check(c: Case, stop: f64, pos_tol: f64, force_tol: f64) -> Result<(), String> {
-    let t0 = Instant::now();
     let r = geneva(&c, stop)?;
-    let took = t0.elapsed();
     let ref_rtol = if c.k >= 1e10 { 1e-8 } else { 1e-9 };
     let refc = Case {
         method: 3,
@@ -123,7 +121,6 @@ fn check(c: Case, stop: f64, pos_tol: f64, force_tol: f64) -> Result<(), String>
         r.residual,
         r.energy_scale
     );
-    assert!(took.as_secs_f64() < 5.0, "{c:?} ground for {took:?}");
     Ok(())
 }
 
