@@ -1,7 +1,10 @@
 //! The FMU binaries link nothing beyond the C library, libm and the loader (interface.md), and
-//! panics are still caught with the unwinder linked statically by `fmus/build.rs` (issue 7).
+//! panics are still caught with the unwinder linked statically by `fmus/build.rs` (issue 7), also
+//! in a cross build to aarch64 with the GNU toolchain (issue 15).
 
 mod common;
+
+use common::probe;
 
 use bindery_fmu::catalog;
 use std::path::Path;
@@ -58,38 +61,14 @@ fn every_fmu_crate_uses_the_shared_build_script() {
 /// works inside a shared library loaded by a host.
 #[test]
 fn a_panic_is_caught_with_the_static_unwinder() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = std::env::temp_dir().join(format!("bindery-panic-probe-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(dir.join("src")).unwrap();
-    std::fs::write(
-        dir.join("Cargo.toml"),
-        format!(
-            "[package]\nname = \"panic-probe\"\nversion = \"0.1.0\"\nedition = \"2024\"\n\
-             build = {:?}\n\n[lib]\ncrate-type = [\"cdylib\"]\n\n[profile.release]\n\
-             panic = \"unwind\"\n\n[workspace]\n",
-            root.join("fmus/build.rs")
-        ),
-    )
-    .unwrap();
-    std::fs::write(
-        dir.join("src/lib.rs"),
-        "#[unsafe(no_mangle)]\npub extern \"C\" fn probe(x: i32) -> i32 {\n    \
-         std::panic::set_hook(Box::new(|_| {}));\n    \
-         std::panic::catch_unwind(|| if x > 0 { panic!(\"probe {x}\") } else { x })\
-         .unwrap_or(-1)\n}\n",
-    )
-    .unwrap();
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let status = Command::new(cargo)
-        .args(["build", "--release", "--offline", "--quiet"])
-        .current_dir(&dir)
-        .env("CARGO_TARGET_DIR", dir.join("target"))
-        .env_remove("RUSTFLAGS")
-        .status()
-        .unwrap();
-    assert!(status.success(), "building the probe failed");
-    let so = dir.join("target/release/libpanic_probe.so");
+    let so = probe::build(
+        "native",
+        &probe::Route {
+            subcommand: "build",
+            target: None,
+            env: &[],
+        },
+    );
     let n = needed(&so);
     assert!(!n.iter().any(|l| l.contains("gcc")), "{n:?}");
     // SAFETY: the probe has no constructors; `probe` has this signature.
@@ -100,5 +79,35 @@ fn a_panic_is_caught_with_the_static_unwinder() {
         assert_eq!(probe(1), -1, "the panic was caught");
         assert_eq!(probe(2), -1, "and again");
     }
-    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// A cross build with Debian's GNU toolchain for aarch64 (the linker named the usual way,
+/// `CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_LINKER`): the build script takes the unwinder of that
+/// linker, not the host's `cc`, so the binary needs no `libgcc_s.so.1` (it did: the host's
+/// x86-64 archive was skipped as incompatible and the shared library linked instead), and the
+/// panic is caught when the library runs on aarch64 (qemu-user).
+#[test]
+fn a_cross_build_to_aarch64_links_the_unwinder_statically() {
+    let so = probe::build(
+        "aarch64-gcc",
+        &probe::Route {
+            subcommand: "build",
+            target: Some("aarch64-unknown-linux-gnu"),
+            env: &[(
+                "CARGO_TARGET_AARCH64_UNKNOWN_LINUX_GNU_LINKER",
+                "aarch64-linux-gnu-gcc",
+            )],
+        },
+    );
+    let n = needed(&so);
+    assert!(n.contains(&"libc.so.6".to_string()), "{n:?}");
+    assert!(!n.iter().any(|l| l.contains("gcc")), "{n:?}");
+    let host = so.with_file_name("probe-host");
+    probe::compile_c("aarch64-linux-gnu-gcc", "probe.c", &host, &["-ldl"]);
+    let out = probe::run(&probe::qemu_aarch64(), &host, &[so.to_str().unwrap()]);
+    assert_eq!(
+        out.trim(),
+        "0 -1 -1",
+        "probe(0), probe(1), probe(2) on aarch64"
+    );
 }

@@ -6,6 +6,7 @@
 pub mod heap;
 pub mod me;
 pub mod ode;
+pub mod probe;
 pub mod series;
 
 use bindery_fmu::catalog::Entry;
