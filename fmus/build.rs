@@ -51,7 +51,16 @@ fn model_identifier() -> Option<String> {
 }
 
 fn install_name() {
-    if let Some(id) = model_identifier() {
+    let Some(id) = model_identifier() else {
+        return;
+    };
+    // the linker itself (`-C linker-flavor=ld64.lld`, as `bindery build` links) takes the
+    // option as two arguments; a C compiler driver as one -Wl, argument
+    let flags = std::env::var("CARGO_ENCODED_RUSTFLAGS").unwrap_or_default();
+    if flags.contains("linker-flavor=ld64.lld") || flags.contains("linker-flavor=darwin-lld") {
+        println!("cargo:rustc-cdylib-link-arg=-install_name");
+        println!("cargo:rustc-cdylib-link-arg=@rpath/{id}.dylib");
+    } else {
         println!("cargo:rustc-cdylib-link-arg=-Wl,-install_name,@rpath/{id}.dylib");
     }
 }

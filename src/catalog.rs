@@ -119,11 +119,11 @@ pub fn tailor(scene: &Scene) -> Result<(Entry, Tailored), SceneError> {
 }
 
 /// The `.fmu` (bytes) tailored to a scene text, and its modelIdentifier: the mechanism's own
-/// binary (`binary(identifier)` gives its cdylib), the tailored description and documentation,
-/// and the scene in `resources/scene.toml`, which the binary reads at `fmi2Instantiate`.
+/// binaries (`binaries(identifier)` gives its cdylib for every platform built), the tailored
+/// description and documentation, and the scene in `resources/scene.toml`, which the binary reads at `fmi2Instantiate`.
 pub fn scene_fmu(
     text: &str,
-    binary: &dyn Fn(&str) -> Result<Vec<u8>, String>,
+    binaries: &dyn Fn(&str) -> Result<crate::package::Binaries, String>,
     date: &str,
 ) -> Result<(String, Vec<u8>), String> {
     let scene = Scene::parse(text).map_err(|e| e.to_string())?;
@@ -131,7 +131,7 @@ pub fn scene_fmu(
     let fmu = crate::package::FmuContents {
         identifier: t.identifier.clone(),
         model_description: crate::md::stamp(&t.model_description, date),
-        binary: binary(entry.identifier)?,
+        binaries: binaries(entry.identifier)?,
         documentation: (entry.scene_documentation)(&t)?,
         icon: crate::docs::icon_png("Scene")?,
         resources: vec![(crate::scene::RESOURCE_NAME.to_string(), text.into())],

@@ -440,18 +440,18 @@ pub const OMS_NAMESPACE: &str =
     "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd";
 
 /// The `.ssp` archive: `SystemStructure.ssd` and `resources/<id>.fmu`, the FMU [`tailored`] to
-/// each component, its binary the catalog FMU's, read by `binary(id)` (`id` the catalog
-/// modelIdentifier), `date` their `generationDateAndTime`. Reproducible: fixed order and
+/// each component, its binaries the catalog FMU's, read by `binaries(id)` (`id` the catalog
+/// modelIdentifier; one library per platform built), `date` their `generationDateAndTime`. Reproducible: fixed order and
 /// timestamps.
 pub fn package(
     m: &Machine,
-    binary: &dyn Fn(&str) -> Result<Vec<u8>, String>,
+    binaries: &dyn Fn(&str) -> Result<crate::package::Binaries, String>,
     date: &str,
 ) -> Result<Vec<u8>, String> {
     let ssd = ssd(m)?;
     let mut fmus = Vec::new();
     for c in &m.components {
-        fmus.push(catalog::scene_fmu(&scene_text(m, c), binary, date)?);
+        fmus.push(catalog::scene_fmu(&scene_text(m, c), binaries, date)?);
     }
     fmus.sort_by(|a, b| a.0.cmp(&b.0));
     let mut zip = ZipWriter::new(std::io::Cursor::new(Vec::new()));
@@ -620,7 +620,7 @@ mod tests {
     #[test]
     fn archive_layout_and_reproducibility() {
         let m = machines().remove(1);
-        let fake = |id: &str| Ok(id.as_bytes().to_vec());
+        let fake = |id: &str| Ok(vec![(crate::package::Platform::Linux64, id.as_bytes().to_vec())]);
         let date = crate::md::VERSION_DATE;
         let a = package(&m, &fake, date).unwrap();
         assert_eq!(a, package(&m, &fake, date).unwrap());

@@ -1,6 +1,8 @@
 //! `bindery`: builds and packages the FMUs, and keeps `modelDescription/` current.
 //!
-//! - `bindery build`: compiles every FMU's cdylib (release) and writes `out/fmus/<id>.fmu`.
+//! - `bindery build`: compiles every FMU's cdylib for every platform whose toolchain is here
+//!   (`platforms`; the others are named with the command that installs them) and writes
+//!   `out/fmus/<id>.fmu`.
 //! - `bindery describe`: writes `modelDescription/<id>.xml`; `--check` fails if one is stale.
 //! - `bindery ssp`: the two machines as SSP 1.0 files of the built FMUs, `out/ssp/<machine>.ssp`.
 //! - `bindery scene [FILE...]`: exports the FMU tailored to each scene (default: every
@@ -17,6 +19,8 @@ mod machines;
 mod params;
 #[path = "bindery/place.rs"]
 mod place;
+#[path = "bindery/platforms.rs"]
+mod platforms;
 #[path = "bindery/progress.rs"]
 mod progress;
 #[path = "bindery/report.rs"]
@@ -25,7 +29,7 @@ mod report;
 mod scene;
 
 use bindery_fmu::catalog::{self, Entry};
-use bindery_fmu::package::FmuContents;
+use bindery_fmu::package::{self, Binaries, FmuContents};
 use clap::{Parser, Subcommand};
 use place::{folder, root};
 use progress::Progress;
@@ -48,13 +52,18 @@ struct Cli {
 
 #[derive(Subcommand)]
 enum Cmd {
-    /// Build every FMU (or those named) into out/fmus/
+    /// Build every FMU (or those named) into out/fmus/, with binaries for every platform whose
+    /// toolchain is installed (linux64, aarch64-linux, win64, darwin64); a platform skipped is
+    /// named with the command that installs its toolchain
     Build {
         /// Only these modelIdentifiers
         models: Vec<String>,
         /// Output folder (default: out/fmus in the checkout)
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Fail instead of skipping a platform whose toolchain is missing
+        #[arg(long)]
+        require_all: bool,
     },
     /// Write each FMU's documentation/ folder (index.html and figures) unpacked, to read or to
     /// pick a figure from
@@ -131,6 +140,9 @@ enum Cmd {
         /// Output folder (default: out/scenes in the checkout)
         #[arg(long)]
         out: Option<PathBuf>,
+        /// Fail instead of skipping a platform whose toolchain is missing
+        #[arg(long)]
+        require_all: bool,
     },
     /// Write modelDescription/<id>.xml for every FMU
     Describe {
@@ -165,8 +177,9 @@ fn selected(models: &[String]) -> Result<Vec<Entry>, String> {
         .collect())
 }
 
-/// Compiles the FMU binaries of these entries (release).
-fn compile(entries: &[Entry]) -> Result<(), String> {
+/// Compiles the FMU binaries of these entries natively (release, `target/release/`: the ones the
+/// Rust tests load), then for every platform whose toolchain is here (`platforms`).
+fn compile(entries: &[Entry], require_all: bool) -> Result<platforms::Built, String> {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let mut cmd = Command::new(cargo);
     cmd.current_dir(root()?)
@@ -179,34 +192,27 @@ fn compile(entries: &[Entry]) -> Result<(), String> {
     if !status.success() {
         return Err("cargo build of the FMU binaries failed".into());
     }
-    Ok(())
+    let packages: Vec<&str> = entries.iter().map(|e| e.package).collect();
+    platforms::build(&root()?, &target_dir()?, &packages, require_all)
 }
 
-/// The built binary of a modelIdentifier.
-fn binary_of(identifier: &str) -> Result<Vec<u8>, String> {
-    let so = target_dir()?
-        .join("release")
-        .join(format!("lib{identifier}.so"));
-    std::fs::read(&so).map_err(|err| format!("{}: {err}", so.display()))
-}
-
-fn build(models: &[String], out: &Option<PathBuf>) -> Result<(), String> {
+fn build(models: &[String], out: &Option<PathBuf>, require_all: bool) -> Result<(), String> {
     let entries = selected(models)?;
     let out = folder(out, "out/fmus")?;
-    compile(&entries)?;
+    let built = compile(&entries, require_all)?;
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let bar = Progress::new(entries.len() as u64, "{bar:30} {pos}/{len} {msg}")?;
     let (date, source) = place::generation_date()?;
     bar.line(format!("generationDateAndTime {date} ({source})"));
     for e in &entries {
         bar.doing(e.identifier);
-        let binary = binary_of(e.identifier)?;
+        let binaries = built.binaries_of(e.identifier)?;
         let model_description = bindery_fmu::md::stamp(&(e.describe)().0, &date);
         let (documentation, icon) = (e.documentation)()?;
         let fmu = FmuContents {
             identifier: e.identifier.into(),
             model_description,
-            binary,
+            binaries,
             documentation,
             icon,
             resources: vec![],
@@ -228,7 +234,7 @@ fn build(models: &[String], out: &Option<PathBuf>) -> Result<(), String> {
 
 /// Exports every scene (all of `scenes/` when none is named): checks every file first, then
 /// compiles the mechanisms' binaries and writes the FMUs.
-fn scenes(files: &[PathBuf], out: &Option<PathBuf>) -> Result<(), String> {
+fn scenes(files: &[PathBuf], out: &Option<PathBuf>, require_all: bool) -> Result<(), String> {
     let files = if files.is_empty() {
         scene::scene_files(&root()?.join("scenes"))?
     } else {
@@ -248,12 +254,12 @@ fn scenes(files: &[PathBuf], out: &Option<PathBuf>) -> Result<(), String> {
         }
     }
     let out = folder(out, "out/scenes")?;
-    compile(&selected(&mechanisms)?)?;
+    let built = compile(&selected(&mechanisms)?, require_all)?;
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
     let (date, source) = place::generation_date()?;
     eprintln!("generationDateAndTime {date} ({source})");
     for f in &files {
-        let (id, bytes) = scene::export(f, &binary_of, &date)?;
+        let (id, bytes) = scene::export(f, &|lib| built.binaries_of(lib), &date)?;
         let path = out.join(format!("{id}.fmu"));
         std::fs::write(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
         eprintln!(
@@ -288,7 +294,7 @@ fn docs(out: &Option<PathBuf>) -> Result<(), String> {
 fn ssp(fmus: &Option<PathBuf>, out: &Option<PathBuf>) -> Result<(), String> {
     let (fmus, out) = (folder(fmus, "out/fmus")?, folder(out, "out/ssp")?);
     std::fs::create_dir_all(&out).map_err(|e| format!("{}: {e}", out.display()))?;
-    let binary = |id: &str| -> Result<Vec<u8>, String> {
+    let binaries = |id: &str| -> Result<Binaries, String> {
         let p = fmus.join(format!("{id}.fmu"));
         let bytes = std::fs::read(&p).map_err(|e| {
             format!(
@@ -296,18 +302,11 @@ fn ssp(fmus: &Option<PathBuf>, out: &Option<PathBuf>) -> Result<(), String> {
                 p.display()
             )
         })?;
-        let mut zip = zip::ZipArchive::new(std::io::Cursor::new(bytes))
-            .map_err(|e| format!("{}: {e}", p.display()))?;
-        let mut so = zip
-            .by_name(&format!("binaries/linux64/{id}.so"))
-            .map_err(|e| format!("{}: binaries/linux64/{id}.so: {e}", p.display()))?;
-        let mut b = Vec::new();
-        std::io::Read::read_to_end(&mut so, &mut b).map_err(|e| format!("{}: {e}", p.display()))?;
-        Ok(b)
+        package::binaries_in(&bytes, id).map_err(|e| format!("{}: {e}", p.display()))
     };
     let (date, _) = place::generation_date()?;
     for m in bindery_fmu::ssp::machines() {
-        let bytes = bindery_fmu::ssp::package(&m, &binary, &date)?;
+        let bytes = bindery_fmu::ssp::package(&m, &binaries, &date)?;
         let path = out.join(format!("{}.ssp", m.name));
         std::fs::write(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
         eprintln!("wrote {} ({} bytes)", path.display(), bytes.len());
@@ -344,9 +343,17 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     place::init(cli.root);
     let result = match cli.command {
-        Cmd::Build { models, out } => build(&models, &out),
+        Cmd::Build {
+            models,
+            out,
+            require_all,
+        } => build(&models, &out, require_all),
         Cmd::Docs { out } => docs(&out),
-        Cmd::Scene { files, out } => scenes(&files, &out),
+        Cmd::Scene {
+            files,
+            out,
+            require_all,
+        } => scenes(&files, &out, require_all),
         Cmd::Describe { check } => check_descriptions(&catalog::all(), check),
         Cmd::Liftoff {
             from,

@@ -409,6 +409,7 @@ pub fn page_html(p: &Page) -> String {
     if !p.figures.is_empty() {
         nav.push(("figures", "Figures"));
     }
+    nav.push(("platforms", "Platforms"));
     nav.push(("model", "How it is modelled"));
     nav.push(("variables", "Variables"));
     out.push_str("<nav>");
@@ -473,6 +474,11 @@ pub fn page_html(p: &Page) -> String {
         }
         out.push_str("</section>\n");
     }
+
+    // the packager puts the platforms of the binaries it packs here
+    out.push_str("<section id=\"platforms\">\n");
+    out.push_str(crate::package::PLATFORMS_MARK);
+    out.push_str("\n</section>\n");
 
     out.push_str("<section id=\"model\">\n<h2>How it is modelled</h2>\n");
     if !p.notes.trim().is_empty() {

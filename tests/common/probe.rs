@@ -1,5 +1,5 @@
 //! The panic probe: a cdylib built with the FMUs' build script (`fmus/build.rs`) and their
-//! release profile for one platform, whose `probe(x)` panics for x > 0 and must catch it, and the
+//! profile (`dist`: release, stripped) for one platform, whose `probe(x)` panics for x > 0 and must catch it, and the
 //! tools to build it for another platform and run it there (`tests/c_host/probe.c` loads it the
 //! way a host loads an FMU binary): natively, under qemu-user or under Wine.
 
@@ -36,7 +36,7 @@ pub fn build(name: &str, route: &Route) -> PathBuf {
         format!(
             "[package]\nname = \"panic-probe\"\nversion = \"0.1.0\"\nedition = \"2024\"\n\
              build = {:?}\n\n[lib]\ncrate-type = [\"cdylib\"]\n\n[profile.release]\n\
-             panic = \"unwind\"\n\n[workspace]\n",
+             panic = \"unwind\"\nstrip = \"symbols\"\n\n[workspace]\n",
             root().join("fmus/build.rs")
         ),
     )
@@ -143,4 +143,9 @@ pub fn wine() -> Vec<String> {
         dir
     });
     vec![dir.join("bin/wine64").display().to_string()]
+}
+
+/// `path` as Wine's programs see it (drive Z: is the root of the Linux file system).
+pub fn wine_path(path: &Path) -> String {
+    format!("Z:{}", path.display()).replace('/', "\\")
 }

@@ -3,6 +3,7 @@
 //! in `resources/scene.toml`, and the binary reads it at `fmi2Instantiate`.
 
 use bindery_fmu::catalog;
+use bindery_fmu::package::Binaries;
 use std::path::{Path, PathBuf};
 
 /// Every `*.toml` in `dir`, sorted.
@@ -53,13 +54,13 @@ pub fn resolve(arg: &Path, root: Option<&Path>) -> Result<PathBuf, String> {
     ))
 }
 
-/// The `.fmu` of one scene file (bytes) and its modelIdentifier; `binary` gives a
-/// mechanism's cdylib, `date` the `generationDateAndTime`.
+/// The `.fmu` of one scene file (bytes) and its modelIdentifier; `binaries` gives a
+/// mechanism's cdylib for every platform built, `date` the `generationDateAndTime`.
 pub fn export(
     path: &Path,
-    binary: &dyn Fn(&str) -> Result<Vec<u8>, String>,
+    binaries: &dyn Fn(&str) -> Result<Binaries, String>,
     date: &str,
 ) -> Result<(String, Vec<u8>), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    catalog::scene_fmu(&text, binary, date).map_err(|e| format!("{}: {e}", path.display()))
+    catalog::scene_fmu(&text, binaries, date).map_err(|e| format!("{}: {e}", path.display()))
 }
