@@ -4,6 +4,7 @@
 pub mod runtime;
 pub mod state;
 pub mod types;
+pub mod uri;
 
 /// Exports every FMI 2.0 common and co-simulation function for one model type. A cdylib that
 /// is an FMU is this one line: `bindery_fmu::export_fmu!(bindery_fmu::mechanisms::X::Model);`

@@ -884,36 +884,7 @@ fn load_scene<M: Model>(
     }
 }
 
-/// Turns an FMI resource location (`file:/...`, `file:///...`, percent-encoded) into a path.
-pub fn resource_path(uri: &str) -> Option<PathBuf> {
-    let rest = uri
-        .strip_prefix("file://")
-        .or_else(|| uri.strip_prefix("file:"))?;
-    // file://localhost/path or file:///path or file:/path
-    let rest = rest.strip_prefix("localhost").unwrap_or(rest);
-    let bytes = rest.as_bytes();
-    let mut out = Vec::with_capacity(bytes.len());
-    let mut i = 0;
-    while i < bytes.len() {
-        if bytes[i] == b'%'
-            && i + 2 < bytes.len()
-            && let Ok(b) = u8::from_str_radix(std::str::from_utf8(&bytes[i + 1..i + 3]).ok()?, 16)
-        {
-            out.push(b);
-            i += 3;
-            continue;
-        }
-        out.push(bytes[i]);
-        i += 1;
-    }
-    let s = String::from_utf8(out).ok()?;
-    let s = if s.starts_with('/') {
-        s
-    } else {
-        format!("/{s}")
-    };
-    Some(PathBuf::from(s))
-}
+pub use super::uri::resource_path;
 
 // ---- the calls ------------------------------------------------------------------------------
 
@@ -1788,20 +1759,6 @@ pub unsafe fn get_boolean_status<M: Model>(
 #[cfg(test)]
 mod tests {
     use super::*;
-
-    #[test]
-    fn resource_locations() {
-        assert_eq!(
-            resource_path("file:///tmp/a%20b/resources"),
-            Some(PathBuf::from("/tmp/a b/resources"))
-        );
-        assert_eq!(resource_path("file:/tmp/x"), Some(PathBuf::from("/tmp/x")));
-        assert_eq!(
-            resource_path("file://localhost/tmp/x"),
-            Some(PathBuf::from("/tmp/x"))
-        );
-        assert_eq!(resource_path("http://example/x"), None);
-    }
 
     #[test]
     fn snapshot_bytes_round_trip_and_refuse_garbage() {
