@@ -25,6 +25,25 @@ macro_rules! export_fmu {
             #[unsafe(link_section = ".fini_array")]
             static RELEASE_AT_UNLOAD: unsafe extern "C" fn() = $crate::lifetime::release_at_unload;
 
+            /// Windows calls a DLL's `DllMain` with `DLL_PROCESS_DETACH` when `FreeLibrary`
+            /// unloads it (`reserved` null) and at process exit (`reserved` not null, other
+            /// threads already gone: nothing to free then). Frees the library's caches at the
+            /// former ([`$crate::lifetime`]).
+            #[cfg(windows)]
+            #[unsafe(no_mangle)]
+            pub unsafe extern "system" fn DllMain(
+                _module: *mut std::ffi::c_void,
+                reason: u32,
+                reserved: *mut std::ffi::c_void,
+            ) -> i32 {
+                const DLL_PROCESS_DETACH: u32 = 0;
+                if reason == DLL_PROCESS_DETACH && reserved.is_null() {
+                    // SAFETY: the DLL is being unloaded: none of its code runs afterwards.
+                    unsafe { $crate::lifetime::release_at_unload() };
+                }
+                1
+            }
+
             #[unsafe(no_mangle)]
             pub extern "C" fn fmi2GetTypesPlatform() -> FmiString {
                 TYPES_PLATFORM.as_ptr()
