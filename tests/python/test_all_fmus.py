@@ -36,9 +36,12 @@ FMI2_CS = """fmi2SetRealInputDerivatives fmi2GetRealOutputDerivatives fmi2DoStep
     fmi2GetStatus fmi2GetRealStatus fmi2GetIntegerStatus fmi2GetBooleanStatus
     fmi2GetStringStatus""".split()
 
-# The C library, libm and the loader (interface.md), nothing else: the GCC unwinder that catches
-# panics before the C boundary is linked statically (fmus/build.rs), not libgcc_s.so.1.
-ALLOWED_NEEDED = {"libc.so.6", "libm.so.6", "ld-linux-x86-64.so.2"}
+# The C library, libm and the loader (interface.md), nothing else: the unwinder that catches
+# panics before the C boundary is linked statically (fmus/build.rs, zig), not libgcc_s.so.1.
+# Built against glibc 2.17 (issue 15), the binary also names libpthread and libdl, glibc's own
+# libraries until 2.34.
+ALLOWED_NEEDED = {"libc.so.6", "libm.so.6", "libpthread.so.0", "libdl.so.2",
+                  "ld-linux-x86-64.so.2"}
 
 
 def run_fmutool_check(path: Path) -> subprocess.CompletedProcess:
