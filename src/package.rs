@@ -80,7 +80,7 @@ impl Platform {
 }
 
 /// The `documentation/index.html` placeholder that [`FmuContents::to_zip`] replaces with the
-/// platforms of the binaries it packs (written by `docs::index_html`).
+/// platforms of the binaries it packs (written by `docs::html::page_html`).
 pub const PLATFORMS_MARK: &str = "<!-- platforms -->";
 
 /// The documentation's section on the platforms of `binaries`.
@@ -95,6 +95,16 @@ pub fn platforms_html(platforms: &[Platform]) -> String {
     }
     out.push_str("</ul>");
     out
+}
+
+/// The platforms section of a page read outside an FMU (`bindery docs`): every platform `build`
+/// makes a binary for when its toolchain is present.
+pub fn platforms_all_html() -> String {
+    platforms_html(&Platform::ALL).replace(
+        "<p>Binaries in this FMU:</p>",
+        "<p>A built FMU carries a binary for each of these platforms whose toolchain was present \
+         at build; the copy of this page inside the FMU lists those it has:</p>",
+    )
 }
 
 /// A shared library per platform.

@@ -277,7 +277,12 @@ fn docs(out: &Option<PathBuf>) -> Result<(), String> {
     for e in catalog::all() {
         let dir = out.join(e.identifier);
         std::fs::create_dir_all(&dir).map_err(|err| format!("{}: {err}", dir.display()))?;
-        let (files, icon) = (e.documentation)()?;
+        let (mut files, icon) = (e.documentation)()?;
+        for (_, bytes) in files.iter_mut().filter(|(n, _)| n == "index.html") {
+            let page = String::from_utf8_lossy(bytes)
+                .replace(package::PLATFORMS_MARK, &package::platforms_all_html());
+            *bytes = page.into_bytes();
+        }
         for (name, bytes) in files
             .iter()
             .chain(std::iter::once(&("model.png".to_string(), icon)))
