@@ -12,9 +12,9 @@ use zip::{CompressionMethod, DateTime, ZipWriter};
 ///
 /// The folder names are those FMI hosts look in. FMI 2.0 standardizes `win64`, `linux64` and
 /// `darwin64` (one universal binary serves Intel and Apple-silicon Macs: FMPy 0.3.32 and the
-/// Reference FMUs' `fmusim` look in `darwin64` on both). FMI 2.0 names no folder for 64-bit ARM
-/// Linux; the aarch64 library goes where FMI 3.0 puts it, `aarch64-linux` (the platform tuple
-/// FMPy and `fmusim` use for FMI 3.0), since `linux64` holds the x86-64 one.
+/// Reference FMUs' `fmusim` look in `darwin64` on both); since FMI 2.0.4 (section 2.3) any other
+/// platform takes FMI 3.0's platform tuple, so the aarch64 Linux library is in `aarch64-linux`
+/// (`linux64` holds the x86-64 one).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum Platform {
     Linux64,
@@ -200,7 +200,9 @@ pub fn binaries_in(fmu: &[u8], identifier: &str) -> Result<Binaries, String> {
         out.push((p, bytes));
     }
     if out.is_empty() {
-        return Err(format!("no binaries/<platform>/{identifier}.* in the archive"));
+        return Err(format!(
+            "no binaries/<platform>/{identifier}.* in the archive"
+        ));
     }
     Ok(out)
 }
@@ -276,7 +278,10 @@ mod tests {
         let back = binaries_in(&zip, "X").unwrap();
         assert_eq!(
             back,
-            vec![(Platform::Linux64, vec![1, 2, 3]), (Platform::Win64, vec![4, 5])]
+            vec![
+                (Platform::Linux64, vec![1, 2, 3]),
+                (Platform::Win64, vec![4, 5])
+            ]
         );
         let err = binaries_in(&zip, "Y").unwrap_err();
         assert!(err.contains("binaries/<platform>/Y"), "{err}");
