@@ -200,7 +200,9 @@ pub fn binaries_in(fmu: &[u8], identifier: &str) -> Result<Binaries, String> {
         out.push((p, bytes));
     }
     if out.is_empty() {
-        return Err(format!("no binaries/<platform>/{identifier}.* in the archive"));
+        return Err(format!(
+            "no binaries/<platform>/{identifier}.* in the archive"
+        ));
     }
     Ok(out)
 }
@@ -276,7 +278,10 @@ mod tests {
         let back = binaries_in(&zip, "X").unwrap();
         assert_eq!(
             back,
-            vec![(Platform::Linux64, vec![1, 2, 3]), (Platform::Win64, vec![4, 5])]
+            vec![
+                (Platform::Linux64, vec![1, 2, 3]),
+                (Platform::Win64, vec![4, 5])
+            ]
         );
         let err = binaries_in(&zip, "Y").unwrap_err();
         assert!(err.contains("binaries/<platform>/Y"), "{err}");

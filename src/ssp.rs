@@ -620,7 +620,12 @@ mod tests {
     #[test]
     fn archive_layout_and_reproducibility() {
         let m = machines().remove(1);
-        let fake = |id: &str| Ok(vec![(crate::package::Platform::Linux64, id.as_bytes().to_vec())]);
+        let fake = |id: &str| {
+            Ok(vec![(
+                crate::package::Platform::Linux64,
+                id.as_bytes().to_vec(),
+            )])
+        };
         let date = crate::md::VERSION_DATE;
         let a = package(&m, &fake, date).unwrap();
         assert_eq!(a, package(&m, &fake, date).unwrap());
