@@ -228,11 +228,7 @@ const SS: u32 = 2;
 /// above them in extra headroom). Non-finite points break a line. With `equal_axes` one
 /// unit is as long on both axes. Deterministic: same figure, same bytes.
 pub fn render_png(fig: &Figure) -> Result<Vec<u8>, String> {
-    Ok(png::encode_rgb(
-        FIGURE_SIZE.0,
-        FIGURE_SIZE.1,
-        &draw_figure(fig)?,
-    ))
+    encode_png(FIGURE_SIZE.0, FIGURE_SIZE.1, &draw_figure(fig)?)
 }
 
 /// A range of an axis, (low, high).
@@ -473,7 +469,7 @@ fn draw_chart<DB: DrawingBackend>(
 /// (shrunk, then cut with an ellipsis, to fit). Drawn at 4× and averaged down, so edges
 /// are smooth. Deterministic.
 pub fn icon_png(title: &str) -> Result<Vec<u8>, String> {
-    Ok(png::encode_rgb(ICON_SIZE, ICON_SIZE, &draw_icon(title)?))
+    encode_png(ICON_SIZE, ICON_SIZE, &draw_icon(title)?)
 }
 
 /// The pixels of [`icon_png`]: RGB rows, top to bottom.
@@ -593,428 +589,44 @@ fn downsample(buf: &[u8], w: usize, h: usize, s: usize) -> Vec<u8> {
     out
 }
 
-/// A small PNG encoder: 8-bit RGB, adaptive per-row filter, zlib stream of one deflate block
-/// with fixed Huffman codes after greedy LZ77 (hash chains, 32 KiB window). Plots are mostly
-/// flat color, which this compresses well.
-pub(crate) mod png {
-    /// The PNG file of a `w`×`h` image given as RGB rows top to bottom.
-    pub fn encode_rgb(w: u32, h: u32, rgb: &[u8]) -> Vec<u8> {
-        assert_eq!(rgb.len(), w as usize * h as usize * 3, "RGB buffer size");
-        let mut out = b"\x89PNG\r\n\x1a\n".to_vec();
-        let mut ihdr = Vec::with_capacity(13);
-        ihdr.extend_from_slice(&w.to_be_bytes());
-        ihdr.extend_from_slice(&h.to_be_bytes());
-        ihdr.extend_from_slice(&[8, 2, 0, 0, 0]); // depth 8, RGB, deflate, adaptive filter, no interlace
-        chunk(&mut out, b"IHDR", &ihdr);
-        chunk(&mut out, b"IDAT", &zlib(&filter(w as usize * 3, rgb)));
-        chunk(&mut out, b"IEND", &[]);
-        out
-    }
-
-    fn chunk(out: &mut Vec<u8>, kind: &[u8; 4], data: &[u8]) {
-        out.extend_from_slice(&(data.len() as u32).to_be_bytes());
-        let start = out.len();
-        out.extend_from_slice(kind);
-        out.extend_from_slice(data);
-        let crc = crc32(&out[start..]);
-        out.extend_from_slice(&crc.to_be_bytes());
-    }
-
-    /// Each row prefixed by the filter type (0..=4) whose output has the least sum of
-    /// absolute values (as signed bytes); ties go to the lower type.
-    pub(crate) fn filter(stride: usize, rgb: &[u8]) -> Vec<u8> {
-        const BPP: usize = 3;
-        let zero = vec![0u8; stride];
-        let mut out = Vec::with_capacity(rgb.len() + rgb.len() / stride.max(1));
-        let mut up = &zero[..];
-        for row in rgb.chunks_exact(stride) {
-            let predict = |f: u8, i: usize| -> u8 {
-                let a = if i >= BPP { row[i - BPP] } else { 0 };
-                match f {
-                    0 => 0,
-                    1 => a,
-                    2 => up[i],
-                    3 => ((u16::from(a) + u16::from(up[i])) / 2) as u8,
-                    _ => paeth(a, up[i], if i >= BPP { up[i - BPP] } else { 0 }),
-                }
-            };
-            let mut cost = [0u64; 5];
-            for (i, &x) in row.iter().enumerate() {
-                for (f, c) in cost.iter_mut().enumerate() {
-                    *c += u64::from((x.wrapping_sub(predict(f as u8, i)) as i8).unsigned_abs());
-                }
-            }
-            let best = (0..5u8)
-                .min_by_key(|&f| (cost[f as usize], f))
-                .expect("five filters");
-            out.push(best);
-            out.extend(
-                row.iter()
-                    .enumerate()
-                    .map(|(i, &x)| x.wrapping_sub(predict(best, i))),
-            );
-            up = row;
-        }
-        out
-    }
-
-    fn paeth(a: u8, b: u8, c: u8) -> u8 {
-        let p = a as i16 + b as i16 - c as i16;
-        let (pa, pb, pc) = (
-            (p - a as i16).abs(),
-            (p - b as i16).abs(),
-            (p - c as i16).abs(),
-        );
-        if pa <= pb && pa <= pc {
-            a
-        } else if pb <= pc {
-            b
-        } else {
-            c
-        }
-    }
-
-    /// A zlib stream (RFC 1950) of `data`.
-    pub(crate) fn zlib(data: &[u8]) -> Vec<u8> {
-        let mut out = vec![0x78, 0x9c];
-        out.extend_from_slice(&deflate(data));
-        out.extend_from_slice(&adler32(data).to_be_bytes());
-        out
-    }
-
-    pub(crate) fn adler32(data: &[u8]) -> u32 {
-        let (mut a, mut b) = (1u32, 0u32);
-        for block in data.chunks(5552) {
-            for &x in block {
-                a += x as u32;
-                b += a;
-            }
-            a %= 65521;
-            b %= 65521;
-        }
-        (b << 16) | a
-    }
-
-    const CRC_TABLE: [u32; 256] = {
-        let mut t = [0u32; 256];
-        let mut n = 0;
-        while n < 256 {
-            let mut c = n as u32;
-            let mut k = 0;
-            while k < 8 {
-                c = if c & 1 != 0 {
-                    0xedb8_8320 ^ (c >> 1)
-                } else {
-                    c >> 1
-                };
-                k += 1;
-            }
-            t[n] = c;
-            n += 1;
-        }
-        t
-    };
-
-    /// CRC-32 (ISO 3309, as in PNG and zip).
-    pub(crate) fn crc32(data: &[u8]) -> u32 {
-        !data.iter().fold(!0u32, |c, &b| {
-            CRC_TABLE[((c ^ b as u32) & 0xff) as usize] ^ (c >> 8)
-        })
-    }
-
-    const LEN_BASE: [u16; 29] = [
-        3, 4, 5, 6, 7, 8, 9, 10, 11, 13, 15, 17, 19, 23, 27, 31, 35, 43, 51, 59, 67, 83, 99, 115,
-        131, 163, 195, 227, 258,
-    ];
-    const LEN_EXTRA: [u8; 29] = [
-        0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 2, 2, 2, 2, 3, 3, 3, 3, 4, 4, 4, 4, 5, 5, 5, 5, 0,
-    ];
-    const DIST_BASE: [u16; 30] = [
-        1, 2, 3, 4, 5, 7, 9, 13, 17, 25, 33, 49, 65, 97, 129, 193, 257, 385, 513, 769, 1025, 1537,
-        2049, 3073, 4097, 6145, 8193, 12289, 16385, 24577,
-    ];
-    const DIST_EXTRA: [u8; 30] = [
-        0, 0, 0, 0, 1, 1, 2, 2, 3, 3, 4, 4, 5, 5, 6, 6, 7, 7, 8, 8, 9, 9, 10, 10, 11, 11, 12, 12,
-        13, 13,
-    ];
-
-    const WINDOW: usize = 32768;
-    const MAX_MATCH: usize = 258;
-    const MAX_CHAIN: usize = 96;
-    const HASH_BITS: u32 = 15;
-    const NONE: u32 = u32::MAX;
-
-    struct Bits {
-        out: Vec<u8>,
-        acc: u64,
-        n: u32,
-    }
-
-    impl Bits {
-        /// Appends the `n` low bits of `v`, least significant first.
-        fn put(&mut self, v: u32, n: u32) {
-            self.acc |= u64::from(v) << self.n;
-            self.n += n;
-            while self.n >= 8 {
-                self.out.push(self.acc as u8);
-                self.acc >>= 8;
-                self.n -= 8;
-            }
-        }
-        /// Appends a Huffman code (most significant bit first).
-        fn code(&mut self, code: u32, len: u32) {
-            self.put(code.reverse_bits() >> (32 - len), len);
-        }
-        /// A literal/length symbol in the fixed code of RFC 1951, 3.2.6.
-        fn sym(&mut self, s: u32) {
-            match s {
-                0..=143 => self.code(0x30 + s, 8),
-                144..=255 => self.code(0x190 + s - 144, 9),
-                256..=279 => self.code(s - 256, 7),
-                _ => self.code(0xc0 + s - 280, 8),
-            }
-        }
-        fn matched(&mut self, len: usize, dist: usize) {
-            let i = LEN_BASE
-                .iter()
-                .rposition(|&b| b as usize <= len)
-                .expect("length >= 3");
-            self.sym(257 + i as u32);
-            self.put((len - LEN_BASE[i] as usize) as u32, LEN_EXTRA[i] as u32);
-            let j = DIST_BASE
-                .iter()
-                .rposition(|&b| b as usize <= dist)
-                .expect("distance >= 1");
-            self.code(j as u32, 5);
-            self.put((dist - DIST_BASE[j] as usize) as u32, DIST_EXTRA[j] as u32);
-        }
-        fn finish(mut self) -> Vec<u8> {
-            if self.n > 0 {
-                self.out.push(self.acc as u8);
-            }
-            self.out
-        }
-    }
-
-    /// A raw deflate stream (RFC 1951) of `data`: one final block, fixed Huffman codes.
-    pub(crate) fn deflate(data: &[u8]) -> Vec<u8> {
-        let n = data.len();
-        let mut bits = Bits {
-            out: Vec::with_capacity(n / 8 + 16),
-            acc: 0,
-            n: 0,
-        };
-        bits.put(1, 1); // BFINAL
-        bits.put(1, 2); // BTYPE = fixed Huffman
-        let mut head = vec![NONE; 1 << HASH_BITS];
-        let mut prev = vec![NONE; WINDOW];
-        let hash = |i: usize| -> usize {
-            let v = (data[i] as u32) << 16 | (data[i + 1] as u32) << 8 | data[i + 2] as u32;
-            (v.wrapping_mul(0x9e37_79b1) >> (32 - HASH_BITS)) as usize
-        };
-        let insert = |i: usize, head: &mut [u32], prev: &mut [u32]| {
-            if i + 3 <= n {
-                let h = hash(i);
-                prev[i % WINDOW] = head[h];
-                head[h] = i as u32;
-            }
-        };
-        let mut i = 0;
-        while i < n {
-            let (mut best_len, mut best_dist) = (0, 0);
-            if i + 3 <= n {
-                let max = MAX_MATCH.min(n - i);
-                let mut cand = head[hash(i)];
-                let mut chain = MAX_CHAIN;
-                while cand != NONE && chain > 0 {
-                    let c = cand as usize;
-                    if c >= i || i - c > WINDOW {
-                        break;
-                    }
-                    if data[c + best_len.min(max - 1)] == data[i + best_len.min(max - 1)] {
-                        let l = data[c..c + max]
-                            .iter()
-                            .zip(&data[i..i + max])
-                            .take_while(|(a, b)| a == b)
-                            .count();
-                        if l > best_len {
-                            (best_len, best_dist) = (l, i - c);
-                            if l == max {
-                                break;
-                            }
-                        }
-                    }
-                    cand = prev[c % WINDOW];
-                    chain -= 1;
-                }
-            }
-            if best_len >= 3 {
-                bits.matched(best_len, best_dist);
-                for k in i..i + best_len {
-                    insert(k, &mut head, &mut prev);
-                }
-                i += best_len;
-            } else {
-                bits.sym(data[i] as u32);
-                insert(i, &mut head, &mut prev);
-                i += 1;
-            }
-        }
-        bits.sym(256);
-        bits.finish()
-    }
+/// The PNG file of a `w`×`h` image given as RGB rows top to bottom (8-bit RGB, the `png`
+/// crate's adaptive row filter and best compression: plots are mostly flat color).
+fn encode_png(w: u32, h: u32, rgb: &[u8]) -> Result<Vec<u8>, String> {
+    let mut out = Vec::new();
+    let mut enc = png::Encoder::new(&mut out, w, h);
+    enc.set_color(png::ColorType::Rgb);
+    enc.set_depth(png::BitDepth::Eight);
+    enc.set_compression(png::Compression::Best);
+    enc.set_adaptive_filter(png::AdaptiveFilterType::Adaptive);
+    let mut writer = enc.write_header().map_err(|e| format!("PNG: {e}"))?;
+    writer
+        .write_image_data(rgb)
+        .map_err(|e| format!("PNG: {e}"))?;
+    writer.finish().map_err(|e| format!("PNG: {e}"))?;
+    Ok(out)
 }
 
 #[cfg(test)]
 mod tests {
-    use super::png::{crc32, deflate};
     use super::*;
     use crate::docs::Series;
-    use std::io::{Cursor, Read};
 
-    /// Inflates a raw deflate stream with an independent decoder: the zip crate's (flate2),
-    /// fed a one-entry archive built around the stream; it checks the CRC too.
-    fn inflate(raw: &[u8], plain_len: usize, crc: u32) -> Vec<u8> {
-        let name = b"d";
-        let mut z = Vec::new();
-        let u16le = |z: &mut Vec<u8>, v: u16| z.extend_from_slice(&v.to_le_bytes());
-        let u32le = |z: &mut Vec<u8>, v: u32| z.extend_from_slice(&v.to_le_bytes());
-        let common = |z: &mut Vec<u8>| {
-            for v in [20u16, 0, 8, 0, 0x21] {
-                u16le(z, v); // version needed, flags, method deflate, time, date 1980-01-01
-            }
-            u32le(z, crc);
-            u32le(z, raw.len() as u32);
-            u32le(z, plain_len as u32);
-            u16le(z, name.len() as u16);
-            u16le(z, 0);
-        };
-        u32le(&mut z, 0x0403_4b50);
-        common(&mut z);
-        z.extend_from_slice(name);
-        z.extend_from_slice(raw);
-        let cd = z.len();
-        u32le(&mut z, 0x0201_4b50);
-        u16le(&mut z, 20); // version made by
-        common(&mut z);
-        for v in [0u16, 0, 0] {
-            u16le(&mut z, v); // comment length, disk, internal attributes
-        }
-        u32le(&mut z, 0); // external attributes
-        u32le(&mut z, 0); // local header offset
-        z.extend_from_slice(name);
-        let cd_len = z.len() - cd;
-        u32le(&mut z, 0x0605_4b50);
-        for v in [0u16, 0, 1, 1] {
-            u16le(&mut z, v);
-        }
-        u32le(&mut z, cd_len as u32);
-        u32le(&mut z, cd as u32);
-        u16le(&mut z, 0);
-        let mut archive = zip::ZipArchive::new(Cursor::new(z)).expect("archive");
-        let mut out = Vec::new();
-        archive
-            .by_index(0)
-            .expect("entry")
-            .read_to_end(&mut out)
-            .expect("inflates with a good CRC");
-        out
-    }
-
-    /// Decodes a PNG written by [`png::encode_rgb`] that should show `expected` (RGB rows):
-    /// checks signature, chunk CRCs, IHDR, zlib header and Adler-32, inflates with the zip
-    /// crate, undoes the row filters and compares. Returns (width, height).
-    fn decode(png: &[u8], expected: &[u8]) -> (u32, u32) {
-        assert_eq!(&png[..8], b"\x89PNG\r\n\x1a\n");
-        let mut at = 8;
-        let (mut w, mut h, mut idat) = (0, 0, Vec::new());
-        loop {
-            let len = u32::from_be_bytes(png[at..at + 4].try_into().unwrap()) as usize;
-            let kind = &png[at + 4..at + 8];
-            let body = &png[at + 8..at + 8 + len];
-            let crc = u32::from_be_bytes(png[at + 8 + len..at + 12 + len].try_into().unwrap());
-            assert_eq!(crc, crc32(&png[at + 4..at + 8 + len]), "chunk CRC");
-            match kind {
-                b"IHDR" => {
-                    w = u32::from_be_bytes(body[0..4].try_into().unwrap());
-                    h = u32::from_be_bytes(body[4..8].try_into().unwrap());
-                    assert_eq!(&body[8..], &[8, 2, 0, 0, 0]);
-                }
-                b"IDAT" => idat.extend_from_slice(body),
-                b"IEND" => break,
-                _ => panic!("unexpected chunk"),
-            }
-            at += 12 + len;
-        }
-        assert_eq!(at + 12, png.len(), "nothing after IEND");
+    /// Decodes a PNG that should show `expected` (RGB rows) with the `png` crate's decoder
+    /// (which checks the chunk CRCs and the zlib stream) and compares the pixels. Returns
+    /// (width, height).
+    fn decode(bytes: &[u8], expected: &[u8]) -> (u32, u32) {
+        let mut reader = png::Decoder::new(std::io::Cursor::new(bytes))
+            .read_info()
+            .expect("a PNG header");
+        let mut rgb = vec![0u8; reader.output_buffer_size()];
+        let info = reader.next_frame(&mut rgb).expect("PNG image data");
         assert_eq!(
-            (idat[0] as u16 * 256 + idat[1] as u16) % 31,
-            0,
-            "zlib header"
+            (info.color_type, info.bit_depth),
+            (png::ColorType::Rgb, png::BitDepth::Eight)
         );
-        let stride = w as usize * 3;
-        assert_eq!(expected.len(), stride * h as usize);
-        let want = png::filter(stride, expected);
-        let filtered = inflate(&idat[2..idat.len() - 4], want.len(), crc32(&want));
-        assert_eq!(
-            png::adler32(&filtered),
-            u32::from_be_bytes(idat[idat.len() - 4..].try_into().unwrap()),
-            "adler32"
-        );
-        let mut rgb = vec![0u8; stride * h as usize];
-        for r in 0..h as usize {
-            let f = filtered[r * (stride + 1)];
-            for i in 0..stride {
-                let x = filtered[r * (stride + 1) + 1 + i];
-                let a = if i >= 3 { rgb[r * stride + i - 3] } else { 0 };
-                let b = if r > 0 { rgb[(r - 1) * stride + i] } else { 0 };
-                let c = if r > 0 && i >= 3 {
-                    rgb[(r - 1) * stride + i - 3]
-                } else {
-                    0
-                };
-                let p = a as i16 + b as i16 - c as i16;
-                let pred = match f {
-                    0 => 0,
-                    1 => a,
-                    2 => b,
-                    3 => ((a as u16 + b as u16) / 2) as u8,
-                    4 => {
-                        let (pa, pb, pc) = (
-                            (p - a as i16).abs(),
-                            (p - b as i16).abs(),
-                            (p - c as i16).abs(),
-                        );
-                        if pa <= pb && pa <= pc {
-                            a
-                        } else if pb <= pc {
-                            b
-                        } else {
-                            c
-                        }
-                    }
-                    _ => panic!("filter type {f}"),
-                };
-                rgb[r * stride + i] = x.wrapping_add(pred);
-            }
-        }
-        assert!(rgb == expected, "decoded image differs");
-        (w, h)
-    }
-
-    #[test]
-    fn deflate_round_trips() {
-        let mut data = Vec::new();
-        for i in 0..70_000u32 {
-            data.push((i.wrapping_mul(2_654_435_761) >> 29) as u8);
-            if i % 1000 < 400 {
-                data.push(7);
-            }
-        }
-        data.extend(std::iter::repeat_n(0u8, 100_000));
-        for d in [&data[..], &[][..], &[1u8][..], &[5, 5, 5, 5, 5][..]] {
-            assert_eq!(inflate(&deflate(d), d.len(), crc32(d)), d);
-        }
+        rgb.truncate(info.buffer_size());
+        assert_eq!(rgb, expected, "pixels");
+        (info.width, info.height)
     }
 
     fn sample() -> Figure {
