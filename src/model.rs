@@ -468,6 +468,10 @@ pub struct Values<V: VarSet> {
     /// `(value reference, order, value)`, for the next communication step only
     /// ([`shaft::path`] reads those of the shaft; see `interface.md`).
     input_derivatives: Vec<(u32, u32, f64)>,
+    /// The time at which the host last set an input (the runtime records it; the start time
+    /// until then). An input is the value at that instant: a model may move it on with time
+    /// from there ([`shaft::state`]).
+    pub inputs_at: f64,
     _v: PhantomData<V>,
 }
 
@@ -484,6 +488,7 @@ impl<V: VarSet> Values<V> {
             data: V::table().iter().map(|v| v.start.unwrap_or(0.0)).collect(),
             stages: Stages::ALL,
             input_derivatives: Vec::new(),
+            inputs_at: 0.0,
             _v: PhantomData,
         }
     }
@@ -699,7 +704,7 @@ pub trait Model: Sized + Send + 'static {
         };
         self.do_step(values, time, h, log)?;
         if let Some(end) = end {
-            shaft::set_inputs(values, end);
+            shaft::set_inputs(values, end, time + h);
         }
         Ok(())
     }
@@ -839,7 +844,7 @@ pub mod shaft {
                 "shaft.phi",
                 0.0,
                 "rad",
-                "Angle of the mechanism's driving shaft (2*pi-periodic)",
+                "Angle of the mechanism's driving shaft at the instant it is set; until set again the shaft turns on at shaft.w and shaft.a (unconnected: from 0 at the nominal speed)",
             ),
             Var::input(
                 "shaft.w",
@@ -902,8 +907,14 @@ pub mod shaft {
         pub a: f64,
     }
 
-    /// The shaft state at `time`: the inputs (the angle shifted by `drive.phi0`, the phase the
-    /// mechanism is mounted with on a main shaft), or the constant-speed drive.
+    /// The shaft state at `time`. In `input` mode the inputs are the shaft's angle, speed and
+    /// acceleration at the instant the host set them ([`Values::inputs_at`]); until it sets
+    /// them again the shaft moves on from there along [`inputs_path`] (at that speed and
+    /// acceleration, or the input derivatives a host set for a step), in Co-Simulation and
+    /// Model Exchange alike: with no input connected the mechanism turns at the start value of
+    /// `shaft.w`, its nominal speed. The angle is shifted by `drive.phi0` (the phase the
+    /// mechanism is mounted with on a main shaft). In `constant_speed` mode:
+    /// `drive.phi0 + drive.n*t`.
     pub fn state<V: VarSet>(values: &Values<V>, time: f64) -> ShaftState {
         let raw = values.raw();
         if raw[MODE as usize] == 2.0 {
@@ -913,35 +924,58 @@ pub mod shaft {
                 w,
                 a: 0.0,
             }
-        } else {
+        } else if time == values.inputs_at {
             ShaftState {
                 phi: raw[PHI as usize] + raw[PHI0 as usize],
                 w: raw[W as usize],
                 a: raw[A as usize],
             }
+        } else {
+            let p = inputs_path(values);
+            let (_, w, a) = p.at(time);
+            ShaftState {
+                phi: p.absolute_phi(time),
+                w,
+                a,
+            }
         }
     }
 
+    /// The path the shaft inputs describe from the instant they were set (`input` mode):
+    /// `phi(t) = phi + phi'*dt + phi''*dt^2/2` (`dt = t - inputs_at`, `phi` with `drive.phi0`),
+    /// with `phi'` and `phi''` the input derivatives a host set with
+    /// `fmi2SetRealInputDerivatives` (a derivative of order 1 of `shaft.w` is `phi''` too) and
+    /// else `shaft.w` and `shaft.a`.
+    pub fn inputs_path<V: VarSet>(values: &Values<V>) -> crate::solver::ShaftPath {
+        let raw = values.raw();
+        let w = values.input_derivative(PHI, 1).unwrap_or(raw[W as usize]);
+        let a = values
+            .input_derivative(PHI, 2)
+            .or_else(|| values.input_derivative(W, 1))
+            .unwrap_or(raw[A as usize]);
+        crate::solver::ShaftPath::new(
+            values.inputs_at,
+            raw[PHI as usize] + raw[PHI0 as usize],
+            w,
+            a,
+        )
+    }
+
     /// The shaft's path over a communication step from `time`, for an integration inside
-    /// `fmi2DoStep` (`dynamics.md`): the angle `phi(time + dt) = phi + phi'*dt + phi''*dt^2/2`
-    /// from `shaft.phi`, with `phi'` and `phi''` the input derivatives a host set with
-    /// `fmi2SetRealInputDerivatives` (`interface.md`: a derivative of order 1 of `shaft.w` is
-    /// `phi''` too) and else `shaft.w` and `shaft.a`. In `constant_speed` mode the inputs and
-    /// their derivatives are ignored ([`state`]).
+    /// `fmi2DoStep` (`dynamics.md`): [`inputs_path`] from `time` on, or in `constant_speed`
+    /// mode the drive's (the inputs and their derivatives ignored, [`state`]).
     pub fn path<V: VarSet>(values: &Values<V>, time: f64) -> crate::solver::ShaftPath {
-        let s = state(values, time);
-        let (w, a) = if values.raw()[MODE as usize] == 2.0 {
-            (s.w, s.a)
+        if values.raw()[MODE as usize] == 2.0 {
+            let s = state(values, time);
+            return crate::solver::ShaftPath::new(time, s.phi, s.w, s.a);
+        }
+        let p = inputs_path(values);
+        if time == values.inputs_at {
+            p
         } else {
-            (
-                values.input_derivative(PHI, 1).unwrap_or(s.w),
-                values
-                    .input_derivative(PHI, 2)
-                    .or_else(|| values.input_derivative(W, 1))
-                    .unwrap_or(s.a),
-            )
-        };
-        crate::solver::ShaftPath::new(time, s.phi, w, a)
+            let (_, w, a) = p.at(time);
+            crate::solver::ShaftPath::new(time, p.absolute_phi(time), w, a)
+        }
     }
 
     /// The shaft inputs at the end of a Co-Simulation step from `time` over `h`: where the
@@ -970,12 +1004,14 @@ pub mod shaft {
         Ok(Some(ShaftState { phi, w, a }))
     }
 
-    /// Sets the shaft inputs (`phi` without `drive.phi0`), e.g. those of [`end_of_step`].
-    pub fn set_inputs<V: VarSet>(values: &mut Values<V>, s: ShaftState) {
+    /// Sets the shaft inputs (`phi` without `drive.phi0`) as those of the instant `time`, e.g.
+    /// those of [`end_of_step`].
+    pub fn set_inputs<V: VarSet>(values: &mut Values<V>, s: ShaftState, time: f64) {
         let raw = values.raw_mut();
         raw[PHI as usize] = s.phi;
         raw[W as usize] = s.w;
         raw[A as usize] = s.a;
+        values.inputs_at = time;
     }
 
     /// Does [`path`] use the derivative of order `order` of the input `vr`? (The others a host
@@ -1236,6 +1272,7 @@ mod tests {
         v[T::shaft_phi] = 1.0;
         v[T::shaft_w] = 2.0;
         v[T::shaft_a] = 3.0;
+        v.inputs_at = 10.0; // set at the step's start
         let at = |v: &Values<T>| {
             let p = shaft::path(v, 10.0);
             (p.w, p.a, p.absolute_phi(10.5))
@@ -1293,9 +1330,14 @@ mod tests {
         v[T::shaft_w] = 2.0;
         v[T::shaft_a] = 3.0;
         v[T::drive_phi0] = 0.25; // the mechanism's phase stays out of the input
+        v.inputs_at = 10.0;
         let mut m = Algebraic;
         m.step(&mut v, 10.0, 0.5, &mut NoLog).unwrap();
         let (phi, w, a) = (v[T::shaft_phi], v[T::shaft_w], v[T::shaft_a]);
+        assert_eq!(
+            v.inputs_at, 10.5,
+            "the moved inputs are those of the step's end"
+        );
         assert!(
             (phi - (1.0 + 2.0 * 0.5 + 0.5 * 3.0 * 0.25)).abs() < 1e-12,
             "{phi}"
@@ -1325,8 +1367,34 @@ mod tests {
         v[T::shaft_phi] = 2.0;
         v[T::shaft_w] = 3.0;
         v[T::drive_phi0] = 0.5;
+        v.inputs_at = 7.0;
         let s = shaft::state(&v, 7.0);
         assert_eq!((s.phi, s.w), (2.5, 3.0));
+    }
+
+    /// The one rule of the shaft inputs: they are the shaft at the instant they were set, and
+    /// the shaft moves on from there at that speed and acceleration until they are set again
+    /// (so a mechanism whose inputs no host sets turns at the start value of `shaft.w`).
+    #[test]
+    fn the_shaft_moves_on_from_the_inputs_as_set() {
+        let mut v = Values::<T>::start();
+        assert_eq!(v.inputs_at, 0.0);
+        let w0 = v[T::shaft_w];
+        assert!(w0 > 0.0, "shaft.w starts at the nominal speed");
+        let s = shaft::state(&v, 0.25);
+        assert_eq!((s.phi, s.w, s.a), (w0 * 0.25, w0, 0.0));
+        v[T::shaft_phi] = 2.0;
+        v[T::shaft_w] = 3.0;
+        v[T::shaft_a] = -1.0;
+        v[T::drive_phi0] = 0.5;
+        v.inputs_at = 5.0;
+        let s = shaft::state(&v, 7.0);
+        assert_eq!(s.phi, 2.0 + 3.0 * 2.0 - 0.5 * 4.0 + 0.5);
+        assert_eq!((s.w, s.a), (3.0 - 2.0, -1.0));
+        // the path of a step from 7.0 starts there, with the moved speed
+        let p = shaft::path(&v, 7.0);
+        assert_eq!((p.w, p.a), (1.0, -1.0));
+        assert_eq!(p.absolute_phi(7.0), s.phi);
     }
 
     #[test]

@@ -1187,8 +1187,12 @@ fn tampered_fmu_states_are_refused() {
         let mut st: FMUstate = std::ptr::null_mut();
         assert_eq!(s.get_state(&mut st), Status::Ok);
         let (_, bytes) = s.serialize(st);
-        const VALUES: usize = 8 + 16 + 2 + 24 + 1 + 8;
-        let mut cases: Vec<(usize, f64, String)> = vec![(26, f64::NAN, "time".into())];
+        // magic, GUID hash, state code, times (time, start, stop, inputs set at), stop flag, length
+        const VALUES: usize = 8 + 16 + 2 + 32 + 1 + 8;
+        let mut cases: Vec<(usize, f64, String)> = vec![
+            (26, f64::NAN, "time".into()),
+            (26 + 24, f64::INFINITY, "input time".into()),
+        ];
         for (vr, v) in vars(&e) {
             if v.causality == Causality::Input && v.ty == VarType::Real {
                 cases.push((VALUES + 8 * vr as usize, f64::NAN, v.name.into()));

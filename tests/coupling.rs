@@ -43,6 +43,7 @@ fn predict<M: Model>(
     v[vars.a] = a1;
     // one short step: an elastodynamic level then has its state, held while `a` changes
     m.do_step(&mut v, 0.0, 1e-5, &mut NoLog).expect("step");
+    v.inputs_at = 1e-5; // the inputs are the shaft's at the step's end
     v[vars.phi] = phi;
     v[vars.w] = w;
     v[vars.a] = a1;

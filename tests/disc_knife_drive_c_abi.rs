@@ -100,6 +100,7 @@ fn outputs_match_the_model_computed_in_rust() {
     for row in &rows {
         let mut v = Values::<V>::start();
         v[V::shaft_phi] = W * t;
+        v.inputs_at = t; // the inputs the host set at t
         v[V::shaft_a] = a;
         m.evaluate(&mut v, t, &mut NoLog);
         assert_row_is_the_models(t, &outs, row, |o| v[o]);

@@ -70,6 +70,7 @@ fn outputs_match_the_model_computed_in_rust() {
     for row in &rows {
         v[V::shaft_phi] = W * t;
         v[V::shaft_w] = W;
+        v.inputs_at = t; // the inputs the host set at t
         m.evaluate(&mut v, t, &mut NoLog);
         assert_row_is_the_models(t, &OUTPUTS, row, |o| v[o]);
         m.do_step(&mut v, t, H, &mut NoLog).unwrap();

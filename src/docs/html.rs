@@ -332,6 +332,14 @@ fn steps_html(info: &ModelInfo, vars: &[(u32, &Var)]) -> String {
     );
     if info.can_interpolate_inputs {
         s.push_str(
+            "The shaft inputs are the shaft's angle, speed and acceleration at the instant they are \
+             set; until they are set again the FMU moves the shaft on from there at that speed and \
+             acceleration, in Co-Simulation and Model Exchange alike. Their start values are angle 0 \
+             at the nominal speed, so with nothing connected the mechanism runs at its nominal \
+             speed, and a host that connects them drives it (in Model Exchange it sets them after \
+             <code>fmi2SetTime</code>). ",
+        );
+        s.push_str(
             "Over the step the shaft turns as its inputs at <i>t</i> say, \
              &phi;(<i>t</i>&nbsp;+&nbsp;&tau;) = <code>shaft.phi</code> + <code>shaft.w</code>&middot;&tau; \
              + <code>shaft.a</code>&middot;&tau;&sup2;/2, or with the derivatives of \

@@ -21,7 +21,7 @@ use std::path::PathBuf;
 pub mod me;
 
 const MAGIC: u64 = 0x4249_4e44_4552_5932; // "BINDERY2"
-const STATE_MAGIC: &[u8; 8] = b"BNDRYST2";
+const STATE_MAGIC: &[u8; 8] = b"BNDRYST3";
 
 /// Log categories as bits (see [`md::LOG_CATEGORIES`]).
 fn category_bit(name: &str) -> Option<u32> {
@@ -94,6 +94,8 @@ pub struct Snapshot {
     input_derivatives: Vec<(u32, u32, f64)>,
     /// Model Exchange: in continuous-time mode (else event mode, or Co-Simulation).
     continuous_time: bool,
+    /// When the host last set an input ([`Values::inputs_at`]).
+    inputs_at: f64,
 }
 
 impl Snapshot {
@@ -106,6 +108,7 @@ impl Snapshot {
             self.time,
             self.start_time,
             self.stop_time.unwrap_or(f64::NAN),
+            self.inputs_at,
         ] {
             b.extend_from_slice(&x.to_bits().to_le_bytes());
         }
@@ -138,6 +141,10 @@ impl Snapshot {
         let time = r.f64()?;
         let start_time = r.f64()?;
         let stop = r.f64()?;
+        let inputs_at = r.f64()?;
+        if !inputs_at.is_finite() {
+            return Err(format!("serialized input time {inputs_at} is not finite"));
+        }
         let stop_defined = r.take(1)?[0] == 1;
         let values = r.vec()?;
         if values.len() != n_values {
@@ -192,6 +199,7 @@ impl Snapshot {
             model_state,
             input_derivatives,
             continuous_time,
+            inputs_at,
         })
     }
 }
@@ -452,7 +460,9 @@ impl<M: Model> Instance<M> {
         if !fast {
             self.check_set(vrs, vals, kind, phase)?;
         }
+        let table = Self::table();
         let raw = self.values.raw_mut();
+        let mut input_set = false;
         for (&vr, &x) in vrs.iter().zip(vals) {
             let slot = &mut raw[vr as usize];
             if *slot != x {
@@ -462,6 +472,12 @@ impl<M: Model> Instance<M> {
                     self.params_changed = true;
                 }
             }
+            input_set |= table[vr as usize].causality == crate::model::Causality::Input;
+        }
+        // an input is the value at the instant it is set (the model may move it on from there)
+        if input_set && self.values.inputs_at != self.time {
+            self.values.inputs_at = self.time;
+            self.dirty = true;
         }
         Ok(Status::Ok)
     }
@@ -617,6 +633,7 @@ impl<M: Model> Instance<M> {
             continuous_time: self.me.is_me
                 && self.state == State::StepComplete
                 && self.me.mode == me::Mode::ContinuousTime,
+            inputs_at: self.values.inputs_at,
         }
     }
 
@@ -661,6 +678,7 @@ impl<M: Model> Instance<M> {
         }
         let mut values = start_values::<M>(self.scene.as_deref());
         values.raw_mut().copy_from_slice(&s.values);
+        values.inputs_at = s.inputs_at;
         for &(vr, order, x) in &s.input_derivatives {
             Self::check_input_derivative(vr, order, x)
                 .map_err(|e| format!("FMU state refused: {e}"))?;
@@ -1139,6 +1157,7 @@ pub unsafe fn setup_experiment<M: Model>(
             }
             inst.start_time = start;
             inst.time = start;
+            inst.values.inputs_at = start;
             inst.stop_time = (stop_defined != FALSE).then_some(stop);
             inst.dirty = true;
             Ok(Status::Ok)
@@ -1532,6 +1551,12 @@ pub unsafe fn do_step<M: Model>(c: Component, t: f64, h: f64, _no_prior: Boolean
             {
                 return Err(format!("step to {} passes the stop time {stop}", t + h));
             }
+            // the host's communication point names the FMU's time (to rounding): what was set
+            // at the FMU's time was set at t
+            if inst.values.inputs_at == inst.time {
+                inst.values.inputs_at = t;
+            }
+            inst.time = t;
             inst.prepared()?;
             let model = inst.model.as_mut().expect("prepared");
             if let Err(why) = model.step(&mut inst.values, t, h, &mut inst.logger) {
@@ -1771,6 +1796,7 @@ mod tests {
             model_state: vec![2.0],
             input_derivatives: vec![(0, 1, 3.25), (1, 1, -0.5)],
             continuous_time: true,
+            inputs_at: 0.25,
         };
         let b = s.to_bytes(42);
         let back = Snapshot::from_bytes(&b, 42, 4).unwrap();

@@ -832,7 +832,7 @@ mod tests {
             assert_eq!(v.raw()[..3], inputs, "the chain's step leaves the inputs");
             // what Model::step does after it: the inputs where the shaft's path led
             let end = shaft::end_of_step(&v, t, h).unwrap().unwrap();
-            shaft::set_inputs(&mut v, end);
+            shaft::set_inputs(&mut v, end, t + h);
         }
         // one turn of the shaft; the mass crossed zero
         assert!((v.raw()[shaft::PHI as usize] - w).abs() < 1e-9);

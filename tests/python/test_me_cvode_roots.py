@@ -84,6 +84,9 @@ class HostCVode(CVodeSolver):
     """
 
     def f(self, t, y, ydot, user_data):
+        # the inputs of time t, set after fmi2SetTime(t) as FMI 2.0 (3.2.3) sets them: the
+        # FMU takes them as the shaft at its current time
+        self.set_time(t)
         self.input.apply(t)
         try:
             return super().f(t, y, ydot, user_data)

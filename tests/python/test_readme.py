@@ -14,12 +14,20 @@ ROOT = Path(__file__).resolve().parents[2]
 README = (ROOT / "README.md").read_text()
 
 
-def test_readme_python_example_runs_and_prints_the_stroke(tmp_path):
-    code = re.search(r"```python\n(.*?)```", README, re.S).group(1)
-    out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True, timeout=300)
-    assert out.returncode == 0, out.stderr
-    # the example prints the largest knife displacement: the stroke 2*r2 = 0.14 m (spec)
-    assert abs(float(out.stdout.strip().splitlines()[-1]) - 0.14) < 1e-9
+def test_readme_python_examples_run_and_print_the_stroke(tmp_path):
+    blocks = re.findall(r"```python\n(.*?)```", README, re.S)
+    assert len(blocks) >= 2, "the out-of-the-box example and the input-driven one"
+    for code in blocks:
+        out = subprocess.run([sys.executable, "-c", code], cwd=ROOT, capture_output=True, text=True,
+                             timeout=300)
+        assert out.returncode == 0, out.stderr
+        numbers = [float(x) for x in out.stdout.strip().splitlines()[-1].split()]
+        # the largest knife displacement: the stroke 2*r2 = 0.14 m (spec); exact where the output
+        # grid holds the top (the input-driven example), else within a grid step and the
+        # compliant chain's deflection
+        if "input=shaft" in code:
+            assert abs(numbers[0] - 0.14) < 1e-9, (code, numbers)
+        assert all(abs(x - 0.14) < 5e-4 for x in numbers), (code, numbers)
 
 
 def test_readme_fmpy_command_line_runs(tmp_path):
