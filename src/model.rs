@@ -351,6 +351,22 @@ impl Var {
     }
 
     /// Is this variable one a host may set in the given phase?
+    /// A value of this variable with its unit, and in its display unit where it has one:
+    /// "20000 rad/s (190986 rpm)"; a value without a unit as is.
+    pub fn quantity(&self, x: f64) -> String {
+        let Some(unit) = self.unit.filter(|u| !u.is_empty()) else {
+            return format!("{x}");
+        };
+        let display = self
+            .display_unit
+            .or_else(|| default_display_unit(unit))
+            .and_then(|d| crate::md::display_factor(unit, d).map(|f| (d, f)));
+        match display {
+            Some((d, f)) if d != unit => format!("{x} {unit} ({} {d})", round_sig(f * x, 6)),
+            _ => format!("{x} {unit}"),
+        }
+    }
+
     pub fn settable(&self, phase: SetPhase) -> bool {
         match phase {
             SetPhase::Instantiated => {
@@ -598,12 +614,12 @@ pub fn check_bounds<V: VarSet>(values: &Values<V>) -> Result<(), ParamError> {
         if let Some(lo) = v.min
             && x < lo
         {
-            return fail(format!("must be at least {lo}"));
+            return fail(format!("{} must be at least {}", v.quantity(x), v.quantity(lo)));
         }
         if let Some(hi) = v.max
             && x > hi
         {
-            return fail(format!("must be at most {hi}"));
+            return fail(format!("{} must be at most {}", v.quantity(x), v.quantity(hi)));
         }
         if let VarType::Enumeration(t) = v.ty
             && t.item(x as i32).is_none()
@@ -616,6 +632,15 @@ pub fn check_bounds<V: VarSet>(values: &Values<V>) -> Result<(), ParamError> {
         }
     }
     Ok(())
+}
+
+/// `x` to `digits` significant digits (for messages).
+fn round_sig(x: f64, digits: i32) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let scale = 10f64.powi(digits - 1 - x.abs().log10().floor() as i32);
+    (x * scale).round() / scale
 }
 
 /// Severity of a message a model emits while it runs.
@@ -1370,6 +1395,20 @@ mod tests {
         v.inputs_at = 7.0;
         let s = shaft::state(&v, 7.0);
         assert_eq!((s.phi, s.w), (2.5, 3.0));
+    }
+
+    /// A bound refused names the value and the bound in the unit and in the display unit a
+    /// designer reads (rpm for drive.n).
+    #[test]
+    fn a_bound_is_refused_in_si_and_display_units() {
+        let mut v = Values::<T>::start();
+        v[T::drive_n] = 2e4;
+        let e = check_bounds(&v).unwrap_err();
+        assert_eq!(e.param, "drive.n");
+        assert_eq!(
+            e.to_string(),
+            "drive.n = 20000: 20000 rad/s (190986 rpm) must be at most 10000 rad/s (95493 rpm)"
+        );
     }
 
     /// The one rule of the shaft inputs: they are the shaft at the instant they were set, and
