@@ -614,12 +614,20 @@ pub fn check_bounds<V: VarSet>(values: &Values<V>) -> Result<(), ParamError> {
         if let Some(lo) = v.min
             && x < lo
         {
-            return fail(format!("{} must be at least {}", v.quantity(x), v.quantity(lo)));
+            return fail(format!(
+                "{} must be at least {}",
+                v.quantity(x),
+                v.quantity(lo)
+            ));
         }
         if let Some(hi) = v.max
             && x > hi
         {
-            return fail(format!("{} must be at most {}", v.quantity(x), v.quantity(hi)));
+            return fail(format!(
+                "{} must be at most {}",
+                v.quantity(x),
+                v.quantity(hi)
+            ));
         }
         if let VarType::Enumeration(t) = v.ty
             && t.item(x as i32).is_none()

@@ -382,3 +382,48 @@ fn constant_speed_mode_drives_itself() {
     assert!((y[0] - 0.0633145).abs() < 5e-8, "{}", y[0]);
     assert!((y[1] - 0.0026727).abs() < 5e-8, "{}", y[1]);
 }
+
+/// A chain so soft that it cannot drive the knife (elastic.k = 1 N/m, its allowed minimum) is
+/// not integrated into a knife 132 m away from a 0.14 m stroke: the step that takes the
+/// deflection past the stroke is refused (fmi2Discard) with the reason, the state before it kept.
+#[test]
+fn a_chain_too_soft_to_drive_the_knife_is_refused_with_the_reason() {
+    let f = fmu();
+    let soft = Start {
+        stop: Some(4.0),
+        reals: &[(vr(V::elastic_k), 1.0)],
+        integers: &[(vr(V::model_fidelity), 3)],
+        ..Start::default()
+    };
+    let s = f.started("soft", &soft);
+    let h = 0.01;
+    let mut t = 0.0;
+    let mut refused = None;
+    for _ in 0..400 {
+        match s.do_step(t, h) {
+            Status::Ok => t += h,
+            st => {
+                refused = Some(st);
+                break;
+            }
+        }
+        let (_, x) = s.get_real(&[vr(V::knife_s)]);
+        assert!(x[0].abs() < 1.0, "knife.s = {} m at t = {t}", x[0]);
+    }
+    assert_eq!(
+        refused,
+        Some(Status::Discard),
+        "no step refused up to t = {t}"
+    );
+    let why = s
+        .logs()
+        .iter()
+        .rev()
+        .find(|l| l.0 == Status::Discard)
+        .map(|l| l.2.clone())
+        .unwrap_or_default();
+    assert!(
+        why.contains("more than the knife's stroke") && why.contains("elastic.k = 1 N/m"),
+        "{why}"
+    );
+}

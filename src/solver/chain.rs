@@ -140,6 +140,12 @@ pub trait ChainModel: Clone + Debug {
         _log: &mut dyn Log,
     ) {
     }
+    /// Co-Simulation: why the state `y` at `t` after an accepted step is not a physical one
+    /// (a chain so soft that its deflection exceeds what the mechanism can move), which refuses
+    /// the step with that reason; None: physical. Default: None.
+    fn non_physical(&self, _ode: &Self::Ode<'_>, _t: f64, _y: &[f64; 3]) -> Option<String> {
+        None
+    }
     /// Co-Simulation: the error of a refused step, from the solver's `why` and the partial
     /// state `y`. Default: `why`.
     fn step_failed(&self, _ode: &Self::Ode<'_>, _y: &[f64; 3], why: String) -> String {
@@ -482,6 +488,10 @@ pub fn do_step<C: ChainModel>(
     let before = d.integ.clone();
     match d.integ.integrate(&ode, time, time + h, &mut y) {
         Ok(_) => {
+            if let Some(why) = d.model.non_physical(&ode, time + h, &y) {
+                d.integ = before; // the state before the step stays intact
+                return Err(why);
+            }
             d.y = y;
             d.model.after_step(&ode, &mut d.memory, time, h, log);
             C::absorb(&ode, &mut d.memory);

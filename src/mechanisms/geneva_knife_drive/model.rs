@@ -191,6 +191,19 @@ impl ChainModel for KnifeChain {
             cut_done: s[4] != 0.0,
         }
     }
+    /// A deflection beyond the knife's stroke: the chain is too soft to drive the knife.
+    fn non_physical(&self, ode: &KnifeOde, t: f64, y: &[f64; 3]) -> Option<String> {
+        let stroke = ode.p.stroke();
+        let delta = ode.point(t, y).delta;
+        (delta.abs() > stroke).then(|| {
+            format!(
+                "the drive chain deflects by {:.4} m at t = {t:.6} s, more than the knife's stroke {stroke:.4} m: elastic.k = {} N/m is too soft to drive the knife (the cut force alone needs about cut.F_max/elastic.k = {:.3} m)",
+                delta.abs(),
+                self.k,
+                ode.p.cut_f_max / self.k
+            )
+        })
+    }
 }
 
 impl GenevaKnifeDrive {

@@ -295,6 +295,18 @@ impl ChainModel for TableChain {
             landed: s[6] != 0.0,
         }
     }
+    /// A deflection beyond the table's travel: the chain is too soft to drive the table.
+    fn non_physical(&self, ode: &TableOde, t: f64, y: &[f64; 3]) -> Option<String> {
+        let stroke = ode.p.stroke();
+        let delta = ode.point(t, y).delta;
+        (delta.abs() > stroke).then(|| {
+            format!(
+                "the follower chain deflects by {:.4} m at t = {t:.6} s, more than the table's travel {stroke:.4} m: elastic.k = {} N/m is too soft to drive the table",
+                delta.abs(),
+                self.k
+            )
+        })
+    }
 }
 
 /// The translating sewing table of paper 000 as an FMU model.
