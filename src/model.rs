@@ -436,6 +436,9 @@ pub struct Stage {
     /// It runs whenever its level is chosen, whatever the outputs (the level rests on it, as
     /// the elastodynamic level on its ODE).
     pub always: bool,
+    /// It guards the user (a lift-off, self-locking or undercut check with its warning): a
+    /// scene keeps it whenever the stages it requires run, whatever outputs it leaves out.
+    pub guards: bool,
 }
 
 /// When a host tries to set a variable.

@@ -340,7 +340,16 @@ fn sewing_table_stiffness_damping_and_speed_matrix() {
             // 5x nominal speed on the chains whose reference is cheap; the stiffest at nominal
             let speeds: &[f64] = if k <= 1e8 { &[100.0, 500.0] } else { &[100.0] };
             for &rpm in speeds {
-                let a = table(k, zeta, 0.0, rpm, 1e-3, 1, 1e-6, TURN).unwrap();
+                let a = match table(k, zeta, 0.0, rpm, 1e-3, 1, 1e-6, TURN) {
+                    Ok(a) => a,
+                    // the softest chain at 5x speed swings the table past its travel: refused
+                    // (ChainModel::non_physical), with the reason
+                    Err(why) if k <= 1e4 && rpm > 100.0 => {
+                        assert!(why.contains("too soft to drive the table"), "{why}");
+                        continue;
+                    }
+                    Err(why) => panic!("k {k} zeta {zeta} rpm {rpm}: {why}"),
+                };
                 let rtol = if k >= 1e10 { 1e-7 } else { 1e-9 };
                 let b = table(k, zeta, 0.0, rpm, 1e-3, 3, rtol, TURN).unwrap();
                 let dx = max_abs_diff(&a.x, &b.x);

@@ -787,6 +787,17 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         }
     }
     let needed = closure(stages, needed);
+    // the checks that guard the user stay wherever what they check is computed
+    let guards = stages
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| {
+            s.guards
+                && fid.is_some_and(|f| s.levels.contains(&f))
+                && needed.contains(s.requires)
+        })
+        .fold(Stages::NONE, |acc, (i, _)| acc.or(Stages::bit(i as u32)));
+    let needed = closure(stages, needed.or(guards));
     // states and derivatives of the level (Model Exchange) come with the stages they belong to
     let locals: Vec<bool> = table
         .iter()

@@ -130,3 +130,19 @@ def test_scene_fmu_equals_the_full_fmu_bit_for_bit(path):
     # something happened: the scene's first output moves
     first = tailored[scene["outputs"][0]].astype(float)
     assert np.ptp(first) > 0.0
+
+
+def test_a_scene_keeps_the_lift_off_check_it_leaves_the_outputs_of():
+    """The ramp-contact scene leaves out the lift-off outputs (roller.F_margin, roller.lost_contact)
+    but not the check: at 130 rpm, above the lift-off speed, its roller.F goes negative and it warns
+    as the full FMU does."""
+    from fmpy import simulate_fmu
+    from harness import captured_log
+    fmu = SCENE_FMU_DIR / "Perforators_ramp_contact.fmu"
+    n = 130 * math.pi / 30
+    with captured_log() as log:
+        r = simulate_fmu(str(fmu), start_values={"drive.n": n}, output=["roller.F"],
+                         logger=log, debug_logging=False)
+    assert r["roller.F"].min() < -10.0, r["roller.F"].min()
+    warnings = [m for status, _, m in log if status == 1]
+    assert any("roller lifts off the ramp" in m for m in warnings), warnings[:3]

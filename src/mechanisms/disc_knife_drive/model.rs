@@ -29,6 +29,7 @@ pub static STAGES: &[Stage] = &[
         levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
         requires: Stages::NONE,
         always: false,
+        guards: false,
     },
     Stage {
         name: "elastic",
@@ -36,6 +37,7 @@ pub static STAGES: &[Stage] = &[
         levels: &[Fidelity::Elastodynamic],
         requires: Stages::NONE,
         always: true,
+        guards: false,
     },
 ];
 

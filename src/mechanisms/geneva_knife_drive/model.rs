@@ -31,6 +31,7 @@ pub static STAGES: &[Stage] = &[
         levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
         requires: Stages::NONE,
         always: false,
+        guards: false,
     },
     Stage {
         name: "elastic",
@@ -38,6 +39,7 @@ pub static STAGES: &[Stage] = &[
         levels: &[Fidelity::Elastodynamic],
         requires: Stages::NONE,
         always: true,
+        guards: false,
     },
 ];
 

@@ -62,6 +62,7 @@ pub static STAGES: &[Stage] = &[
         levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
         requires: Stages::NONE,
         always: false,
+        guards: false,
     },
     Stage {
         name: "hertz",
@@ -69,6 +70,7 @@ pub static STAGES: &[Stage] = &[
         levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
         requires: stage::FORCES,
         always: false,
+        guards: false,
     },
     Stage {
         name: "contact_watch",
@@ -76,6 +78,7 @@ pub static STAGES: &[Stage] = &[
         levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
         requires: stage::FORCES,
         always: false,
+        guards: true,
     },
     Stage {
         name: "synthesis",
@@ -87,6 +90,7 @@ pub static STAGES: &[Stage] = &[
         ],
         requires: Stages::NONE,
         always: false,
+        guards: false,
     },
     Stage {
         name: "elastic",
@@ -94,6 +98,7 @@ pub static STAGES: &[Stage] = &[
         levels: &[Fidelity::Elastodynamic],
         requires: Stages::NONE,
         always: true,
+        guards: false,
     },
 ];
 

@@ -84,6 +84,7 @@ pub static STAGES: &[Stage] = &[
         ],
         requires: Stages::NONE,
         always: false,
+        guards: false,
     },
     Stage {
         name: "forces",
@@ -91,6 +92,7 @@ pub static STAGES: &[Stage] = &[
         levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
         requires: Stages::NONE,
         always: false,
+        guards: false,
     },
     Stage {
         name: "hertz",
@@ -98,6 +100,7 @@ pub static STAGES: &[Stage] = &[
         levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
         requires: stage::FLANK,
         always: false,
+        guards: false,
     },
     Stage {
         name: "rocking",
@@ -109,6 +112,7 @@ pub static STAGES: &[Stage] = &[
         ],
         requires: Stages::NONE,
         always: false,
+        guards: false,
     },
     Stage {
         name: "synthesis",
@@ -120,6 +124,7 @@ pub static STAGES: &[Stage] = &[
         ],
         requires: Stages::NONE,
         always: false,
+        guards: false,
     },
     Stage {
         name: "elastic",
@@ -127,6 +132,7 @@ pub static STAGES: &[Stage] = &[
         levels: &[Fidelity::Elastodynamic],
         requires: Stages::NONE,
         always: true,
+        guards: false,
     },
 ];
 
