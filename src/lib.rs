@@ -13,6 +13,7 @@
 //! - `docs` (feature `tools`): the FMU's `documentation/` page, figures and icon; knows no mechanism.
 #[cfg(feature = "tools")]
 pub mod catalog;
+pub mod digest;
 #[cfg(feature = "tools")]
 pub mod docs;
 pub mod fmi2;

@@ -777,6 +777,9 @@ pub trait Model: Sized + Send + 'static {
     /// step) a model tracks here over the span since the last completed step, so that an output
     /// means the same in both interfaces.
     fn me_completed_step(&mut self, _values: &Values<Self::Var>, _time: f64, _log: &mut dyn Log) {}
+    /// The run ends (`fmi2Terminate`): what the model gathered and has not reported yet (the
+    /// warnings of an unfinished shaft turn) is logged. Default: nothing.
+    fn finish(&mut self, _values: &Values<Self::Var>, _log: &mut dyn Log) {}
 
     /// Internal state beyond the variables, for `fmi2GetFMUstate` and serialization.
     fn save_state(&self) -> Vec<f64> {

@@ -1209,6 +1209,9 @@ pub unsafe fn terminate<M: Model>(c: Component) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M>(c, Call::Terminate, |inst| {
+            if let Some(m) = inst.model.as_mut() {
+                m.finish(&inst.values, &mut inst.logger);
+            }
             inst.state = State::Terminated;
             Ok(Status::Ok)
         })

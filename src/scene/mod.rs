@@ -792,9 +792,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         .iter()
         .enumerate()
         .filter(|(_, s)| {
-            s.guards
-                && fid.is_some_and(|f| s.levels.contains(&f))
-                && needed.contains(s.requires)
+            s.guards && fid.is_some_and(|f| s.levels.contains(&f)) && needed.contains(s.requires)
         })
         .fold(Stages::NONE, |acc, (i, _)| acc.or(Stages::bit(i as u32)));
     let needed = closure(stages, needed.or(guards));

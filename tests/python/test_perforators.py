@@ -75,3 +75,32 @@ def test_lift_off_flag_and_warning(perf):
     assert any(status == 1 and "shaft angle" in m for status, _, m in log), list(log)
     out = perf.probe([(p, W, 0.0) for p in phi], ["roller.lost_contact", "roller.F_margin"])
     assert not np.any(out["roller.lost_contact"]) and np.all(out["roller.F_margin"] > 0)
+
+
+@pytest.mark.parametrize("fidelity", [2, 3])
+def test_lift_off_is_warned_once_per_turn_with_the_count_and_the_worst(fidelity):
+    """Above the lift-off speed the warning comes once per shaft turn (and once for the turn the
+    run ends in), counting that turn's lift-offs and naming its worst: the kinetostatic level the
+    largest pull the ramp would need, at least the turn's most negative roller.F sampled by the
+    host; the elastodynamic level the count of bounces (23 a turn at 130 rpm, one warning each
+    before)."""
+    import math
+    import re
+    from fmpy import simulate_fmu
+    from harness import captured_log
+    n, stop = 130 * math.pi / 30, 2.4
+    with captured_log() as log:
+        r = simulate_fmu(str(FMU_DIR / "Perforators.fmu"), stop_time=stop, output=["roller.F"],
+                         start_values={"drive.n": n, "drive.mode": 2, "model.fidelity": fidelity},
+                         logger=log)
+    lifts = [m for s, _, m in log if s == 1 and "roller lifts off the ramp" in m]
+    turns = n * stop / (2 * math.pi)
+    assert math.floor(turns) <= len(lifts) <= math.ceil(turns) + 1, (turns, lifts)
+    numbers = [int(re.search(r"in the shaft turn (\d+)", m).group(1)) for m in lifts]
+    assert numbers == sorted(set(numbers)), "one warning per turn"
+    if fidelity == 2:
+        pulls = [float(re.search(r"pull with ([0-9.]+) N", m).group(1)) for m in lifts]
+        assert min(pulls) >= -r["roller.F"].min() - 0.5, (pulls, r["roller.F"].min())
+    else:
+        counts = [int(re.search(r"lifts off the ramp (\d+) times", m).group(1)) for m in lifts[:-1]]
+        assert all(c > 1 for c in counts), counts

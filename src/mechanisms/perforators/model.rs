@@ -12,11 +12,12 @@
 
 use super::elastic::{Contact, ContactLaw, LeverOde, N_EVENTS, Peaks, Track};
 use super::physics::{Drive, Mode, Params};
+use crate::digest::TurnDigest;
 use crate::mechanics::cyclogram::Phase;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
-use crate::model::{EnumType, Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
+use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Stages, Values};
 use crate::solver::chain::Slot::{Events, Integ, Mem, Rejected, Steps};
 use crate::solver::chain::{self, Chain, ChainModel, Slot};
 use crate::solver::{Integrator, OdeSystem, ShaftPath};
@@ -234,8 +235,11 @@ struct CycleState {
     last_min: f64,
     /// A negative contact force during the last step.
     lost_step: bool,
-    /// The last sample was negative (to log the onset once).
+    /// The last sample was negative (to count the onset once).
     prev_negative: bool,
+    /// The lift-offs of the turn: `[pull, phi, t, w]` of the worst sample (the force the ramp
+    /// would have to pull with, N; absolute shaft angle; time; speed), reported once per turn.
+    liftoff: TurnDigest<4>,
     /// Model Exchange: the time of the last completed integrator step (NaN: none yet) and the
     /// shaft there, where the next completed step's span starts.
     me_t: f64,
@@ -256,14 +260,45 @@ impl Default for CycleState {
                 w: f64::NAN,
                 a: f64::NAN,
             },
+            liftoff: TurnDigest::default(),
         }
     }
 }
 
+/// The warning of a turn's lift-offs at the kinetostatic level.
+fn liftoff_report(d: &Drive, g: &TurnDigest<4>) -> String {
+    let [pull, phi, t, w] = g.worst;
+    let psi = crate::mechanics::wrap_angle(phi - d.cyc.phi0);
+    format!(
+        "roller lifts off the ramp {} in the shaft turn {}: worst at shaft angle {:.2} deg ({:.2} deg into the turn, {}) at t = {t:.6} s, {:.1} rpm, where the ramp would have to pull with {pull:.2} N; spring.M0 = {} N.m, spring.kt = {} N.m/rad are too weak at this speed",
+        times(g.count),
+        g.turn,
+        phi.to_degrees(),
+        psi.to_degrees(),
+        if d.cyc.at(phi).phase == Phase::Forward {
+            "forward travel"
+        } else {
+            "return travel"
+        },
+        w * 30.0 / std::f64::consts::PI,
+        d.p.spring_m0,
+        d.p.spring_kt
+    )
+}
+
+/// "once", "3 times".
+fn times(n: f64) -> String {
+    if n == 1.0 {
+        "once".into()
+    } else {
+        format!("{n} times")
+    }
+}
+
 impl CycleState {
-    /// Numbers of [`CycleState::save`] (5 before Model Exchange watched its steps: still
-    /// restored).
-    const LEN: usize = 9;
+    /// Numbers of [`CycleState::save`] (5 before Model Exchange watched its steps, 9 before
+    /// the lift-offs were reported once per turn: still restored).
+    const LEN: usize = 9 + TurnDigest::<4>::LEN;
 
     /// Watches the contact force along the shaft's path from `st` at `t0` over `h` (`h = 0`: the
     /// one point): samples at most 0.25° of shaft angle apart, the turn minima, a negative force
@@ -279,6 +314,7 @@ impl CycleState {
             let w = st.w + st.a * tau;
             let f = d.forces(&d.kinematics(phi, w, st.a)).roller_f;
             let cycle = ((phi - d.cyc.phi0) / TAU).floor();
+            let report = |g: &TurnDigest<4>| liftoff_report(d, g);
             if s.cycle.is_nan() {
                 s.cycle = cycle;
             } else if cycle != s.cycle {
@@ -286,27 +322,16 @@ impl CycleState {
                 s.cur_min = f64::INFINITY;
                 s.cycle = cycle;
             }
+            s.liftoff.at_turn(cycle, log, &report);
             s.cur_min = s.cur_min.min(f);
             let negative = f < 0.0;
             if negative {
                 s.lost_step = true;
-                if !s.prev_negative {
-                    let psi = crate::mechanics::wrap_angle(phi - d.cyc.phi0);
-                    let phase = d.cyc.at(phi).phase;
-                    log.log(
-                        Severity::Warning,
-                        &format!(
-                            "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn, {}) at t = {:.6} s, {:.1} rpm: the ramp would have to pull with {:.2} N; spring.M0 = {} N.m, spring.kt = {} N.m/rad are too weak at this speed",
-                            phi.to_degrees(),
-                            psi.to_degrees(),
-                            if phase == Phase::Forward { "forward travel" } else { "return travel" },
-                            t0 + tau,
-                            w * 30.0 / std::f64::consts::PI,
-                            -f,
-                            d.p.spring_m0,
-                            d.p.spring_kt
-                        ),
-                    );
+                let data = [-f, phi, t0 + tau, w];
+                if s.prev_negative {
+                    s.liftoff.worsen(data);
+                } else {
+                    s.liftoff.note(cycle, data, log, &report);
                 }
             }
             s.prev_negative = negative;
@@ -328,7 +353,7 @@ impl CycleState {
     }
 
     fn save(&self) -> Vec<f64> {
-        vec![
+        let mut out = vec![
             self.cycle,
             self.cur_min,
             self.last_min,
@@ -338,14 +363,16 @@ impl CycleState {
             self.me_shaft.phi,
             self.me_shaft.w,
             self.me_shaft.a,
-        ]
+        ];
+        self.liftoff.save(&mut out);
+        out
     }
 
     fn restore(state: &[f64]) -> Result<CycleState, String> {
         match *state {
             [] => Ok(CycleState::default()),
             [cycle, cur_min, last_min, lost, prev, ref me @ ..]
-                if me.is_empty() || me.len() == 4 =>
+                if me.is_empty() || me.len() == 4 || me.len() == 4 + TurnDigest::<4>::LEN =>
             {
                 let mut s = CycleState {
                     cycle,
@@ -355,14 +382,17 @@ impl CycleState {
                     prev_negative: prev != 0.0,
                     ..CycleState::default()
                 };
-                if let [t, phi, w, a] = *me {
+                if let [t, phi, w, a, ..] = *me {
                     s.me_t = t;
                     s.me_shaft = ShaftState { phi, w, a };
+                }
+                if me.len() > 4 {
+                    s.liftoff = TurnDigest::restore(&me[4..])?;
                 }
                 Ok(s)
             }
             _ => Err(format!(
-                "Perforators state has {} values, expected {} (or 5)",
+                "Perforators state has {} values, expected {} (or 5, 9)",
                 state.len(),
                 Self::LEN
             )),
@@ -385,6 +415,24 @@ struct LeverMemory {
     track: Track,
     /// Whether the roller lifted off during the last step.
     lost: Lost,
+    /// The lift-offs of the turn, reported once per turn: `[0, phi, t, w]` of the first
+    /// (absolute shaft angle, time, speed).
+    liftoff: TurnDigest<4>,
+}
+
+/// The warning of a turn's lift-offs at the elastodynamic level.
+fn bounce_report(d: &Drive, g: &TurnDigest<4>, total: f64) -> String {
+    let [_, phi, t, w] = g.worst;
+    format!(
+        "roller lifts off the ramp {} in the shaft turn {} (elastodynamic level; {total} lift-offs so far), the first at shaft angle {:.2} deg ({:.2} deg into the turn) at t = {t:.6} s, {:.1} rpm: spring.M0 = {} N.m, spring.kt = {} N.m/rad cannot hold it on at this speed (contact.F_impact: the force of the landings)",
+        times(g.count),
+        g.turn,
+        phi.to_degrees(),
+        crate::mechanics::wrap_angle(phi - d.cyc.phi0).to_degrees(),
+        w * 30.0 / std::f64::consts::PI,
+        d.p.spring_m0,
+        d.p.spring_kt
+    )
 }
 
 /// Whether the roller lifted off during the last step (`roller.lost_contact` of the
@@ -459,8 +507,8 @@ impl ChainModel for LeverChain {
     type Physics = Drive;
     type Memory = LeverMemory;
     type Ode<'a> = LeverOde<'a>;
-    const LAYOUT: &'static [Slot] = &[Mem(10), Integ, Steps, Events, Mem(1), Rejected];
-    const STATE_LEN: usize = 21;
+    const LAYOUT: &'static [Slot] = &[Mem(10), Integ, Steps, Events, Mem(1), Rejected, Mem(6)];
+    const STATE_LEN: usize = 27;
     const SAVED_INDICATORS: usize = <Perforators as Model>::EVENT_INDICATORS;
 
     fn ode<'a>(
@@ -488,6 +536,7 @@ impl ChainModel for LeverChain {
     fn start(_: &LeverOde, path: &ShaftPath, m: &mut LeverMemory) {
         m.track = Track::new(path.cycle(path.t0));
         m.lost = Lost::default();
+        m.liftoff = TurnDigest::default();
     }
     fn absorb(ode: &LeverOde, m: &mut LeverMemory) {
         m.track = ode.track.get();
@@ -507,6 +556,7 @@ impl ChainModel for LeverChain {
             t.landed as i32 as f64,
             m.lost.save(),
         ]);
+        m.liftoff.save(out);
     }
     fn restore_memory(s: &[f64]) -> LeverMemory {
         LeverMemory {
@@ -525,10 +575,12 @@ impl ChainModel for LeverChain {
                 landed: s[9] != 0.0,
             },
             lost: Lost::restore(s[10]),
+            liftoff: TurnDigest::restore(&s[11..11 + TurnDigest::<4>::LEN]).unwrap_or_default(),
         }
     }
 
-    /// Whether the roller lifted off in the step, with a warning naming where.
+    /// Whether the roller lifted off in the step; the turn's lift-offs are counted and
+    /// reported once the turn is over ([`bounce_report`]).
     fn after_step(
         &self,
         ode: &LeverOde,
@@ -541,29 +593,17 @@ impl ChainModel for LeverChain {
         let tr = ode.track.get();
         let new = tr.liftoffs - m.track.liftoffs;
         m.lost.co_simulation_step(new > 0.0);
+        let report = |g: &TurnDigest<4>| bounce_report(drive, g, tr.liftoffs);
+        let turn_of = |phi: f64| ((phi - drive.cyc.phi0) / TAU).floor();
         if new > 0.0 {
-            let phi = tr.lift_phi;
-            let psi = crate::mechanics::wrap_angle(phi - drive.cyc.phi0);
             let (_, w, _) = ode.path.at(time + h);
-            log.log(
-                Severity::Warning,
-                &format!(
-                    "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn){} in the step from t = {:.6} s, {:.1} rpm (elastodynamic level; {} lift-offs so far): spring.M0 = {} N.m, spring.kt = {} N.m/rad cannot hold it on at this speed",
-                    phi.to_degrees(),
-                    psi.to_degrees(),
-                    if new > 1.0 {
-                        format!(", the last of {new} in this step,")
-                    } else {
-                        String::new()
-                    },
-                    time,
-                    w * 30.0 / std::f64::consts::PI,
-                    tr.liftoffs,
-                    drive.p.spring_m0,
-                    drive.p.spring_kt
-                ),
-            );
+            let phi = tr.lift_phi;
+            m.liftoff
+                .note(turn_of(phi), [0.0, phi, time, w], log, &report);
+            m.liftoff.count += new - 1.0;
         }
+        m.liftoff
+            .at_turn(turn_of(ode.path.absolute_phi(time + h)), log, &report);
     }
 
     /// A lever thrown out of the linkage's range is named.
@@ -591,10 +631,9 @@ impl ChainModel for LeverChain {
         time: f64,
         y: &[f64; 3],
         g_prev: &mut Vec<f64>,
-        m: &LeverMemory,
-        log: &mut dyn Log,
+        _m: &LeverMemory,
+        _log: &mut dyn Log,
     ) {
-        let phi0 = ode.d.cyc.phi0;
         let dt = 1e-9 * time.abs().max(1.0);
         let mut dy = [0.0; 3];
         ode.rhs(time, y, &mut dy);
@@ -603,19 +642,6 @@ impl ChainModel for LeverChain {
         ode.events_held(time + dt, &y_after, g_prev, &mut g);
         if g_prev.len() == g.len() {
             ode.on_event_held(time, y, g_prev, &g);
-            let tr = ode.track.get();
-            if tr.liftoffs > m.track.liftoffs {
-                let phi = tr.lift_phi;
-                log.log(
-                    Severity::Warning,
-                    &format!(
-                        "roller lifts off the ramp at shaft angle {:.2} deg ({:.2} deg into the turn) at t = {time:.6} s (elastodynamic level; {} lift-offs so far)",
-                        phi.to_degrees(),
-                        crate::mechanics::wrap_angle(phi - phi0).to_degrees(),
-                        tr.liftoffs
-                    ),
-                );
-            }
         }
         *g_prev = g;
     }
@@ -844,6 +870,7 @@ impl Model for Perforators {
             let memory = LeverMemory {
                 track: Track::new(0.0),
                 lost: Lost::default(),
+                liftoff: TurnDigest::default(),
             };
             Chain::new(model, Integrator::new(chain::solver_settings(v)), memory)
         });
@@ -960,6 +987,18 @@ impl Model for Perforators {
             chain::me_event(Some(&mut *d), &self.drive, v, time, log);
             let lifted = before.is_some_and(|n| d.memory.track.liftoffs > n);
             d.memory.lost.event(lifted);
+            // the turn's lift-offs, reported once the turn is over
+            let (drive, tr) = (&self.drive, d.memory.track);
+            let report = |g: &TurnDigest<4>| bounce_report(drive, g, tr.liftoffs);
+            let turn_of = |phi: f64| ((phi - drive.cyc.phi0) / TAU).floor();
+            let now = shaft::state(v, time);
+            if lifted {
+                let phi = tr.lift_phi;
+                d.memory
+                    .liftoff
+                    .note(turn_of(phi), [0.0, phi, time, now.w], log, &report);
+            }
+            d.memory.liftoff.at_turn(turn_of(now.phi), log, &report);
         } else if self.state.me_t.is_nan() && self.watching(v) {
             self.state
                 .me_watch(&self.drive, shaft::state(v, time), time, log);
@@ -975,6 +1014,21 @@ impl Model for Perforators {
         } else if self.watching(v) {
             self.state
                 .me_watch(&self.drive, shaft::state(v, time), time, log);
+        }
+    }
+
+    /// The lift-offs of the unfinished turn are reported.
+    fn finish(&mut self, _v: &Values<V>, log: &mut dyn Log) {
+        let drive = &self.drive;
+        if let Some(d) = self.dynamic.as_mut() {
+            let total = d.memory.track.liftoffs;
+            d.memory
+                .liftoff
+                .flush(log, &|g: &TurnDigest<4>| bounce_report(drive, g, total));
+        } else {
+            self.state
+                .liftoff
+                .flush(log, &|g: &TurnDigest<4>| liftoff_report(drive, g));
         }
     }
 
