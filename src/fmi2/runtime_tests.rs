@@ -1,0 +1,242 @@
+//! Tests of `runtime.rs`.
+
+use super::*;
+
+#[test]
+fn snapshot_bytes_round_trip_and_refuse_garbage() {
+    let s = Snapshot {
+        state: State::StepComplete,
+        time: 0.1 + 0.2,
+        start_time: 0.0,
+        stop_time: Some(4.0),
+        values: vec![1.0, -0.0, f64::MIN_POSITIVE, 3.5],
+        model_state: vec![2.0],
+        input_derivatives: vec![(0, 1, 3.25), (1, 1, -0.5)],
+        continuous_time: true,
+        inputs_at: 0.25,
+    };
+    let b = s.to_bytes(42);
+    let back = Snapshot::from_bytes(&b, 42, 4).unwrap();
+    assert_eq!(back.to_bytes(42), b);
+    assert_eq!(back.values[1].to_bits(), (-0.0f64).to_bits());
+    assert!(
+        Snapshot::from_bytes(&b, 43, 4)
+            .unwrap_err()
+            .contains("GUID")
+    );
+    assert!(
+        Snapshot::from_bytes(&b[..b.len() - 1], 42, 4)
+            .unwrap_err()
+            .contains("truncated")
+    );
+    assert!(Snapshot::from_bytes(&b, 42, 5).is_err());
+    let mut longer = b.clone();
+    longer.push(0);
+    assert!(
+        Snapshot::from_bytes(&longer, 42, 4)
+            .unwrap_err()
+            .contains("trailing")
+    );
+}
+
+// ---- the runtime over a tiny model, called as a host would, without a cdylib ----------
+
+use crate::model::{Experiment, ParamError};
+use std::sync::Mutex;
+
+crate::model_variables! {
+    enum TV (nominal_rpm = 60.0) {
+        boom = Var::bool_parameter("test.boom", false, "panic in evaluate"),
+        fail = Var::bool_parameter("test.fail", false, "do_step cannot complete"),
+        y = Var::output("test.y", "rad", "shaft angle").depends(crate::model::shaft::ON_PHI),
+    }
+}
+
+struct Tiny;
+impl Model for Tiny {
+    type Var = TV;
+    const IDENTIFIER: &'static str = "Tiny";
+    const MODEL_NAME: &'static str = "Tiny";
+    const DESCRIPTION: &'static str = "test model";
+    const EXPERIMENT: Experiment = Experiment {
+        start: 0.0,
+        stop: 1.0,
+        step: 0.1,
+        tolerance: None,
+    };
+    fn prepare(_: &Values<TV>) -> Result<Self, ParamError> {
+        Ok(Tiny)
+    }
+    fn evaluate(&mut self, v: &mut Values<TV>, time: f64, _: &mut dyn Log) {
+        if v.flag(TV::boom) {
+            panic!("model failure at t = {time}");
+        }
+        v[TV::y] = crate::model::shaft::state(v, time).phi;
+    }
+    fn do_step(
+        &mut self,
+        v: &mut Values<TV>,
+        time: f64,
+        _: f64,
+        _: &mut dyn Log,
+    ) -> Result<(), String> {
+        if v.flag(TV::fail) {
+            return Err(format!("solver gave up at t = {time}"));
+        }
+        Ok(())
+    }
+}
+
+static LOG: Mutex<Vec<(Status, String)>> = Mutex::new(Vec::new());
+unsafe extern "C" fn record(
+    _: ComponentEnvironment,
+    _: FmiString,
+    status: Status,
+    _: FmiString,
+    msg: FmiString,
+) {
+    let m = unsafe { CStr::from_ptr(msg) }
+        .to_string_lossy()
+        .into_owned();
+    LOG.lock().unwrap().push((status, m));
+}
+
+fn tiny() -> Component {
+    let f = CallbackFunctions {
+        // SAFETY: a non-variadic callee reading only the fixed arguments (see tests/common).
+        logger: Some(unsafe {
+            std::mem::transmute::<
+                unsafe extern "C" fn(ComponentEnvironment, FmiString, Status, FmiString, FmiString),
+                unsafe extern "C" fn(
+                    ComponentEnvironment,
+                    FmiString,
+                    Status,
+                    FmiString,
+                    FmiString,
+                    ...
+                ),
+            >(record)
+        }),
+        allocate_memory: None,
+        free_memory: None,
+        step_finished: None,
+        component_environment: std::ptr::null_mut(),
+    };
+    let guid = CString::new(md::describe::<Tiny>().1).unwrap();
+    let c = unsafe {
+        instantiate::<Tiny>(
+            c"tiny".as_ptr(),
+            FmuType::CoSimulation,
+            guid.as_ptr(),
+            std::ptr::null(),
+            &f,
+            FALSE,
+            FALSE,
+        )
+    };
+    assert!(!c.is_null());
+    c
+}
+
+#[test]
+fn a_panic_in_the_model_is_caught_at_the_boundary() {
+    let c = tiny();
+    unsafe {
+        assert_eq!(enter_initialization_mode::<Tiny>(c), Status::Ok);
+        assert_eq!(exit_initialization_mode::<Tiny>(c), Status::Ok);
+        let mut y = 0.0;
+        let vr = [TV::y.vr()];
+        assert_eq!(
+            set_real::<Tiny>(c, [TV::shaft_phi.vr()].as_ptr(), 1, &0.5),
+            Status::Ok
+        );
+        assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Ok);
+        assert_eq!(y, 0.5);
+        // make the model panic: set the flag through the back door, as a model bug would
+        let inst = &mut *(c as *mut Instance<Tiny>);
+        inst.values.set_flag(TV::boom, true);
+        inst.dirty = true;
+        assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Error);
+        assert_eq!(inst.state, State::Error);
+        let last = LOG.lock().unwrap().last().cloned().unwrap();
+        assert!(
+            last.1.contains("panic caught") && last.1.contains("model failure at t = 0"),
+            "{last:?}"
+        );
+        // in the error state only what FMI 2.0 allows works; reset brings it back
+        assert_eq!(do_step::<Tiny>(c, 0.0, 0.1, FALSE), Status::Error);
+        assert_eq!(reset::<Tiny>(c), Status::Ok);
+        assert_eq!(enter_initialization_mode::<Tiny>(c), Status::Ok);
+        assert_eq!(exit_initialization_mode::<Tiny>(c), Status::Ok);
+        assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Ok);
+        assert_eq!(y, 0.0, "reset restored the start values");
+        free_instance::<Tiny>(c);
+    }
+}
+
+#[test]
+fn a_discarded_step_keeps_the_time_and_the_instance_restorable() {
+    let c = tiny();
+    unsafe {
+        assert_eq!(enter_initialization_mode::<Tiny>(c), Status::Ok);
+        assert_eq!(exit_initialization_mode::<Tiny>(c), Status::Ok);
+        assert_eq!(do_step::<Tiny>(c, 0.0, 0.1, TRUE), Status::Ok);
+        let mut saved: FMUstate = std::ptr::null_mut();
+        assert_eq!(get_fmu_state::<Tiny>(c, &mut saved), Status::Ok);
+        // the model cannot complete the next step (as a solver that gives up)
+        let inst = &mut *(c as *mut Instance<Tiny>);
+        inst.values.set_flag(TV::fail, true);
+        assert_eq!(do_step::<Tiny>(c, 0.1, 0.1, TRUE), Status::Discard);
+        assert_eq!(inst.state, State::StepFailed);
+        assert_eq!(inst.time, 0.1, "a discarded step does not advance the time");
+        let last = LOG.lock().unwrap().last().cloned().unwrap();
+        assert!(
+            last.0 == Status::Discard && last.1.contains("solver gave up at t = 0.1"),
+            "{last:?}"
+        );
+        let mut t = 0.0;
+        assert_eq!(get_real_status::<Tiny>(c, 2, &mut t), Status::Ok);
+        assert_eq!(t, 0.1, "fmi2LastSuccessfulTime");
+        let mut y = 0.0;
+        let vr = [TV::y.vr()];
+        assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Ok);
+        assert_eq!(do_step::<Tiny>(c, 0.1, 0.05, TRUE), Status::Error);
+        // restorable: the saved state is StepComplete again, and the run goes on
+        assert_eq!(set_fmu_state::<Tiny>(c, saved), Status::Ok);
+        assert_eq!(inst.state, State::StepComplete);
+        assert!(!inst.values.flag(TV::fail));
+        assert_eq!(do_step::<Tiny>(c, 0.1, 0.05, TRUE), Status::Ok);
+        assert_eq!(free_fmu_state::<Tiny>(c, &mut saved), Status::Ok);
+        free_instance::<Tiny>(c);
+    }
+}
+
+#[test]
+fn debug_logging_categories() {
+    let c = tiny();
+    unsafe {
+        let cats = [c"logEvents".as_ptr()];
+        assert_eq!(
+            set_debug_logging::<Tiny>(c, TRUE, 1, cats.as_ptr()),
+            Status::Ok
+        );
+        let inst = &mut *(c as *mut Instance<Tiny>);
+        assert!(inst.logger.enabled(Status::Ok, "logEvents"));
+        assert!(!inst.logger.enabled(Status::Ok, "logAll"));
+        assert!(
+            inst.logger.enabled(Status::Error, "logStatusError"),
+            "errors always reach the host"
+        );
+        let bad = [c"noSuchCategory".as_ptr()];
+        assert_eq!(
+            set_debug_logging::<Tiny>(c, TRUE, 1, bad.as_ptr()),
+            Status::Error
+        );
+        assert_eq!(
+            set_debug_logging::<Tiny>(c, FALSE, 0, std::ptr::null()),
+            Status::Ok
+        );
+        assert!(!inst.logger.enabled(Status::Ok, "logEvents"));
+        free_instance::<Tiny>(c);
+    }
+}
