@@ -1,0 +1,199 @@
+//! The Co-Simulation calls: input derivatives, `fmi2DoStep`, the step's status.
+
+use super::*;
+
+/// `fmi2SetRealInputDerivatives` (`canInterpolateInputs`, [`Model::CAN_INTERPOLATE_INPUTS`]):
+/// time derivatives of Real inputs at the current communication point, for the next
+/// `fmi2DoStep` only. The step moves the shaft angle (at every level, and ends it) along the
+/// path of those of `shaft.phi` (orders 1 and 2) and of `shaft.w` (order 1) ([`shaft::path`]);
+/// when that step is done they expire and the next step uses `shaft.w` and `shaft.a` again,
+/// unless the host sets derivatives anew. Setting an input's value does not cancel its derivatives (a host may set
+/// them in either order at one point). FMU states and `fmi2Reset` include them. Derivatives of
+/// the other inputs, or orders the path does not use, are stored and ignored with
+/// `fmi2Warning`. Refused, changing nothing: a model without the capability, a Model Exchange
+/// instance, anything but a Real input, order 0 or above [`MAX_INPUT_DERIVATIVE_ORDER`], a
+/// non-finite value. (On a Model Exchange instance [`entry`] refuses it: a Co-Simulation
+/// function.)
+///
+/// # Safety
+/// As [`entry`]; arrays hold `n` elements.
+pub unsafe fn set_real_input_derivatives<M: Model>(
+    c: Component,
+    vr: *const ValueReference,
+    n: usize,
+    order: *const Integer,
+    value: *const Real,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetRealInputDerivatives, |inst| {
+            if !M::CAN_INTERPOLATE_INPUTS {
+                return Err(
+                    "not supported: canInterpolateInputs is false (this FMU holds its inputs over a step)"
+                        .into(),
+                );
+            }
+            if let Some(t) = &inst.scene
+                && !t.info.can_interpolate_inputs
+            {
+                return Err(format!(
+                    "not supported: canInterpolateInputs is false for {} (its scene is not driven through shaft.phi)",
+                    t.identifier
+                ));
+            }
+            let vrs = slice(vr, n, "vr")?;
+            let orders = slice(order, n, "order")?;
+            let vals = slice(value, n, "value")?;
+            for ((&vr, &o), &x) in vrs.iter().zip(orders).zip(vals) {
+                if !inst.listed(vr) {
+                    return Err(inst.unlisted(vr));
+                }
+                let o = u32::try_from(o).map_err(|_| {
+                    format!(
+                        "order {o} refused: this FMU takes orders 1..={MAX_INPUT_DERIVATIVE_ORDER}"
+                    )
+                })?;
+                Instance::<M>::check_input_derivative(vr, o, x)?;
+            }
+            let mut unused = Vec::new();
+            for ((&vr, &o), &x) in vrs.iter().zip(orders).zip(vals) {
+                inst.values.set_input_derivative(vr, o as u32, x);
+                if !shaft::uses_input_derivative(vr, o as u32) {
+                    unused.push(format!(
+                        "{} of order {o}",
+                        Instance::<M>::table()[vr as usize].name
+                    ));
+                }
+            }
+            inst.dirty = true;
+            if unused.is_empty() {
+                return Ok(Status::Ok);
+            }
+            inst.logger.emit(
+                Status::Warning,
+                "logStatusWarning",
+                &format!(
+                    "fmi2SetRealInputDerivatives: the derivative of {} is kept but not used: inside a step the shaft angle follows a parabola from shaft.phi and the derivatives of shaft.phi (orders 1, 2) and shaft.w (order 1); other inputs are held",
+                    unused.join(", ")
+                ),
+            );
+            Ok(Status::Warning)
+        })
+    }
+}
+
+/// `fmi2DoStep`: checks the communication point, `h > 0` and the stop time, then
+/// [`Model::step`]: the model's own step and its inputs moved to `t + h` as the step moved them
+/// (at every fidelity level). The outputs at the new time are computed when read. A step the
+/// model refuses is `fmi2Discard` with its reason.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn do_step<M: Model>(c: Component, t: f64, h: f64, _no_prior: Boolean) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::DoStep, |inst| {
+            if !(t.is_finite() && h.is_finite()) {
+                return Err(format!(
+                    "currentCommunicationPoint = {t}, communicationStepSize = {h}: not finite"
+                ));
+            }
+            if h <= 0.0 {
+                return Err(format!("communicationStepSize = {h} must be > 0"));
+            }
+            if !(t + h).is_finite() {
+                return Err(format!(
+                    "communicationStepSize = {h} from {t}: the end of the step is not finite"
+                ));
+            }
+            let tol = 1e-9 * inst.time.abs().max(1.0);
+            if (t - inst.time).abs() > tol {
+                return Err(format!(
+                    "currentCommunicationPoint = {t} differs from the FMU's time {}",
+                    inst.time
+                ));
+            }
+            if let Some(stop) = inst.stop_time
+                && t + h > stop + 1e-9 * stop.abs().max(1.0)
+            {
+                return Err(format!("step to {} passes the stop time {stop}", t + h));
+            }
+            // the host's communication point names the FMU's time (to rounding): what was set
+            // at the FMU's time was set at t
+            if inst.values.inputs_at == inst.time {
+                inst.values.inputs_at = t;
+            }
+            inst.time = t;
+            inst.prepared()?;
+            let model = inst.model.as_mut().expect("prepared");
+            if let Err(why) = model.step(&mut inst.values, t, h, &mut inst.logger) {
+                inst.state = State::StepFailed;
+                inst.logger.emit(
+                    Status::Discard,
+                    "logStatusDiscard",
+                    &format!("fmi2DoStep from t = {t}: {why}"),
+                );
+                return Ok(Status::Discard);
+            }
+            inst.time = t + h;
+            inst.dirty = true;
+            // input derivatives apply to the step they were set for (FMI 2.0: "with respect to
+            // the beginning of a communication time step"); the next step starts from the
+            // inputs as Model::step left them at t + h, unless the host sets them
+            inst.values.clear_input_derivatives();
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2GetStatus` and the typed variants: only what a synchronous slave can answer.
+///
+/// # Safety
+/// As [`entry`]; `value` points to one element.
+pub unsafe fn get_real_status<M: Model>(
+    c: Component,
+    kind: std::ffi::c_int,
+    value: *mut Real,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetRealStatus, |inst| {
+            if value.is_null() {
+                return Err("value is NULL".into());
+            }
+            if kind != StatusKind::LastSuccessfulTime as i32 {
+                return Err(format!(
+                    "fmi2GetRealStatus answers fmi2LastSuccessfulTime (2) only, not {kind}"
+                ));
+            }
+            *value = inst.time;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2GetBooleanStatus`: `fmi2Terminated` is always false (the slave never ends a run itself).
+///
+/// # Safety
+/// As [`entry`]; `value` points to one element.
+pub unsafe fn get_boolean_status<M: Model>(
+    c: Component,
+    kind: std::ffi::c_int,
+    value: *mut Boolean,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetBooleanStatus, |_| {
+            if value.is_null() {
+                return Err("value is NULL".into());
+            }
+            if kind != StatusKind::Terminated as i32 {
+                return Err(format!(
+                    "fmi2GetBooleanStatus answers fmi2Terminated (3) only, not {kind}"
+                ));
+            }
+            *value = FALSE;
+            Ok(Status::Ok)
+        })
+    }
+}

@@ -1,0 +1,144 @@
+//! The FMU-state calls: get, set, free, serialize, deserialize.
+
+use super::*;
+
+/// `fmi2GetFMUstate`.
+///
+/// # Safety
+/// As [`entry`]; `state` points to an `fmi2FMUstate`.
+pub unsafe fn get_fmu_state<M: Model>(c: Component, state: *mut FMUstate) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::GetFMUstate, |inst| {
+            if state.is_null() {
+                return Err("FMUstate pointer is NULL".into());
+            }
+            let snap = inst.snapshot();
+            if (*state).is_null() {
+                let p = Box::into_raw(Box::new(snap));
+                inst.snapshots.push(p);
+                *state = p as FMUstate;
+            } else {
+                let p = inst.own_snapshot(*state)?;
+                *p = snap;
+            }
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2SetFMUstate`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn set_fmu_state<M: Model>(c: Component, state: FMUstate) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetFMUstate, |inst| {
+            let p = inst.own_snapshot(state)?;
+            let snap = (*p).clone();
+            inst.restore(&snap)
+        })
+    }
+}
+
+/// `fmi2FreeFMUstate`.
+///
+/// # Safety
+/// As [`entry`]; `state` points to an `fmi2FMUstate`.
+pub unsafe fn free_fmu_state<M: Model>(c: Component, state: *mut FMUstate) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::FreeFMUstate, |inst| {
+            if state.is_null() || (*state).is_null() {
+                return Ok(Status::Ok);
+            }
+            let p = inst.own_snapshot(*state)?;
+            inst.snapshots.retain(|&q| q != p);
+            drop(Box::from_raw(p));
+            *state = std::ptr::null_mut();
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2SerializedFMUstateSize`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn serialized_fmu_state_size<M: Model>(
+    c: Component,
+    state: FMUstate,
+    size: *mut usize,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SerializedFMUstateSize, |inst| {
+            let p = inst.own_snapshot(state)?;
+            if size.is_null() {
+                return Err("size pointer is NULL".into());
+            }
+            *size = (*p).to_bytes(inst.guid_hash).len();
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2SerializeFMUstate`.
+///
+/// # Safety
+/// As [`entry`]; `bytes` holds `size` bytes.
+pub unsafe fn serialize_fmu_state<M: Model>(
+    c: Component,
+    state: FMUstate,
+    bytes: *mut Byte,
+    size: usize,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SerializeFMUstate, |inst| {
+            let p = inst.own_snapshot(state)?;
+            let data = (*p).to_bytes(inst.guid_hash);
+            if size < data.len() {
+                return Err(format!(
+                    "buffer of {size} bytes is too small for {} bytes",
+                    data.len()
+                ));
+            }
+            let out = slice_mut(bytes as *mut u8, data.len(), "serializedState")?;
+            out.copy_from_slice(&data);
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2DeSerializeFMUstate`: refuses bytes that are truncated, from another FMU or corrupt.
+///
+/// # Safety
+/// As [`entry`]; `bytes` holds `size` bytes; `state` points to an `fmi2FMUstate`.
+pub unsafe fn deserialize_fmu_state<M: Model>(
+    c: Component,
+    bytes: *const Byte,
+    size: usize,
+    state: *mut FMUstate,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::DeSerializeFMUstate, |inst| {
+            if state.is_null() {
+                return Err("FMUstate pointer is NULL".into());
+            }
+            let data = slice(bytes as *const u8, size, "serializedState")?;
+            let snap = Snapshot::from_bytes(data, inst.guid_hash, inst.values.raw().len())?;
+            if (*state).is_null() {
+                let p = Box::into_raw(Box::new(snap));
+                inst.snapshots.push(p);
+                *state = p as FMUstate;
+            } else {
+                let p = inst.own_snapshot(*state)?;
+                *p = snap;
+            }
+            Ok(Status::Ok)
+        })
+    }
+}

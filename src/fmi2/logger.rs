@@ -1,0 +1,61 @@
+//! The host's logger of an instance: categories, and what reaches the host.
+
+use super::*;
+
+/// Log categories as bits (see [`md::LOG_CATEGORIES`]).
+pub(super) fn category_bit(name: &str) -> Option<u32> {
+    md::LOG_CATEGORIES
+        .iter()
+        .position(|(n, _)| *n == name)
+        .map(|i| 1 << i)
+}
+
+/// The host's logger, with the instance name and the enabled categories.
+pub struct Logger {
+    pub(super) callback: CallbackLogger,
+    pub(super) env: ComponentEnvironment,
+    pub(super) name: CString,
+    pub(super) on: bool,
+    pub(super) categories: u32,
+}
+
+impl Logger {
+    /// Sends one message; `%` is escaped because hosts treat the message as a printf format.
+    pub fn emit(&self, status: Status, category: &str, message: &str) {
+        if !self.enabled(status, category) {
+            return;
+        }
+        let Some(cb) = self.callback else { return };
+        let msg = CString::new(message.replace('%', "%%").replace('\0', " ")).unwrap_or_default();
+        let cat = CString::new(category).unwrap_or_default();
+        // SAFETY: the host gave us this logger for this environment; all strings are valid C strings.
+        unsafe {
+            cb(
+                self.env,
+                self.name.as_ptr(),
+                status,
+                cat.as_ptr(),
+                msg.as_ptr(),
+            )
+        };
+    }
+}
+
+impl Logger {
+    /// Would a message of this status and category reach the host? Warnings and errors always
+    /// do; debug messages when logging is on for their category.
+    #[inline]
+    pub fn enabled(&self, status: Status, category: &str) -> bool {
+        let debug = matches!(status, Status::Ok | Status::Pending);
+        !debug || (self.on && category_bit(category).is_some_and(|b| self.categories & b != 0))
+    }
+}
+
+impl Log for Logger {
+    fn log(&mut self, severity: Severity, message: &str) {
+        match severity {
+            Severity::Info => self.emit(Status::Ok, "logEvents", message),
+            Severity::Warning => self.emit(Status::Warning, "logStatusWarning", message),
+        }
+    }
+}
