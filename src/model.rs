@@ -757,6 +757,16 @@ pub trait Model: Sized + Send + 'static {
     /// connector; not a `standalone` one, whose inputs are held over a step.
     const CAN_INTERPOLATE_INPUTS: bool = <Self::Var as VarSet>::SHAFT_CONNECTOR;
 
+    /// Does a step use the derivative of order `order` of the input `vr` a host set with
+    /// `fmi2SetRealInputDerivatives`? `None`: yes; else why it is kept but not used (the
+    /// runtime warns with it). By default those the shaft's path takes
+    /// ([`shaft::uses_input_derivative`]).
+    fn unused_input_derivative(vr: u32, order: u32) -> Option<&'static str> {
+        (!shaft::uses_input_derivative(vr, order)).then_some(
+            "inside a step the shaft angle follows a parabola from shaft.phi and the derivatives of shaft.phi (orders 1, 2) and shaft.w (order 1); other inputs are held",
+        )
+    }
+
     /// Model Exchange: the continuous states at `time`.
     fn me_states(&mut self, _values: &Values<Self::Var>, _time: f64, _x: &mut [f64]) {}
 

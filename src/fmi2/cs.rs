@@ -4,12 +4,11 @@ use super::*;
 
 /// `fmi2SetRealInputDerivatives` (`canInterpolateInputs`, [`Model::CAN_INTERPOLATE_INPUTS`]):
 /// time derivatives of Real inputs at the current communication point, for the next
-/// `fmi2DoStep` only. The step moves the shaft angle (at every level, and ends it) along the
-/// path of those of `shaft.phi` (orders 1 and 2) and of `shaft.w` (order 1) ([`shaft::path`]);
-/// when that step is done they expire and the next step uses `shaft.w` and `shaft.a` again,
-/// unless the host sets derivatives anew. Setting an input's value does not cancel its derivatives (a host may set
-/// them in either order at one point). FMU states and `fmi2Reset` include them. Derivatives of
-/// the other inputs, or orders the path does not use, are stored and ignored with
+/// `fmi2DoStep` only: the model's step uses those it declares it uses
+/// ([`Model::unused_input_derivative`]); when that step is done they expire, unless the host
+/// sets derivatives anew. Setting an input's value does not cancel its derivatives (a host may
+/// set them in either order at one point). FMU states and `fmi2Reset` include them. Those the
+/// model does not use are stored and ignored with its reason and
 /// `fmi2Warning`. Refused, changing nothing: a model without the capability, a Model Exchange
 /// instance, anything but a Real input, order 0 or above [`MAX_INPUT_DERIVATIVE_ORDER`], a
 /// non-finite value. (On a Model Exchange instance [`entry`] refuses it: a Co-Simulation
@@ -37,7 +36,7 @@ pub unsafe fn set_real_input_derivatives<M: Model>(
                 && !t.info.can_interpolate_inputs
             {
                 return Err(format!(
-                    "not supported: canInterpolateInputs is false for {} (its scene is not driven through shaft.phi)",
+                    "not supported: canInterpolateInputs is false for {} (its scene holds its inputs over a step)",
                     t.identifier
                 ));
             }
@@ -55,14 +54,15 @@ pub unsafe fn set_real_input_derivatives<M: Model>(
                 })?;
                 Instance::<M>::check_input_derivative(vr, o, x)?;
             }
-            let mut unused = Vec::new();
+            let (mut unused, mut why) = (Vec::new(), "");
             for ((&vr, &o), &x) in vrs.iter().zip(orders).zip(vals) {
                 inst.values.set_input_derivative(vr, o as u32, x);
-                if !shaft::uses_input_derivative(vr, o as u32) {
+                if let Some(w) = M::unused_input_derivative(vr, o as u32) {
                     unused.push(format!(
                         "{} of order {o}",
                         Instance::<M>::table()[vr as usize].name
                     ));
+                    why = w;
                 }
             }
             inst.dirty = true;
@@ -73,7 +73,7 @@ pub unsafe fn set_real_input_derivatives<M: Model>(
                 Status::Warning,
                 "logStatusWarning",
                 &format!(
-                    "fmi2SetRealInputDerivatives: the derivative of {} is kept but not used: inside a step the shaft angle follows a parabola from shaft.phi and the derivatives of shaft.phi (orders 1, 2) and shaft.w (order 1); other inputs are held",
+                    "fmi2SetRealInputDerivatives: the derivative of {} is kept but not used: {why}",
                     unused.join(", ")
                 ),
             );

@@ -16,7 +16,7 @@ use super::types::*;
 use crate::md;
 use crate::model::{
     Log, MAX_INPUT_DERIVATIVE_ORDER, Model, SetPhase, Severity, Values, Var, VarSet, VarType,
-    check_bounds, shaft,
+    check_bounds,
 };
 use std::ffi::{CStr, CString};
 use std::panic::{AssertUnwindSafe, catch_unwind};
