@@ -1493,3 +1493,42 @@ fn instantiate_free_cycles_do_not_leak() {
         );
     }
 }
+
+/// A handle that is not a live instance of the FMU is refused without being read: a freed one
+/// (a second fmi2FreeInstance too), one of another FMU loaded in the same process, and pointers
+/// into memory that holds no instance at all (which the old magic-number check had to read).
+#[test]
+fn freed_foreign_and_made_up_handles_are_refused_unread() {
+    let _shared = shared();
+    let all = catalog::all();
+    let (a, b) = (Fmu::of(&all[0]), Fmu::of(&all[1]));
+    let sa = a.initialized("a");
+    let sb = b.initialized("b");
+    let step: Symbol<unsafe extern "C" fn(Component, Real, Real, Boolean) -> Status> =
+        a.sym("fmi2DoStep");
+    let free: Symbol<unsafe extern "C" fn(Component)> = a.sym("fmi2FreeInstance");
+    // SAFETY: the registry refuses every one of these handles before reading it.
+    unsafe {
+        assert_eq!(step(sa.c, 0.0, 1e-3, TRUE), Status::Ok, "a live instance");
+        assert_eq!(
+            step(sb.c, 0.0, 1e-3, TRUE),
+            Status::Error,
+            "another FMU's instance"
+        );
+        let junk = [0u8; 64];
+        assert_eq!(
+            step(junk.as_ptr() as Component, 0.0, 1e-3, TRUE),
+            Status::Error
+        );
+        assert_eq!(
+            step(8 as Component, 0.0, 1e-3, TRUE),
+            Status::Error,
+            "not even mapped"
+        );
+        let c = sa.c;
+        free(c);
+        assert_eq!(step(c, 1e-3, 1e-3, TRUE), Status::Error, "a freed instance");
+        free(c); // a second free is ignored
+        std::mem::forget(sa); // already freed
+    }
+}

@@ -592,20 +592,59 @@ fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
         .unwrap_or_else(|| "unknown panic".into())
 }
 
+/// The live instances, by address and model: [`entry`] dereferences a handle only if it is
+/// one of them, so a freed, foreign or made-up handle is refused without being read.
+mod registry {
+    use super::{Component, Model};
+    use std::sync::Mutex;
+
+    static LIVE: Mutex<Vec<(usize, &'static str)>> = Mutex::new(Vec::new());
+
+    fn live() -> std::sync::MutexGuard<'static, Vec<(usize, &'static str)>> {
+        LIVE.lock().unwrap_or_else(|e| e.into_inner())
+    }
+
+    /// A new instance of `M`.
+    pub fn add<M: Model>(c: Component) {
+        live().push((c as usize, M::IDENTIFIER));
+    }
+
+    /// Is `c` a live instance of `M`?
+    pub fn holds<M: Model>(c: Component) -> bool {
+        let key = (c as usize, M::IDENTIFIER);
+        !c.is_null() && live().iter().any(|&k| k == key)
+    }
+
+    /// Forgets `c`; false if it was not a live instance of `M`.
+    pub fn remove<M: Model>(c: Component) -> bool {
+        let mut l = live();
+        match l.iter().position(|&k| k == (c as usize, M::IDENTIFIER)) {
+            Some(i) => {
+                l.swap_remove(i);
+                true
+            }
+            None => false,
+        }
+    }
+}
+
 /// The one entry wrapper: checks the component pointer, the state machine, runs `f` with panics
 /// caught, and logs any refusal with its reason.
 ///
 /// # Safety
-/// `c` must be NULL or a pointer returned by [`instantiate`] for the same model and not freed.
+/// None for `c` itself: any pointer is refused unless it is a live instance of `M` (the
+/// registry); `f` gets that instance.
 pub unsafe fn entry<M: Model>(
     c: Component,
     call: Call,
     f: impl FnOnce(&mut Instance<M>) -> Outcome,
 ) -> Status {
-    if c.is_null() {
+    // a handle that is not a live instance of this model (NULL, freed, another model's, any
+    // other pointer) is refused without being dereferenced
+    if !registry::holds::<M>(c) {
         return Status::Error;
     }
-    // SAFETY: per the contract above.
+    // SAFETY: a registered handle is a live Instance<M> (registry).
     let inst = unsafe { &mut *(c as *mut Instance<M>) };
     if inst.magic != MAGIC {
         return Status::Error;
@@ -883,7 +922,9 @@ pub unsafe fn instantiate<M: Model>(
         ));
         inst.me.is_me = model_exchange;
         crate::lifetime::instance_created();
-        Box::into_raw(inst) as Component
+        let c = Box::into_raw(inst) as Component;
+        registry::add::<M>(c);
+        c
     }));
     result.unwrap_or_else(|p| {
         eprintln!(
@@ -902,8 +943,9 @@ pub unsafe fn instantiate<M: Model>(
 pub unsafe fn free_instance<M: Model>(c: Component) {
     // SAFETY: as entry.
     let ok = unsafe { entry::<M>(c, Call::FreeInstance, |_| Ok(Status::Ok)) };
-    if ok == Status::Ok {
-        // SAFETY: entry checked the pointer is a live instance of ours.
+    if ok == Status::Ok && registry::remove::<M>(c) {
+        // SAFETY: entry checked the pointer is a live instance of ours; no longer registered,
+        // no other call reaches it.
         drop(unsafe { Box::from_raw(c as *mut Instance<M>) });
         crate::lifetime::instance_freed();
     }
