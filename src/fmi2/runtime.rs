@@ -612,7 +612,7 @@ mod registry {
     /// Is `c` a live instance of `M`?
     pub fn holds<M: Model>(c: Component) -> bool {
         let key = (c as usize, M::IDENTIFIER);
-        !c.is_null() && live().iter().any(|&k| k == key)
+        !c.is_null() && live().contains(&key)
     }
 
     /// Forgets `c`; false if it was not a live instance of `M`.
