@@ -621,6 +621,10 @@ mod registry {
         match l.iter().position(|&k| k == (c as usize, M::IDENTIFIER)) {
             Some(i) => {
                 l.swap_remove(i);
+                if l.is_empty() {
+                    // no buffer outlives the last instance: a library unloaded then keeps none
+                    *l = Vec::new();
+                }
                 true
             }
             None => false,
