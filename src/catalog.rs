@@ -130,7 +130,7 @@ pub fn scene_fmu(
     let (entry, t) = tailor(&scene).map_err(|e| e.to_string())?;
     let fmu = crate::package::FmuContents {
         identifier: t.identifier.clone(),
-        model_description: crate::md::stamp(&t.model_description, date),
+        model_description: crate::md::stamp(&t.model_description(), date),
         binaries: binaries(entry.identifier)?,
         documentation: (entry.scene_documentation)(&t)?,
         icon: crate::docs::icon_png("Scene")?,

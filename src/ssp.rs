@@ -561,7 +561,7 @@ mod tests {
         assert_eq!(phase(1), None);
         // the drive's: the trimmer's motor, gear and flywheel
         let x = &fmus[0];
-        assert!(x.model_description.contains("name=\"fly.J\""));
+        assert!(x.model_description().contains("name=\"fly.J\""));
         assert_eq!(x.start[vr_of(x, "fly.J")], TRIMMER_FLY_J);
         assert_eq!(x.start[vr_of(x, "gear.i")], 50.0);
     }

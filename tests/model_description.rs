@@ -34,21 +34,140 @@ fn declarations_are_valid_fmi2() {
     }
 }
 
+/// The GUID the binary computes from the declarations (no XML written) is the one the written
+/// description carries, and it names the content: every change of what a description states
+/// changes it, whichever attribute of whichever variable, or of the model, changes.
 #[test]
-fn guid_is_the_hash_of_the_content() {
+fn guid_names_what_the_description_states() {
+    use bindery_fmu::model::{Causality, Initial, Var, VarType, Variability};
+    let unsigned = |xml: &str, guid: &str| xml.replace(&format!("guid=\"{guid}\""), "guid=\"\"");
+    let mut seen = std::collections::HashMap::<String, String>::new();
     for e in catalog::all() {
         let (xml, guid) = (e.describe)();
-        // the GUID is the hash without the date: it names the interface, not the packaging
-        let unsigned = xml
-            .replace(&format!("guid=\"{guid}\""), "guid=\"\"")
-            .replace(
-                &format!(" generationDateAndTime=\"{}\"", md::VERSION_DATE),
-                "",
-            );
-        assert_eq!(md::format_guid(md::fnv1a_128(unsigned.as_bytes())), guid);
-        // any change of content changes the GUID
-        let changed = unsigned.replace("shaft.phi", "shaft.Phi"); // in every FMU
-        assert_ne!(md::format_guid(md::fnv1a_128(changed.as_bytes())), guid);
+        assert!(xml.contains(&format!("guid=\"{guid}\"")));
+        let info = (e.info)();
+        let vars: Vec<(u32, Var)> = (e.variables)()
+            .into_iter()
+            .map(|(vr, v)| (vr, v.clone()))
+            .collect();
+        let describe = |info: &md::ModelInfo, vars: &[(u32, Var)]| {
+            let refs: Vec<(u32, &Var)> = vars.iter().map(|(vr, v)| (*vr, v)).collect();
+            md::describe_vars(info, &refs)
+        };
+        assert_eq!(describe(&info, &vars), (xml.clone(), guid.clone()));
+        let mut variants = vec![];
+        // every attribute of a few variables of each kind
+        let picks: Vec<usize> = [
+            Causality::Parameter,
+            Causality::Input,
+            Causality::Output,
+            Causality::Local,
+            Causality::CalculatedParameter,
+        ]
+        .iter()
+        .filter_map(|c| vars.iter().position(|(_, v)| v.causality == *c))
+        .collect();
+        for &i in &picks {
+            let edits: [fn(&mut Var); 13] = [
+                |v| v.name = "renamed.variable",
+                |v| v.description = "another description",
+                |v| v.start = Some(v.start.unwrap_or(0.0) + 1.0),
+                |v| v.min = Some(v.min.unwrap_or(-1e9) - 1.0),
+                |v| v.max = Some(v.max.unwrap_or(1e9) + 1.0),
+                |v| {
+                    v.unit = if v.unit == Some("m") {
+                        Some("rad")
+                    } else {
+                        Some("m")
+                    }
+                },
+                |v| {
+                    v.display_unit = if v.display_unit.is_some() {
+                        None
+                    } else {
+                        Some("mm")
+                    }
+                },
+                |v| {
+                    v.causality = if v.causality == Causality::Local {
+                        Causality::Output
+                    } else {
+                        Causality::Local
+                    }
+                },
+                |v| {
+                    v.variability = if v.variability == Variability::Fixed {
+                        Variability::Tunable
+                    } else {
+                        Variability::Fixed
+                    }
+                },
+                |v| {
+                    v.initial = if v.initial == Some(Initial::Exact) {
+                        Some(Initial::Approx)
+                    } else {
+                        Some(Initial::Exact)
+                    }
+                },
+                |v| {
+                    v.ty = if v.ty == VarType::Real {
+                        VarType::Integer
+                    } else {
+                        VarType::Real
+                    }
+                },
+                |v| v.depends = if v.depends.is_empty() { &[0] } else { &[] },
+                |v| {
+                    v.derivative = if v.derivative.is_some() {
+                        None
+                    } else {
+                        Some(0)
+                    }
+                },
+            ];
+            for edit in &edits {
+                let mut changed = vars.clone();
+                edit(&mut changed[i].1);
+                variants.push((info.clone(), changed));
+            }
+            let mut fewer = vars.clone();
+            fewer.remove(i);
+            variants.push((info.clone(), fewer));
+        }
+        let mut other = info.clone();
+        other.description = "another model";
+        variants.push((other, vars.clone()));
+        let mut other = info.clone();
+        other.experiment.stop += 1.0;
+        variants.push((other, vars.clone()));
+        let mut other = info.clone();
+        other.can_interpolate_inputs = !other.can_interpolate_inputs;
+        variants.push((other, vars.clone()));
+        let mut count = 0;
+        for (info, vars) in &variants {
+            let (x, g) = describe(info, vars);
+            let content = unsigned(&x, &g);
+            if content != unsigned(&xml, &guid) {
+                assert_ne!(
+                    g, guid,
+                    "{}: a changed description kept the GUID",
+                    e.identifier
+                );
+                count += 1;
+            }
+            // one GUID, one content, over every variant of every model
+            if let Some(c) = seen.insert(g.clone(), content.clone()) {
+                assert_eq!(c, content, "{}: two contents share GUID {g}", e.identifier);
+            }
+        }
+        // all but edits that leave a variable as it was (a unit already "m", say) or that the
+        // writer cannot state (a derivative on a non-state) change the description
+        assert!(
+            count >= 10 * picks.len(),
+            "{}: {count} variants of {} changed the description",
+            e.identifier,
+            variants.len()
+        );
     }
 }
 

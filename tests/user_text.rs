@@ -125,7 +125,7 @@ fn fmu_pages_and_descriptions_cite_only_what_is_in_the_fmu() {
         bad.extend(foreign_in(&format!("{} index.html", t.identifier), &page));
         bad.extend(foreign_in(
             &format!("{} modelDescription.xml", t.identifier),
-            &t.model_description,
+            &t.model_description(),
         ));
     }
     assert!(bad.is_empty(), "{}", bad.join("\n"));

@@ -757,26 +757,6 @@ pub use super::uri::resource_path;
 
 // ---- the calls ------------------------------------------------------------------------------
 
-/// The GUID of `M`, computed once per model type: describing a model takes milliseconds, and a
-/// host may instantiate millions of times.
-fn guid_of<M: Model>() -> &'static str {
-    type Guids = std::sync::Mutex<Vec<(std::any::TypeId, &'static str)>>;
-    static GUIDS: Guids = std::sync::Mutex::new(Vec::new());
-    let id = std::any::TypeId::of::<M>();
-    let mut guids = GUIDS.lock().unwrap_or_else(|e| e.into_inner());
-    if let Some(&(_, g)) = guids.iter().find(|(t, _)| *t == id) {
-        return g;
-    }
-    if guids.is_empty() {
-        crate::lifetime::on_release(|| {
-            *GUIDS.lock().unwrap_or_else(|e| e.into_inner()) = Vec::new();
-        });
-    }
-    let g = crate::lifetime::keep(md::describe::<M>().1).as_str();
-    guids.push((id, g));
-    g
-}
-
 /// `fmi2Instantiate` as a C host calls it: `fmuType` is whatever `int` the host passed, and a
 /// value that is no `fmi2Type` is refused with a log line (turning it into the Rust enum
 /// [`FmuType`] first would be undefined behaviour).
@@ -904,9 +884,10 @@ pub unsafe fn instantiate<M: Model>(
                     .into(),
             );
         }
+        // the GUID of what the description states, from the declarations (no XML written)
         let our_guid = match &scene {
-            Some(t) => t.guid.as_str(),
-            None => guid_of::<M>(),
+            Some(t) => t.guid.clone(),
+            None => md::guid::guid_of::<M>(),
         };
         // SAFETY: NULL or valid C string.
         match unsafe { c_str(guid) } {
@@ -921,7 +902,7 @@ pub unsafe fn instantiate<M: Model>(
         let mut inst = Box::new(Instance::<M>::new(
             logger,
             resources,
-            our_guid,
+            &our_guid,
             scene.clone(),
         ));
         inst.me.is_me = model_exchange;

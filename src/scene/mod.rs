@@ -566,9 +566,21 @@ pub struct Tailored {
     pub variables: Vec<(u32, Var)>,
     /// The stages that run.
     pub stages: Stages,
-    /// The model description and its GUID.
-    pub model_description: String,
+    /// The GUID of its model description ([`Tailored::model_description`]).
     pub guid: String,
+}
+
+impl Tailored {
+    /// The variables the FMU lists, by value reference.
+    pub fn refs(&self) -> Vec<(u32, &Var)> {
+        self.variables.iter().map(|(vr, v)| (*vr, v)).collect()
+    }
+
+    /// Its model description (with [`Tailored::guid`]).
+    #[cfg(feature = "tools")]
+    pub fn model_description(&self) -> String {
+        md::describe_vars(&self.info, &self.refs()).0
+    }
 }
 
 /// `modelIdentifier` of a scene's FMU: the mechanism's, `_`, the scene name with `-` as `_`
@@ -991,7 +1003,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS && exposed[shaft::PHI as usize],
     };
     let refs: Vec<(u32, &Var)> = variables.iter().map(|(vr, v)| (*vr, v)).collect();
-    let (model_description, guid) = md::describe_vars(&info, &refs);
+    let guid = md::guid::guid(&info, &refs);
     Ok(Tailored {
         scene: scene.clone(),
         identifier,
@@ -1000,7 +1012,6 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         start,
         variables,
         stages: needed,
-        model_description,
         guid,
     })
 }
