@@ -40,7 +40,7 @@ use logger::category_bit;
 use snapshot::Snapshot;
 
 const MAGIC: u64 = 0x4249_4e44_4552_5932; // "BINDERY2"
-const STATE_MAGIC: &[u8; 8] = b"BNDRYST3";
+const STATE_MAGIC: &[u8; 8] = b"BNDRYST4";
 
 /// What a host may do with a variable, as the bits of one byte per value reference: the
 /// per-value checks of `fmi2Get*`/`fmi2Set*` are one load and a mask (the variable table holds

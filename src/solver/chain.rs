@@ -20,13 +20,13 @@
 //! 1. its ODE in `elastic.rs`: an [`OdeSystem`] on `y` with its bookkeeping in `Cell`s (a
 //!    dynamic factor: [`track_peaks`] in `on_step`, [`Peaks`] in the memory);
 //! 2. a struct of the chain's constants implementing [`ChainModel`]: the ODE from them and the
-//!    memory, how the memory starts and is read back, its place in the snapshot (a new FMU may
-//!    take `[Mem(n), Integ, Steps, Events]`), the hooks that differ from the defaults;
+//!    memory, how the memory starts and is read back and how many numbers it takes in the
+//!    snapshot ([`ChainModel::MEMORY_LEN`]), the hooks that differ from the defaults;
 //! 3. in the model, `Option<Chain<_>>` built at `prepare` with [`Chain::new`] and
 //!    `Integrator::new(`[`solver_settings`]`(v))`, the hooks by [`crate::chain_hooks!`], and in
 //!    `evaluate` the outputs at [`Chain::held_state`] ([`write_states`], [`Peaks::dyn_factor`]).
 
-use super::{Integrator, Method, OdeSystem, Settings, ShaftPath};
+use super::{Integrator, Memory, Method, OdeSystem, Settings, ShaftPath};
 use crate::model::shaft;
 use crate::model::{Log, Values, VarSet};
 use std::cell::Cell;
@@ -42,37 +42,6 @@ macro_rules! at_accepted_steps {
     };
 }
 
-/// One entry of a mechanism's FMU state layout after the common head
-/// `[started, y0, y1, y2, e0]` ([`ChainModel::LAYOUT`]).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Slot {
-    /// The next `n` numbers of the mechanism's memory ([`ChainModel::save_memory`]).
-    Mem(usize),
-    /// [`Integrator::save`]: the next step size and the `auto` method's stiff mode (2 numbers).
-    Integ,
-    /// The integrator's accepted steps.
-    Steps,
-    /// The integrator's located events.
-    Events,
-    /// The integrator's rejected steps.
-    Rejected,
-}
-
-/// Numbers of the snapshot of a chain with this layout, without Model Exchange indicators.
-pub const fn state_len(layout: &[Slot]) -> usize {
-    let mut n = 5;
-    let mut i = 0;
-    while i < layout.len() {
-        n += match layout[i] {
-            Slot::Mem(k) => k,
-            Slot::Integ => 2,
-            Slot::Steps | Slot::Events | Slot::Rejected => 1,
-        };
-        i += 1;
-    }
-    n
-}
-
 /// What a mechanism supplies for its compliant chain. Implemented by the chain's constants
 /// (stiffness, damping, play...), fixed at `prepare`.
 pub trait ChainModel: Clone + Debug {
@@ -86,13 +55,8 @@ pub trait ChainModel: Clone + Debug {
     /// The ODE of one communication step (or of one Model Exchange call).
     type Ode<'a>: OdeSystem;
 
-    /// The FMU state layout after `[started, y0, y1, y2, e0]`; fixed once published, so that
-    /// saved states still restore.
-    const LAYOUT: &'static [Slot];
-    /// Numbers of that snapshot (without the indicators), checked against the layout when the
-    /// chain is built: the published length, so that a change of the layout is a deliberate
-    /// one.
-    const STATE_LEN: usize;
+    /// Numbers of the mechanism's memory in the FMU state ([`ChainModel::save_memory`]).
+    const MEMORY_LEN: usize;
     /// Event indicators appended to the snapshot (the last event's or step's, so that Model
     /// Exchange transitions are counted after a restore too); 0: none. A snapshot without them
     /// (Co-Simulation) restores as well. A chain whose events count or switch anything (its
@@ -123,7 +87,7 @@ pub trait ChainModel: Clone + Debug {
     fn start(ode: &Self::Ode<'_>, path: &ShaftPath, memory: &mut Self::Memory);
     /// Reads the memory back from the ODE after a step, an event or a completed step.
     fn absorb(ode: &Self::Ode<'_>, memory: &mut Self::Memory);
-    /// The memory as numbers, in the order of the [`Slot::Mem`] entries of the layout.
+    /// The memory as [`ChainModel::MEMORY_LEN`] numbers.
     fn save_memory(memory: &Self::Memory, out: &mut Vec<f64>);
     /// The memory from the numbers [`ChainModel::save_memory`] wrote.
     fn restore_memory(s: &[f64]) -> Self::Memory;
@@ -201,7 +165,7 @@ pub fn transitions<O: OdeSystem>(
 pub struct Chain<C: ChainModel> {
     /// The chain's constants.
     pub model: C,
-    /// The integrator with its memory between steps (next step size, stiff mode, counters).
+    /// The integrator with its memory between steps ([`crate::solver::Memory`]).
     pub integ: Integrator,
     /// The states have been initialized ([`Chain::start`]).
     pub started: bool,
@@ -218,17 +182,12 @@ pub struct Chain<C: ChainModel> {
 }
 
 impl<C: ChainModel> Chain<C> {
-    /// Numbers of the FMU state snapshot (without Model Exchange indicators).
-    pub const STATE_LEN: usize = C::STATE_LEN;
+    /// Numbers of the FMU state snapshot (without Model Exchange indicators): `[started, x, ẋ,
+    /// W, e0]`, the integrator's whole [`Memory`], the mechanism's memory.
+    pub const STATE_LEN: usize = 5 + Memory::LEN + C::MEMORY_LEN;
 
     /// A chain not started yet, with its initial memory.
     pub fn new(model: C, integ: Integrator, memory: C::Memory) -> Self {
-        const {
-            assert!(
-                state_len(C::LAYOUT) == C::STATE_LEN,
-                "ChainModel::LAYOUT is not STATE_LEN long"
-            )
-        };
         Chain {
             model,
             integ,
@@ -265,36 +224,27 @@ impl<C: ChainModel> Chain<C> {
         }
     }
 
-    /// The FMU state snapshot: `[started, y0, y1, y2, e0]`, then [`ChainModel::LAYOUT`], then
-    /// the Model Exchange indicators if the mechanism saves them.
+    /// The FMU state snapshot: `[started, x, ẋ, W, e0]`, the integrator's [`Memory`], the
+    /// mechanism's memory, then the Model Exchange indicators if the mechanism saves them.
     pub fn save(&self) -> Vec<f64> {
-        let mut mem = Vec::new();
-        C::save_memory(&self.memory, &mut mem);
-        let mut mem = mem.into_iter();
-        let mut s = vec![
+        let mut s = Vec::with_capacity(Self::STATE_LEN + self.g_prev.len());
+        s.extend([
             f64::from(u8::from(self.started)),
             self.y[0],
             self.y[1],
             self.y[2],
             self.e0,
-        ];
-        for slot in C::LAYOUT {
-            match *slot {
-                Slot::Mem(n) => s.extend(mem.by_ref().take(n)),
-                Slot::Integ => s.extend(self.integ.save()),
-                Slot::Steps => s.push(self.integ.stats.steps as f64),
-                Slot::Events => s.push(self.integ.stats.events as f64),
-                Slot::Rejected => s.push(self.integ.stats.rejected as f64),
-            }
-        }
-        debug_assert_eq!((s.len(), mem.next()), (Self::STATE_LEN, None));
+        ]);
+        s.extend(self.integ.save().to_numbers());
+        C::save_memory(&self.memory, &mut s);
+        debug_assert_eq!(s.len(), Self::STATE_LEN);
         if C::SAVED_INDICATORS > 0 {
             s.extend_from_slice(&self.g_prev);
         }
         s
     }
 
-    /// Restores [`Chain::save`].
+    /// Restores [`Chain::save`]; a snapshot a host has altered is refused whole.
     pub fn restore(&mut self, s: &[f64]) -> Result<(), String> {
         let n = Self::STATE_LEN;
         let n_ind = C::SAVED_INDICATORS;
@@ -324,34 +274,22 @@ impl<C: ChainModel> Chain<C> {
                 s[1 + i]
             ));
         }
+        if !(s[0] == 0.0 || s[0] == 1.0) || !s[4].is_finite() {
+            return Err(format!(
+                "{} refused: started = {}, E0 = {} (0 or 1, and a finite energy expected)",
+                C::STATE_NAME,
+                s[0],
+                s[4]
+            ));
+        }
+        let integ = Memory::from_numbers(&s[5..5 + Memory::LEN])
+            .map_err(|e| format!("{} refused: {e}", C::STATE_NAME))?;
         self.g_prev = s[n..].to_vec();
         self.started = s[0] != 0.0;
         self.y = [s[1], s[2], s[3]];
         self.e0 = s[4];
-        let mut mem = Vec::new();
-        let mut i = 5;
-        for slot in C::LAYOUT {
-            match *slot {
-                Slot::Mem(k) => {
-                    mem.extend_from_slice(&s[i..i + k]);
-                    i += k;
-                }
-                Slot::Integ => {
-                    self.integ.restore(&s[i..i + 2]);
-                    i += 2;
-                }
-                Slot::Steps | Slot::Events | Slot::Rejected => {
-                    let x = s[i] as usize;
-                    match *slot {
-                        Slot::Steps => self.integ.stats.steps = x,
-                        Slot::Events => self.integ.stats.events = x,
-                        _ => self.integ.stats.rejected = x,
-                    }
-                    i += 1;
-                }
-            }
-        }
-        self.memory = C::restore_memory(&mem);
+        self.integ.restore(integ);
+        self.memory = C::restore_memory(&s[5 + Memory::LEN..n]);
         Ok(())
     }
 }
@@ -592,7 +530,7 @@ pub fn me_completed_step<C: ChainModel>(
         let ode = d.ode(p, shaft::path(v, time), v);
         d.model.me_completed_step(&ode, time, &d.y, &mut d.g_prev);
         C::absorb(&ode, &mut d.memory);
-        d.integ.stats.steps += 1;
+        d.integ.mem.stats.steps += 1;
     }
 }
 
@@ -783,8 +721,7 @@ mod tests {
         type Physics = ();
         type Memory = f64;
         type Ode<'a> = ToyOde;
-        const LAYOUT: &'static [Slot] = &[Slot::Mem(1), Slot::Integ, Slot::Steps, Slot::Events];
-        const STATE_LEN: usize = 10;
+        const MEMORY_LEN: usize = 1;
         const SAVED_INDICATORS: usize = 1;
 
         fn ode(&self, _: &(), path: ShaftPath, _: &Values<TV>, m: &f64) -> ToyOde {
@@ -823,13 +760,6 @@ mod tests {
     }
 
     #[test]
-    fn layout_length() {
-        let layout = [Slot::Mem(3), Slot::Integ, Slot::Steps, Slot::Rejected];
-        assert_eq!(state_len(&layout), 5 + 3 + 2 + 1 + 1);
-        assert_eq!(Chain::<Toy>::STATE_LEN, state_len(Toy::LAYOUT));
-    }
-
-    #[test]
     fn co_simulation_steps_save_and_restore() {
         let mut v = Values::<TV>::start();
         let w = v.raw()[shaft::W as usize];
@@ -847,7 +777,7 @@ mod tests {
         // one turn of the shaft; the mass crossed zero
         assert!((v.raw()[shaft::PHI as usize] - w).abs() < 1e-9);
         assert!(c.started && c.memory >= 1.0, "{c:?}");
-        assert!(c.integ.stats.steps > 0);
+        assert!(c.integ.mem.stats.steps > 0);
         let saved = c.save();
         assert_eq!(saved.len(), Chain::<Toy>::STATE_LEN);
         let mut r = toy(&v, 400.0);
@@ -856,7 +786,7 @@ mod tests {
         assert_eq!((r.y, r.memory), (c.y, c.memory));
         assert_eq!(
             r.restore(&saved[..3]),
-            Err("elastodynamic state has 3 numbers, expected 10 or 11".into())
+            Err("elastodynamic state has 3 numbers, expected 16 or 17".into())
         );
         // a snapshot a host altered: a non-finite state is refused, the chain kept
         let mut bad = saved.clone();
@@ -866,6 +796,43 @@ mod tests {
             Err("elastodynamic state refused: state 1 = inf is not finite".into())
         );
         assert_eq!(bits(&r.save()), bits(&saved));
+        // ... and so is an integrator memory no integrator has: a fractional counter, a
+        // negative step size, a flag that is no flag
+        for (i, x, why) in [
+            (
+                5 + 4,
+                1e300,
+                "integrator's steps = 1e300 refused: a whole number from 0 to 9007199254740992 expected",
+            ),
+            (
+                5 + 5,
+                2.5,
+                "integrator's rejected steps = 2.5 refused: a whole number from 0 to 9007199254740992 expected",
+            ),
+            (5, -1.0, "integrator's next step size = -1.0 refused"),
+            (
+                5 + 1,
+                0.5,
+                "integrator's stiff mode = 0.5 refused: a whole number from 0 to 1 expected",
+            ),
+            (
+                0,
+                2.0,
+                "started = 2, E0 = 0 (0 or 1, and a finite energy expected)",
+            ),
+        ] {
+            let mut bad = saved.clone();
+            bad[i] = x;
+            if i == 0 {
+                bad[4] = 0.0;
+            }
+            assert_eq!(
+                r.restore(&bad),
+                Err(format!("elastodynamic state refused: {why}")),
+                "{i}"
+            );
+            assert_eq!(bits(&r.save()), bits(&saved));
+        }
     }
 
     #[test]
@@ -878,7 +845,7 @@ mod tests {
         let before = c.save();
         assert!(do_step(Some(&mut c), &(), &v, 0.0, 0.01, &mut NoLog).is_err());
         assert_eq!(bits(&c.save()), bits(&before));
-        assert_eq!(c.integ.stats, toy(&v, 1e8).integ.stats);
+        assert_eq!(c.integ.mem.stats, toy(&v, 1e8).integ.mem.stats);
         assert_eq!(do_step::<Toy>(None, &(), &v, 0.0, 0.01, &mut NoLog), Ok(()));
     }
 
@@ -900,7 +867,7 @@ mod tests {
         me_set_states(Some(&mut c), &(), &v, 0.0, &[-0.5, 0.0, 0.0]);
         me_completed_step(Some(&mut c), &(), &v, 0.0);
         assert_eq!(c.memory, 1.0);
-        assert_eq!(c.integ.stats.steps, 1, "the host's step is counted");
+        assert_eq!(c.integ.mem.stats.steps, 1, "the host's step is counted");
         let saved = save_state(Some(&c));
         assert_eq!(saved.len(), Chain::<Toy>::STATE_LEN + 1);
         let mut r = toy(&v, 400.0);

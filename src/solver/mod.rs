@@ -299,19 +299,112 @@ enum Stepper {
     Rk4,
 }
 
-/// An integrator with its memory between communication steps (the next step size, and for
-/// `auto` which method it is in).
-#[derive(Clone, Debug, PartialEq)]
-pub struct Integrator {
-    pub settings: Settings,
+/// Everything an integrator carries from one `integrate` call to the next: the step size to
+/// try, `auto`'s mode and the counters that decide its switches, the statistics. One value,
+/// saved and restored as a unit (`fmi2GetFMUstate`, a refused step), so a restored integrator
+/// replays every step bit for bit under every method.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Memory {
     /// Step size to try next (0: choose one).
     pub h_next: f64,
     /// `auto` is in its stiff (implicit) mode.
     pub stiff: bool,
+    /// Consecutive Dormand–Prince steps with h·|λ| > 3.25 (Hairer's stiffness test).
+    pub stiff_count: u32,
+    /// Consecutive checks in the stiff mode that found the explicit method stable.
+    pub nonstiff_count: u32,
     /// Counters since creation.
     pub stats: Stats,
-    stiff_count: u32,
-    nonstiff_count: u32,
+}
+
+impl Memory {
+    /// Numbers of [`Memory::to_numbers`].
+    pub const LEN: usize = 10;
+
+    /// The memory as numbers (counters exact up to 2^53).
+    pub fn to_numbers(&self) -> [f64; Memory::LEN] {
+        let s = &self.stats;
+        [
+            self.h_next,
+            f64::from(u8::from(self.stiff)),
+            f64::from(self.stiff_count),
+            f64::from(self.nonstiff_count),
+            s.steps as f64,
+            s.rejected as f64,
+            s.rhs_evals as f64,
+            s.jac_evals as f64,
+            s.events as f64,
+            s.switches as f64,
+        ]
+    }
+
+    /// The memory [`Memory::to_numbers`] wrote, checked: a step size finite and not negative,
+    /// a flag 0 or 1, counters whole numbers from 0 to 2^53 (a host may alter a serialized
+    /// state).
+    pub fn from_numbers(x: &[f64]) -> Result<Memory, String> {
+        const NAMES: [&str; Memory::LEN] = [
+            "next step size",
+            "stiff mode",
+            "stiffness count",
+            "non-stiffness count",
+            "steps",
+            "rejected steps",
+            "right-hand side evaluations",
+            "Jacobian evaluations",
+            "events",
+            "method switches",
+        ];
+        if x.len() != Memory::LEN {
+            return Err(format!(
+                "integrator memory has {} numbers, expected {}",
+                x.len(),
+                Memory::LEN
+            ));
+        }
+        if !(x[0].is_finite() && x[0] >= 0.0) {
+            return Err(format!("integrator's {} = {:?} refused", NAMES[0], x[0]));
+        }
+        let limit = |i: usize| {
+            if i == 1 {
+                1.0
+            } else if i < 4 {
+                u32::MAX as f64
+            } else {
+                9007199254740992.0
+            }
+        };
+        if let Some(i) =
+            (1..Memory::LEN).find(|&i| !(x[i] >= 0.0 && x[i] <= limit(i) && x[i].fract() == 0.0))
+        {
+            return Err(format!(
+                "integrator's {} = {:?} refused: a whole number from 0 to {} expected",
+                NAMES[i],
+                x[i],
+                limit(i)
+            ));
+        }
+        Ok(Memory {
+            h_next: x[0],
+            stiff: x[1] == 1.0,
+            stiff_count: x[2] as u32,
+            nonstiff_count: x[3] as u32,
+            stats: Stats {
+                steps: x[4] as usize,
+                rejected: x[5] as usize,
+                rhs_evals: x[6] as usize,
+                jac_evals: x[7] as usize,
+                events: x[8] as usize,
+                switches: x[9] as usize,
+            },
+        })
+    }
+}
+
+/// An integrator: its settings (from the model's parameters) and its [`Memory`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Integrator {
+    pub settings: Settings,
+    pub mem: Memory,
 }
 
 /// Outcome of one step attempt.
@@ -416,25 +509,21 @@ impl Integrator {
     pub fn new(settings: Settings) -> Self {
         Integrator {
             settings,
-            h_next: 0.0,
-            stiff: settings.method == Method::Radau5,
-            stats: Stats::default(),
-            stiff_count: 0,
-            nonstiff_count: 0,
+            mem: Memory {
+                stiff: settings.method == Method::Radau5,
+                ..Memory::default()
+            },
         }
     }
 
-    /// Memory for `fmi2GetFMUstate`: `[h_next, stiff]`.
-    pub fn save(&self) -> [f64; 2] {
-        [self.h_next, if self.stiff { 1.0 } else { 0.0 }]
+    /// Its whole memory, for `fmi2GetFMUstate`.
+    pub fn save(&self) -> Memory {
+        self.mem
     }
 
     /// Restores [`Integrator::save`].
-    pub fn restore(&mut self, s: &[f64]) {
-        if s.len() >= 2 {
-            self.h_next = s[0];
-            self.stiff = s[1] != 0.0;
-        }
+    pub fn restore(&mut self, m: Memory) {
+        self.mem = m;
     }
 
     fn norm(&self, sys: &dyn OdeSystem, e: &[f64], y0: &[f64], y1: &[f64]) -> f64 {
@@ -465,7 +554,7 @@ impl Integrator {
     ) -> Result<Stats, String> {
         let mut st = Stats::default();
         let r = self.run(sys, t0, t1, y, &mut st);
-        self.stats.add(&st);
+        self.mem.stats.add(&st);
         r.map(|_| st)
     }
 
@@ -511,8 +600,8 @@ impl Integrator {
         let fixed = set.method == Method::Rk4;
         let mut h = if fixed {
             max_step
-        } else if self.h_next > 0.0 {
-            self.h_next
+        } else if self.mem.h_next > 0.0 {
+            self.mem.h_next
         } else {
             self.initial_step(sys, t, y, &f0, max_step, st)
         };
@@ -533,7 +622,7 @@ impl Integrator {
                 Method::Dopri5 => Stepper::Dopri,
                 Method::Radau5 => Stepper::Radau,
                 Method::Auto => {
-                    if self.stiff {
+                    if self.mem.stiff {
                         Stepper::Radau
                     } else {
                         Stepper::Dopri
@@ -560,24 +649,24 @@ impl Integrator {
                 // LSODA-like: compare the accuracy step with the explicit stability limit.
                 let rho = spectral_radius(n, &jac);
                 let h_stab = 3.3 / rho.max(1e-300);
-                if !self.stiff && hs > 1.5 * h_stab {
-                    self.stiff = true;
+                if !self.mem.stiff && hs > 1.5 * h_stab {
+                    self.mem.stiff = true;
                     st.switches += 1;
-                } else if self.stiff {
+                } else if self.mem.stiff {
                     if hs < 0.5 * h_stab {
-                        self.nonstiff_count += 1;
-                        if self.nonstiff_count > 2 {
-                            self.stiff = false;
-                            self.nonstiff_count = 0;
+                        self.mem.nonstiff_count += 1;
+                        if self.mem.nonstiff_count > 2 {
+                            self.mem.stiff = false;
+                            self.mem.nonstiff_count = 0;
                             st.switches += 1;
                         }
                     } else {
-                        self.nonstiff_count = 0;
+                        self.mem.nonstiff_count = 0;
                     }
                 }
             }
             let stepper = if set.method == Method::Auto {
-                if self.stiff {
+                if self.mem.stiff {
                     Stepper::Radau
                 } else {
                     Stepper::Dopri
@@ -626,16 +715,16 @@ impl Integrator {
             // stiffness detection inside Dormand-Prince (Hairer): h*|lambda| > 3.25 repeatedly
             if stepper == Stepper::Dopri {
                 if att.hlamb > 3.25 {
-                    self.stiff_count += 1;
-                    if self.stiff_count >= 15 {
+                    self.mem.stiff_count += 1;
+                    if self.mem.stiff_count >= 15 {
                         if set.method == Method::Auto {
-                            self.stiff = true;
+                            self.mem.stiff = true;
                             st.switches += 1;
                         }
-                        self.stiff_count = 0;
+                        self.mem.stiff_count = 0;
                     }
                 } else {
-                    self.stiff_count = 0;
+                    self.mem.stiff_count = 0;
                 }
             }
             // events
@@ -749,12 +838,12 @@ impl Integrator {
                 let base = if (last || hacc < hs) && h > hs { h } else { hs };
                 h = (base * fac).min(max_step);
                 if hacc == hs {
-                    self.h_next = h;
+                    self.mem.h_next = h;
                 }
             }
         }
         if !fixed {
-            self.h_next = h;
+            self.mem.h_next = h;
         }
         Ok(())
     }

@@ -130,7 +130,7 @@ fn contact_events_are_located_and_energy_is_kept() {
             }
         }
         assert!((peak - 1.0).abs() < 1e-4, "{m:?}: {peak}");
-        assert!(it.stats.events >= 2, "{m:?}: {:?}", it.stats);
+        assert!(it.mem.stats.events >= 2, "{m:?}: {:?}", it.mem.stats);
     }
 }
 
@@ -224,5 +224,125 @@ fn an_event_function_resting_at_zero_holds_its_sign() {
         let lobe = if k % 2 == 0 { 1.0 } else { -1.0 };
         assert!(before * lobe > 0.0 && after == 0.0, "{seen:?}");
     }
-    assert_eq!(it.stats.events, 5);
+    assert_eq!(it.mem.stats.events, 5);
+}
+
+/// Van der Pol's oscillator, y1'' = μ((1 − y1²)y1' − y1): stiff on its slow branches, not in
+/// its fast jumps, so `auto` switches both ways.
+struct VanDerPol {
+    mu: f64,
+}
+
+impl OdeSystem for VanDerPol {
+    fn dim(&self) -> usize {
+        2
+    }
+    fn rhs(&self, _t: f64, y: &[f64], dy: &mut [f64]) {
+        dy[0] = y[1];
+        dy[1] = self.mu * ((1.0 - y[0] * y[0]) * y[1]) - y[0];
+    }
+    fn jacobian(&self, _t: f64, y: &[f64], j: &mut [f64]) {
+        j.copy_from_slice(&[
+            0.0,
+            1.0,
+            -2.0 * self.mu * y[0] * y[1] - 1.0,
+            self.mu * (1.0 - y[0] * y[0]),
+        ]);
+    }
+}
+
+/// The integrator's whole memory is one value: an integrator restored from it at any
+/// communication step replays the rest of the run bit for bit, under every method, `auto`
+/// switching between them included. Restoring only part of it (the step size and the mode, as
+/// before `Memory`) does not.
+#[test]
+fn a_restored_integrator_replays_every_step_bit_for_bit() {
+    let sys = VanDerPol { mu: 200.0 };
+    // a run over two periods (about 650), communication steps short enough to end inside
+    // the runs of steps that `auto`'s switch counters count
+    let (n, h) = (2600, 0.25);
+    let window = 40;
+    for method in [Method::Auto, Method::Dopri5, Method::Radau5, Method::Rk4] {
+        let settings = Settings {
+            method,
+            rtol: 1e-6,
+            atol: 1e-9,
+            max_step: if method == Method::Rk4 { 1e-3 } else { 1.0 },
+            max_steps: 2_000_000,
+        };
+        let (n, h) = if method == Method::Rk4 {
+            (20, 0.05)
+        } else {
+            (n, h)
+        };
+        let mut it = Integrator::new(settings);
+        let mut y = [2.0, 0.0];
+        let mut saved = vec![(it.save(), y)];
+        for k in 0..n {
+            it.integrate(&sys, k as f64 * h, (k + 1) as f64 * h, &mut y)
+                .unwrap();
+            saved.push((it.save(), y));
+        }
+        if method == Method::Auto {
+            assert!(it.mem.stats.switches >= 4, "{:?}", it.mem.stats);
+        }
+        // every save where a switch counter runs, and a sample of the others
+        let counting: Vec<usize> = (0..n)
+            .filter(|&k| saved[k].0.stiff_count > 0 || saved[k].0.nonstiff_count > 0)
+            .collect();
+        if method == Method::Auto {
+            assert!(!counting.is_empty());
+        }
+        let replay = |from: usize, memory: Memory| {
+            let mut it = Integrator::new(settings);
+            it.restore(memory);
+            let mut y = saved[from].1;
+            let mut out = vec![];
+            for k in from..(from + window).min(n) {
+                it.integrate(&sys, k as f64 * h, (k + 1) as f64 * h, &mut y)
+                    .unwrap();
+                out.push((it.save(), y));
+            }
+            out
+        };
+        let bits = |v: &[(Memory, [f64; 2])]| -> Vec<[u64; 12]> {
+            v.iter()
+                .map(|(m, y)| {
+                    let mut b = [0; 12];
+                    for (i, x) in m.to_numbers().iter().chain(y).enumerate() {
+                        b[i] = x.to_bits();
+                    }
+                    b
+                })
+                .collect()
+        };
+        let mut partial_diverged = 0;
+        for from in (0..n).step_by(13).chain(counting) {
+            let memory = saved[from].0;
+            let end = (from + window).min(n);
+            assert_eq!(
+                bits(&replay(from, memory)),
+                bits(&saved[from + 1..=end]),
+                "{method:?} from step {from}"
+            );
+            let part = Memory {
+                h_next: memory.h_next,
+                stiff: memory.stiff,
+                stats: memory.stats,
+                ..Memory::default()
+            };
+            let states = |v: &[(Memory, [f64; 2])]| -> Vec<[u64; 2]> {
+                v.iter().map(|(_, y)| y.map(f64::to_bits)).collect()
+            };
+            if states(&replay(from, part)) != states(&saved[from + 1..=end]) {
+                partial_diverged += 1;
+            }
+        }
+        if method == Method::Auto {
+            assert!(
+                partial_diverged > 0,
+                "the switch counters matter under auto"
+            );
+        }
+    }
 }

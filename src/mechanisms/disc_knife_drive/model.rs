@@ -5,8 +5,7 @@ use super::elastic::{Point, RodOde, dead_point_threshold};
 use super::physics::{Forces, Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
-use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
-use crate::solver::chain::{self, Chain, ChainModel, Peaks, Slot};
+use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, Settings, ShaftPath};
 
 /// The computations a scene may leave out (`scenes.md`); the variables below say which they
@@ -140,8 +139,7 @@ impl ChainModel for RodChain {
     /// Of the shaft turns: peak |P| and peak |P_rigid|, K_d.
     type Memory = Peaks;
     type Ode<'a> = RodOde<'a>;
-    const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Events];
-    const STATE_LEN: usize = 13;
+    const MEMORY_LEN: usize = 4;
     const SAVED_INDICATORS: usize = <DiscKnifeDrive as Model>::EVENT_INDICATORS;
     const STATE_NAME: &'static str = "DiscKnifeDrive elastodynamic state";
 
@@ -328,7 +326,7 @@ impl Model for DiscKnifeDrive {
             let e0 = if d.started { d.e0 } else { ode.energy(&pt) };
             v[V::elastic_E_residual] = ode.energy(&pt) - e0 - y[2];
             v[V::dyn_factor] = d.memory.dyn_factor();
-            v[V::solver_steps] = d.integ.stats.steps as f64;
+            v[V::solver_steps] = d.integ.mem.stats.steps as f64;
             let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
             let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
             chain::write_states(v, states, ders, &y, pt.eval.xdd, pt.eval.power);

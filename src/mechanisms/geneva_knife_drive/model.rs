@@ -6,8 +6,7 @@ use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Experiment, Log, Model, ParamError, Stage, Stages, Values};
-use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
-use crate::solver::chain::{self, Chain, ChainModel, Peaks, Slot};
+use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
@@ -144,8 +143,7 @@ impl ChainModel for KnifeChain {
     type Physics = Params;
     type Memory = KnifeMemory;
     type Ode<'a> = KnifeOde<'a>;
-    const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Events, Mem(1)];
-    const STATE_LEN: usize = 14;
+    const MEMORY_LEN: usize = 5;
     const SAVED_INDICATORS: usize = <GenevaKnifeDrive as Model>::EVENT_INDICATORS;
     /// A cut-through or the knife back above the stack changes the indicators of the stack.
     const REEVALUATE_INDICATORS: bool = true;
@@ -321,7 +319,7 @@ impl Model for GenevaKnifeDrive {
             v[V::elastic_E_residual] =
                 ode.energy(&pt) - if d.started { d.e0 } else { ode.energy(&pt) } - y[2];
             v[V::dyn_factor] = d.memory.peaks.dyn_factor();
-            v[V::solver_steps] = d.integ.stats.steps as f64;
+            v[V::solver_steps] = d.integ.mem.stats.steps as f64;
             shaft::set_outputs(v, tau, s.w);
             return;
         }

@@ -4,7 +4,7 @@
 
 use super::physics::{Load, Motor, Params, Point};
 use crate::model::{Experiment, Log, Model, ParamError, Values};
-use crate::solver::{Integrator, Method, OdeSystem, Settings};
+use crate::solver::{Integrator, Memory, Method, OdeSystem, Settings};
 use std::f64::consts::PI;
 
 const RPM: f64 = PI / 30.0;
@@ -185,7 +185,7 @@ impl Model for MainShaft {
         v[V::motor_s] = m.slip(motor_w);
         v[V::motor_P] = motor_tau * motor_w;
         v[V::bearing_tau] = self.params.friction(w);
-        v[V::solver_steps] = self.integ.stats.steps as f64;
+        v[V::solver_steps] = self.integ.mem.stats.steps as f64;
     }
 
     fn do_step(
@@ -238,24 +238,20 @@ impl Model for MainShaft {
     /// The host's accepted step, counted in `solver.steps` as the own integrator's in
     /// Co-Simulation.
     fn me_completed_step(&mut self, _v: &Values<V>, _time: f64, _log: &mut dyn Log) {
-        self.integ.stats.steps += 1;
+        self.integ.mem.stats.steps += 1;
     }
 
     fn save_state(&self) -> Vec<f64> {
-        let h = self.integ.save();
-        vec![
-            self.y[0],
-            self.y[1],
-            h[0],
-            h[1],
-            self.integ.stats.steps as f64,
-        ]
+        let mut s = vec![self.y[0], self.y[1]];
+        s.extend(self.integ.save().to_numbers());
+        s
     }
 
     fn restore_state(&mut self, s: &[f64]) -> Result<(), String> {
-        if s.len() != 5 {
+        let n = 2 + Memory::LEN;
+        if s.len() != n {
             return Err(format!(
-                "MainShaft state has {} numbers, expected 5",
+                "MainShaft state has {} numbers, expected {n}",
                 s.len()
             ));
         }
@@ -266,9 +262,10 @@ impl Model for MainShaft {
                 s[i]
             ));
         }
+        let integ =
+            Memory::from_numbers(&s[2..]).map_err(|e| format!("MainShaft state refused: {e}"))?;
         self.y = [s[0], s[1]];
-        self.integ.restore(&s[2..4]);
-        self.integ.stats.steps = s[4] as usize;
+        self.integ.restore(integ);
         Ok(())
     }
 }

@@ -18,8 +18,7 @@ use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Stages, Values};
-use crate::solver::chain::Slot::{Events, Integ, Mem, Rejected, Steps};
-use crate::solver::chain::{self, Chain, ChainModel, Slot};
+use crate::solver::chain::{self, Chain, ChainModel};
 use crate::solver::{Integrator, OdeSystem, ShaftPath};
 use std::cell::Cell;
 use std::f64::consts::TAU;
@@ -507,8 +506,7 @@ impl ChainModel for LeverChain {
     type Physics = Drive;
     type Memory = LeverMemory;
     type Ode<'a> = LeverOde<'a>;
-    const LAYOUT: &'static [Slot] = &[Mem(10), Integ, Steps, Events, Mem(1), Rejected, Mem(6)];
-    const STATE_LEN: usize = 27;
+    const MEMORY_LEN: usize = 17;
     const SAVED_INDICATORS: usize = <Perforators as Model>::EVENT_INDICATORS;
 
     fn ode<'a>(
@@ -826,7 +824,7 @@ impl Perforators {
         } else {
             0.0
         };
-        v[V::solver_steps] = d.integ.stats.steps as f64;
+        v[V::solver_steps] = d.integ.mem.stats.steps as f64;
         let states = [V::elastic_q, V::elastic_qd, V::elastic_W];
         let ders = [V::der_elastic_q, V::der_elastic_qd, V::der_elastic_W];
         let qdd = pt.rigid.gamma_a - k.gamma_a;

@@ -6,8 +6,7 @@ use super::physics::{Kind, Params};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Stages, Values};
-use crate::solver::chain::Slot::{Events, Integ, Mem, Steps};
-use crate::solver::chain::{self, Chain, ChainModel, Peaks, Slot};
+use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
@@ -247,8 +246,7 @@ impl ChainModel for TableChain {
     type Physics = Params;
     type Memory = TableMemory;
     type Ode<'a> = TableOde<'a>;
-    const LAYOUT: &'static [Slot] = &[Mem(4), Integ, Steps, Mem(3), Events];
-    const STATE_LEN: usize = 16;
+    const MEMORY_LEN: usize = 7;
     const SAVED_INDICATORS: usize = <SewingTable as Model>::EVENT_INDICATORS;
 
     fn ode<'a>(
@@ -486,7 +484,7 @@ impl Model for SewingTable {
             } else {
                 0.0
             };
-            v[V::solver_steps] = d.integ.stats.steps as f64;
+            v[V::solver_steps] = d.integ.mem.stats.steps as f64;
             let tau = pt.f_c * k.c.dx + p.cam_j * st.a;
             let r = shaft::reduce(|a| {
                 let ka = p.kinematics(st.phi, st.w, a);
