@@ -42,42 +42,42 @@ use snapshot::Snapshot;
 const MAGIC: u64 = 0x4249_4e44_4552_5932; // "BINDERY2"
 const STATE_MAGIC: &[u8; 8] = b"BNDRYST4";
 
-/// What a host may do with a variable, as the bits of one byte per value reference: the
-/// per-value checks of `fmi2Get*`/`fmi2Set*` are one load and a mask (the variable table holds
-/// the same facts, for the messages of refused calls).
+/// What a host may do with a variable, as bits of one word per value reference: the per-value
+/// checks of `fmi2Get*`/`fmi2Set*` are one load and a mask (the variable table holds the same
+/// facts, for the messages of refused calls).
 pub mod access {
     use crate::model::{Causality, SetPhase, Var, VarType};
 
+    /// The bits of one variable.
+    pub type Bits = u16;
     /// Read and written by `fmi2GetReal`/`fmi2SetReal`.
-    pub const REAL: u8 = 1;
+    pub const REAL: Bits = 1;
     /// By the Integer calls (Integer and Enumeration variables).
-    pub const INTEGER: u8 = 2;
+    pub const INTEGER: Bits = 2;
     /// By the Boolean calls.
-    pub const BOOLEAN: u8 = 4;
+    pub const BOOLEAN: Bits = 4;
     /// Settable before `fmi2EnterInitializationMode`.
-    pub const SET_INSTANTIATED: u8 = 8;
+    pub const SET_INSTANTIATED: Bits = 8;
     /// Settable in initialization mode.
-    pub const SET_INITIALIZATION: u8 = 16;
-    /// Settable after initialization.
-    pub const SET_RUNNING: u8 = 32;
+    pub const SET_INITIALIZATION: Bits = 16;
+    /// Settable after initialization (Co-Simulation, Model Exchange in event mode).
+    pub const SET_RUNNING: Bits = 32;
     /// An Enumeration: a set value must be one of its items (checked on the slow path).
-    pub const ENUMERATION: u8 = 64;
+    pub const ENUMERATION: Bits = 64;
     /// A parameter: setting it re-prepares the model.
-    pub const PARAMETER: u8 = 128;
+    pub const PARAMETER: Bits = 128;
+    /// Settable in Model Exchange's continuous-time mode (an input).
+    pub const SET_CONTINUOUS_TIME: Bits = 256;
 
     /// The bits of one declared variable.
-    pub fn of(v: &Var) -> u8 {
+    pub fn of(v: &Var) -> Bits {
         let mut a = match v.ty {
             VarType::Real => REAL,
             VarType::Integer => INTEGER,
             VarType::Boolean => BOOLEAN,
             VarType::Enumeration(_) => INTEGER | ENUMERATION,
         };
-        for phase in [
-            SetPhase::Instantiated,
-            SetPhase::Initialization,
-            SetPhase::Running,
-        ] {
+        for phase in SetPhase::ALL {
             if v.settable(phase) {
                 a |= settable_bit(phase);
             }
@@ -90,18 +90,19 @@ pub mod access {
 
     /// The bit that says a variable may be set in this phase.
     #[inline]
-    pub fn settable_bit(phase: SetPhase) -> u8 {
+    pub fn settable_bit(phase: SetPhase) -> Bits {
         match phase {
             SetPhase::Instantiated => SET_INSTANTIATED,
             SetPhase::Initialization => SET_INITIALIZATION,
             SetPhase::Running => SET_RUNNING,
+            SetPhase::ContinuousTime => SET_CONTINUOUS_TIME,
         }
     }
 }
 
 /// The [`access`] bits of every variable of `M`; 0 for those a tailored FMU leaves out, so the
 /// per-call checks refuse them without looking at the scene.
-fn access_table<M: Model>(scene: Option<&crate::scene::Tailored>) -> Box<[u8]> {
+fn access_table<M: Model>(scene: Option<&crate::scene::Tailored>) -> Box<[access::Bits]> {
     <M::Var as VarSet>::table()
         .iter()
         .enumerate()
@@ -134,7 +135,7 @@ pub struct Instance<M: Model> {
     /// Model Exchange: instantiated as such, and its mode.
     pub me: me::MeMode,
     /// Per value reference, what a host may do with it ([`access`]; 0: not visible).
-    access: Box<[u8]>,
+    access: Box<[access::Bits]>,
     /// The scene this FMU is tailored to (`resources/scene.toml`), if any: its variables are
     /// the only ones a host may address, its start values and stages are the instance's.
     pub scene: Option<std::sync::Arc<crate::scene::Tailored>>,
@@ -250,6 +251,9 @@ impl<M: Model> Instance<M> {
         match self.state {
             State::Instantiated => SetPhase::Instantiated,
             State::InitializationMode => SetPhase::Initialization,
+            State::StepComplete if self.me.is_me && self.me.mode == me::Mode::ContinuousTime => {
+                SetPhase::ContinuousTime
+            }
             _ => SetPhase::Running,
         }
     }
@@ -316,18 +320,10 @@ impl<M: Model> Instance<M> {
                     match phase {
                         SetPhase::Running =>
                             "after initialization (it is not an input or tunable parameter)",
+                        SetPhase::ContinuousTime =>
+                            "in continuous-time mode (only continuous inputs; a tunable parameter in event mode)",
                         _ => "(it is not a parameter or an input)",
                     }
-                ));
-            }
-            if self.me.is_me
-                && self.state == State::StepComplete
-                && self.me.mode == me::Mode::ContinuousTime
-                && v.causality != crate::model::Causality::Input
-            {
-                return Err(format!(
-                    "{} cannot be set in continuous-time mode (only continuous inputs; a tunable parameter in event mode)",
-                    v.name
                 ));
             }
             if !x.is_finite() {
@@ -1080,7 +1076,7 @@ pub unsafe fn reset<M: Model>(c: Component) -> Status {
 #[derive(Clone, Copy)]
 struct Kind {
     name: &'static str,
-    bit: u8,
+    bit: access::Bits,
     ok: fn(VarType) -> bool,
 }
 

@@ -240,3 +240,23 @@ fn debug_logging_categories() {
         free_instance::<Tiny>(c);
     }
 }
+
+/// Model Exchange's rule is in the mask the fast path of `fmi2Set*` tests: in continuous-time
+/// mode only inputs; a tunable parameter (settable after initialization) is not.
+#[test]
+fn continuous_time_mode_is_a_bit_of_the_access_mask() {
+    use crate::model::{Var, Variability};
+    let mut tunable = Var::parameter("test.k", 1.0, "N/m", "a tunable parameter");
+    tunable.variability = Variability::Tunable;
+    let a = access::of(&tunable);
+    assert!(a & access::SET_RUNNING != 0);
+    assert!(a & access::SET_CONTINUOUS_TIME == 0);
+    let input = &TV::table()[crate::model::shaft::PHI as usize];
+    let a = access::of(input);
+    assert!(a & access::SET_RUNNING != 0 && a & access::SET_CONTINUOUS_TIME != 0);
+    let fixed = &TV::table()[TV::boom as usize];
+    assert_eq!(
+        access::of(fixed) & (access::SET_RUNNING | access::SET_CONTINUOUS_TIME),
+        0
+    );
+}
