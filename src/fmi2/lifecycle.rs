@@ -1,0 +1,339 @@
+//! The instance's life: `fmi2Instantiate` (the scene a tailored FMU reads, the GUID),
+//! `fmi2FreeInstance`, `fmi2SetDebugLogging`, `fmi2SetupExperiment`, initialization,
+//! `fmi2Terminate`, `fmi2Reset`.
+
+use super::*;
+
+/// The scene an FMU is tailored to: `scene.toml` in its resources, if there is one.
+fn load_scene<M: Model>(
+    resources: Option<&PathBuf>,
+) -> Result<Option<std::sync::Arc<crate::scene::Tailored>>, String> {
+    let Some(path) = resources.map(|r| r.join(crate::scene::RESOURCE_NAME)) else {
+        return Ok(None);
+    };
+    match std::fs::read_to_string(&path) {
+        Ok(text) => crate::scene::cached::<M>(&text)
+            .map(Some)
+            .map_err(|e| format!("{}: {e}", path.display())),
+        Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+        Err(e) => Err(format!("{}: {e}", path.display())),
+    }
+}
+
+/// `fmi2Instantiate` as a C host calls it: `fmuType` is whatever `int` the host passed, and a
+/// value that is no `fmi2Type` is refused with a log line (turning it into the Rust enum
+/// [`FmuType`] first would be undefined behaviour).
+///
+/// # Safety
+/// As [`instantiate`].
+pub unsafe fn instantiate_c<M: Model>(
+    instance_name: FmiString,
+    fmu_type: std::ffi::c_int,
+    guid: FmiString,
+    resource_location: FmiString,
+    functions: *const CallbackFunctions,
+    visible: Boolean,
+    logging_on: Boolean,
+) -> Component {
+    if let Some(ty) = FmuType::from_c(fmu_type) {
+        // SAFETY: as this function.
+        return unsafe {
+            instantiate::<M>(
+                instance_name,
+                ty,
+                guid,
+                resource_location,
+                functions,
+                visible,
+                logging_on,
+            )
+        };
+    }
+    let why = format!(
+        "fmi2Instantiate: fmuType {fmu_type} is not an fmi2Type (0 = ModelExchange, 1 = CoSimulation); refused"
+    );
+    // SAFETY: NULL or a valid struct, per the standard.
+    match unsafe { functions.as_ref() } {
+        Some(f) if f.logger.is_some() => {
+            // SAFETY: NULL or valid C string.
+            let name = unsafe { c_str(instance_name) }
+                .filter(|n| !n.is_empty())
+                .unwrap_or(M::IDENTIFIER);
+            Logger {
+                callback: f.logger,
+                env: f.component_environment,
+                name: CString::new(name).unwrap_or_default(),
+                on: false,
+                categories: u32::MAX,
+            }
+            .emit(Status::Error, "logStatusError", &why)
+        }
+        _ => eprintln!("{}: {why}", M::IDENTIFIER),
+    }
+    std::ptr::null_mut()
+}
+
+/// `fmi2Instantiate`.
+///
+/// # Safety
+/// Pointer arguments must be NULL or valid per the FMI 2.0 standard.
+pub unsafe fn instantiate<M: Model>(
+    instance_name: FmiString,
+    fmu_type: FmuType,
+    guid: FmiString,
+    resource_location: FmiString,
+    functions: *const CallbackFunctions,
+    _visible: Boolean,
+    logging_on: Boolean,
+) -> Component {
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        if functions.is_null() {
+            eprintln!(
+                "{}: fmi2Instantiate: callback functions are NULL; refused",
+                M::IDENTIFIER
+            );
+            return std::ptr::null_mut();
+        }
+        // SAFETY: non-NULL, per the standard a valid struct.
+        let f = unsafe { *functions };
+        // SAFETY: NULL or valid C string.
+        let name = unsafe { c_str(instance_name) }.unwrap_or("");
+        let logger = Logger {
+            callback: f.logger,
+            env: f.component_environment,
+            name: CString::new(if name.is_empty() { M::IDENTIFIER } else { name })
+                .unwrap_or_default(),
+            on: logging_on != FALSE,
+            categories: u32::MAX,
+        };
+        let refuse = |why: String| {
+            logger.emit(
+                Status::Error,
+                "logStatusError",
+                &format!("fmi2Instantiate: {why}; refused"),
+            );
+            std::ptr::null_mut()
+        };
+        if f.logger.is_none() {
+            eprintln!(
+                "{}: fmi2Instantiate: the logger callback is NULL; refused",
+                M::IDENTIFIER
+            );
+            return std::ptr::null_mut();
+        }
+        if name.is_empty() {
+            return refuse("instanceName is NULL or empty".into());
+        }
+        let model_exchange = fmu_type as i32 == FmuType::ModelExchange as i32 && M::STATES > 0;
+        if fmu_type as i32 != FmuType::CoSimulation as i32 && !model_exchange {
+            return refuse(format!(
+                "fmuType {} requested; this FMU provides Co-Simulation (1) only",
+                fmu_type as i32
+            ));
+        }
+        // SAFETY: NULL or valid C string.
+        let resources = unsafe { c_str(resource_location) }.and_then(resource_path);
+        let scene = match load_scene::<M>(resources.as_ref()) {
+            Ok(s) => s,
+            Err(why) => return refuse(format!("scene refused: {why}")),
+        };
+        if model_exchange
+            && scene
+                .as_ref()
+                .is_some_and(|t| !t.variables.iter().any(|(_, v)| v.derivative.is_some()))
+        {
+            return refuse(
+                "fmuType 0 (ModelExchange) requested; this scene's FMU has no states and provides Co-Simulation (1) only"
+                    .into(),
+            );
+        }
+        // the GUID of what the description states, from the declarations (no XML written)
+        let our_guid = match &scene {
+            Some(t) => t.guid.clone(),
+            None => md::guid::guid_of::<M>(),
+        };
+        // SAFETY: NULL or valid C string.
+        match unsafe { c_str(guid) } {
+            Some(g) if g == our_guid => {}
+            g => {
+                return refuse(format!(
+                    "GUID {:?} does not match this binary's {our_guid}",
+                    g.unwrap_or("NULL")
+                ));
+            }
+        }
+        let mut inst = Box::new(Instance::<M>::new(
+            logger,
+            resources,
+            &our_guid,
+            scene.clone(),
+        ));
+        inst.me.is_me = model_exchange;
+        crate::lifetime::instance_created();
+        let c = Box::into_raw(inst) as Component;
+        registry::add::<M>(c);
+        c
+    }));
+    result.unwrap_or_else(|p| {
+        eprintln!(
+            "{}: fmi2Instantiate: internal error: {}",
+            M::IDENTIFIER,
+            panic_text(&*p)
+        );
+        std::ptr::null_mut()
+    })
+}
+
+/// `fmi2FreeInstance`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn free_instance<M: Model>(c: Component) {
+    // SAFETY: as entry.
+    let ok = unsafe { entry::<M>(c, Call::FreeInstance, |_| Ok(Status::Ok)) };
+    if ok == Status::Ok && registry::remove::<M>(c) {
+        // SAFETY: entry checked the pointer is a live instance of ours; no longer registered,
+        // no other call reaches it.
+        drop(unsafe { Box::from_raw(c as *mut Instance<M>) });
+        crate::lifetime::instance_freed();
+    }
+}
+
+/// `fmi2SetDebugLogging`.
+///
+/// # Safety
+/// As [`entry`]; `categories` holds `n` C strings.
+pub unsafe fn set_debug_logging<M: Model>(
+    c: Component,
+    on: Boolean,
+    n: usize,
+    categories: *const FmiString,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetDebugLogging, |inst| {
+            let cats = slice(categories, n, "categories")?;
+            let mut bits = 0;
+            for &p in cats {
+                let name = c_str(p).ok_or("a category is NULL")?;
+                bits |=
+                    category_bit(name).ok_or_else(|| format!("unknown log category {name:?}"))?;
+            }
+            // No list: everything on or off. A list: exactly those on, or those off.
+            match (n, on != FALSE) {
+                (0, on) => (inst.logger.on, inst.logger.categories) = (on, u32::MAX),
+                (_, true) => (inst.logger.on, inst.logger.categories) = (true, bits),
+                (_, false) => inst.logger.categories &= !bits,
+            }
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2SetupExperiment`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn setup_experiment<M: Model>(
+    c: Component,
+    _tol_defined: Boolean,
+    _tol: f64,
+    start: f64,
+    stop_defined: Boolean,
+    stop: f64,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::SetupExperiment, |inst| {
+            if !start.is_finite() {
+                return Err(format!("startTime = {start} is not finite"));
+            }
+            if stop_defined != FALSE && !(stop.is_finite() && stop >= start) {
+                return Err(format!(
+                    "stopTime = {stop} must be finite and not before startTime = {start}"
+                ));
+            }
+            inst.start_time = start;
+            inst.time = start;
+            inst.values.inputs_at = start;
+            inst.stop_time = (stop_defined != FALSE).then_some(stop);
+            inst.dirty = true;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2EnterInitializationMode`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn enter_initialization_mode<M: Model>(c: Component) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::EnterInitializationMode, |inst| {
+            inst.state = State::InitializationMode;
+            inst.dirty = true;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2ExitInitializationMode`: the parameters are final; a set the mechanism cannot work with
+/// is refused here, naming the parameter, and the instance stays in initialization mode so the
+/// host can correct it.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn exit_initialization_mode<M: Model>(c: Component) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::ExitInitializationMode, |inst| {
+            inst.params_changed = true;
+            inst.refresh()
+                .map_err(|e| format!("parameters refused: {e}"))?;
+            inst.state = State::StepComplete;
+            inst.me.mode = me::Mode::Event;
+            inst.logger.emit(Status::Ok, "logEvents", "initialized");
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2Terminate`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn terminate<M: Model>(c: Component) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::Terminate, |inst| {
+            if let Some(m) = inst.model.as_mut() {
+                m.finish(&inst.values, &mut inst.logger);
+            }
+            inst.state = State::Terminated;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi2Reset`: back to a freshly instantiated state (start values, no experiment).
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn reset<M: Model>(c: Component) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, Call::Reset, |inst| {
+            inst.state = State::Instantiated;
+            inst.me.mode = me::Mode::Event;
+            inst.values = start_values::<M>(inst.scene.as_deref());
+            inst.model = None;
+            inst.dirty = true;
+            inst.params_changed = true;
+            inst.time = 0.0;
+            inst.start_time = 0.0;
+            inst.stop_time = None;
+            Ok(Status::Ok)
+        })
+    }
+}
