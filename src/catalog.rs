@@ -3,14 +3,11 @@
 //! under `fmus/`; the FMI layer does not change.
 
 use crate::md::ModelInfo;
-use crate::model::{Model, Var, VarSet};
+use crate::model::Var;
 use crate::scene::{Scene, SceneError, Tailored};
 
-/// An FMU's `documentation/` files (index.html first, then figures) and its `model.png` icon.
-pub type Documentation = (Vec<(String, Vec<u8>)>, Vec<u8>);
-
-/// Files by name, e.g. of `documentation/`.
-pub type Files = Vec<(String, Vec<u8>)>;
+pub use crate::docs::{Documentation, Files};
+pub use crate::model::variables_of;
 
 /// One FMU of the catalog.
 pub struct Entry {
@@ -32,15 +29,6 @@ pub struct Entry {
     pub scene_documentation: fn(&Tailored) -> Result<Files, String>,
 }
 
-/// The variables of a model type, by value reference.
-pub fn variables_of<M: Model>() -> Vec<(u32, &'static Var)> {
-    <M::Var as VarSet>::table()
-        .iter()
-        .enumerate()
-        .map(|(i, v)| (i as u32, v))
-        .collect()
-}
-
 /// Every FMU, in the order they are built.
 pub fn all() -> Vec<Entry> {
     use crate::mechanisms::geneva_knife_drive as geneva;
@@ -53,7 +41,7 @@ pub fn all() -> Vec<Entry> {
             variables: variables_of::<geneva::GenevaKnifeDrive>,
             documentation: geneva::docs::documentation,
             tailor: crate::scene::tailor::<geneva::GenevaKnifeDrive>,
-            scene_documentation: crate::scene::docs::documentation::<geneva::GenevaKnifeDrive>,
+            scene_documentation: crate::docs::scene::documentation::<geneva::GenevaKnifeDrive>,
         },
         Entry {
             identifier: "SewingTable",
@@ -63,7 +51,7 @@ pub fn all() -> Vec<Entry> {
             variables: variables_of::<crate::mechanisms::sewing_table::SewingTable>,
             documentation: crate::mechanisms::sewing_table::docs::documentation,
             tailor: crate::scene::tailor::<crate::mechanisms::sewing_table::SewingTable>,
-            scene_documentation: crate::scene::docs::documentation::<
+            scene_documentation: crate::docs::scene::documentation::<
                 crate::mechanisms::sewing_table::SewingTable,
             >,
         },
@@ -75,7 +63,7 @@ pub fn all() -> Vec<Entry> {
             variables: variables_of::<crate::mechanisms::perforators::Perforators>,
             documentation: crate::mechanisms::perforators::docs::documentation,
             tailor: crate::scene::tailor::<crate::mechanisms::perforators::Perforators>,
-            scene_documentation: crate::scene::docs::documentation::<
+            scene_documentation: crate::docs::scene::documentation::<
                 crate::mechanisms::perforators::Perforators,
             >,
         },
@@ -87,7 +75,7 @@ pub fn all() -> Vec<Entry> {
             variables: variables_of::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
             documentation: crate::mechanisms::disc_knife_drive::docs::documentation,
             tailor: crate::scene::tailor::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
-            scene_documentation: crate::scene::docs::documentation::<
+            scene_documentation: crate::docs::scene::documentation::<
                 crate::mechanisms::disc_knife_drive::DiscKnifeDrive,
             >,
         },
@@ -99,7 +87,7 @@ pub fn all() -> Vec<Entry> {
             variables: variables_of::<crate::mechanisms::main_shaft::MainShaft>,
             documentation: crate::mechanisms::main_shaft::docs::documentation,
             tailor: crate::scene::tailor::<crate::mechanisms::main_shaft::MainShaft>,
-            scene_documentation: crate::scene::docs::documentation::<
+            scene_documentation: crate::docs::scene::documentation::<
                 crate::mechanisms::main_shaft::MainShaft,
             >,
         },

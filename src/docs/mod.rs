@@ -10,6 +10,7 @@
 
 mod html;
 mod plot;
+pub mod scene;
 mod sweep;
 
 pub use html::{Page, Question, anchor, escape, page_html};
@@ -18,6 +19,12 @@ pub use sweep::{Stat, Sweep, defaults, quantity, sweep};
 
 use crate::md::ModelInfo;
 use crate::model::Var;
+
+/// An FMU's `documentation/` files (index.html first, then figures) and its `model.png` icon.
+pub type Documentation = (Vec<(String, Vec<u8>)>, Vec<u8>);
+
+/// Files by name, e.g. of `documentation/`.
+pub type Files = Vec<(String, Vec<u8>)>;
 
 /// `x` for people: at most `sig` significant digits, no trailing zeros, scientific (`2e8`,
 /// `1.5e-5`) from 1e6 up and below 1e-4: 31.4159 for 31.41592653589793 at `sig` 6.

@@ -19,9 +19,6 @@ use std::fmt;
 use std::ops::Range;
 use toml::de::{DeTable, DeValue};
 
-#[cfg(feature = "tools")]
-pub mod docs;
-
 /// The file name of a scene inside an FMU's `resources/`.
 pub const RESOURCE_NAME: &str = "scene.toml";
 

@@ -4,6 +4,7 @@
 
 use super::*;
 use crate::catalog;
+use crate::docs::scene as docs;
 use crate::mechanisms::disc_knife_drive::DiscKnifeDrive;
 use crate::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
 use crate::mechanisms::perforators::Perforators;

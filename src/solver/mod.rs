@@ -35,6 +35,8 @@ pub mod chain;
 mod dopri;
 mod radau;
 
+/// The shaft's path in a step (the shaft connector's, [`crate::model::shaft`]).
+pub use crate::model::shaft::ShaftPath;
 use dopri::hermite;
 pub use radau::spectral_radius;
 
@@ -824,57 +826,6 @@ fn rk4(sys: &dyn OdeSystem, t: f64, y: &[f64], k1: &[f64], h: f64, y1: &mut [f64
     st.rhs_evals += 3;
     for i in 0..n {
         y1[i] = y[i] + h / 6.0 * (k1[i] + 2.0 * k2[i] + 2.0 * k3[i] + k4[i]);
-    }
-}
-
-/// The shaft's motion inside a communication step, extrapolated from its state at the step's
-/// start: `φ(t0 + τ) = φ0 + ω0·τ + ε0·τ²/2` (or the input derivatives a host set, which are the
-/// same Taylor coefficients).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShaftPath {
-    pub t0: f64,
-    /// The angle at `t0` less `turns` whole turns, in `[0, 2π)`: a shaft angle near 1e9 rad
-    /// would otherwise add its rounding noise (1e-7 rad) to every stage of the integrator.
-    pub phi: f64,
-    pub w: f64,
-    pub a: f64,
-    /// Whole turns taken out of the angle.
-    pub turns: f64,
-}
-
-impl ShaftPath {
-    /// The path from the shaft state at `t0`.
-    pub fn new(t0: f64, phi: f64, w: f64, a: f64) -> Self {
-        let turns = (phi / std::f64::consts::TAU).floor();
-        let red = phi - turns * std::f64::consts::TAU;
-        ShaftPath {
-            t0,
-            phi: red,
-            w,
-            a,
-            turns,
-        }
-    }
-
-    /// Index of the shaft turn at time `t` (`floor(φ/2π)`).
-    pub fn cycle(&self, t: f64) -> f64 {
-        self.turns + (self.at(t).0 / std::f64::consts::TAU).floor()
-    }
-
-    /// The absolute angle at `t` (with the whole turns).
-    pub fn absolute_phi(&self, t: f64) -> f64 {
-        self.at(t).0 + self.turns * std::f64::consts::TAU
-    }
-
-    /// `(φ, ω, ε)` at time `t`.
-    #[inline]
-    pub fn at(&self, t: f64) -> (f64, f64, f64) {
-        let tau = t - self.t0;
-        (
-            self.phi + self.w * tau + 0.5 * self.a * tau * tau,
-            self.w + self.a * tau,
-            self.a,
-        )
     }
 }
 

@@ -3,9 +3,10 @@
 
 use super::model::DiscKnifeDrive;
 use super::physics::Params;
-use crate::catalog::{Documentation, variables_of};
+use crate::docs::Documentation;
 use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
 use crate::md::ModelInfo;
+use crate::model::variables_of;
 use std::f64::consts::TAU;
 
 const WHAT: &str = r#"<p>Flow lines trim the spines of book and magazine blocks without stopping the

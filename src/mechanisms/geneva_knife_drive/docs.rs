@@ -3,9 +3,10 @@
 
 use super::model::GenevaKnifeDrive;
 use super::physics::Params;
-use crate::catalog::{Documentation, variables_of};
+use crate::docs::Documentation;
 use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
 use crate::md::ModelInfo;
+use crate::model::variables_of;
 use std::f64::consts::PI;
 
 const WHAT: &str = r#"<p>A three-knife trimmer cuts book blocks, brochures and magazines on three sides.

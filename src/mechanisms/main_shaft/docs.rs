@@ -3,9 +3,10 @@
 
 use super::model::MainShaft;
 use super::physics::{Load, Params};
-use crate::catalog::{Documentation, variables_of};
+use crate::docs::Documentation;
 use crate::docs::{Figure, Page, Question, Series, Sweep, defaults, icon_png, number};
 use crate::md::ModelInfo;
+use crate::model::variables_of;
 
 const WHAT: &str = r#"<p>The drive of a bookbinding machine's <b>main shaft</b>: an induction motor, a gear
 pair of ratio <code>gear.i</code> to the main shaft, a flywheel <code>fly.J</code> and the bearings'

@@ -3,9 +3,10 @@
 
 use super::model::Perforators;
 use super::physics::{Mode, Params};
-use crate::catalog::{Documentation, variables_of};
+use crate::docs::Documentation;
 use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
 use crate::md::ModelInfo;
+use crate::model::variables_of;
 use std::f64::consts::PI;
 
 const WHAT: &str = r#"<p>Before a signature is sewn, perforators (a bar of needles) pierce holes in its

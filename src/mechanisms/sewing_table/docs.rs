@@ -3,9 +3,10 @@
 
 use super::model::SewingTable;
 use super::physics::{Kind, Params};
-use crate::catalog::{Documentation, variables_of};
+use crate::docs::Documentation;
 use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
 use crate::md::ModelInfo;
+use crate::model::variables_of;
 use std::f64::consts::PI;
 
 const WHAT: &str = r#"<p>A thread-sewing machine sews book blocks signature by signature. Its table takes a

@@ -1,10 +1,10 @@
 //! The `documentation/` of a tailored FMU: the usual page of its variables, preceded by the scene
 //! and by what the FMU leaves out (outputs, parameters, inputs, computations) and why.
 
-use super::{Drive, Tailored, fidelity_name, levels_of};
-use crate::docs::escape;
+use super::escape;
 use crate::md::fmt_real;
 use crate::model::{Causality, Model, Stages, Var, VarSet, VarType, shaft};
+use crate::scene::{Drive, Tailored, closure, fidelity_name, levels_of};
 use std::fmt::Write;
 
 /// What one left-out item is, and why.
@@ -65,7 +65,7 @@ pub fn report<M: Model>(t: &Tailored) -> Report {
                 } else {
                     format!(
                         "not among the scene's outputs, and not computed at the {fname} level (needs: {})",
-                        stage_names(stages, super::closure(stages, v.needs))
+                        stage_names(stages, closure(stages, v.needs))
                     )
                 }));
             }
@@ -110,7 +110,7 @@ pub fn report<M: Model>(t: &Tailored) -> Report {
         }
         let readers: Vec<&str> = table
             .iter()
-            .filter(|v| super::closure(stages, v.needs).contains(bit))
+            .filter(|v| closure(stages, v.needs).contains(bit))
             .map(|v| v.name)
             .collect();
         r.stages.push(LeftOut {
@@ -190,5 +190,5 @@ pub fn intro_html<M: Model>(t: &Tailored) -> String {
 /// Every file of the tailored FMU's `documentation/` (index.html).
 pub fn documentation<M: Model>(t: &Tailored) -> Result<Vec<(String, Vec<u8>)>, String> {
     let vars: Vec<(u32, &Var)> = t.variables.iter().map(|(vr, v)| (*vr, v)).collect();
-    crate::docs::documentation(&t.info, &vars, &intro_html::<M>(t), &[])
+    super::documentation(&t.info, &vars, &intro_html::<M>(t), &[])
 }

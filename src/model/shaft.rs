@@ -1,0 +1,426 @@
+//! Which common variable is which: the shaft connector and the drive and fidelity parameters
+//! that [`crate::model_variables!`] puts first in every model (`interface.md`).
+
+use super::{EnumType, Values, Var, VarSet};
+use std::f64::consts::PI;
+
+/// Value reference of `shaft.phi`.
+pub const PHI: u32 = 0;
+/// Value reference of `shaft.w`.
+pub const W: u32 = 1;
+/// Value reference of `shaft.a`.
+pub const A: u32 = 2;
+/// Value reference of `shaft.tau`.
+pub const TAU: u32 = 3;
+/// Value reference of `shaft.P`.
+pub const P: u32 = 4;
+/// Value reference of `drive.mode`.
+pub const MODE: u32 = 5;
+/// Value reference of `drive.n`.
+pub const N: u32 = 6;
+/// Value reference of `drive.phi0`.
+pub const PHI0: u32 = 7;
+/// Value reference of `model.fidelity`.
+pub const FIDELITY: u32 = 8;
+/// How many common variables precede a model's own.
+pub const COUNT: usize = 9;
+
+/// Is `V` driven through the shaft connector, with the common variables at these value
+/// references (a mechanism), rather than declared `standalone` (a drive such as MainShaft)?
+pub fn is_driven<V: VarSet>() -> bool {
+    V::table()
+        .get(FIDELITY as usize)
+        .is_some_and(|v| v.name == "model.fidelity")
+}
+
+/// Dependencies of a position: the angle only.
+pub const ON_PHI: &[u32] = &[PHI];
+/// Dependencies of a velocity.
+pub const ON_PHI_W: &[u32] = &[PHI, W];
+/// Dependencies of an acceleration, force or torque.
+pub const ON_ALL: &[u32] = &[PHI, W, A];
+
+/// `drive.mode`.
+pub static DRIVE_MODE: EnumType = EnumType {
+    name: "DriveMode",
+    description: "What drives the mechanism's shaft",
+    items: &[
+        ("input", "the inputs shaft.phi, shaft.w, shaft.a"),
+        (
+            "constant_speed",
+            "the FMU itself, at drive.n from drive.phi0; the inputs are ignored",
+        ),
+    ],
+};
+
+/// `model.fidelity`.
+pub static FIDELITY_LEVEL: EnumType = EnumType {
+    name: "Fidelity",
+    description: "Level of physics computed",
+    items: &[
+        (
+            "kinematic",
+            "positions, velocities, accelerations: closed form, exact",
+        ),
+        (
+            "kinetostatic",
+            "as kinematic, plus forces and torques from Newton-Euler on rigid links",
+        ),
+        (
+            "elastodynamic",
+            "compliant drive chain and contacts: an ODE integrated inside fmi2DoStep",
+        ),
+    ],
+};
+
+pub use super::var::Fidelity;
+
+/// The common declarations; `nominal_rpm` is the machine's nominal speed.
+pub fn declarations(nominal_rpm: f64) -> Vec<Var> {
+    let w0 = PI * (nominal_rpm / 30.0);
+    vec![
+        Var::input(
+            "shaft.phi",
+            0.0,
+            "rad",
+            "Angle of the mechanism's driving shaft at the instant it is set; until set again the shaft turns on at shaft.w and shaft.a (unconnected: from 0 at the nominal speed)",
+        ),
+        Var::input(
+            "shaft.w",
+            w0,
+            "rad/s",
+            "Angular velocity of the driving shaft (start: nominal speed)",
+        ),
+        Var::input(
+            "shaft.a",
+            0.0,
+            "rad/s2",
+            "Angular acceleration of the driving shaft",
+        ),
+        Var::output(
+            "shaft.tau",
+            "N.m",
+            "Torque the mechanism requires at its shaft",
+        )
+        .depends(ON_ALL),
+        Var::output(
+            "shaft.P",
+            "W",
+            "Power drawn at the shaft, shaft.tau*shaft.w",
+        )
+        .depends(ON_ALL),
+        Var::enum_parameter(
+            "drive.mode",
+            &DRIVE_MODE,
+            "input",
+            "input: driven by the shaft inputs; constant_speed: runs alone at drive.n",
+        ),
+        Var::parameter(
+            "drive.n",
+            w0,
+            "rad/s",
+            "Speed in constant_speed mode (assumption: nominal speed of the machine)",
+        )
+        .min(-1e4)
+        .max(1e4),
+        Var::parameter(
+            "drive.phi0",
+            0.0,
+            "rad",
+            "Phase of the mechanism on its shaft: in constant_speed mode the shaft angle at time 0; in input mode added to shaft.phi (a mechanism mounted phase-shifted on a main shaft)",
+        ),
+        Var::enum_parameter(
+            "model.fidelity",
+            &FIDELITY_LEVEL,
+            "kinetostatic",
+            "Level of physics: kinematic, kinetostatic or elastodynamic",
+        ),
+    ]
+}
+
+/// The shaft's state at an instant: angle, speed, acceleration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShaftState {
+    pub phi: f64,
+    pub w: f64,
+    pub a: f64,
+}
+
+/// The shaft state at `time`. In `input` mode the inputs are the shaft's angle, speed and
+/// acceleration at the instant the host set them ([`Values::inputs_at`]); until it sets
+/// them again the shaft moves on from there along [`inputs_path`] (at that speed and
+/// acceleration, or the input derivatives a host set for a step), in Co-Simulation and
+/// Model Exchange alike: with no input connected the mechanism turns at the start value of
+/// `shaft.w`, its nominal speed. The angle is shifted by `drive.phi0` (the phase the
+/// mechanism is mounted with on a main shaft). In `constant_speed` mode:
+/// `drive.phi0 + drive.n*t`.
+pub fn state<V: VarSet>(values: &Values<V>, time: f64) -> ShaftState {
+    let raw = values.raw();
+    if raw[MODE as usize] == 2.0 {
+        let w = raw[N as usize];
+        ShaftState {
+            phi: raw[PHI0 as usize] + w * time,
+            w,
+            a: 0.0,
+        }
+    } else if time == values.inputs_at {
+        ShaftState {
+            phi: raw[PHI as usize] + raw[PHI0 as usize],
+            w: raw[W as usize],
+            a: raw[A as usize],
+        }
+    } else {
+        let p = inputs_path(values);
+        let (_, w, a) = p.at(time);
+        ShaftState {
+            phi: p.absolute_phi(time),
+            w,
+            a,
+        }
+    }
+}
+
+/// The path the shaft inputs describe from the instant they were set (`input` mode):
+/// `phi(t) = phi + phi'*dt + phi''*dt^2/2` (`dt = t - inputs_at`, `phi` with `drive.phi0`),
+/// with `phi'` and `phi''` the input derivatives a host set with
+/// `fmi2SetRealInputDerivatives` (a derivative of order 1 of `shaft.w` is `phi''` too) and
+/// else `shaft.w` and `shaft.a`.
+pub fn inputs_path<V: VarSet>(values: &Values<V>) -> ShaftPath {
+    let raw = values.raw();
+    let w = values.input_derivative(PHI, 1).unwrap_or(raw[W as usize]);
+    let a = values
+        .input_derivative(PHI, 2)
+        .or_else(|| values.input_derivative(W, 1))
+        .unwrap_or(raw[A as usize]);
+    ShaftPath::new(
+        values.inputs_at,
+        raw[PHI as usize] + raw[PHI0 as usize],
+        w,
+        a,
+    )
+}
+
+/// The shaft's path over a communication step from `time`, for an integration inside
+/// `fmi2DoStep` (`dynamics.md`): [`inputs_path`] from `time` on, or in `constant_speed`
+/// mode the drive's (the inputs and their derivatives ignored, [`state`]).
+pub fn path<V: VarSet>(values: &Values<V>, time: f64) -> ShaftPath {
+    if values.raw()[MODE as usize] == 2.0 {
+        let s = state(values, time);
+        return ShaftPath::new(time, s.phi, s.w, s.a);
+    }
+    let p = inputs_path(values);
+    if time == values.inputs_at {
+        p
+    } else {
+        let (_, w, a) = p.at(time);
+        ShaftPath::new(time, p.absolute_phi(time), w, a)
+    }
+}
+
+/// The shaft inputs at the end of a Co-Simulation step from `time` over `h`: where the
+/// step's [`path`] leads at `time + h` (with the input derivatives a host set for the step),
+/// `phi` without `drive.phi0` (the input's meaning; [`state`] adds it). None in
+/// `constant_speed` mode (the inputs are ignored); an error naming the inputs if the path
+/// leaves the finite numbers (a step of 1e300 s).
+pub fn end_of_step<V: VarSet>(
+    values: &Values<V>,
+    time: f64,
+    h: f64,
+) -> Result<Option<ShaftState>, String> {
+    let raw = values.raw();
+    if raw[MODE as usize] == 2.0 {
+        return Ok(None);
+    }
+    let p = path(values, time);
+    let (_, w, a) = p.at(time + h);
+    let phi = p.absolute_phi(time + h) - raw[PHI0 as usize];
+    if !(phi.is_finite() && w.is_finite()) {
+        return Err(format!(
+            "the shaft's path from shaft.phi = {}, shaft.w = {}, shaft.a = {} leads to shaft.phi = {phi}, shaft.w = {w} at the end of the step: take a shorter step",
+            raw[PHI as usize], p.w, p.a
+        ));
+    }
+    Ok(Some(ShaftState { phi, w, a }))
+}
+
+/// Sets the shaft inputs (`phi` without `drive.phi0`) as those of the instant `time`, e.g.
+/// those of [`end_of_step`].
+pub fn set_inputs<V: VarSet>(values: &mut Values<V>, s: ShaftState, time: f64) {
+    let raw = values.raw_mut();
+    raw[PHI as usize] = s.phi;
+    raw[W as usize] = s.w;
+    raw[A as usize] = s.a;
+    values.inputs_at = time;
+}
+
+/// Does [`path`] use the derivative of order `order` of the input `vr`? (The others a host
+/// may set are accepted and ignored with a warning: the path is a parabola in time.)
+pub fn uses_input_derivative(vr: u32, order: u32) -> bool {
+    matches!((vr, order), (PHI, 1) | (PHI, 2) | (W, 1))
+}
+
+/// The chosen fidelity level.
+pub fn fidelity<V: VarSet>(values: &Values<V>) -> Fidelity {
+    match values.raw()[FIDELITY as usize] as i32 {
+        1 => Fidelity::Kinematic,
+        3 => Fidelity::Elastodynamic,
+        _ => Fidelity::Kinetostatic,
+    }
+}
+
+/// Refuses a fidelity level the mechanism does not implement (yet).
+pub fn require_level<V: VarSet>(
+    values: &Values<V>,
+    supported: &[Fidelity],
+) -> Result<(), super::ParamError> {
+    let f = fidelity(values);
+    if supported.contains(&f) {
+        Ok(())
+    } else {
+        Err(super::ParamError {
+            param: "model.fidelity",
+            value: values.raw()[FIDELITY as usize],
+            condition: format!("the level {f:?} is not implemented for this mechanism"),
+        })
+    }
+}
+
+/// Writes the shaft outputs.
+pub fn set_outputs<V: VarSet>(values: &mut Values<V>, tau: f64, w: f64) {
+    let raw = values.raw_mut();
+    raw[TAU as usize] = tau;
+    raw[P as usize] = tau * w;
+}
+
+/// `shaft.J_red`: the coefficient of `shaft.a` in `shaft.tau`, for a drive that solves its
+/// shaft's acceleration with the load's inertia (MainShaft's `load*.J_red`). `depends`: as
+/// `shaft.tau` less `shaft.a` (it is the torque's slope in `shaft.a`, not a function of it).
+pub fn j_red_var(depends: &'static [u32]) -> Var {
+    Var::output(
+        "shaft.J_red",
+        "kg.m2",
+        "Moment of inertia reduced to the shaft: shaft.tau = shaft.tau0 + shaft.J_red*shaft.a, the torque's slope in shaft.a between a = 0 and a = 1 rad/s2 (exact where friction does not depend on shaft.a; at the elastodynamic level only the rigid links between the shaft and the compliance)",
+    )
+    .depends(depends)
+}
+
+/// `shaft.tau0`: the torque at zero shaft acceleration (`depends`: as for [`j_red_var`]).
+pub fn tau0_var(depends: &'static [u32]) -> Var {
+    Var::output(
+        "shaft.tau0",
+        "N.m",
+        "Torque the mechanism requires at its shaft with shaft.a = 0 (same angle, speed and state): shaft.tau = shaft.tau0 + shaft.J_red*shaft.a",
+    )
+    .depends(depends)
+}
+
+/// The split `τ(a) = τ0 + J_red·a` of a shaft torque: `τ0` the torque at zero shaft
+/// acceleration, `J_red` the reduced moment of inertia (kg·m²).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Reduced {
+    pub tau0: f64,
+    pub j_red: f64,
+}
+
+impl Reduced {
+    /// `τ0 + J_red·a`.
+    pub fn torque(&self, a: f64) -> f64 {
+        self.tau0 + self.j_red * a
+    }
+}
+
+/// Splits a shaft torque `τ(a)` (the mechanism's own torque at the same angle, speed and
+/// internal state, as a function of the shaft acceleration) into `τ0 = τ(0)` and
+/// `J_red = τ(1) − τ(0)`. Newton–Euler on rigid links makes every inertia force linear in
+/// the shaft acceleration (`a_x = x''(φ)·ω² + x'(φ)·ε`), so `τ` is affine in `ε` and the split
+/// is exact, except where a Coulomb friction force or a mesh efficiency changes regime
+/// (sign of a normal force or of the power flow) between `ε = 0`, `1` and the actual `ε`:
+/// there `J_red` is the secant of the piecewise-affine `τ(ε)` over `[0, 1]` rad/s².
+#[inline]
+pub fn reduce(mut torque_at: impl FnMut(f64) -> f64) -> Reduced {
+    let tau0 = torque_at(0.0);
+    Reduced {
+        tau0,
+        j_red: torque_at(1.0) - tau0,
+    }
+}
+
+/// As [`reduce`], given the torque `tau_a` already computed at the actual shaft
+/// acceleration `a`: one more evaluation instead of two (none more for `tau0` at `a = 0`, the
+/// constant-speed case). For `|a| ≥ 1` rad/s² `J_red` is the secant over `[0, a]`, so
+/// `τ0 + J_red·a` is the actual torque exactly even where friction changes regime; below,
+/// the secant over `[0, 1]` as in [`reduce`] (no division by a small `a`).
+#[inline]
+pub fn reduce_at(tau_a: f64, a: f64, mut torque_at: impl FnMut(f64) -> f64) -> Reduced {
+    if a.abs() >= 1.0 {
+        let tau0 = torque_at(0.0);
+        Reduced {
+            tau0,
+            j_red: (tau_a - tau0) / a,
+        }
+    } else if a == 0.0 {
+        Reduced {
+            tau0: tau_a,
+            j_red: torque_at(1.0) - tau_a,
+        }
+    } else {
+        reduce(torque_at)
+    }
+}
+
+/// Writes `shaft.J_red` and `shaft.tau0`.
+pub fn set_reduced<V: VarSet>(values: &mut Values<V>, j_red: V, tau0: V, r: Reduced) {
+    values[j_red] = r.j_red;
+    values[tau0] = r.tau0;
+}
+
+/// The shaft's motion inside a communication step, extrapolated from its state at the step's
+/// start: `φ(t0 + τ) = φ0 + ω0·τ + ε0·τ²/2` (or the input derivatives a host set, which are the
+/// same Taylor coefficients).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ShaftPath {
+    pub t0: f64,
+    /// The angle at `t0` less `turns` whole turns, in `[0, 2π)`: a shaft angle near 1e9 rad
+    /// would otherwise add its rounding noise (1e-7 rad) to every stage of the integrator.
+    pub phi: f64,
+    pub w: f64,
+    pub a: f64,
+    /// Whole turns taken out of the angle.
+    pub turns: f64,
+}
+
+impl ShaftPath {
+    /// The path from the shaft state at `t0`.
+    pub fn new(t0: f64, phi: f64, w: f64, a: f64) -> Self {
+        let turns = (phi / std::f64::consts::TAU).floor();
+        let red = phi - turns * std::f64::consts::TAU;
+        ShaftPath {
+            t0,
+            phi: red,
+            w,
+            a,
+            turns,
+        }
+    }
+
+    /// Index of the shaft turn at time `t` (`floor(φ/2π)`).
+    pub fn cycle(&self, t: f64) -> f64 {
+        self.turns + (self.at(t).0 / std::f64::consts::TAU).floor()
+    }
+
+    /// The absolute angle at `t` (with the whole turns).
+    pub fn absolute_phi(&self, t: f64) -> f64 {
+        self.at(t).0 + self.turns * std::f64::consts::TAU
+    }
+
+    /// `(φ, ω, ε)` at time `t`.
+    #[inline]
+    pub fn at(&self, t: f64) -> (f64, f64, f64) {
+        let tau = t - self.t0;
+        (
+            self.phi + self.w * tau + 0.5 * self.a * tau * tau,
+            self.w + self.a * tau,
+            self.a,
+        )
+    }
+}

@@ -1,0 +1,587 @@
+//! The declaration of a variable ([`Var`]: name, type, causality, variability, start, unit,
+//! bounds, dependencies, stages) and of a model's set of them ([`VarSet`], written by
+//! [`crate::model_variables!`]).
+
+/// `causality` of an FMI 2.0 ScalarVariable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Causality {
+    Parameter,
+    CalculatedParameter,
+    Input,
+    Output,
+    Local,
+}
+
+/// `variability` of an FMI 2.0 ScalarVariable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Variability {
+    Constant,
+    Fixed,
+    Tunable,
+    Discrete,
+    Continuous,
+}
+
+/// `initial` of an FMI 2.0 ScalarVariable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Initial {
+    Exact,
+    Approx,
+    Calculated,
+}
+
+/// An enumeration type: written to `TypeDefinitions`, referenced by `declaredType`.
+#[derive(Debug, PartialEq)]
+pub struct EnumType {
+    pub name: &'static str,
+    pub description: &'static str,
+    /// `(item name, description)`; item values are 1, 2, ... in this order.
+    pub items: &'static [(&'static str, &'static str)],
+}
+
+impl EnumType {
+    /// The item with this value, if any.
+    pub fn item(&self, value: i32) -> Option<&'static str> {
+        usize::try_from(value - 1)
+            .ok()
+            .and_then(|i| self.items.get(i))
+            .map(|it| it.0)
+    }
+}
+
+/// The FMI base type of a variable.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum VarType {
+    Real,
+    Integer,
+    Boolean,
+    Enumeration(&'static EnumType),
+}
+
+impl VarType {
+    /// Integer-valued types are read and written with `fmi2Get/SetInteger`.
+    pub fn is_integer_like(self) -> bool {
+        matches!(self, VarType::Integer | VarType::Enumeration(_))
+    }
+}
+
+/// One declared variable. Built with the constructors below and refined with the builder
+/// methods, e.g. `Var::parameter("crank.r", 0.07, "m", "...").min(0.0)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Var {
+    pub name: &'static str,
+    pub ty: VarType,
+    pub causality: Causality,
+    pub variability: Variability,
+    pub initial: Option<Initial>,
+    /// Start value (Integer, Boolean and Enumeration values are stored as exact `f64`).
+    pub start: Option<f64>,
+    pub unit: Option<&'static str>,
+    pub display_unit: Option<&'static str>,
+    pub min: Option<f64>,
+    pub max: Option<f64>,
+    pub description: &'static str,
+    /// For outputs: value references of the inputs the output depends on.
+    pub depends: &'static [u32],
+    /// For a state derivative (Model Exchange): the value reference of its state.
+    pub derivative: Option<u32>,
+    /// For outputs and locals: the computation stages ([`Model::STAGES`]) that produce it,
+    /// beyond what always runs. A scene that does not ask for it may skip them (`scenes.md`).
+    pub needs: Stages,
+    /// For parameters: the stages whose results it influences ([`Stages::ALL`]: everything,
+    /// the default). A scene keeps a parameter only if it feeds a stage the scene needs.
+    pub feeds: Stages,
+}
+
+/// Units and their FMI display units (`interface.md`: deg for rad, mm for m, rpm for rad/s,
+/// MPa for Pa).
+pub fn default_display_unit(unit: &str) -> Option<&'static str> {
+    match unit {
+        "rad" => Some("deg"),
+        "m" => Some("mm"),
+        "rad/s" => Some("rpm"),
+        "Pa" => Some("MPa"),
+        _ => None,
+    }
+}
+
+impl Var {
+    fn base(
+        name: &'static str,
+        ty: VarType,
+        causality: Causality,
+        variability: Variability,
+    ) -> Self {
+        Var {
+            name,
+            ty,
+            causality,
+            variability,
+            initial: None,
+            start: None,
+            unit: None,
+            display_unit: None,
+            min: None,
+            max: None,
+            description: "",
+            depends: &[],
+            derivative: None,
+            needs: Stages::NONE,
+            feeds: Stages::ALL,
+        }
+    }
+
+    fn with_unit(mut self, unit: &'static str) -> Self {
+        if !unit.is_empty() {
+            self.unit = Some(unit);
+            self.display_unit = default_display_unit(unit);
+        }
+        self
+    }
+
+    /// A fixed Real parameter with its default; `desc` says where the value comes from
+    /// (a paper, or "assumption").
+    pub fn parameter(
+        name: &'static str,
+        start: f64,
+        unit: &'static str,
+        desc: &'static str,
+    ) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Real,
+            Causality::Parameter,
+            Variability::Fixed,
+        )
+        .with_unit(unit);
+        v.start = Some(start);
+        v.description = desc;
+        v
+    }
+
+    /// A fixed Integer parameter.
+    pub fn int_parameter(name: &'static str, start: i32, desc: &'static str) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Integer,
+            Causality::Parameter,
+            Variability::Fixed,
+        );
+        v.start = Some(start as f64);
+        v.description = desc;
+        v
+    }
+
+    /// A fixed Boolean parameter.
+    pub fn bool_parameter(name: &'static str, start: bool, desc: &'static str) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Boolean,
+            Causality::Parameter,
+            Variability::Fixed,
+        );
+        v.start = Some(start as i32 as f64);
+        v.description = desc;
+        v
+    }
+
+    /// A fixed Enumeration parameter; `start` is the item's name.
+    pub fn enum_parameter(
+        name: &'static str,
+        ty: &'static EnumType,
+        start: &str,
+        desc: &'static str,
+    ) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Enumeration(ty),
+            Causality::Parameter,
+            Variability::Fixed,
+        );
+        let pos = ty
+            .items
+            .iter()
+            .position(|it| it.0 == start)
+            .expect("start item of an enumeration");
+        v.start = Some((pos + 1) as f64);
+        v.description = desc;
+        v
+    }
+
+    /// A Real calculated parameter (a derived quantity the paper computes).
+    pub fn calculated(name: &'static str, unit: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Real,
+            Causality::CalculatedParameter,
+            Variability::Fixed,
+        )
+        .with_unit(unit);
+        v.initial = Some(Initial::Calculated);
+        v.description = desc;
+        v
+    }
+
+    /// A continuous Real input with its start value.
+    pub fn input(name: &'static str, start: f64, unit: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Real,
+            Causality::Input,
+            Variability::Continuous,
+        )
+        .with_unit(unit);
+        v.start = Some(start);
+        v.description = desc;
+        v
+    }
+
+    /// A continuous Real output.
+    pub fn output(name: &'static str, unit: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Real,
+            Causality::Output,
+            Variability::Continuous,
+        )
+        .with_unit(unit);
+        v.initial = Some(Initial::Calculated);
+        v.description = desc;
+        v
+    }
+
+    /// A discrete Boolean output (a flag).
+    pub fn bool_output(name: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Boolean,
+            Causality::Output,
+            Variability::Discrete,
+        );
+        v.initial = Some(Initial::Calculated);
+        v.description = desc;
+        v
+    }
+
+    /// A discrete Integer output.
+    pub fn int_output(name: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Integer,
+            Causality::Output,
+            Variability::Discrete,
+        );
+        v.initial = Some(Initial::Calculated);
+        v.description = desc;
+        v
+    }
+
+    /// Lower bound (physics, not taste).
+    pub fn min(mut self, min: f64) -> Self {
+        self.min = Some(min);
+        self
+    }
+
+    /// Upper bound.
+    pub fn max(mut self, max: f64) -> Self {
+        self.max = Some(max);
+        self
+    }
+
+    /// Overrides the display unit.
+    pub fn display(mut self, unit: &'static str) -> Self {
+        self.display_unit = Some(unit);
+        self
+    }
+
+    /// A continuous Real local variable: a Model Exchange state or state derivative.
+    pub fn local(name: &'static str, unit: &'static str, desc: &'static str) -> Self {
+        let mut v = Self::base(
+            name,
+            VarType::Real,
+            Causality::Local,
+            Variability::Continuous,
+        )
+        .with_unit(unit);
+        v.initial = Some(Initial::Calculated);
+        v.description = desc;
+        v
+    }
+
+    /// Marks this variable as the derivative of the state with value reference `state`.
+    pub fn derivative_of(mut self, state: u32) -> Self {
+        self.derivative = Some(state);
+        self
+    }
+
+    /// An output's dependencies on inputs (value references; see [`shaft::PHI`] etc.).
+    pub fn depends(mut self, inputs: &'static [u32]) -> Self {
+        self.depends = inputs;
+        self
+    }
+
+    /// The stages ([`Model::STAGES`]) that compute this output or local (declared once, here,
+    /// next to the variable: a scene leaves them out when it does not ask for the variable).
+    pub fn needs(mut self, stages: Stages) -> Self {
+        self.needs = stages;
+        self
+    }
+
+    /// The stages this parameter influences (default: all). A scene whose outputs need none of
+    /// them leaves the parameter out of its FMU (it keeps its default or scene value inside).
+    pub fn feeds(mut self, stages: Stages) -> Self {
+        self.feeds = stages;
+        self
+    }
+
+    /// Is this variable one a host may set in the given phase?
+    /// A value of this variable with its unit, and in its display unit where it has one:
+    /// "20000 rad/s (190986 rpm)"; a value without a unit as is.
+    pub fn quantity(&self, x: f64) -> String {
+        let Some(unit) = self.unit.filter(|u| !u.is_empty()) else {
+            return format!("{x}");
+        };
+        let display = self
+            .display_unit
+            .or_else(|| default_display_unit(unit))
+            .and_then(|d| super::units::display_factor(unit, d).map(|f| (d, f)));
+        match display {
+            Some((d, f)) if d != unit => format!("{x} {unit} ({} {d})", round_sig(f * x, 6)),
+            _ => format!("{x} {unit}"),
+        }
+    }
+
+    pub fn settable(&self, phase: SetPhase) -> bool {
+        match phase {
+            SetPhase::Instantiated => {
+                self.variability != Variability::Constant
+                    && (self.causality == Causality::Input
+                        || matches!(
+                            self.initial,
+                            None | Some(Initial::Exact) | Some(Initial::Approx)
+                        ) && matches!(self.causality, Causality::Parameter | Causality::Input))
+            }
+            SetPhase::Initialization => {
+                matches!(self.causality, Causality::Parameter | Causality::Input)
+                    && self.variability != Variability::Constant
+            }
+            SetPhase::Running => {
+                self.causality == Causality::Input
+                    || (self.causality == Causality::Parameter
+                        && self.variability == Variability::Tunable)
+            }
+            SetPhase::ContinuousTime => self.causality == Causality::Input,
+        }
+    }
+}
+
+/// The fidelity levels, as `model.fidelity` values.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Fidelity {
+    Kinematic = 1,
+    Kinetostatic = 2,
+    Elastodynamic = 3,
+}
+
+/// A set of computation stages of one model: bit `i` is [`Model::STAGES`]`[i]`. What always
+/// runs (the kinematics every output rests on) is no stage.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
+pub struct Stages(pub u32);
+
+impl Stages {
+    /// Nothing beyond what always runs.
+    pub const NONE: Stages = Stages(0);
+    /// Every stage.
+    pub const ALL: Stages = Stages(u32::MAX);
+    /// The stage with index `i` in [`Model::STAGES`].
+    pub const fn bit(i: u32) -> Stages {
+        Stages(1 << i)
+    }
+    /// Union.
+    pub const fn or(self, other: Stages) -> Stages {
+        Stages(self.0 | other.0)
+    }
+    /// Does it share a stage with `other`?
+    pub const fn intersects(self, other: Stages) -> bool {
+        self.0 & other.0 != 0
+    }
+    /// Does it hold every stage of `other`?
+    pub const fn contains(self, other: Stages) -> bool {
+        self.0 & other.0 == other.0
+    }
+    /// The indices of its stages among `n`.
+    pub fn indices(self, n: usize) -> impl Iterator<Item = usize> {
+        (0..n.min(32)).filter(move |&i| self.0 & (1 << i) != 0)
+    }
+}
+
+/// One computation of a model that a scene may leave out (`scenes.md`), e.g. the force analysis.
+#[derive(Debug)]
+pub struct Stage {
+    /// Short name, e.g. `forces`.
+    pub name: &'static str,
+    /// What it computes and what it costs, for the tailored FMU's documentation.
+    pub description: &'static str,
+    /// The fidelity levels that compute it (an output that needs it exists only there).
+    pub levels: &'static [Fidelity],
+    /// Stages it needs the results of (they run whenever it runs).
+    pub requires: Stages,
+    /// It runs whenever its level is chosen, whatever the outputs (the level rests on it, as
+    /// the elastodynamic level on its ODE).
+    pub always: bool,
+    /// It guards the user (a lift-off, self-locking or undercut check with its warning): a
+    /// scene keeps it whenever the stages it requires run, whatever outputs it leaves out.
+    pub guards: bool,
+}
+
+/// When a host tries to set a variable.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SetPhase {
+    Instantiated,
+    Initialization,
+    /// After initialization: Co-Simulation, Model Exchange in event mode.
+    Running,
+    /// Model Exchange in continuous-time mode: only inputs.
+    ContinuousTime,
+}
+
+impl SetPhase {
+    pub const ALL: [SetPhase; 4] = [
+        SetPhase::Instantiated,
+        SetPhase::Initialization,
+        SetPhase::Running,
+        SetPhase::ContinuousTime,
+    ];
+}
+
+/// The enum generated by [`model_variables!`]: one variant per variable; its discriminant is
+/// the value reference.
+pub trait VarSet: Copy + 'static {
+    /// The model is driven through the shaft connector of [`shaft`] (its common variables come
+    /// first); false for a model declared `standalone`, which drives a shaft instead.
+    const SHAFT_CONNECTOR: bool;
+    /// Every declaration, in value-reference order.
+    fn table() -> &'static [Var];
+    /// Value reference of this variable.
+    fn vr(self) -> u32;
+}
+
+/// The variables of a model type, by value reference.
+pub fn variables_of<M: super::Model>() -> Vec<(u32, &'static Var)> {
+    <M::Var as VarSet>::table()
+        .iter()
+        .enumerate()
+        .map(|(i, v)| (i as u32, v))
+        .collect()
+}
+
+/// The names of a model's continuous states (Model Exchange), in the order of
+/// `fmi2GetContinuousStates`: the variables its state derivatives are the derivatives of
+/// ([`Var::derivative_of`]), in the order of the derivatives (the model description's
+/// `<Derivatives>`).
+pub fn state_names<V: VarSet>() -> Vec<&'static str> {
+    let table = V::table();
+    table
+        .iter()
+        .filter_map(|v| v.derivative)
+        .map(|s| table[s as usize].name)
+        .collect()
+}
+
+/// `x` to `digits` significant digits (for messages).
+fn round_sig(x: f64, digits: i32) -> f64 {
+    if x == 0.0 || !x.is_finite() {
+        return x;
+    }
+    let scale = 10f64.powi(digits - 1 - x.abs().log10().floor() as i32);
+    (x * scale).round() / scale
+}
+
+/// Declares a model's variables once: an enum whose variants are the variables (discriminant =
+/// value reference) and the table of their declarations. The shaft connector and the common
+/// parameters ([`shaft`]) come first.
+///
+/// ```ignore
+/// model_variables! {
+///     pub enum V (nominal_rpm = 30.0) {
+///         crank_r = Var::parameter("crank.r", 0.07, "m", "crank radius r2 (assumption)").min(0.0),
+///         knife_s = Var::output("knife.s", "m", "knife displacement from the top").depends(shaft::ON_PHI),
+///     }
+/// }
+/// ```
+#[macro_export]
+macro_rules! model_variables {
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+        $crate::model_variables! {
+            $vis enum $name (nominal_rpm = $rpm, torque_depends = $crate::model::shaft::ON_ALL, torque_needs = $crate::model::Stages::NONE) { $( $id = $decl ),* }
+        }
+    };
+    // `torque_needs`: the stages that compute `shaft.tau` and `shaft.P` (`Var::needs`).
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_needs = $needs:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+        $crate::model_variables! {
+            $vis enum $name (nominal_rpm = $rpm, torque_depends = $crate::model::shaft::ON_ALL, torque_needs = $needs) { $( $id = $decl ),* }
+        }
+    };
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_depends = $dep:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+        $crate::model_variables! {
+            $vis enum $name (nominal_rpm = $rpm, torque_depends = $dep, torque_needs = $crate::model::Stages::NONE) { $( $id = $decl ),* }
+        }
+    };
+    // A model that drives a shaft instead of being driven by one (MainShaft): no shaft connector
+    // and no drive/fidelity parameters prepended; the helpers of [`shaft`] do not apply to it.
+    ($vis:vis enum $name:ident (standalone) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+        #[allow(non_camel_case_types, dead_code)]
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        #[repr(u32)]
+        $vis enum $name {
+            $( $id ),*
+        }
+        impl $crate::model::VarSet for $name {
+            const SHAFT_CONNECTOR: bool = false;
+            fn table() -> &'static [$crate::model::Var] {
+                static TABLE: ::std::sync::OnceLock<&'static [$crate::model::Var]> = ::std::sync::OnceLock::new();
+                TABLE.get_or_init(|| {
+                    #[allow(unused_imports)]
+                    use $crate::model::{Var, shaft};
+                    $crate::lifetime::keep(vec![$( $decl ),*]).as_slice()
+                })
+            }
+            #[inline]
+            fn vr(self) -> u32 {
+                self as u32
+            }
+        }
+    };
+    // `torque_depends`: the inputs `shaft.tau` and `shaft.P` depend on, when a model has inputs
+    // besides the shaft connector (e.g. an external force on a member).
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_depends = $dep:expr, torque_needs = $needs:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+        #[allow(non_camel_case_types, dead_code)]
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        #[repr(u32)]
+        $vis enum $name {
+            shaft_phi, shaft_w, shaft_a, shaft_tau, shaft_P, drive_mode, drive_n, drive_phi0, model_fidelity,
+            $( $id ),*
+        }
+        impl $crate::model::VarSet for $name {
+            const SHAFT_CONNECTOR: bool = true;
+            fn table() -> &'static [$crate::model::Var] {
+                static TABLE: ::std::sync::OnceLock<&'static [$crate::model::Var]> = ::std::sync::OnceLock::new();
+                TABLE.get_or_init(|| {
+                    #[allow(unused_imports)]
+                    use $crate::model::{Var, shaft};
+                    let mut t = shaft::declarations($rpm);
+                    t.extend([$( $decl ),*]);
+                    t[shaft::TAU as usize].depends = $dep;
+                    t[shaft::P as usize].depends = $dep;
+                    t[shaft::TAU as usize].needs = $needs;
+                    t[shaft::P as usize].needs = $needs;
+                    $crate::lifetime::keep(t).as_slice()
+                })
+            }
+            #[inline]
+            fn vr(self) -> u32 {
+                self as u32
+            }
+        }
+    };
+}
