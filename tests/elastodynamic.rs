@@ -7,9 +7,9 @@ mod common;
 
 use bindery_fmu::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
 use bindery_fmu::mechanisms::geneva_knife_drive::model::V as G;
-use bindery_fmu::model::{Model, NoLog, Values};
-use common::series::{assert_finite, max_abs_diff, peak_abs, peak_abs_rel_diff};
-use std::time::Instant;
+use bindery_fmu::model::{NoLog, Values};
+use common::elastic::{self, Drive, Record, Run, Tolerance};
+use common::series::{max_abs_diff, peak_abs};
 
 #[derive(Clone, Copy, Debug)]
 struct Case {
@@ -22,75 +22,40 @@ struct Case {
     rtol: f64,
 }
 
-#[derive(Debug)]
-struct Run {
-    s: Vec<f64>,
-    f: Vec<f64>,
-    residual: f64,
-    energy_scale: f64,
-    steps: f64,
-}
-
-fn geneva(c: &Case, stop: f64) -> Result<Run, String> {
-    let mut v = Values::<G>::start();
-    v[G::model_fidelity] = 3.0;
-    v[G::drive_mode] = 2.0;
-    v[G::drive_n] = c.rpm * std::f64::consts::PI / 30.0;
-    v[G::drive_phi0] = c.phi0;
+fn geneva(c: &Case, stop: f64) -> Result<Run<G>, String> {
+    let d = Drive {
+        rpm: c.rpm,
+        dt: c.dt,
+        phi0: c.phi0,
+        method: c.method,
+        rtol: c.rtol,
+        atol: c.rtol * 1e-3,
+    };
+    let mut v = elastic::elastodynamic(Values::<G>::start(), &d);
     v[G::elastic_k] = c.k;
     v[G::elastic_zeta] = c.zeta;
-    v[G::solver_method] = c.method as f64;
-    v[G::solver_rtol] = c.rtol;
-    v[G::solver_atol] = c.rtol * 1e-3;
-    let mut m = GenevaKnifeDrive::prepare(&v).map_err(|e| e.to_string())?;
-    let n = (stop / c.dt).round().max(1.0) as usize;
-    let mut run = Run {
-        s: vec![],
-        f: vec![],
-        residual: 0.0,
-        energy_scale: 1.0,
-        steps: 0.0,
+    // energy scale: the work of the peak chain force over the stroke
+    let rec = Record {
+        x: G::knife_s,
+        f: G::elastic_F,
+        stroke: 0.14,
+        scale0: 1.0,
+        finite: vec![G::shaft_tau],
     };
-    let mut t = 0.0;
-    for i in 0..n {
-        m.step(&mut v, t, c.dt, &mut NoLog)?;
-        t = (i + 1) as f64 * c.dt;
-        m.evaluate(&mut v, t, &mut NoLog);
-        let outputs = [
-            G::knife_s,
-            G::elastic_F,
-            G::shaft_tau,
-            G::elastic_E_residual,
-        ];
-        assert_finite(&v, &outputs, || format!("{c:?} at t = {t}"));
-        run.s.push(v[G::knife_s]);
-        run.f.push(v[G::elastic_F]);
-        run.residual = run.residual.max(v[G::elastic_E_residual].abs());
-        // energy scale: the work of the peak chain force over the stroke
-        run.energy_scale = run.energy_scale.max(v[G::elastic_F].abs() * 0.14);
-    }
-    run.steps = v[G::solver_steps];
-    Ok(run)
+    elastic::run::<GenevaKnifeDrive>(v, c.dt, stop, &rec, &mut NoLog, |_| {})
 }
 
 #[test]
 fn geneva_default_scene_sanity() {
-    let t0 = Instant::now();
     let r = geneva(&BASE, 2.0).unwrap();
-    let smax = r.s.iter().cloned().fold(f64::MIN, f64::max);
+    let smax = r.x.iter().cloned().fold(f64::MIN, f64::max);
     let fmax = r.f.iter().cloned().fold(f64::MIN, f64::max);
     eprintln!(
-        "smax {smax} fmax {fmax} residual {} steps {} in {:?}",
+        "smax {smax} fmax {fmax} residual {} steps {}",
         r.residual,
-        r.steps,
-        t0.elapsed()
+        r.steps()
     );
     assert!((smax - 0.14).abs() < 1e-3);
-}
-
-/// Largest difference of two position histories, and of their peak chain forces (relative).
-fn compare(a: &Run, b: &Run) -> (f64, f64) {
-    (max_abs_diff(&a.s, &b.s), peak_abs_rel_diff(&a.f, &b.f))
 }
 
 /// Runs a case and its reference (radau5 at a tight tolerance, output at the same instants)
@@ -106,21 +71,12 @@ fn check(c: Case, stop: f64, pos_tol: f64, force_tol: f64) -> Result<(), String>
         ..c
     };
     let reference = geneva(&refc, stop).expect("the reference solves every case");
-    let (ds, df) = compare(&r, &reference);
-    assert!(
-        ds <= pos_tol,
-        "{c:?}: position off the reference by {ds:e} m"
-    );
-    assert!(
-        df <= force_tol,
-        "{c:?}: peak chain force off the reference by {df:e}"
-    );
-    assert!(
-        r.residual <= 1e-4 * r.energy_scale,
-        "{c:?}: energy residual {} J of {} J",
-        r.residual,
-        r.energy_scale
-    );
+    let tol = Tolerance {
+        x: pos_tol,
+        f: force_tol,
+        residual: 1e-4,
+    };
+    elastic::assert_close(&c, &r, &reference, tol, peak_abs);
     Ok(())
 }
 
@@ -256,8 +212,8 @@ fn explicit_methods_on_a_stiff_chain_refuse_fast_instead_of_grinding() {
         1.0,
     )
     .unwrap();
-    eprintln!("auto on 1e16 N/m: {} steps", r.steps);
-    assert!(r.steps < 0.1 * 2e5, "auto took {} steps", r.steps);
+    eprintln!("auto on 1e16 N/m: {} steps", r.steps());
+    assert!(r.steps() < 0.1 * 2e5, "auto took {} steps", r.steps());
 }
 
 // ---- SewingTable: the follower chain and the slot's play -----------------------------------
@@ -265,14 +221,19 @@ fn explicit_methods_on_a_stiff_chain_refuse_fast_instead_of_grinding() {
 use bindery_fmu::mechanisms::sewing_table::SewingTable;
 use bindery_fmu::mechanisms::sewing_table::model::V as S;
 
+/// A SewingTable run, its lift-offs and largest impact force.
 #[derive(Debug)]
 struct TableRun {
-    x: Vec<f64>,
-    f: Vec<f64>,
-    residual: f64,
-    energy_scale: f64,
+    run: Run<S>,
     liftoffs: i32,
     impact: f64,
+}
+
+impl std::ops::Deref for TableRun {
+    type Target = Run<S>;
+    fn deref(&self) -> &Run<S> {
+        &self.run
+    }
 }
 
 #[allow(clippy::too_many_arguments)]
@@ -286,48 +247,34 @@ fn table(
     rtol: f64,
     stop: f64,
 ) -> Result<TableRun, String> {
-    let mut v = Values::<S>::start();
-    v[S::model_fidelity] = 3.0;
-    v[S::drive_mode] = 2.0;
-    v[S::drive_n] = rpm * std::f64::consts::PI / 30.0;
+    let d = Drive {
+        rpm,
+        dt,
+        phi0: 0.0,
+        method,
+        rtol,
+        // the absolute tolerance resolves the chain's deflection (some 300 N over k), or the
+        // spring's energy is not controlled at all on a 1e12 N/m chain (deflection 3e-10 m)
+        atol: (rtol * 1e-3).min(1e-2 * 300.0 / k),
+    };
+    let mut v = elastic::elastodynamic(Values::<S>::start(), &d);
     v[S::elastic_k] = k;
     v[S::elastic_zeta] = zeta;
     v[S::cam_clearance] = clearance;
-    v[S::solver_method] = method as f64;
-    v[S::solver_rtol] = rtol;
-    // the absolute tolerance resolves the chain's deflection (some 300 N over k), or the
-    // spring's energy is not controlled at all on a 1e12 N/m chain (deflection 3e-10 m)
-    v[S::solver_atol] = (rtol * 1e-3).min(1e-2 * 300.0 / k);
-    let mut m = SewingTable::prepare(&v).map_err(|e| e.to_string())?;
-    let n = (stop / dt).round().max(1.0) as usize;
-    let mut r = TableRun {
-        x: vec![],
-        f: vec![],
-        residual: 0.0,
-        energy_scale: 1.0,
-        liftoffs: 0,
-        impact: 0.0,
+    let rec = Record {
+        x: S::table_x,
+        f: S::elastic_F,
+        stroke: 0.11,
+        scale0: 1.0,
+        finite: vec![S::shaft_tau],
     };
-    for i in 0..n {
-        m.step(&mut v, i as f64 * dt, dt, &mut NoLog)?;
-        m.evaluate(&mut v, (i + 1) as f64 * dt, &mut NoLog);
-        let outputs = [
-            S::table_x,
-            S::elastic_F,
-            S::shaft_tau,
-            S::elastic_E_residual,
-        ];
-        assert_finite(&v, &outputs, || {
-            format!("k {k} zeta {zeta} play {clearance} rpm {rpm} at step {i}")
-        });
-        r.x.push(v[S::table_x]);
-        r.f.push(v[S::elastic_F]);
-        r.residual = r.residual.max(v[S::elastic_E_residual].abs());
-        r.energy_scale = r.energy_scale.max(v[S::elastic_F].abs() * 0.11);
-    }
-    r.liftoffs = v.int(S::contact_liftoffs);
-    r.impact = v[S::contact_F_impact];
-    Ok(r)
+    let run = elastic::run::<SewingTable>(v, dt, stop, &rec, &mut NoLog, |_| {})
+        .map_err(|e| format!("k {k} zeta {zeta} play {clearance} rpm {rpm}: {e}"))?;
+    Ok(TableRun {
+        liftoffs: run.values.int(S::contact_liftoffs),
+        impact: run.values[S::contact_F_impact],
+        run,
+    })
 }
 
 /// One shaft turn at 100 rpm: 0.6 s.

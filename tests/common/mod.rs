@@ -2,6 +2,7 @@
 //! with libloading and calls it through the C ABI, recording what it logs.
 #![allow(dead_code)]
 
+pub mod elastic;
 #[cfg(target_os = "linux")]
 pub mod heap;
 pub mod me;
