@@ -256,51 +256,40 @@ thread_local! {
     static TALLY: RefCell<LogTally> = RefCell::new(LogTally::default());
 }
 
-unsafe extern "C" fn record(
-    _: *mut c_void,
-    name: *const c_char,
-    status: c_int,
-    cat: *const c_char,
-    msg: *const c_char,
+/// The tests' variadic C logger (`tests/c_host/logger.c`), which formats the message as a host
+/// does.
+#[path = "../tests/common/c_logger.rs"]
+mod c_logger;
+
+fn record(
+    _: usize,
+    status: bindery_fmu::fmi2::types::Status,
+    name: Option<&str>,
+    cat: Option<&str>,
+    msg: Option<&str>,
 ) {
-    assert!(
-        !name.is_null() && !cat.is_null() && !msg.is_null(),
-        "logger got a NULL string"
-    );
-    // SAFETY: the FMU passes valid C strings (checked non-NULL above).
-    let m = unsafe { CStr::from_ptr(msg) }.to_string_lossy();
+    let (Some(_), Some(_), Some(m)) = (name, cat, msg) else {
+        panic!("logger got a NULL string");
+    };
     TALLY.with(|t| {
         let mut t = t.borrow_mut();
         t.lines += 1;
-        if status == 3 {
+        if status == bindery_fmu::fmi2::types::Status::Error {
             t.errors += 1;
         }
         if m.contains("panic") {
-            t.panics.push(m.into_owned());
+            t.panics.push(m.to_string());
         }
     });
 }
 
 fn callbacks(logger: bool) -> CallbackFunctions {
-    type Fixed =
-        unsafe extern "C" fn(*mut c_void, *const c_char, c_int, *const c_char, *const c_char);
     CallbackFunctions {
-        // SAFETY: a non-variadic callee reading only the fixed arguments is called correctly
-        // through the variadic pointer on x86-64 and aarch64 (see tests/common); the enum
-        // `Status` argument is read as the C int it is.
-        logger: logger.then(|| unsafe {
-            std::mem::transmute::<
-                Fixed,
-                unsafe extern "C" fn(
-                    *mut c_void,
-                    *const c_char,
-                    bindery_fmu::fmi2::types::Status,
-                    *const c_char,
-                    *const c_char,
-                    ...
-                ),
-            >(record as Fixed)
-        }),
+        logger: if logger {
+            c_logger::logger(record)
+        } else {
+            None
+        },
         allocate_memory: None,
         free_memory: None,
         step_finished: None,

@@ -11,6 +11,10 @@
 //! - `ssp` (feature `tools`): the machines as SSP 1.0 systems of these FMUs.
 //! - [`scene`]: scene files and the FMU tailored to one (`scenes.md`); knows no mechanism.
 //! - `docs` (feature `tools`): the FMU's `documentation/` page, figures and icon; knows no mechanism.
+/// The crate under its own name, for test code shared with the integration tests.
+#[cfg(test)]
+extern crate self as bindery_fmu;
+
 #[cfg(feature = "tools")]
 pub mod catalog;
 pub mod digest;

@@ -88,35 +88,20 @@ impl Model for Tiny {
 }
 
 static LOG: Mutex<Vec<(Status, String)>> = Mutex::new(Vec::new());
-unsafe extern "C" fn record(
-    _: ComponentEnvironment,
-    _: FmiString,
-    status: Status,
-    _: FmiString,
-    msg: FmiString,
-) {
-    let m = unsafe { CStr::from_ptr(msg) }
-        .to_string_lossy()
-        .into_owned();
-    LOG.lock().unwrap().push((status, m));
+
+/// The tests' variadic C logger (`tests/c_host/logger.c`, as the integration tests use it).
+#[path = "../../tests/common/c_logger.rs"]
+mod c_logger;
+
+fn record(_: usize, status: Status, _: Option<&str>, _: Option<&str>, text: Option<&str>) {
+    LOG.lock()
+        .unwrap()
+        .push((status, text.unwrap_or_default().to_string()));
 }
 
 fn tiny() -> Component {
     let f = CallbackFunctions {
-        // SAFETY: a non-variadic callee reading only the fixed arguments (see tests/common).
-        logger: Some(unsafe {
-            std::mem::transmute::<
-                unsafe extern "C" fn(ComponentEnvironment, FmiString, Status, FmiString, FmiString),
-                unsafe extern "C" fn(
-                    ComponentEnvironment,
-                    FmiString,
-                    Status,
-                    FmiString,
-                    FmiString,
-                    ...
-                ),
-            >(record)
-        }),
+        logger: c_logger::logger(record),
         allocate_memory: None,
         free_memory: None,
         step_finished: None,

@@ -2,6 +2,7 @@
 //! with libloading and calls it through the C ABI, recording what it logs.
 #![allow(dead_code)]
 
+pub mod c_logger;
 pub mod elastic;
 #[cfg(target_os = "linux")]
 pub mod heap;
@@ -79,43 +80,17 @@ pub type LogLine = (Status, String, String);
 
 static LOGS: Mutex<Vec<(usize, LogLine)>> = Mutex::new(Vec::new());
 
-/// The logger the tests hand to the FMU. FMI's logger is C-variadic; a Rust function cannot be
-/// defined variadic on stable, and on x86-64 / aarch64 a non-variadic callee reading only the
-/// fixed arguments is called correctly through a variadic pointer.
-unsafe extern "C" fn record(
-    env: ComponentEnvironment,
-    _name: FmiString,
-    status: Status,
-    cat: FmiString,
-    msg: FmiString,
-) {
-    let s = |p: FmiString| {
-        if p.is_null() {
-            String::new()
-        } else {
-            unsafe { CStr::from_ptr(p) }.to_string_lossy().into_owned()
-        }
-    };
+fn record(env: usize, status: Status, _: Option<&str>, category: Option<&str>, text: Option<&str>) {
+    let s = |x: Option<&str>| x.unwrap_or_default().to_string();
     LOGS.lock()
         .unwrap()
-        .push((env as usize, (status, s(cat), s(msg))));
+        .push((env, (status, s(category), s(text))));
 }
 
+/// The logger the tests hand to the FMU: a real C-variadic function ([`c_logger`]) that
+/// formats the message as a host does; the lines are kept per environment ([`logs_of`]).
 pub fn logger() -> CallbackLogger {
-    // SAFETY: see `record`.
-    Some(unsafe {
-        std::mem::transmute::<
-            unsafe extern "C" fn(ComponentEnvironment, FmiString, Status, FmiString, FmiString),
-            unsafe extern "C" fn(
-                ComponentEnvironment,
-                FmiString,
-                Status,
-                FmiString,
-                FmiString,
-                ...
-            ),
-        >(record)
-    })
+    c_logger::logger(record)
 }
 
 static NEXT_ENV: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(1);
