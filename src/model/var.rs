@@ -383,6 +383,19 @@ pub enum Fidelity {
     Elastodynamic = 3,
 }
 
+impl Fidelity {
+    /// Every level.
+    pub const ALL: &'static [Fidelity] = &[
+        Fidelity::Kinematic,
+        Fidelity::Kinetostatic,
+        Fidelity::Elastodynamic,
+    ];
+    /// The levels that compute forces.
+    pub const WITH_FORCES: &'static [Fidelity] = &[Fidelity::Kinetostatic, Fidelity::Elastodynamic];
+    /// The elastodynamic level.
+    pub const DYNAMIC: &'static [Fidelity] = &[Fidelity::Elastodynamic];
+}
+
 /// A set of computation stages of one model: bit `i` is [`Model::STAGES`]`[i]`. What always
 /// runs (the kinematics every output rests on) is no stage.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Hash)]
@@ -432,6 +445,80 @@ pub struct Stage {
     /// It guards the user (a lift-off, self-locking or undercut check with its warning): a
     /// scene keeps it whenever the stages it requires run, whatever outputs it leaves out.
     pub guards: bool,
+}
+
+impl Stage {
+    /// A stage computed at `levels`, requiring no other, run only when an output needs it.
+    pub const fn new(
+        name: &'static str,
+        description: &'static str,
+        levels: &'static [Fidelity],
+    ) -> Stage {
+        Stage {
+            name,
+            description,
+            levels,
+            requires: Stages::NONE,
+            always: false,
+            guards: false,
+        }
+    }
+    /// It needs the results of `stages`.
+    pub const fn requires(self, stages: Stages) -> Stage {
+        Stage {
+            requires: stages,
+            ..self
+        }
+    }
+    /// It runs whenever its level is chosen ([`Stage::always`]).
+    pub const fn always(self) -> Stage {
+        Stage {
+            always: true,
+            ..self
+        }
+    }
+    /// It guards the user ([`Stage::guards`]).
+    pub const fn guards(self) -> Stage {
+        Stage {
+            guards: true,
+            ..self
+        }
+    }
+}
+
+/// Declares a model's computation stages once (`scenes.md`): the module `stage` with one
+/// [`Stages`] bit per stage, in the order declared, and named unions of them, and the table
+/// `STAGES` the model returns as [`crate::model::Model::STAGES`].
+///
+/// ```ignore
+/// stages! {
+///     FORCES = Stage::new("forces", "Kinetostatic force analysis", Fidelity::WITH_FORCES),
+///     ELASTIC = Stage::new("elastic", "The ODE of the chain", Fidelity::DYNAMIC).always();
+///     /// What the loads feed.
+///     LOADS = FORCES.or(ELASTIC),
+/// }
+/// ```
+#[macro_export]
+macro_rules! stages {
+    ( $( $id:ident = $stage:expr ),+ ; $( $(#[$doc:meta])* $union:ident = $value:expr ),* $(,)? ) => {
+        /// The computations a scene may leave out (`scenes.md`): one bit per stage of
+        /// [`STAGES`], and unions of them; the variables say which they need (`.needs`) or
+        /// feed (`.feeds`). The kinematics always run.
+        pub mod stage {
+            #[allow(unused_imports)]
+            use $crate::model::Stages;
+            $crate::stages!(@bits 0; $( $id )+);
+            $( $(#[$doc])* pub const $union: Stages = $value; )*
+        }
+        /// The stages of [`stage`], in bit order.
+        pub static STAGES: &[$crate::model::Stage] = &[ $( $stage ),+ ];
+    };
+    (@bits $n:expr; ) => {};
+    (@bits $n:expr; $first:ident $( $rest:ident )*) => {
+        /// A stage of [`super::STAGES`], in the order declared.
+        pub const $first: Stages = Stages::bit($n);
+        $crate::stages!(@bits $n + 1; $( $rest )*);
+    };
 }
 
 /// When a host tries to set a variable.

@@ -4,41 +4,16 @@
 use super::elastic::{Point, RodOde, dead_point_threshold};
 use super::physics::{Forces, Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
-use crate::model::{Experiment, Log, Model, ParamError, Severity, Stage, Stages, Values};
+use crate::model::{Experiment, Log, Model, ParamError, Severity, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, Settings, ShaftPath};
 
-/// The computations a scene may leave out (`scenes.md`); the variables below say which they
-/// need (`.needs`) or feed (`.feeds`). The kinematics always run.
-pub mod stage {
-    use crate::model::Stages;
-    /// [`super::STAGES`]`[0]`.
-    pub const FORCES: Stages = Stages::bit(0);
-    /// [`super::STAGES`]`[1]`.
-    pub const ELASTIC: Stages = Stages::bit(1);
+crate::stages! {
+    FORCES = Stage::new("forces", "Kinetostatic force analysis: cutting force, inertia of holder and sliders, Coulomb friction in both guides (with the self-locking check), rod and hinge forces, shaft torque", Fidelity::WITH_FORCES),
+    ELASTIC = Stage::new("elastic", "The ODE of the compliant rod 4 (slider 5 as the degree of freedom, the 7x7 system per evaluation), integrated inside fmi2DoStep", Fidelity::DYNAMIC).always();
     /// What the masses, friction and cutting force feed.
-    pub const LOADS: Stages = FORCES.or(ELASTIC);
+    LOADS = FORCES.or(ELASTIC),
 }
-
-/// The stages of [`stage`], in bit order.
-pub static STAGES: &[Stage] = &[
-    Stage {
-        name: "forces",
-        description: "Kinetostatic force analysis: cutting force, inertia of holder and sliders, Coulomb friction in both guides (with the self-locking check), rod and hinge forces, shaft torque",
-        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
-        requires: Stages::NONE,
-        always: false,
-        guards: false,
-    },
-    Stage {
-        name: "elastic",
-        description: "The ODE of the compliant rod 4 (slider 5 as the degree of freedom, the 7x7 system per evaluation), integrated inside fmi2DoStep",
-        levels: &[Fidelity::Elastodynamic],
-        requires: Stages::NONE,
-        always: true,
-        guards: false,
-    },
-];
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 300.0, torque_needs = stage::FORCES) {

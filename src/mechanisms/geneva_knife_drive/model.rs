@@ -5,42 +5,17 @@ use super::elastic::{KnifeOde, Point};
 use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
-use crate::model::{Experiment, Log, Model, ParamError, Stage, Stages, Values};
+use crate::model::{Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
-/// The computations a scene may leave out (`scenes.md`); the variables below say which they
-/// need (`.needs`) or feed (`.feeds`). The kinematics always run.
-pub mod stage {
-    use crate::model::Stages;
-    /// [`super::STAGES`]`[0]`.
-    pub const FORCES: Stages = Stages::bit(0);
-    /// [`super::STAGES`]`[1]`.
-    pub const ELASTIC: Stages = Stages::bit(1);
+crate::stages! {
+    FORCES = Stage::new("forces", "Kinetostatic force analysis: Newton-Euler on slider, rod, crank, gear pair, cross and driver, with cutting resistance and guide friction", Fidelity::WITH_FORCES),
+    ELASTIC = Stage::new("elastic", "The ODE of the compliant drive chain, integrated inside fmi2DoStep, with its energy balance and dynamic factor", Fidelity::DYNAMIC).always();
     /// What the loads and masses feed.
-    pub const LOADS: Stages = FORCES.or(ELASTIC);
+    LOADS = FORCES.or(ELASTIC),
 }
-
-/// The stages of [`stage`], in bit order.
-pub static STAGES: &[Stage] = &[
-    Stage {
-        name: "forces",
-        description: "Kinetostatic force analysis: Newton-Euler on slider, rod, crank, gear pair, cross and driver, with cutting resistance and guide friction",
-        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
-        requires: Stages::NONE,
-        always: false,
-        guards: false,
-    },
-    Stage {
-        name: "elastic",
-        description: "The ODE of the compliant drive chain, integrated inside fmi2DoStep, with its energy balance and dynamic factor",
-        levels: &[Fidelity::Elastodynamic],
-        requires: Stages::NONE,
-        always: true,
-        guards: false,
-    },
-];
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 30.0, torque_needs = stage::FORCES) {

@@ -17,7 +17,7 @@ use crate::mechanics::cyclogram::Phase;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
-use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Stages, Values};
+use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel};
 use crate::solver::{Integrator, OdeSystem, ShaftPath};
 use std::cell::Cell;
@@ -40,71 +40,15 @@ pub static SYNTH_MODE: EnumType = EnumType {
     ],
 };
 
-/// The computations a scene may leave out (`scenes.md`); the variables below say which they
-/// need (`.needs`) or feed (`.feeds`). The kinematics always run.
-pub mod stage {
-    use crate::model::Stages;
-    /// [`super::STAGES`]`[0]`.
-    pub const FORCES: Stages = Stages::bit(0);
-    /// [`super::STAGES`]`[1]`.
-    pub const HERTZ: Stages = Stages::bit(1);
-    /// [`super::STAGES`]`[2]`.
-    pub const WATCH: Stages = Stages::bit(2);
-    /// [`super::STAGES`]`[3]`.
-    pub const SYNTHESIS: Stages = Stages::bit(3);
-    /// [`super::STAGES`]`[4]`.
-    pub const ELASTIC: Stages = Stages::bit(4);
+crate::stages! {
+    FORCES = Stage::new("forces", "Kinetostatic force analysis: piercing load, carriage inertia and guide friction, rod, lever with spring and hinge friction, ramp contact force, table reaction, shaft torque", Fidelity::WITH_FORCES),
+    HERTZ = Stage::new("hertz", "Hertz contact stress roller - ramp (paper 002 eq. 8)", Fidelity::WITH_FORCES).requires(stage::FORCES),
+    WATCH = Stage::new("contact_watch", "Over each step (inside fmi2DoStep; in Model Exchange between completed integrator steps), the ramp contact force sampled every 0.25 deg of shaft angle: lift-off detection and warning, smallest force per turn", Fidelity::WITH_FORCES).requires(stage::FORCES).guards(),
+    SYNTHESIS = Stage::new("synthesis", "Paper 000's linkage synthesis reported as calculated parameters (rewritten at every evaluation)", Fidelity::ALL),
+    ELASTIC = Stage::new("elastic", "The ODE of the lever on the ramp through the unilateral contact (lift-off and landing), integrated inside fmi2DoStep", Fidelity::DYNAMIC).always();
     /// What the loads, masses and spring feed.
-    pub const LOADS: Stages = FORCES.or(HERTZ).or(WATCH).or(ELASTIC);
+    LOADS = FORCES.or(HERTZ).or(WATCH).or(ELASTIC),
 }
-
-/// The stages of [`stage`], in bit order.
-pub static STAGES: &[Stage] = &[
-    Stage {
-        name: "forces",
-        description: "Kinetostatic force analysis: piercing load, carriage inertia and guide friction, rod, lever with spring and hinge friction, ramp contact force, table reaction, shaft torque",
-        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
-        requires: Stages::NONE,
-        always: false,
-        guards: false,
-    },
-    Stage {
-        name: "hertz",
-        description: "Hertz contact stress roller - ramp (paper 002 eq. 8)",
-        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
-        requires: stage::FORCES,
-        always: false,
-        guards: false,
-    },
-    Stage {
-        name: "contact_watch",
-        description: "Over each step (inside fmi2DoStep; in Model Exchange between completed integrator steps), the ramp contact force sampled every 0.25 deg of shaft angle: lift-off detection and warning, smallest force per turn",
-        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
-        requires: stage::FORCES,
-        always: false,
-        guards: true,
-    },
-    Stage {
-        name: "synthesis",
-        description: "Paper 000's linkage synthesis reported as calculated parameters (rewritten at every evaluation)",
-        levels: &[
-            Fidelity::Kinematic,
-            Fidelity::Kinetostatic,
-            Fidelity::Elastodynamic,
-        ],
-        requires: Stages::NONE,
-        always: false,
-        guards: false,
-    },
-    Stage {
-        name: "elastic",
-        description: "The ODE of the lever on the ramp through the unilateral contact (lift-off and landing), integrated inside fmi2DoStep",
-        levels: &[Fidelity::Elastodynamic],
-        requires: Stages::NONE,
-        always: true,
-        guards: false,
-    },
-];
 
 /// `contact.law`.
 pub static CONTACT_LAW: EnumType = EnumType {

@@ -5,7 +5,7 @@ use super::elastic::TableOde;
 use super::physics::{Kind, Params};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
-use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Stages, Values};
+use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
@@ -51,89 +51,16 @@ const ON_ALL_F: &[u32] = &[shaft::PHI, shaft::W, shaft::A, V::table_F_ext as u32
 /// ... and of `shaft.tau0`, `shaft.J_red`.
 const ON_PHI_W_F: &[u32] = &[shaft::PHI, shaft::W, V::table_F_ext as u32];
 
-/// The computations a scene may leave out (`scenes.md`); the variables below say which they
-/// need (`.needs`) or feed (`.feeds`). The table's kinematics always run.
-pub mod stage {
-    use crate::model::Stages;
-    /// [`super::STAGES`]`[0]`.
-    pub const FLANK: Stages = Stages::bit(0);
-    /// [`super::STAGES`]`[1]`.
-    pub const FORCES: Stages = Stages::bit(1);
-    /// [`super::STAGES`]`[2]`.
-    pub const HERTZ: Stages = Stages::bit(2);
-    /// [`super::STAGES`]`[3]`.
-    pub const ROCKING: Stages = Stages::bit(3);
-    /// [`super::STAGES`]`[4]`.
-    pub const SYNTHESIS: Stages = Stages::bit(4);
-    /// [`super::STAGES`]`[5]`.
-    pub const ELASTIC: Stages = Stages::bit(5);
+crate::stages! {
+    FLANK = Stage::new("flank", "Force solution for the loaded slot flank and its curvature radius (cam.rho)", Fidelity::ALL),
+    FORCES = Stage::new("forces", "Kinetostatic force analysis: inertia, guide friction, cam force, shaft torque", Fidelity::WITH_FORCES),
+    HERTZ = Stage::new("hertz", "Hertz contact stress at the loaded flank (paper 002 eq. 8)", Fidelity::WITH_FORCES).requires(stage::FLANK),
+    ROCKING = Stage::new("rocking", "The BNSh-6A's rocking table, computed alongside for comparison (rocking.*)", Fidelity::ALL),
+    SYNTHESIS = Stage::new("synthesis", "Paper 000's synthesis reported as calculated parameters (rewritten at every evaluation), and the smallest base radius without undercut (a search at initialization)", Fidelity::ALL),
+    ELASTIC = Stage::new("elastic", "The ODE of the compliant cam-follower chain (with slot play), integrated inside fmi2DoStep", Fidelity::DYNAMIC).always();
     /// What the table's mass and guide friction feed.
-    pub const LOADS: Stages = FLANK.or(FORCES).or(HERTZ).or(ELASTIC);
+    LOADS = FLANK.or(FORCES).or(HERTZ).or(ELASTIC),
 }
-
-/// The stages of [`stage`], in bit order.
-pub static STAGES: &[Stage] = &[
-    Stage {
-        name: "flank",
-        description: "Force solution for the loaded slot flank and its curvature radius (cam.rho)",
-        levels: &[
-            Fidelity::Kinematic,
-            Fidelity::Kinetostatic,
-            Fidelity::Elastodynamic,
-        ],
-        requires: Stages::NONE,
-        always: false,
-        guards: false,
-    },
-    Stage {
-        name: "forces",
-        description: "Kinetostatic force analysis: inertia, guide friction, cam force, shaft torque",
-        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
-        requires: Stages::NONE,
-        always: false,
-        guards: false,
-    },
-    Stage {
-        name: "hertz",
-        description: "Hertz contact stress at the loaded flank (paper 002 eq. 8)",
-        levels: &[Fidelity::Kinetostatic, Fidelity::Elastodynamic],
-        requires: stage::FLANK,
-        always: false,
-        guards: false,
-    },
-    Stage {
-        name: "rocking",
-        description: "The BNSh-6A's rocking table, computed alongside for comparison (rocking.*)",
-        levels: &[
-            Fidelity::Kinematic,
-            Fidelity::Kinetostatic,
-            Fidelity::Elastodynamic,
-        ],
-        requires: Stages::NONE,
-        always: false,
-        guards: false,
-    },
-    Stage {
-        name: "synthesis",
-        description: "Paper 000's synthesis reported as calculated parameters (rewritten at every evaluation), and the smallest base radius without undercut (a search at initialization)",
-        levels: &[
-            Fidelity::Kinematic,
-            Fidelity::Kinetostatic,
-            Fidelity::Elastodynamic,
-        ],
-        requires: Stages::NONE,
-        always: false,
-        guards: false,
-    },
-    Stage {
-        name: "elastic",
-        description: "The ODE of the compliant cam-follower chain (with slot play), integrated inside fmi2DoStep",
-        levels: &[Fidelity::Elastodynamic],
-        requires: Stages::NONE,
-        always: true,
-        guards: false,
-    },
-];
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 100.0, torque_depends = ON_ALL_F, torque_needs = stage::FORCES) {
