@@ -11,6 +11,9 @@
 //! - `ssp` (feature `tools`): the machines as SSP 1.0 systems of these FMUs.
 //! - [`scene`]: scene files and the FMU tailored to one (`scenes.md`); knows no mechanism.
 //! - `docs` (feature `tools`): the FMU's `documentation/` page, figures and icon; knows no mechanism.
+// model_variables! reads a model's list one variable per expansion step (about 100 in a
+// mechanism); the default limit of 128 is too close.
+#![recursion_limit = "256"]
 /// The crate under its own name, for test code shared with the integration tests.
 #[cfg(test)]
 extern crate self as bindery_fmu;

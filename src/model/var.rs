@@ -598,25 +598,43 @@ fn round_sig(x: f64, digits: i32) -> f64 {
 /// ```
 #[macro_export]
 macro_rules! model_variables {
-    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
-        $crate::model_variables! {
-            $vis enum $name (nominal_rpm = $rpm, torque_depends = $crate::model::shaft::ON_ALL, torque_needs = $crate::model::Stages::NONE) { $( $id = $decl ),* }
-        }
+    // ---- the forms a model writes: normalized, then the list is read item by item
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr) { $( $body:tt )* }) => {
+        $crate::model_variables!(@munch [$vis $name (connector $rpm, $crate::model::shaft::ON_ALL, $crate::model::Stages::NONE)] [] $( $body )*);
     };
     // `torque_needs`: the stages that compute `shaft.tau` and `shaft.P` (`Var::needs`).
-    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_needs = $needs:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
-        $crate::model_variables! {
-            $vis enum $name (nominal_rpm = $rpm, torque_depends = $crate::model::shaft::ON_ALL, torque_needs = $needs) { $( $id = $decl ),* }
-        }
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_needs = $needs:expr) { $( $body:tt )* }) => {
+        $crate::model_variables!(@munch [$vis $name (connector $rpm, $crate::model::shaft::ON_ALL, $needs)] [] $( $body )*);
     };
-    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_depends = $dep:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
-        $crate::model_variables! {
-            $vis enum $name (nominal_rpm = $rpm, torque_depends = $dep, torque_needs = $crate::model::Stages::NONE) { $( $id = $decl ),* }
-        }
+    // `torque_depends`: the inputs `shaft.tau` and `shaft.P` depend on, when a model has inputs
+    // besides the shaft connector (e.g. an external force on a member).
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_depends = $dep:expr) { $( $body:tt )* }) => {
+        $crate::model_variables!(@munch [$vis $name (connector $rpm, $dep, $crate::model::Stages::NONE)] [] $( $body )*);
+    };
+    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_depends = $dep:expr, torque_needs = $needs:expr) { $( $body:tt )* }) => {
+        $crate::model_variables!(@munch [$vis $name (connector $rpm, $dep, $needs)] [] $( $body )*);
     };
     // A model that drives a shaft instead of being driven by one (MainShaft): no shaft connector
     // and no drive/fidelity parameters prepended; the helpers of [`shaft`] do not apply to it.
-    ($vis:vis enum $name:ident (standalone) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+    ($vis:vis enum $name:ident (standalone) { $( $body:tt )* }) => {
+        $crate::model_variables!(@munch [$vis $name (standalone)] [] $( $body )*);
+    };
+
+    // ---- reading the list: `id = declaration`, or `@with block_macro { ... }`, a block of
+    // variables another macro declares (e.g. [`crate::chain_variables!`]): it is called back with
+    // what was read so far and hands the list on with its variables added
+    (@munch $head:tt [ $( $done:tt )* ]) => {
+        $crate::model_variables!(@emit $head $( $done )*);
+    };
+    (@munch $head:tt [ $( $done:tt )* ] @with $block:path { $( $args:tt )* } $( , $( $rest:tt )* )?) => {
+        $block!(@callback $head [ $( $done )* ] { $( $args )* } $( $( $rest )* )?);
+    };
+    (@munch $head:tt [ $( $done:tt )* ] $id:ident = $decl:expr $( , $( $rest:tt )* )?) => {
+        $crate::model_variables!(@munch $head [ $( $done )* ($id = $decl) ] $( $( $rest )* )?);
+    };
+
+    // ---- the enum and its table
+    (@emit [$vis:vis $name:ident (standalone)] $( ($id:ident = $decl:expr) )*) => {
         #[allow(non_camel_case_types, dead_code)]
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         #[repr(u32)]
@@ -639,9 +657,7 @@ macro_rules! model_variables {
             }
         }
     };
-    // `torque_depends`: the inputs `shaft.tau` and `shaft.P` depend on, when a model has inputs
-    // besides the shaft connector (e.g. an external force on a member).
-    ($vis:vis enum $name:ident (nominal_rpm = $rpm:expr, torque_depends = $dep:expr, torque_needs = $needs:expr) { $( $id:ident = $decl:expr ),* $(,)? }) => {
+    (@emit [$vis:vis $name:ident (connector $rpm:expr, $dep:expr, $needs:expr)] $( ($id:ident = $decl:expr) )*) => {
         #[allow(non_camel_case_types, dead_code)]
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         #[repr(u32)]

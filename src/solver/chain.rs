@@ -42,6 +42,52 @@ macro_rules! at_accepted_steps {
     };
 }
 
+/// The variables of the elastodynamic level every integrating model declares the same way,
+/// written once: used inside [`crate::model_variables!`] as `@with crate::chain_variables { .. }`.
+///
+/// - `solver(STAGE)`: `solver.method`, `solver.rtol`, `solver.atol`, `solver.max_step`
+///   (parameters feeding the stage); `solver` alone: feeding everything (a model without stages);
+/// - `results(STAGE)`: `elastic.E_residual` and `solver.steps` (outputs needing the stage);
+///   `steps` alone: `solver.steps` of a model without stages;
+/// - `states(STAGE; x = ("elastic.x", "m", "State: ...") => der_x "m/s", ...)`: the continuous
+///   states (locals needing the stage) and then their derivatives `der(<name>)`, in order.
+#[macro_export]
+macro_rules! chain_variables {
+    (@callback $head:tt [ $( $done:tt )* ] { solver($s:expr) } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            (solver_method = $crate::solver::vars::method().feeds($s))
+            (solver_rtol = $crate::solver::vars::rtol().feeds($s))
+            (solver_atol = $crate::solver::vars::atol().feeds($s))
+            (solver_max_step = $crate::solver::vars::max_step().feeds($s))
+        ] $( $rest )*);
+    };
+    (@callback $head:tt [ $( $done:tt )* ] { solver } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            (solver_method = $crate::solver::vars::method())
+            (solver_rtol = $crate::solver::vars::rtol())
+            (solver_atol = $crate::solver::vars::atol())
+            (solver_max_step = $crate::solver::vars::max_step())
+        ] $( $rest )*);
+    };
+    (@callback $head:tt [ $( $done:tt )* ] { results($s:expr) } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            (elastic_E_residual = $crate::solver::vars::e_residual().needs($s))
+            (solver_steps = $crate::solver::vars::steps().needs($s))
+        ] $( $rest )*);
+    };
+    (@callback $head:tt [ $( $done:tt )* ] { steps } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            (solver_steps = $crate::solver::vars::steps())
+        ] $( $rest )*);
+    };
+    (@callback $head:tt [ $( $done:tt )* ] { states($s:expr; $( $x:ident = ($name:literal, $unit:literal, $desc:literal) => $dx:ident $dunit:literal ),+ $(,)?) } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            $( ($x = $crate::model::Var::local($name, $unit, $desc).needs($s)) )+
+            $( ($dx = $crate::model::Var::local(concat!("der(", $name, ")"), $dunit, concat!("Derivative of ", $name)).derivative_of(Self::$x as u32).needs($s)) )+
+        ] $( $rest )*);
+    };
+}
+
 /// What a mechanism supplies for its compliant chain. Implemented by the chain's constants
 /// (stiffness, damping, play...), fixed at `prepare`.
 pub trait ChainModel: Clone + Debug {

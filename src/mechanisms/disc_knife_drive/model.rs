@@ -72,24 +72,19 @@ crate::model_variables! {
         // ---- elastodynamic level (dynamics.md: rod compliance between crank pin and slider 5)
         elastic_k = Var::parameter("elastic.k", 2e8, "N/m", "Axial stiffness of rod 4 between crank pin B and slider 5 with its pin bearings (elastodynamic level; assumption: steel shank of 60 mm2 over l2 = 38 mm, EA/l2 = 3.3e8 N/m, in series with two pin bearings of 1e9 N/m)").min(1.0).feeds(stage::ELASTIC),
         elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the rod, c = 2*zeta*sqrt(k*M_ref), M_ref the reduced mass of the chain behind the rod at the outer dead centre (elastodynamic level; assumption)").min(0.0).feeds(stage::ELASTIC),
-        solver_method = crate::solver::vars::method().feeds(stage::ELASTIC),
-        solver_rtol = crate::solver::vars::rtol().feeds(stage::ELASTIC),
-        solver_atol = crate::solver::vars::atol().feeds(stage::ELASTIC),
-        solver_max_step = crate::solver::vars::max_step().feeds(stage::ELASTIC),
+        @with crate::chain_variables { solver(stage::ELASTIC) },
         slider_x_kin = Var::output("slider.x_kin", "m", "Rigid reference position x_C(phi) of slider 5 (elastodynamic level; equals slider.x at the others)").depends(ON_PHI),
         elastic_deflection = Var::output("elastic.deflection", "m", "Shortening of rod 4, rigid rod length - |C - B| (elastodynamic level; 0 at the others)").depends(ON_PHI).needs(stage::ELASTIC),
         elastic_F = Var::output("elastic.F", "N", "Dynamic rod force k*deflection + c*deflection rate, compression positive; rod.F equals it at the elastodynamic level (0 at the others)").depends(ON_PHI_W).needs(stage::ELASTIC),
         rod_F_kin = Var::output("rod.F_kin", "N", "Kinetostatic rod force on the rigid motion, the reference of dyn.factor (elastodynamic level; equals rod.F at kinetostatic, 0 at kinematic)").depends(ON_ALL).needs(stage::FORCES),
         dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak |elastic.F| over the peak kinetostatic rod force, of the last complete shaft turn (the running one until a turn is complete), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level, 1 at the others)")).needs(stage::ELASTIC),
-        elastic_E_residual = crate::solver::vars::e_residual().needs(stage::ELASTIC),
-        solver_steps = crate::solver::vars::steps().feeds(stage::ELASTIC),
+        @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
-        elastic_x = Var::local("elastic.x", "m", "State: position x of slider 5 along its guide (elastodynamic level)").needs(stage::ELASTIC),
-        elastic_xd = Var::local("elastic.xd", "m/s", "State: velocity of slider 5 (elastodynamic level)").needs(stage::ELASTIC),
-        elastic_W = Var::local("elastic.W", "J", "State: work done on the chain behind the rod and on the rod spring by crank pin, cutting, friction, damping and weights (for the energy balance)").needs(stage::ELASTIC),
-        der_elastic_x = Var::local("der(elastic.x)", "m/s", "Derivative of elastic.x").derivative_of(V::elastic_x as u32).needs(stage::ELASTIC),
-        der_elastic_xd = Var::local("der(elastic.xd)", "m/s2", "Derivative of elastic.xd").derivative_of(V::elastic_xd as u32).needs(stage::ELASTIC),
-        der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32).needs(stage::ELASTIC),
+        @with crate::chain_variables { states(stage::ELASTIC;
+            elastic_x = ("elastic.x", "m", "State: position x of slider 5 along its guide (elastodynamic level)") => der_elastic_x "m/s",
+            elastic_xd = ("elastic.xd", "m/s", "State: velocity of slider 5 (elastodynamic level)") => der_elastic_xd "m/s2",
+            elastic_W = ("elastic.W", "J", "State: work done on the chain behind the rod and on the rod spring by crank pin, cutting, friction, damping and weights (for the energy balance)") => der_elastic_W "W",
+        ) },
     }
 }
 

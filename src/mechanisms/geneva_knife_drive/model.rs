@@ -66,23 +66,18 @@ crate::model_variables! {
         // ---- elastodynamic level (dynamics.md)
         elastic_k = Var::parameter("elastic.k", 5e7, "N/m", "Stiffness of the drive chain between the rigid knife position and the knife (elastodynamic level; assumption)").min(1.0).feeds(stage::ELASTIC),
         elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the drive chain, c = 2*zeta*sqrt(k*m_s) (elastodynamic level; assumption)").min(0.0).feeds(stage::ELASTIC),
-        solver_method = crate::solver::vars::method().feeds(stage::ELASTIC),
-        solver_rtol = crate::solver::vars::rtol().feeds(stage::ELASTIC),
-        solver_atol = crate::solver::vars::atol().feeds(stage::ELASTIC),
-        solver_max_step = crate::solver::vars::max_step().feeds(stage::ELASTIC),
+        @with crate::chain_variables { solver(stage::ELASTIC) },
         knife_s_kin = Var::output("knife.s_kin", "m", "Rigid reference position of the knife s(phi) (elastodynamic level; equals knife.s at the others)").depends(ON_PHI),
         elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the drive chain knife.s_kin - knife.s (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
         elastic_F = Var::output("elastic.F", "N", "Dynamic chain force on the knife along s, k*deflection + c*deflection rate (elastodynamic level)").depends(ON_PHI_W).needs(stage::ELASTIC),
         dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) chain force, of the last complete driver turn (the running one until a turn is complete), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
-        elastic_E_residual = crate::solver::vars::e_residual().needs(stage::ELASTIC),
-        solver_steps = crate::solver::vars::steps().needs(stage::ELASTIC),
+        @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
-        elastic_x = Var::local("elastic.x", "m", "State: knife position x, down positive (elastodynamic level)").needs(stage::ELASTIC),
-        elastic_xd = Var::local("elastic.xd", "m/s", "State: knife velocity (elastodynamic level)").needs(stage::ELASTIC),
-        elastic_W = Var::local("elastic.W", "J", "State: work done on knife and chain spring by drive, gravity, cutting, friction and damping (for the energy balance)").needs(stage::ELASTIC),
-        der_elastic_x = Var::local("der(elastic.x)", "m/s", "Derivative of elastic.x").derivative_of(V::elastic_x as u32).needs(stage::ELASTIC),
-        der_elastic_xd = Var::local("der(elastic.xd)", "m/s2", "Derivative of elastic.xd").derivative_of(V::elastic_xd as u32).needs(stage::ELASTIC),
-        der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32).needs(stage::ELASTIC),
+        @with crate::chain_variables { states(stage::ELASTIC;
+            elastic_x = ("elastic.x", "m", "State: knife position x, down positive (elastodynamic level)") => der_elastic_x "m/s",
+            elastic_xd = ("elastic.xd", "m/s", "State: knife velocity (elastodynamic level)") => der_elastic_xd "m/s2",
+            elastic_W = ("elastic.W", "J", "State: work done on knife and chain spring by drive, gravity, cutting, friction and damping (for the energy balance)") => der_elastic_W "W",
+        ) },
     }
 }
 

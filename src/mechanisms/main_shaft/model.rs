@@ -21,7 +21,7 @@ crate::model_variables! {
         motor_s = Var::output("motor.s", "", "Motor slip (motor.n_sync - motor.w)/motor.n_sync").depends(&[]),
         motor_P = Var::output("motor.P", "W", "Mechanical power of the motor motor.tau*motor.w").depends(&[]),
         bearing_tau = Var::output("bearing.tau", "N.m", "Friction torque of the main shaft's bearings").depends(&[]),
-        solver_steps = crate::solver::vars::steps(),
+        @with crate::chain_variables { steps },
         // ---- inputs: the loads
         load_tau = Var::input("load.tau", 0.0, "N.m", "Load torque given as a whole (plain torque coupling: a mechanism's shaft.tau; its inertia then acts one communication step late)"),
         load1_J_red = Var::input("load1.J_red", 0.0, "kg.m2", "Reduced moment of inertia of mechanism 1 (its shaft.J_red; 0 if none)"),
@@ -43,10 +43,7 @@ crate::model_variables! {
         bearing_w_s = Var::parameter("bearing.w_s", 0.01, "rad/s", "Speed over which the Coulomb friction is smoothed (numerical, assumption)").min(0.0),
         init_phi = Var::parameter("init.phi", 0.0, "rad", "Main-shaft angle at the start time"),
         init_w = Var::parameter("init.w", 0.0, "rad/s", "Main-shaft speed at the start time (0: start-up from rest)"),
-        solver_method = crate::solver::vars::method(),
-        solver_rtol = crate::solver::vars::rtol(),
-        solver_atol = crate::solver::vars::atol(),
-        solver_max_step = crate::solver::vars::max_step(),
+        @with crate::chain_variables { solver },
         // ---- calculated parameters
         motor_n_sync = Var::calculated("motor.n_sync", "rad/s", "Synchronous speed of the motor motor.n_rated/(1 - motor.s_rated)"),
         motor_tau_rated = Var::calculated("motor.tau_rated", "N.m", "Rated torque motor.P_rated/motor.n_rated"),

@@ -142,10 +142,7 @@ crate::model_variables! {
         contact_law = Var::enum_parameter("contact.law", &CONTACT_LAW, "hertz", "Ramp contact force law of the elastodynamic level: hertz K*pen^(10/9) or linear contact.k*pen, both with damping contact.c and never pulling").feeds(stage::ELASTIC),
         contact_k = Var::parameter("contact.k", 1e8, "N/m", "Stiffness of the linear contact law (elastodynamic level; assumption)").min(1.0).feeds(stage::ELASTIC),
         contact_c = Var::parameter("contact.c", 3400.0, "N.s/m", "Damping of the ramp contact on the penetration rate, c*d(pen)/dt (elastodynamic level; assumption: 5 % of critical, 2*0.05*sqrt(k*m_red), with the Hertz law's stiffness 3.0e8 N/m at the spring's preload of 150 N and m_red = 3.83 kg)").min(0.0).feeds(stage::ELASTIC),
-        solver_method = crate::solver::vars::method().feeds(stage::ELASTIC),
-        solver_rtol = crate::solver::vars::rtol().feeds(stage::ELASTIC),
-        solver_atol = crate::solver::vars::atol().feeds(stage::ELASTIC),
-        solver_max_step = crate::solver::vars::max_step().feeds(stage::ELASTIC),
+        @with crate::chain_variables { solver(stage::ELASTIC) },
         contact_K_hertz = Var::calculated("contact.K_hertz", "", "K of the Hertz law F = K*pen^(10/9), in N/m^(10/9) (no FMI unit: fractional exponent), from roller.b, ramp.E, roller.E (Palmgren's line contact)"),
         contact_m_red = Var::calculated("contact.m_red", "kg", "Effective mass of lever and carriage at the roller along the ramp normal, lowest position: contact.c = 2*zeta*sqrt(k*m_red) gives a damping ratio zeta"),
         lever_gamma_kin = Var::output("lever.gamma_kin", "rad", "Rigid reference of the lever rotation (equals lever.gamma at the rigid levels)").depends(ON_PHI),
@@ -156,15 +153,13 @@ crate::model_variables! {
         dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak elastic.F over the peak |kinetostatic contact force| of the last complete shaft turn (the running one until a turn is complete), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
         contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller lifted off the ramp: contact-opening events, located by the FMU's integrator in Co-Simulation, by the host in Model Exchange (elastodynamic level)").needs(stage::ELASTIC),
         contact_F_impact = Var::output("contact.F_impact", "N", concat!("Largest contact force in the first compression after a landing of the roller, taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
-        elastic_E_residual = crate::solver::vars::e_residual().needs(stage::ELASTIC),
-        solver_steps = crate::solver::vars::steps().feeds(stage::ELASTIC),
+        @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
-        elastic_q = Var::local("elastic.q", "rad", "State: lever deflection from its rigid rotation, lever.gamma_kin - lever.gamma (elastodynamic level)").needs(stage::ELASTIC),
-        elastic_qd = Var::local("elastic.qd", "rad/s", "State: rate of the lever deflection (elastodynamic level)").needs(stage::ELASTIC),
-        elastic_W = Var::local("elastic.W", "J", "State: work of friction, piercing, table inertia, contact damping and the moving ramp (for the energy balance)").needs(stage::ELASTIC),
-        der_elastic_q = Var::local("der(elastic.q)", "rad/s", "Derivative of elastic.q").derivative_of(V::elastic_q as u32).needs(stage::ELASTIC),
-        der_elastic_qd = Var::local("der(elastic.qd)", "rad/s2", "Derivative of elastic.qd").derivative_of(V::elastic_qd as u32).needs(stage::ELASTIC),
-        der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32).needs(stage::ELASTIC),
+        @with crate::chain_variables { states(stage::ELASTIC;
+            elastic_q = ("elastic.q", "rad", "State: lever deflection from its rigid rotation, lever.gamma_kin - lever.gamma (elastodynamic level)") => der_elastic_q "rad/s",
+            elastic_qd = ("elastic.qd", "rad/s", "State: rate of the lever deflection (elastodynamic level)") => der_elastic_qd "rad/s2",
+            elastic_W = ("elastic.W", "J", "State: work of friction, piercing, table inertia, contact damping and the moving ramp (for the energy balance)") => der_elastic_W "W",
+        ) },
     }
 }
 

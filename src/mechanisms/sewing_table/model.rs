@@ -123,25 +123,20 @@ crate::model_variables! {
         elastic_k = Var::parameter("elastic.k", 1e7, "N/m", "Stiffness of the cam-follower chain between the rigid table position and the table (elastodynamic level; assumption)").min(1.0).feeds(stage::ELASTIC),
         elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the follower chain, c = 2*zeta*sqrt(k*m) (elastodynamic level; assumption)").min(0.0).feeds(stage::ELASTIC),
         cam_clearance = Var::parameter("cam.clearance", 0.0, "m", "Play of the roller in the cam slot (total); with play the roller crosses it and impacts the other flank (elastodynamic level)").min(0.0).feeds(stage::ELASTIC),
-        solver_method = crate::solver::vars::method().feeds(stage::ELASTIC),
-        solver_rtol = crate::solver::vars::rtol().feeds(stage::ELASTIC),
-        solver_atol = crate::solver::vars::atol().feeds(stage::ELASTIC),
-        solver_max_step = crate::solver::vars::max_step().feeds(stage::ELASTIC),
+        @with crate::chain_variables { solver(stage::ELASTIC) },
         table_x_kin = Var::output("table.x_kin", "m", "Rigid reference position of the table (elastodynamic level; equals table.x at the others)").depends(ON_PHI),
         elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the follower chain table.x_kin - table.x, play included (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
         elastic_F = Var::output("elastic.F", "N", "Dynamic force of the cam on the table along +x (0 while the roller crosses the play; elastodynamic level)").depends(ON_PHI_W).needs(stage::ELASTIC),
         dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) cam force along x, of the last complete shaft turn (the running one before), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
         contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller left a slot flank: contact-opening events, located by the FMU's integrator in Co-Simulation, by the host in Model Exchange (with play; elastodynamic level)").needs(stage::ELASTIC),
         contact_F_impact = Var::output("contact.F_impact", "N", concat!("Largest cam force after a landing of the roller on a flank, taken ", crate::at_accepted_steps!(), " (with play; elastodynamic level)")).needs(stage::ELASTIC),
-        elastic_E_residual = crate::solver::vars::e_residual().needs(stage::ELASTIC),
-        solver_steps = crate::solver::vars::steps().needs(stage::ELASTIC),
+        @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
-        elastic_x = Var::local("elastic.x", "m", "State: table position x (elastodynamic level)").needs(stage::ELASTIC),
-        elastic_xd = Var::local("elastic.xd", "m/s", "State: table velocity (elastodynamic level)").needs(stage::ELASTIC),
-        elastic_W = Var::local("elastic.W", "J", "State: work done on table and follower spring by cam, guides, damping and table.F_ext (for the energy balance)").needs(stage::ELASTIC),
-        der_elastic_x = Var::local("der(elastic.x)", "m/s", "Derivative of elastic.x").derivative_of(V::elastic_x as u32).needs(stage::ELASTIC),
-        der_elastic_xd = Var::local("der(elastic.xd)", "m/s2", "Derivative of elastic.xd").derivative_of(V::elastic_xd as u32).needs(stage::ELASTIC),
-        der_elastic_W = Var::local("der(elastic.W)", "W", "Derivative of elastic.W").derivative_of(V::elastic_W as u32).needs(stage::ELASTIC),
+        @with crate::chain_variables { states(stage::ELASTIC;
+            elastic_x = ("elastic.x", "m", "State: table position x (elastodynamic level)") => der_elastic_x "m/s",
+            elastic_xd = ("elastic.xd", "m/s", "State: table velocity (elastodynamic level)") => der_elastic_xd "m/s2",
+            elastic_W = ("elastic.W", "J", "State: work done on table and follower spring by cam, guides, damping and table.F_ext (for the energy balance)") => der_elastic_W "W",
+        ) },
     }
 }
 
