@@ -1,0 +1,128 @@
+//! Tests of `elastic.rs`.
+
+use super::*;
+use approx::assert_abs_diff_eq;
+use std::f64::consts::{PI, TAU};
+
+fn ode(p: &Params, k: f64, zeta: f64, w: f64) -> RodOde<'_> {
+    RodOde {
+        p,
+        k,
+        c: RodOde::damping(p, k, zeta),
+        path: ShaftPath::new(0.0, 0.0, w, 0.0),
+        c_dead: dead_point_threshold(p),
+        peaks: Cell::new((0.0, 0.0, 0.0)),
+        k_d: Cell::new(f64::NAN),
+    }
+}
+
+/// Without friction the swapped solve is Lagrange's equation of the one-DoF chain:
+/// `M(x)·ẍ + ½·M'(x)·ẋ² = P·ĉ_x + F_cut·S'` (no weights, holder.J ≠ 0).
+#[test]
+fn frictionless_solve_is_lagrange() {
+    let p = Params {
+        guide_mu: 0.0,
+        support_mu: 0.0,
+        holder_j: 3e-4,
+        ..Params::default()
+    };
+    let o = ode(&p, 2e8, 0.05, p.drive_n);
+    for j in 0..40 {
+        let t = 0.2 * (j as f64 + 0.3) / 40.0;
+        let r = o.rigid(t);
+        for (dx, xd) in [(0.0, r.kin.v_c), (2e-6, 0.3), (-1e-5, -0.7)] {
+            let x = r.kin.x_c + dx;
+            let ev = o.eval(&r, x, xd);
+            let h = 1e-7;
+            let dm = (reduced_mass(&p, x + h) - reduced_mass(&p, x - h)) / (2.0 * h);
+            let (_, _, s) = p.holder(Dual2::new(x, 1.0, 0.0));
+            let q = ev.force * ev.rod_dir[0] + r.load.x * s[0].v1 + r.load.y * s[1].v1;
+            let inertia = reduced_mass(&p, x) * ev.xdd;
+            let lhs = inertia + 0.5 * dm * xd * xd;
+            let scale = 1.0 + q.abs() + inertia.abs();
+            assert_abs_diff_eq!(lhs, q, epsilon = 1e-6 * scale);
+            assert!(!ev.locked);
+        }
+    }
+}
+
+/// The Jacobian on dual numbers agrees with central differences of the right-hand side.
+#[test]
+fn jacobian_is_the_derivative_of_the_rhs() {
+    let p = Params::default();
+    let o = ode(&p, 2e8, 0.05, p.drive_n);
+    for j in 0..60 {
+        let t = 0.2 * (j as f64 + 0.41) / 60.0;
+        let r = o.rigid(t);
+        let y = [r.kin.x_c - 3e-7, r.kin.v_c + 0.01, 0.0];
+        let mut jac = [0.0; 9];
+        o.jacobian(t, &y, &mut jac);
+        for (col, h) in [(0usize, 1e-9), (1, 1e-6)] {
+            let (mut fp, mut fm) = ([0.0; 3], [0.0; 3]);
+            let (mut yp, mut ym) = (y, y);
+            yp[col] += h;
+            ym[col] -= h;
+            o.rhs(t, &yp, &mut fp);
+            o.rhs(t, &ym, &mut fm);
+            for row in 1..3 {
+                let fd = (fp[row] - fm[row]) / (2.0 * h);
+                let an = jac[row * 3 + col];
+                assert!(
+                    (fd - an).abs() <= 1e-4 * (1.0 + an.abs()),
+                    "t {t} row {row} col {col}: {an} vs {fd}"
+                );
+            }
+        }
+    }
+}
+
+/// On the rigid motion with the kinetostatic rod force in the spring, the swapped solve
+/// returns the rigid acceleration (the two levels are one system), friction included.
+#[test]
+fn rigid_state_reproduces_the_kinetostatic_level() {
+    let p = Params::default();
+    let k = 1e12;
+    let o = ode(&p, k, 0.0, p.drive_n);
+    let (mut checked, mut fading) = (0, 0);
+    for j in 0..360 {
+        let t = 0.2 * (j as f64 + 0.37) / 360.0;
+        let r = o.rigid(t);
+        let f = p.kinetostatics(&r.kin);
+        // shorten the rod by P/k: x with |C − B| = l2 − P/k
+        let ry = p.crank_e - r.kin.b.y;
+        let x = r.kin.b.x + ((r.l_kin - f.rod_f / k).powi(2) - ry * ry).sqrt();
+        let ev = o.eval(&r, x, r.kin.v_c);
+        if f.rod_f.abs() > 1e4 {
+            continue; // the wedge: P/k no longer small against rounding of x
+        }
+        let g = o.lock_indicator(x, ev.rod_dir);
+        if g > 0.0 && g < WEDGE_BAND {
+            fading += 1;
+            continue; // the friction fades here (module docs): not the kinetostatic level's
+        }
+        assert_eq!(ev.locked, f.locked, "phi {}", r.kin.phi.to_degrees());
+        assert_abs_diff_eq!(ev.force, f.rod_f, epsilon = 1e-3 * (1.0 + f.rod_f.abs()));
+        assert_abs_diff_eq!(ev.xdd, r.kin.a_c, epsilon = 1e-3 * (1.0 + r.kin.a_c.abs()));
+        assert_abs_diff_eq!(
+            ev.z[6],
+            f.support_n,
+            epsilon = 1e-2 * (1.0 + f.support_n.abs())
+        );
+        checked += 1;
+    }
+    assert!(checked > 300 && fading > 0, "{checked} {fading}");
+}
+
+/// The jamming window of the defaults at the rigid geometry is the kinetostatic one.
+#[test]
+fn lock_indicator_marks_the_kinetostatic_window() {
+    let p = Params::default();
+    let o = ode(&p, 2e8, 0.05, 1.0);
+    for deg in [170.0, 174.6, 174.65, 180.0, 185.35, 185.4, 200.0] {
+        let phi: f64 = f64::to_radians(deg);
+        let k = p.kinematics(phi, 1.0, 0.0);
+        let g = o.lock_indicator(k.x_c, [k.rod_dir.x, k.rod_dir.y]);
+        assert_eq!(g <= 0.0, p.kinetostatics(&k).locked, "{deg}");
+    }
+    let _ = (PI, TAU);
+}
