@@ -344,6 +344,11 @@ fn working_stroke_is_c_moving_to_plus_x() {
     assert_eq!(working, n / 2);
 }
 
+/// The [`cases`] of a rigid linkage (the series form is none: the rod's length varies).
+fn rigid_cases() -> impl Iterator<Item = Params> {
+    cases().into_iter().filter(|p| !p.series)
+}
+
 fn frictionless(p: Params) -> Params {
     Params {
         guide_mu: 0.0,
@@ -358,10 +363,7 @@ fn frictionless(p: Params) -> Params {
 #[test]
 fn static_equilibrium_by_virtual_work() {
     let h = 1e-6;
-    for p in cases() {
-        if p.series {
-            continue; // the series form is not a rigid linkage: the rod's length varies
-        }
+    for p in rigid_cases() {
         let p = Params {
             gravity_g: 9.80665,
             ..frictionless(p)
@@ -408,10 +410,7 @@ fn energy(p: &Params, phi0: f64, w: f64, eps: f64, t: f64) -> f64 {
 #[test]
 fn power_balance_without_friction() {
     let h = 1e-6;
-    for p in cases() {
-        if p.series {
-            continue; // the series form is not a rigid linkage: the rod's length varies
-        }
+    for p in rigid_cases() {
         let p = Params {
             gravity_g: 9.80665,
             holder_j: 2e-4,
@@ -436,10 +435,7 @@ fn power_balance_without_friction() {
 #[test]
 fn friction_dissipates() {
     let h = 1e-6;
-    for p in cases() {
-        if p.series {
-            continue;
-        }
+    for p in rigid_cases() {
         let p = Params {
             guide_mu: 0.15,
             support_mu: 0.2,

@@ -11,6 +11,13 @@ fn params() -> Params {
     Params::default()
 }
 
+/// `p`, asserted valid (`Params::validate`).
+#[track_caller]
+fn valid(p: Params) -> Params {
+    assert_eq!(p.validate(), Ok(()));
+    p
+}
+
 /// Asserts `x` equals the printed reference `reference` to the digits printed:
 /// |x − reference| ≤ half a unit of the last printed decimal (`decimals` after the point).
 #[track_caller]
@@ -182,11 +189,10 @@ fn invariants_for_four_slots() {
 /// With i = 8 the crank turns twice per index: two knife strokes per driver turn.
 #[test]
 fn gear_ratio_multiple_of_z() {
-    let p = Params {
+    let p = valid(Params {
         gear_i: 8,
         ..params()
-    };
-    assert_eq!(p.validate(), Ok(()));
+    });
     let phi_e = FRAC_PI_4;
     // Bottom at θ = π: γ = π/8 and 3π/8; top in between at γ = π/4 (ψ = φe).
     assert_abs_diff_eq!(p.kinematics(phi_e, W, 0.0).s, 0.0, epsilon = 1e-15);
@@ -198,12 +204,11 @@ fn gear_ratio_multiple_of_z() {
         .count();
     assert_eq!(bottoms, 2);
     // Six slots, i = 6: the knife still runs its stroke once per index.
-    let p = Params {
+    let p = valid(Params {
         geneva_z: 6,
         gear_i: 6,
         ..params()
-    };
-    assert_eq!(p.validate(), Ok(()));
+    });
     let g = p.geneva();
     assert_abs_diff_eq!(
         p.kinematics(g.half_engagement(), W, 0.0).s,
@@ -345,11 +350,10 @@ fn losses_are_dissipative() {
 /// The friction equation is solved with its own sign of P, on both branches.
 #[test]
 fn slider_equation_holds_on_both_branches() {
-    let p = Params {
+    let p = valid(Params {
         guide_mu: 0.3,
         ..params()
-    };
-    assert_eq!(p.validate(), Ok(()));
+    });
     let m_s = p.slider_mass();
     let (mut pos, mut neg) = (0, 0);
     for (w, eps) in [(PI, 0.0), (3.0 * PI, 0.0), (-2.0 * PI, 10.0)] {
@@ -445,11 +449,10 @@ fn cut_force_profile() {
     assert_eq!(p.cut_force(0.1, 0.0), 0.0);
     assert_eq!(p.cut_force(0.1, -1.0), 0.0);
     // A step when s_full = s_start.
-    let q = Params {
+    let q = valid(Params {
         cut_s_full: 0.070,
         ..params()
-    };
-    assert_eq!(q.validate(), Ok(()));
+    });
     assert_eq!(q.cut_force(0.070, 1.0), 15000.0);
     // Over a turn the knife meets the stack on the way down only.
     let k = p.kinematics(0.65, W, 0.0);
