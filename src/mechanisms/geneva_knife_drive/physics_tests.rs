@@ -262,6 +262,16 @@ fn time_derivatives_match_finite_differences() {
 
 /// With μ = 0 and η = 1: τ·ω = d/dt(KE) + (F_cut − m_s·g)·v, dKE/dt by central differences
 /// in time along the shaft's motion.
+/// dKE/dt at the driver angle ψ, the driver turning at ω with ε: by central differences in time
+/// (step `h`), not from the accelerations.
+fn kinetic_energy_rate(p: &Params, psi: f64, w: f64, eps: f64, h: f64) -> f64 {
+    let at = |t: f64| {
+        let wt = w + eps * t;
+        p.kinetic_energy(&p.kinematics(psi + w * t + 0.5 * eps * t * t, wt, eps), wt)
+    };
+    (at(h) - at(-h)) / (2.0 * h)
+}
+
 #[test]
 fn power_balance_without_losses() {
     let p = Params {
@@ -274,11 +284,7 @@ fn power_balance_without_losses() {
     for (w, eps) in [(PI, 0.0), (PI, 5.0), (3.0 * PI, -20.0), (-PI, 2.0)] {
         let angles = smooth_angles(&p, 2000, 1e-3);
         let balance = |psi: f64| {
-            let at = |t: f64| {
-                let wt = w + eps * t;
-                p.kinetic_energy(&p.kinematics(psi + w * t + 0.5 * eps * t * t, wt, eps), wt)
-            };
-            let dke = (at(h) - at(-h)) / (2.0 * h);
+            let dke = kinetic_energy_rate(&p, psi, w, eps, h);
             let k = p.kinematics(psi, w, eps);
             let f = p.kinetostatics(&k, w, eps);
             (
@@ -330,11 +336,7 @@ fn losses_are_dissipative() {
     ] {
         for psi in smooth_angles(&p, 1500, 1e-3) {
             let (w, eps) = (PI, 1.0);
-            let at = |t: f64| {
-                let wt = w + eps * t;
-                p.kinetic_energy(&p.kinematics(psi + w * t + 0.5 * eps * t * t, wt, eps), wt)
-            };
-            let dke = (at(h) - at(-h)) / (2.0 * h);
+            let dke = kinetic_energy_rate(&p, psi, w, eps, h);
             let k = p.kinematics(psi, w, eps);
             let f = p.kinetostatics(&k, w, eps);
             let loss = f.shaft_tau * w - dke - (f.f_cut - m_s * STANDARD_GRAVITY) * k.v;
