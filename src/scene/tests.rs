@@ -492,62 +492,23 @@ fn an_elastodynamic_disc_knife_scene_lists_its_dynamic_outputs_and_states() {
 
 #[test]
 fn bad_parameters_are_named() {
-    let with = |p: &str| GENEVA.to_string() + "[parameters]\n" + p + "\n";
-    assert_refused(
-        &with("\"crank.radius\" = 0.07"),
-        "parameters.\"crank.radius\"",
-        6,
-        &["no parameter", "crank.r"],
-    );
-    assert_refused(
-        &with("\"knife.s\" = 0.07"),
-        "parameters.\"knife.s\"",
-        6,
-        &["not a parameter", "outputs"],
-    );
-    assert_refused(
-        &with("\"model.fidelity\" = 2"),
-        "parameters.\"model.fidelity\"",
-        6,
-        &["`fidelity`"],
-    );
-    assert_refused(
-        &with("\"drive.n\" = 2.0"),
-        "parameters.\"drive.n\"",
-        6,
-        &["[drive]"],
-    );
-    assert_refused(
-        &with("\"crank.r\" = \"long\""),
-        "parameters.\"crank.r\"",
-        6,
-        &["Real"],
-    );
-    assert_refused(
-        &with("\"geneva.Z\" = 4.5"),
-        "parameters.\"geneva.Z\"",
-        6,
-        &["Integer"],
-    );
-    assert_refused(
-        &with("\"crank.r\" = -0.07"),
-        "parameters.\"crank.r\"",
-        6,
-        &["crank.r", "at least 0"],
-    );
-    assert_refused(
-        &with("\"geneva.Z\" = 2"),
-        "parameters.\"geneva.Z\"",
-        6,
-        &["geneva.Z"],
-    );
+    /// The Geneva scene with `"name" = value` among its parameters is refused naming the
+    /// parameter, on its line, with every one of `parts` in the message.
+    #[track_caller]
+    fn refused(name: &str, value: &str, parts: &[&str]) {
+        let text = format!("{GENEVA}[parameters]\n\"{name}\" = {value}\n");
+        assert_refused(&text, &format!("parameters.\"{name}\""), 6, parts);
+    }
+    refused("crank.radius", "0.07", &["no parameter", "crank.r"]);
+    refused("knife.s", "0.07", &["not a parameter", "outputs"]);
+    refused("model.fidelity", "2", &["`fidelity`"]);
+    refused("drive.n", "2.0", &["[drive]"]);
+    refused("crank.r", "\"long\"", &["Real"]);
+    refused("geneva.Z", "4.5", &["Integer"]);
+    refused("crank.r", "-0.07", &["crank.r", "at least 0"]);
+    refused("geneva.Z", "2", &["geneva.Z"]);
     // the mechanism cannot assemble: rod shorter than the crank
-    assert_refused(
-        &with("\"crank.r\" = 0.5"),
-        "parameters.\"crank.r\"",
-        6,
-        &["refused by GenevaKnifeDrive"],
-    );
+    refused("crank.r", "0.5", &["refused by GenevaKnifeDrive"]);
     let sew = "name = \"t\"\nmechanism = \"SewingTable\"\nfidelity = \"kinematic\"\noutputs = [\"table.x\"]\n[parameters]\n\"law.forward\" = \"sine\"\n";
     assert_refused(
         sew,
