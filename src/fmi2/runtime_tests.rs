@@ -123,12 +123,25 @@ fn tiny() -> Component {
     c
 }
 
+/// Enters and exits initialization mode, both asserted fmi2OK.
+#[track_caller]
+unsafe fn initialize(c: Component) {
+    unsafe {
+        assert_eq!(enter_initialization_mode::<Tiny>(c), Status::Ok);
+        assert_eq!(exit_initialization_mode::<Tiny>(c), Status::Ok);
+    }
+}
+
+/// The instance behind a component of [`tiny`] (the back door a model bug would take).
+unsafe fn instance<'a>(c: Component) -> &'a mut Instance<Tiny> {
+    unsafe { &mut *(c as *mut Instance<Tiny>) }
+}
+
 #[test]
 fn a_panic_in_the_model_is_caught_at_the_boundary() {
     let c = tiny();
     unsafe {
-        assert_eq!(enter_initialization_mode::<Tiny>(c), Status::Ok);
-        assert_eq!(exit_initialization_mode::<Tiny>(c), Status::Ok);
+        initialize(c);
         let mut y = 0.0;
         let vr = [TV::y.vr()];
         assert_eq!(
@@ -138,7 +151,7 @@ fn a_panic_in_the_model_is_caught_at_the_boundary() {
         assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Ok);
         assert_eq!(y, 0.5);
         // make the model panic: set the flag through the back door, as a model bug would
-        let inst = &mut *(c as *mut Instance<Tiny>);
+        let inst = instance(c);
         inst.values.set_flag(TV::boom, true);
         inst.dirty = true;
         assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Error);
@@ -151,8 +164,7 @@ fn a_panic_in_the_model_is_caught_at_the_boundary() {
         // in the error state only what FMI 2.0 allows works; reset brings it back
         assert_eq!(do_step::<Tiny>(c, 0.0, 0.1, FALSE), Status::Error);
         assert_eq!(reset::<Tiny>(c), Status::Ok);
-        assert_eq!(enter_initialization_mode::<Tiny>(c), Status::Ok);
-        assert_eq!(exit_initialization_mode::<Tiny>(c), Status::Ok);
+        initialize(c);
         assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Ok);
         assert_eq!(y, 0.0, "reset restored the start values");
         free_instance::<Tiny>(c);
@@ -163,13 +175,12 @@ fn a_panic_in_the_model_is_caught_at_the_boundary() {
 fn a_discarded_step_keeps_the_time_and_the_instance_restorable() {
     let c = tiny();
     unsafe {
-        assert_eq!(enter_initialization_mode::<Tiny>(c), Status::Ok);
-        assert_eq!(exit_initialization_mode::<Tiny>(c), Status::Ok);
+        initialize(c);
         assert_eq!(do_step::<Tiny>(c, 0.0, 0.1, TRUE), Status::Ok);
         let mut saved: FMUstate = std::ptr::null_mut();
         assert_eq!(get_fmu_state::<Tiny>(c, &mut saved), Status::Ok);
         // the model cannot complete the next step (as a solver that gives up)
-        let inst = &mut *(c as *mut Instance<Tiny>);
+        let inst = instance(c);
         inst.values.set_flag(TV::fail, true);
         assert_eq!(do_step::<Tiny>(c, 0.1, 0.1, TRUE), Status::Discard);
         assert_eq!(inst.state, State::StepFailed);
@@ -205,7 +216,7 @@ fn debug_logging_categories() {
             set_debug_logging::<Tiny>(c, TRUE, 1, cats.as_ptr()),
             Status::Ok
         );
-        let inst = &mut *(c as *mut Instance<Tiny>);
+        let inst = instance(c);
         assert!(inst.logger.enabled(Status::Ok, "logEvents"));
         assert!(!inst.logger.enabled(Status::Ok, "logAll"));
         assert!(

@@ -11,6 +11,30 @@ crate::model_variables! {
     }
 }
 
+/// A model of the variables `$var` that computes nothing of its own (`$name`, a unit struct):
+/// what the trait's provided methods do alone.
+macro_rules! empty_model {
+    ($name:ident, $var:ty) => {
+        struct $name;
+        impl Model for $name {
+            type Var = $var;
+            const IDENTIFIER: &'static str = stringify!($name);
+            const MODEL_NAME: &'static str = stringify!($name);
+            const DESCRIPTION: &'static str = "";
+            const EXPERIMENT: Experiment = Experiment {
+                start: 0.0,
+                stop: 1.0,
+                step: 0.1,
+                tolerance: None,
+            };
+            fn prepare(_: &Values<$var>) -> Result<Self, ParamError> {
+                Ok($name)
+            }
+            fn evaluate(&mut self, _: &mut Values<$var>, _: f64, _: &mut dyn Log) {}
+        }
+    };
+}
+
 #[test]
 fn common_variables_come_first_and_vrs_follow_the_enum() {
     let t = T::table();
@@ -80,23 +104,7 @@ fn shaft_path_takes_the_input_derivatives_a_host_set() {
 /// a standalone model keep theirs.
 #[test]
 fn a_step_ends_with_the_inputs_at_its_end() {
-    struct Algebraic;
-    impl Model for Algebraic {
-        type Var = T;
-        const IDENTIFIER: &'static str = "Algebraic";
-        const MODEL_NAME: &'static str = "Algebraic";
-        const DESCRIPTION: &'static str = "";
-        const EXPERIMENT: Experiment = Experiment {
-            start: 0.0,
-            stop: 1.0,
-            step: 0.1,
-            tolerance: None,
-        };
-        fn prepare(_: &Values<T>) -> Result<Self, ParamError> {
-            Ok(Algebraic)
-        }
-        fn evaluate(&mut self, _: &mut Values<T>, _: f64, _: &mut dyn Log) {}
-    }
+    empty_model!(Algebraic, T);
     const { assert!(Algebraic::CAN_INTERPOLATE_INPUTS) };
     let mut v = Values::<T>::start();
     v[T::shaft_phi] = 1.0;
@@ -217,23 +225,7 @@ fn standalone_models_have_no_common_variables() {
     assert_eq!(D::u.vr(), 1);
     // it drives the shaft: its inputs are held over a step, none is extrapolated
     const { assert!(!D::SHAFT_CONNECTOR && T::SHAFT_CONNECTOR) };
-    struct Drive;
-    impl Model for Drive {
-        type Var = D;
-        const IDENTIFIER: &'static str = "Drive";
-        const MODEL_NAME: &'static str = "Drive";
-        const DESCRIPTION: &'static str = "";
-        const EXPERIMENT: Experiment = Experiment {
-            start: 0.0,
-            stop: 1.0,
-            step: 0.1,
-            tolerance: None,
-        };
-        fn prepare(_: &Values<D>) -> Result<Self, ParamError> {
-            Ok(Drive)
-        }
-        fn evaluate(&mut self, _: &mut Values<D>, _: f64, _: &mut dyn Log) {}
-    }
+    empty_model!(Drive, D);
     const { assert!(!Drive::CAN_INTERPOLATE_INPUTS) };
     let mut v = Values::<D>::start();
     v[D::y] = 1.0;
