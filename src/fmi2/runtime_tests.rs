@@ -256,3 +256,28 @@ fn continuous_time_mode_is_a_bit_of_the_access_mask() {
         0
     );
 }
+
+/// The tests' logger is a real C-variadic function: it formats the message with its arguments
+/// as a host's printf does.
+#[test]
+fn the_tests_logger_formats_its_arguments() {
+    let log = c_logger::logger(record).expect("the C logger");
+    // SAFETY: a printf format and arguments of its conversions.
+    unsafe {
+        log(
+            std::ptr::null_mut(),
+            c"tiny".as_ptr(),
+            Status::Warning,
+            c"logAll".as_ptr(),
+            c"%d%% of %s at %.2f".as_ptr(),
+            42 as std::ffi::c_int,
+            c"the turn".as_ptr(),
+            0.125f64,
+        )
+    };
+    let logged = LOG.lock().unwrap().clone();
+    assert!(
+        logged.contains(&(Status::Warning, "42% of the turn at 0.12".to_string())),
+        "{logged:?}"
+    );
+}
