@@ -9,6 +9,7 @@ mod common;
 
 use bindery_fmu::mechanisms::perforators::Perforators;
 use bindery_fmu::mechanisms::perforators::model::V as P;
+use bindery_fmu::model::Dynamics;
 use bindery_fmu::model::{Model, NoLog, Values};
 use common::elastic::{self, Drive, Record, Tolerance};
 use common::series::{Warnings, bits, max_abs_diff, peak};

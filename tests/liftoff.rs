@@ -5,6 +5,7 @@
 mod common;
 
 use bindery_fmu::mechanisms::perforators::model::{Perforators, V};
+use bindery_fmu::model::Dynamics;
 use bindery_fmu::model::{Model, Values};
 use common::series::Warnings;
 use std::f64::consts::PI;

@@ -7,6 +7,7 @@ mod common;
 use bindery_fmu::fmi2::types::*;
 use bindery_fmu::md;
 use bindery_fmu::mechanisms::perforators::model::{Perforators, V};
+use bindery_fmu::model::Dynamics;
 use bindery_fmu::model::{Model, NoLog, Values, VarSet};
 use common::series::row_bits;
 use common::*;

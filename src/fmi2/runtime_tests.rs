@@ -73,6 +73,9 @@ impl Model for Tiny {
         }
         v[TV::y] = crate::model::shaft::state(v, time).phi;
     }
+}
+
+impl crate::model::Dynamics<TV> for Tiny {
     fn do_step(
         &mut self,
         v: &mut Values<TV>,

@@ -32,6 +32,7 @@ macro_rules! empty_model {
             }
             fn evaluate(&mut self, _: &mut Values<$var>, _: f64, _: &mut dyn Log) {}
         }
+        impl Dynamics<$var> for $name {}
     };
 }
 

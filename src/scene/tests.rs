@@ -9,6 +9,7 @@ use crate::mechanisms::disc_knife_drive::DiscKnifeDrive;
 use crate::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
 use crate::mechanisms::perforators::Perforators;
 use crate::mechanisms::sewing_table::SewingTable;
+use crate::model::Dynamics;
 use crate::model::NoLog;
 use std::path::PathBuf;
 

@@ -372,7 +372,7 @@ macro_rules! chain_hooks {
     (@do_step $chain:ident $physics:ident) => {
         fn do_step(
             &mut self,
-            v: &mut $crate::model::Values<Self::Var>,
+            v: &mut $crate::model::Values<<Self as $crate::model::Model>::Var>,
             time: f64,
             h: f64,
             log: &mut dyn $crate::model::Log,
@@ -381,19 +381,19 @@ macro_rules! chain_hooks {
         }
     };
     (@me_states $chain:ident $physics:ident) => {
-        fn me_states(&mut self, v: &$crate::model::Values<Self::Var>, time: f64, x: &mut [f64]) {
+        fn me_states(&mut self, v: &$crate::model::Values<<Self as $crate::model::Model>::Var>, time: f64, x: &mut [f64]) {
             $crate::solver::chain::me_states(self.$chain.as_mut(), &self.$physics, v, time, x);
         }
     };
     (@me_set_states $chain:ident $physics:ident) => {
-        fn me_set_states(&mut self, v: &$crate::model::Values<Self::Var>, time: f64, x: &[f64]) {
+        fn me_set_states(&mut self, v: &$crate::model::Values<<Self as $crate::model::Model>::Var>, time: f64, x: &[f64]) {
             $crate::solver::chain::me_set_states(self.$chain.as_mut(), &self.$physics, v, time, x);
         }
     };
     (@me_derivatives $chain:ident $physics:ident) => {
         fn me_derivatives(
             &mut self,
-            v: &$crate::model::Values<Self::Var>,
+            v: &$crate::model::Values<<Self as $crate::model::Model>::Var>,
             time: f64,
             dx: &mut [f64],
         ) {
@@ -403,7 +403,7 @@ macro_rules! chain_hooks {
     (@me_event_indicators $chain:ident $physics:ident) => {
         fn me_event_indicators(
             &mut self,
-            v: &$crate::model::Values<Self::Var>,
+            v: &$crate::model::Values<<Self as $crate::model::Model>::Var>,
             time: f64,
             z: &mut [f64],
         ) {
@@ -419,7 +419,7 @@ macro_rules! chain_hooks {
     (@me_event $chain:ident $physics:ident) => {
         fn me_event(
             &mut self,
-            v: &$crate::model::Values<Self::Var>,
+            v: &$crate::model::Values<<Self as $crate::model::Model>::Var>,
             time: f64,
             log: &mut dyn $crate::model::Log,
         ) {
@@ -429,7 +429,7 @@ macro_rules! chain_hooks {
     (@me_completed_step $chain:ident $physics:ident) => {
         fn me_completed_step(
             &mut self,
-            v: &$crate::model::Values<Self::Var>,
+            v: &$crate::model::Values<<Self as $crate::model::Model>::Var>,
             time: f64,
             _log: &mut dyn $crate::model::Log,
         ) {
@@ -448,7 +448,7 @@ macro_rules! chain_hooks {
     };
 }
 
-/// [`crate::model::Model::do_step`]: integrates the chain over `[time, time + h]`, the shaft on
+/// [`crate::model::Dynamics::do_step`]: integrates the chain over `[time, time + h]`, the shaft on
 /// [`shaft::path`] from the inputs at `time` (after the step [`crate::model::Model::step`] moves
 /// the inputs to `time + h` along that path, as at every level). A refused step leaves the chain
 /// as it was before it (the caller returns `fmi2Discard`).
@@ -488,7 +488,7 @@ pub fn do_step<C: ChainModel>(
     }
 }
 
-/// [`crate::model::Model::me_states`].
+/// [`crate::model::Dynamics::me_states`].
 pub fn me_states<C: ChainModel>(
     chain: Option<&mut Chain<C>>,
     p: &C::Physics,
@@ -502,7 +502,7 @@ pub fn me_states<C: ChainModel>(
     }
 }
 
-/// [`crate::model::Model::me_set_states`].
+/// [`crate::model::Dynamics::me_set_states`].
 pub fn me_set_states<C: ChainModel>(
     chain: Option<&mut Chain<C>>,
     p: &C::Physics,
@@ -515,7 +515,7 @@ pub fn me_set_states<C: ChainModel>(
     }
 }
 
-/// [`crate::model::Model::me_derivatives`]: the ODE's right-hand side.
+/// [`crate::model::Dynamics::me_derivatives`]: the ODE's right-hand side.
 pub fn me_derivatives<C: ChainModel>(
     chain: Option<&mut Chain<C>>,
     p: &C::Physics,
@@ -529,7 +529,7 @@ pub fn me_derivatives<C: ChainModel>(
     }
 }
 
-/// [`crate::model::Model::me_event_indicators`]: the ODE's event functions, those resting at
+/// [`crate::model::Dynamics::me_event_indicators`]: the ODE's event functions, those resting at
 /// zero holding the sign they had at the last event or completed step
 /// ([`OdeSystem::events_held`]); 1 below the elastodynamic level.
 pub fn me_event_indicators<C: ChainModel>(
@@ -547,7 +547,7 @@ pub fn me_event_indicators<C: ChainModel>(
     }
 }
 
-/// [`crate::model::Model::me_event`]: [`ChainModel::me_event`], then the memory read back.
+/// [`crate::model::Dynamics::me_event`]: [`ChainModel::me_event`], then the memory read back.
 pub fn me_event<C: ChainModel>(
     chain: Option<&mut Chain<C>>,
     p: &C::Physics,
@@ -563,7 +563,7 @@ pub fn me_event<C: ChainModel>(
     }
 }
 
-/// [`crate::model::Model::me_completed_step`]: [`ChainModel::me_completed_step`], then the
+/// [`crate::model::Dynamics::me_completed_step`]: [`ChainModel::me_completed_step`], then the
 /// memory read back. The host's step is counted with the integrator's accepted steps
 /// (`solver.steps`: the FMU's own steps in Co-Simulation, the host's in Model Exchange).
 pub fn me_completed_step<C: ChainModel>(
@@ -580,7 +580,7 @@ pub fn me_completed_step<C: ChainModel>(
     }
 }
 
-/// [`crate::model::Model::save_state`] of a model whose only internal state is the chain.
+/// [`crate::model::Dynamics::save_state`] of a model whose only internal state is the chain.
 pub fn save_state<C: ChainModel>(chain: Option<&Chain<C>>) -> Vec<f64> {
     chain.map(Chain::save).unwrap_or_default()
 }

@@ -4,7 +4,7 @@
 use super::elastic::{Point, RodOde, dead_point_threshold};
 use super::physics::{Forces, Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
-use crate::model::{Experiment, Log, Model, ParamError, Severity, Stage, Values};
+use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Severity, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, Settings, ShaftPath};
 
@@ -110,7 +110,7 @@ impl ChainModel for RodChain {
     type Memory = Peaks;
     type Ode<'a> = RodOde<'a>;
     const MEMORY_LEN: usize = 4;
-    const SAVED_INDICATORS: usize = <DiscKnifeDrive as Model>::EVENT_INDICATORS;
+    const SAVED_INDICATORS: usize = <DiscKnifeDrive as Dynamics<V>>::EVENT_INDICATORS;
     const STATE_NAME: &'static str = "DiscKnifeDrive elastodynamic state";
 
     fn ode<'a>(&self, p: &'a Params, path: ShaftPath, _: &Values<V>, m: &Peaks) -> RodOde<'a> {
@@ -276,14 +276,6 @@ impl Model for DiscKnifeDrive {
         })
     }
 
-    const STATES: usize = 3;
-    const EVENT_INDICATORS: usize = 5;
-
-    // Co-Simulation and Model Exchange from solver::chain (the FMU state is the model's own:
-    // the self-locking flag first)
-    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
-        me_event_indicators, me_event, me_completed_step);
-
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, log: &mut dyn Log) {
         let p = &self.params;
         v[V::rod_l2] = p.rod_l2();
@@ -333,6 +325,16 @@ impl Model for DiscKnifeDrive {
         };
         shaft::set_outputs(v, tau, s.w);
     }
+}
+
+impl Dynamics<V> for DiscKnifeDrive {
+    const STATES: usize = 3;
+    const EVENT_INDICATORS: usize = 5;
+
+    // Co-Simulation and Model Exchange from solver::chain (the FMU state is the model's own:
+    // the self-locking flag first)
+    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
+        me_event_indicators, me_event, me_completed_step);
 
     fn save_state(&self) -> Vec<f64> {
         let mut s = vec![f64::from(u8::from(self.was_locked))];

@@ -5,7 +5,7 @@ use super::elastic::{KnifeOde, Point};
 use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
-use crate::model::{Experiment, Log, Model, ParamError, Stage, Values};
+use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
@@ -114,7 +114,7 @@ impl ChainModel for KnifeChain {
     type Memory = KnifeMemory;
     type Ode<'a> = KnifeOde<'a>;
     const MEMORY_LEN: usize = 5;
-    const SAVED_INDICATORS: usize = <GenevaKnifeDrive as Model>::EVENT_INDICATORS;
+    const SAVED_INDICATORS: usize = <GenevaKnifeDrive as Dynamics<V>>::EVENT_INDICATORS;
     /// A cut-through or the knife back above the stack changes the indicators of the stack.
     const REEVALUATE_INDICATORS: bool = true;
 
@@ -251,15 +251,6 @@ impl Model for GenevaKnifeDrive {
         })
     }
 
-    const STATES: usize = 3;
-    const EVENT_INDICATORS: usize = 8;
-
-    // Co-Simulation, Model Exchange and the FMU state from solver::chain; Model Exchange also
-    // applies a transition of the event indicators (cut-through, back above the stack) at a
-    // completed step ([`KnifeChain`]'s hooks)
-    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
-        me_event_indicators, me_event, me_completed_step, save_state, restore_state);
-
     fn calculated_parameters(&self, v: &mut Values<V>) {
         let p = &self.params;
         v[V::geneva_a] = p.a();
@@ -317,6 +308,17 @@ impl Model for GenevaKnifeDrive {
         };
         shaft::set_outputs(v, tau, s.w);
     }
+}
+
+impl Dynamics<V> for GenevaKnifeDrive {
+    const STATES: usize = 3;
+    const EVENT_INDICATORS: usize = 8;
+
+    // Co-Simulation, Model Exchange and the FMU state from solver::chain; Model Exchange also
+    // applies a transition of the event indicators (cut-through, back above the stack) at a
+    // completed step ([`KnifeChain`]'s hooks)
+    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
+        me_event_indicators, me_event, me_completed_step, save_state, restore_state);
 }
 
 /// Writes the outputs of the elastodynamic level at one point; returns the shaft torque. The

@@ -3,7 +3,7 @@
 //! `shaft.w`, `shaft.a` are its outputs, the load its inputs.
 
 use super::physics::{Load, Motor, Params, Point};
-use crate::model::{Experiment, Log, Model, ParamError, Values};
+use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Values};
 use crate::solver::{Integrator, Memory, Method, OdeSystem, Settings};
 use std::f64::consts::PI;
 
@@ -184,7 +184,9 @@ impl Model for MainShaft {
         v[V::bearing_tau] = self.params.friction(w);
         v[V::solver_steps] = self.integ.mem.stats.steps as f64;
     }
+}
 
+impl Dynamics<V> for MainShaft {
     fn do_step(
         &mut self,
         v: &mut Values<V>,

@@ -17,7 +17,7 @@ use crate::mechanics::cyclogram::Phase;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
-use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Values};
+use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel};
 use crate::solver::{Integrator, OdeSystem, ShaftPath};
 use std::cell::Cell;
@@ -638,6 +638,23 @@ impl Model for Perforators {
         shaft::set_outputs(v, tau, st.w);
     }
 
+    /// The lift-offs of the unfinished turn are reported.
+    fn finish(&mut self, _v: &Values<V>, log: &mut dyn Log) {
+        let drive = &self.drive;
+        if let Some(d) = self.dynamic.as_mut() {
+            let total = d.memory.track.liftoffs;
+            d.memory
+                .liftoff
+                .flush(log, &|g: &TurnDigest<4>| bounce_report(drive, g, total));
+        } else {
+            self.state
+                .liftoff
+                .flush(log, &|g: &TurnDigest<4>| liftoff_report(drive, g));
+        }
+    }
+}
+
+impl Dynamics<V> for Perforators {
     fn do_step(
         &mut self,
         v: &mut Values<V>,
@@ -698,21 +715,6 @@ impl Model for Perforators {
         } else if self.watching(v) {
             self.state
                 .me_watch(&self.drive, shaft::state(v, time), time, log);
-        }
-    }
-
-    /// The lift-offs of the unfinished turn are reported.
-    fn finish(&mut self, _v: &Values<V>, log: &mut dyn Log) {
-        let drive = &self.drive;
-        if let Some(d) = self.dynamic.as_mut() {
-            let total = d.memory.track.liftoffs;
-            d.memory
-                .liftoff
-                .flush(log, &|g: &TurnDigest<4>| bounce_report(drive, g, total));
-        } else {
-            self.state
-                .liftoff
-                .flush(log, &|g: &TurnDigest<4>| liftoff_report(drive, g));
         }
     }
 

@@ -5,7 +5,7 @@ use super::elastic::TableOde;
 use super::physics::{Kind, Params};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
-use crate::model::{EnumType, Experiment, Log, Model, ParamError, Stage, Values};
+use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
@@ -169,7 +169,7 @@ impl ChainModel for TableChain {
     type Memory = TableMemory;
     type Ode<'a> = TableOde<'a>;
     const MEMORY_LEN: usize = 7;
-    const SAVED_INDICATORS: usize = <SewingTable as Model>::EVENT_INDICATORS;
+    const SAVED_INDICATORS: usize = <SewingTable as Dynamics<V>>::EVENT_INDICATORS;
 
     fn ode<'a>(
         &self,
@@ -328,17 +328,6 @@ impl Model for SewingTable {
         })
     }
 
-    const STATES: usize = 3;
-    /// The cyclogram's phase boundaries, both slot flanks (with clearance) and the rigid
-    /// velocity's sign ([`TableOde`]'s events).
-    const EVENT_INDICATORS: usize = 7;
-
-    // Co-Simulation, Model Exchange and the FMU state from solver::chain; at an event or a
-    // completed step a flank contact that opened or closed counts a lift-off or marks a landing
-    // ([`TableChain`])
-    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
-        me_event_indicators, me_event, me_completed_step, save_state, restore_state);
-
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
         let p = &self.params;
         if v.wants(stage::SYNTHESIS) {
@@ -476,6 +465,19 @@ impl Model for SewingTable {
         shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
         shaft::set_outputs(v, tau, st.w);
     }
+}
+
+impl Dynamics<V> for SewingTable {
+    const STATES: usize = 3;
+    /// The cyclogram's phase boundaries, both slot flanks (with clearance) and the rigid
+    /// velocity's sign ([`TableOde`]'s events).
+    const EVENT_INDICATORS: usize = 7;
+
+    // Co-Simulation, Model Exchange and the FMU state from solver::chain; at an event or a
+    // completed step a flank contact that opened or closed counts a lift-off or marks a landing
+    // ([`TableChain`])
+    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
+        me_event_indicators, me_event, me_completed_step, save_state, restore_state);
 }
 
 #[cfg(test)]

@@ -111,7 +111,7 @@ impl ChainModel for LeverChain {
     type Memory = LeverMemory;
     type Ode<'a> = LeverOde<'a>;
     const MEMORY_LEN: usize = 17;
-    const SAVED_INDICATORS: usize = <Perforators as Model>::EVENT_INDICATORS;
+    const SAVED_INDICATORS: usize = <Perforators as Dynamics<V>>::EVENT_INDICATORS;
 
     fn ode<'a>(
         &self,
