@@ -251,6 +251,15 @@ pub fn universal_macho(slices: &[&[u8]]) -> Result<Vec<u8>, String> {
     Ok(header)
 }
 
+/// The names of a zip archive's entries, in order (tests).
+#[cfg(test)]
+pub(crate) fn entry_names(zip: &[u8]) -> Vec<String> {
+    let mut z = zip::ZipArchive::new(std::io::Cursor::new(zip)).unwrap();
+    (0..z.len())
+        .map(|i| z.by_index(i).unwrap().name().unwrap().to_string())
+        .collect()
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -291,10 +300,8 @@ mod tests {
     fn layout_and_reproducibility() {
         let a = sample().to_zip().unwrap();
         assert_eq!(a, sample().to_zip().unwrap(), "same inputs, same bytes");
+        let names = entry_names(&a);
         let mut z = zip::ZipArchive::new(std::io::Cursor::new(a)).unwrap();
-        let names: Vec<String> = (0..z.len())
-            .map(|i| z.by_index(i).unwrap().name().unwrap().to_string())
-            .collect();
         assert_eq!(
             names,
             [

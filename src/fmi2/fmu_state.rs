@@ -14,15 +14,7 @@ pub unsafe fn get_fmu_state<M: Model>(c: Component, state: *mut FMUstate) -> Sta
                 return Err("FMUstate pointer is NULL".into());
             }
             let snap = inst.snapshot();
-            if (*state).is_null() {
-                let p = Box::into_raw(Box::new(snap));
-                inst.snapshots.push(p);
-                *state = p as FMUstate;
-            } else {
-                let p = inst.own_snapshot(*state)?;
-                *p = snap;
-            }
-            Ok(Status::Ok)
+            inst.store_snapshot(state, snap)
         })
     }
 }
@@ -130,15 +122,7 @@ pub unsafe fn deserialize_fmu_state<M: Model>(
             }
             let data = slice(bytes as *const u8, size, "serializedState")?;
             let snap = Snapshot::from_bytes(data, inst.guid_hash, inst.values.raw().len())?;
-            if (*state).is_null() {
-                let p = Box::into_raw(Box::new(snap));
-                inst.snapshots.push(p);
-                *state = p as FMUstate;
-            } else {
-                let p = inst.own_snapshot(*state)?;
-                *p = snap;
-            }
-            Ok(Status::Ok)
+            inst.store_snapshot(state, snap)
         })
     }
 }

@@ -542,6 +542,27 @@ impl<M: Model> Instance<M> {
         }
         Ok(p)
     }
+
+    /// Puts `snap` where `*state` says: a new FMU state of this instance if it is NULL, else
+    /// over the one of this instance it points to (`fmi2GetFMUstate`, `fmi2DeSerializeFMUstate`).
+    ///
+    /// # Safety
+    /// `state` is a valid pointer to an `FMUstate`.
+    unsafe fn store_snapshot(&mut self, state: *mut FMUstate, snap: Snapshot) -> Outcome {
+        // SAFETY: as this function.
+        if unsafe { (*state).is_null() } {
+            let p = Box::into_raw(Box::new(snap));
+            self.snapshots.push(p);
+            // SAFETY: as this function.
+            unsafe { *state = p as FMUstate };
+        } else {
+            // SAFETY: as this function; own_snapshot checked it is one of ours.
+            let p = self.own_snapshot(unsafe { *state })?;
+            // SAFETY: a live snapshot of this instance.
+            unsafe { *p = snap };
+        }
+        Ok(Status::Ok)
+    }
 }
 
 impl<M: Model> Drop for Instance<M> {

@@ -56,14 +56,8 @@ struct Tiny;
 impl Model for Tiny {
     type Var = TV;
     const IDENTIFIER: &'static str = "Tiny";
-    const MODEL_NAME: &'static str = "Tiny";
     const DESCRIPTION: &'static str = "test model";
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.0,
-        step: 0.1,
-        tolerance: None,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(1.0, 0.1);
     fn prepare(_: &Values<TV>) -> Result<Self, ParamError> {
         Ok(Tiny)
     }

@@ -8,7 +8,7 @@
 //! writer adds of its own (units, log categories, authorship, version, [`FORMAT`]) is hashed too.
 
 use super::{AUTHOR, COPYRIGHT, LICENSE, LOG_CATEGORIES, ModelInfo, UNITS};
-use crate::model::{Experiment, Model, Var, VarSet, VarType};
+use crate::model::{Experiment, Model, Var, VarType};
 
 /// The writer's format: bumped when `md::xml` changes what it states for the same declarations.
 pub const FORMAT: &str = "bindery-fmu FMI 2.0 modelDescription, format 1";
@@ -185,12 +185,7 @@ pub fn guid(info: &ModelInfo, vars: &[(u32, &Var)]) -> String {
 
 /// The GUID of the full description of a model type.
 pub fn guid_of<M: Model>() -> String {
-    let vars: Vec<(u32, &Var)> = <M::Var as VarSet>::table()
-        .iter()
-        .enumerate()
-        .map(|(i, v)| (i as u32, v))
-        .collect();
-    guid(&ModelInfo::of::<M>(), &vars)
+    guid(&ModelInfo::of::<M>(), &crate::model::variables_of::<M>())
 }
 
 #[cfg(test)]

@@ -6,7 +6,7 @@ use super::{
     AUTHOR, COPYRIGHT, LICENSE, LOG_CATEGORIES, ModelInfo, UnitDef, VERSION_DATE, fmt_real,
     unit_def,
 };
-use crate::model::{Causality, EnumType, Initial, Model, Var, VarSet, VarType, Variability};
+use crate::model::{Causality, EnumType, Initial, Model, Var, VarType, Variability};
 use serde::Serialize;
 
 /// A description written by [`describe`] with its `generationDateAndTime` set to `date`
@@ -573,10 +573,5 @@ pub fn describe_vars(info: &ModelInfo, vars: &[(u32, &Var)]) -> (String, String)
 
 /// The full model description of a model type, and its GUID.
 pub fn describe<M: Model>() -> (String, String) {
-    let vars: Vec<(u32, &Var)> = <M::Var as VarSet>::table()
-        .iter()
-        .enumerate()
-        .map(|(i, v)| (i as u32, v))
-        .collect();
-    describe_vars(&ModelInfo::of::<M>(), &vars)
+    describe_vars(&ModelInfo::of::<M>(), &crate::model::variables_of::<M>())
 }

@@ -32,6 +32,18 @@ pub struct Experiment {
     pub tolerance: Option<f64>,
 }
 
+impl Experiment {
+    /// From 0 to `stop` in steps of `step`, no tolerance.
+    pub const fn until(stop: f64, step: f64) -> Experiment {
+        Experiment {
+            start: 0.0,
+            stop,
+            step,
+            tolerance: None,
+        }
+    }
+}
+
 /// A parameter set the mechanism cannot work with (defined with the shared mechanics).
 pub use crate::mechanics::ParamError;
 
@@ -65,8 +77,8 @@ pub trait Model: Dynamics<<Self as Model>::Var> + Sized + Send + 'static {
     type Var: VarSet;
     /// `modelIdentifier`, also the binary's name.
     const IDENTIFIER: &'static str;
-    /// `modelName` attribute.
-    const MODEL_NAME: &'static str;
+    /// `modelName` attribute. Default: the identifier.
+    const MODEL_NAME: &'static str = Self::IDENTIFIER;
     /// `description` attribute: one sentence on what the mechanism is, and its paper.
     const DESCRIPTION: &'static str;
     /// `DefaultExperiment`.

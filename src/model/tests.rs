@@ -19,14 +19,8 @@ macro_rules! empty_model {
         impl Model for $name {
             type Var = $var;
             const IDENTIFIER: &'static str = stringify!($name);
-            const MODEL_NAME: &'static str = stringify!($name);
             const DESCRIPTION: &'static str = "";
-            const EXPERIMENT: Experiment = Experiment {
-                start: 0.0,
-                stop: 1.0,
-                step: 0.1,
-                tolerance: None,
-            };
+            const EXPERIMENT: Experiment = Experiment::until(1.0, 0.1);
             fn prepare(_: &Values<$var>) -> Result<Self, ParamError> {
                 Ok($name)
             }

@@ -246,15 +246,9 @@ impl DiscKnifeDrive {
 impl Model for DiscKnifeDrive {
     type Var = V;
     const IDENTIFIER: &'static str = "DiscKnifeDrive";
-    const MODEL_NAME: &'static str = "DiscKnifeDrive";
     const DESCRIPTION: &'static str =
         "Combined crank-slider drive of the disc knives that trim a book-block spine (paper 004)";
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 0.4,
-        step: 1e-3,
-        tolerance: None,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(0.4, 1e-3);
     const STAGES: &'static [Stage] = STAGES;
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {

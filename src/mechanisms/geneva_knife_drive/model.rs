@@ -218,14 +218,8 @@ impl GenevaKnifeDrive {
 impl Model for GenevaKnifeDrive {
     type Var = V;
     const IDENTIFIER: &'static str = "GenevaKnifeDrive";
-    const MODEL_NAME: &'static str = "GenevaKnifeDrive";
     const DESCRIPTION: &'static str = "Knife drive of a three-knife trimmer: Geneva cross, gear pair and slider-crank (paper 003)";
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 4.0,
-        step: 1e-3,
-        tolerance: None,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(4.0, 1e-3);
     const STAGES: &'static [Stage] = STAGES;
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {

@@ -126,14 +126,8 @@ impl MainShaft {
 impl Model for MainShaft {
     type Var = V;
     const IDENTIFIER: &'static str = "MainShaft";
-    const MODEL_NAME: &'static str = "MainShaft";
     const DESCRIPTION: &'static str = "Main-shaft drive of a bookbinding machine: induction motor (Kloss's formula), gear, flywheel and bearing friction, loaded by the mechanisms' reduced inertia and torque";
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 5.0,
-        step: 1e-3,
-        tolerance: None,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(5.0, 1e-3);
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
         let params = Self::params(v);

@@ -11,7 +11,7 @@
 //! integrator step (the same samples for the same steps, so the outputs mean the same).
 
 use super::elastic::{Contact, ContactLaw, LeverOde, N_EVENTS, Peaks, Track};
-use super::physics::{Drive, Mode, Params};
+use super::physics::{Drive, Kinematics, Mode, Params};
 use crate::digest::TurnDigest;
 use crate::mechanics::cyclogram::Phase;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
@@ -342,6 +342,19 @@ impl CycleState {
     }
 }
 
+/// The linkage's positions and rates of a [`Kinematics`] (both levels write them).
+fn write_kinematics(v: &mut Values<V>, k: &Kinematics) {
+    v[V::perforators_s] = k.s;
+    v[V::perforators_v] = k.v;
+    v[V::perforators_a] = k.a;
+    v[V::lever_gamma] = k.gamma;
+    v[V::lever_w] = k.gamma_w;
+    v[V::lever_a] = k.gamma_a;
+    v[V::rod_nu] = k.nu;
+    v[V::roller_rise] = k.rise;
+    v[V::ramp_theta] = k.theta;
+}
+
 /// The contact of the elastodynamic level from the `contact.*` parameters.
 pub fn contact_of(d: &Drive, v: &Values<V>) -> Contact {
     let law = if v.int(V::contact_law) == 2 {
@@ -459,15 +472,7 @@ impl Perforators {
         let pt = ode.point(time, &y);
         let k = &pt.kin;
         let f = &pt.forces;
-        v[V::perforators_s] = k.s;
-        v[V::perforators_v] = k.v;
-        v[V::perforators_a] = k.a;
-        v[V::lever_gamma] = k.gamma;
-        v[V::lever_w] = k.gamma_w;
-        v[V::lever_a] = k.gamma_a;
-        v[V::rod_nu] = k.nu;
-        v[V::roller_rise] = k.rise;
-        v[V::ramp_theta] = k.theta;
+        write_kinematics(v, k);
         v[V::pierce_Q_out] = f.pierce_q;
         v[V::perforators_F_inertia] = f.f_inertia;
         v[V::rod_F] = f.rod_f;
@@ -531,14 +536,8 @@ impl Perforators {
 impl Model for Perforators {
     type Var = V;
     const IDENTIFIER: &'static str = "Perforators";
-    const MODEL_NAME: &'static str = "Perforators";
     const DESCRIPTION: &'static str = "Perforator (needle) drive riding on the translating table of a thread-sewing machine: fixed ramp, lever, rod, carriage, spring (papers 000 and 002)";
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.2,
-        step: 1e-3,
-        tolerance: None,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(1.2, 1e-3);
     const STAGES: &'static [Stage] = STAGES;
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
@@ -587,15 +586,7 @@ impl Model for Perforators {
         let st = shaft::state(v, time);
         let k = d.kinematics(st.phi, st.w, st.a);
         v[V::lever_gamma_kin] = k.gamma;
-        v[V::perforators_s] = k.s;
-        v[V::perforators_v] = k.v;
-        v[V::perforators_a] = k.a;
-        v[V::lever_gamma] = k.gamma;
-        v[V::lever_w] = k.gamma_w;
-        v[V::lever_a] = k.gamma_a;
-        v[V::rod_nu] = k.nu;
-        v[V::roller_rise] = k.rise;
-        v[V::ramp_theta] = k.theta;
+        write_kinematics(v, &k);
         // a flat stretch (the dwells) has an infinite radius: reported as RHO_FLAT
         v[V::ramp_rho] = k.rho.clamp(-RHO_FLAT, RHO_FLAT);
         v[V::table_x] = k.x_t;

@@ -278,14 +278,8 @@ impl SewingTable {
 impl Model for SewingTable {
     type Var = V;
     const IDENTIFIER: &'static str = "SewingTable";
-    const MODEL_NAME: &'static str = "SewingTable";
     const DESCRIPTION: &'static str = "Cam-driven translating table of a thread-sewing machine, synthesized from the rocking table of the BNSh-6A (paper 000)";
-    const EXPERIMENT: Experiment = Experiment {
-        start: 0.0,
-        stop: 1.2,
-        step: 1e-3,
-        tolerance: None,
-    };
+    const EXPERIMENT: Experiment = Experiment::until(1.2, 1e-3);
     const STAGES: &'static [Stage] = STAGES;
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
