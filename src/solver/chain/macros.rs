@@ -1,0 +1,143 @@
+//! The macros a mechanism with a compliant chain uses: [`crate::chain_variables!`] (its
+//! variables of the elastodynamic level, inside [`crate::model_variables!`]) and
+//! [`crate::chain_hooks!`] (its `impl Dynamics` items from the functions of [`super`]).
+
+/// The variables of the elastodynamic level every integrating model declares the same way,
+/// written once: used inside [`crate::model_variables!`] as `@with crate::chain_variables { .. }`.
+///
+/// - `solver(STAGE)`: `solver.method`, `solver.rtol`, `solver.atol`, `solver.max_step`
+///   (parameters feeding the stage); `solver` alone: feeding everything (a model without stages);
+/// - `results(STAGE)`: `elastic.E_residual` and `solver.steps` (outputs needing the stage);
+///   `steps` alone: `solver.steps` of a model without stages;
+/// - `states(STAGE; x = ("elastic.x", "m", "State: ...") => der_x "m/s", ...)`: the continuous
+///   states (locals needing the stage) and then their derivatives `der(<name>)`, in order.
+#[macro_export]
+macro_rules! chain_variables {
+    (@callback $head:tt [ $( $done:tt )* ] { solver($s:expr) } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            (solver_method = $crate::solver::vars::method().feeds($s))
+            (solver_rtol = $crate::solver::vars::rtol().feeds($s))
+            (solver_atol = $crate::solver::vars::atol().feeds($s))
+            (solver_max_step = $crate::solver::vars::max_step().feeds($s))
+        ] $( $rest )*);
+    };
+    (@callback $head:tt [ $( $done:tt )* ] { solver } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            (solver_method = $crate::solver::vars::method())
+            (solver_rtol = $crate::solver::vars::rtol())
+            (solver_atol = $crate::solver::vars::atol())
+            (solver_max_step = $crate::solver::vars::max_step())
+        ] $( $rest )*);
+    };
+    (@callback $head:tt [ $( $done:tt )* ] { results($s:expr) } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            (elastic_E_residual = $crate::solver::vars::e_residual().needs($s))
+            (solver_steps = $crate::solver::vars::steps().needs($s))
+        ] $( $rest )*);
+    };
+    (@callback $head:tt [ $( $done:tt )* ] { steps } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            (solver_steps = $crate::solver::vars::steps())
+        ] $( $rest )*);
+    };
+    (@callback $head:tt [ $( $done:tt )* ] { states($s:expr; $( $x:ident = ($name:literal, $unit:literal, $desc:literal) => $dx:ident $dunit:literal ),+ $(,)?) } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            $( ($x = $crate::model::Var::local($name, $unit, $desc).needs($s)) )+
+            $( ($dx = $crate::model::Var::local(concat!("der(", $name, ")"), $dunit, concat!("Derivative of ", $name)).derivative_of(Self::$x as u32).needs($s)) )+
+        ] $( $rest )*);
+    };
+}
+
+/// The hooks of [`crate::model::Model`] of a model whose elastodynamic level is the
+/// `Option<Chain<_>>` in field `$chain`, its ODE's physics in field `$physics`: each hook named
+/// becomes the one-line call of this module's function of that name. Used inside `impl Model`:
+///
+/// ```text
+/// crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
+///     me_event_indicators, me_event, me_completed_step, save_state, restore_state);
+/// ```
+///
+/// A hook not named keeps the model's own implementation (or the trait's default).
+#[macro_export]
+macro_rules! chain_hooks {
+    ($chain:ident, $physics:ident: $($hook:ident),+ $(,)?) => {
+        $($crate::chain_hooks!(@$hook $chain $physics);)+
+    };
+    (@do_step $chain:ident $physics:ident) => {
+        fn do_step(
+            &mut self,
+            v: &mut $crate::model::Values<<Self as $crate::model::Model>::Var>,
+            time: f64,
+            h: f64,
+            log: &mut dyn $crate::model::Log,
+        ) -> Result<(), String> {
+            $crate::solver::chain::do_step(self.$chain.as_mut(), &self.$physics, v, time, h, log)
+        }
+    };
+    (@me_states $chain:ident $physics:ident) => {
+        fn me_states(&mut self, v: &$crate::model::Values<<Self as $crate::model::Model>::Var>, time: f64, x: &mut [f64]) {
+            $crate::solver::chain::me_states(self.$chain.as_mut(), &self.$physics, v, time, x);
+        }
+    };
+    (@me_set_states $chain:ident $physics:ident) => {
+        fn me_set_states(&mut self, v: &$crate::model::Values<<Self as $crate::model::Model>::Var>, time: f64, x: &[f64]) {
+            $crate::solver::chain::me_set_states(self.$chain.as_mut(), &self.$physics, v, time, x);
+        }
+    };
+    (@me_derivatives $chain:ident $physics:ident) => {
+        fn me_derivatives(
+            &mut self,
+            v: &$crate::model::Values<<Self as $crate::model::Model>::Var>,
+            time: f64,
+            dx: &mut [f64],
+        ) {
+            $crate::solver::chain::me_derivatives(self.$chain.as_mut(), &self.$physics, v, time, dx);
+        }
+    };
+    (@me_event_indicators $chain:ident $physics:ident) => {
+        fn me_event_indicators(
+            &mut self,
+            v: &$crate::model::Values<<Self as $crate::model::Model>::Var>,
+            time: f64,
+            z: &mut [f64],
+        ) {
+            $crate::solver::chain::me_event_indicators(
+                self.$chain.as_mut(),
+                &self.$physics,
+                v,
+                time,
+                z,
+            );
+        }
+    };
+    (@me_event $chain:ident $physics:ident) => {
+        fn me_event(
+            &mut self,
+            v: &$crate::model::Values<<Self as $crate::model::Model>::Var>,
+            time: f64,
+            log: &mut dyn $crate::model::Log,
+        ) {
+            $crate::solver::chain::me_event(self.$chain.as_mut(), &self.$physics, v, time, log);
+        }
+    };
+    (@me_completed_step $chain:ident $physics:ident) => {
+        fn me_completed_step(
+            &mut self,
+            v: &$crate::model::Values<<Self as $crate::model::Model>::Var>,
+            time: f64,
+            _log: &mut dyn $crate::model::Log,
+        ) {
+            $crate::solver::chain::me_completed_step(self.$chain.as_mut(), &self.$physics, v, time);
+        }
+    };
+    (@save_state $chain:ident $physics:ident) => {
+        fn save_state(&self) -> Vec<f64> {
+            $crate::solver::chain::save_state(self.$chain.as_ref())
+        }
+    };
+    (@restore_state $chain:ident $physics:ident) => {
+        fn restore_state(&mut self, s: &[f64]) -> Result<(), String> {
+            $crate::solver::chain::restore_state(self.$chain.as_mut(), s)
+        }
+    };
+}
