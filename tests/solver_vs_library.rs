@@ -27,8 +27,7 @@ fn ode(p: &Params, k: f64, zeta: f64) -> KnifeOde<'_> {
         k,
         c: KnifeOde::damping(p, k, zeta),
         path: ShaftPath::new(0.0, 0.0, std::f64::consts::PI, 0.0),
-        peaks: Cell::new((0.0, 0.0, 0.0)),
-        k_d: Cell::new(f64::NAN),
+        peaks: Cell::new(bindery_fmu::solver::chain::Peaks::new(0.0)),
         cut_done: Cell::new(false),
     }
 }
@@ -71,8 +70,7 @@ fn disc_ode(p: &DiscParams, k: f64, zeta: f64) -> RodOde<'_> {
         c: RodOde::damping(p, k, zeta),
         path: ShaftPath::new(0.0, 170f64.to_radians(), p.drive_n, 0.0),
         c_dead: dead_point_threshold(p),
-        peaks: Cell::new((0.0, 0.0, 0.0)),
-        k_d: Cell::new(f64::NAN),
+        peaks: Cell::new(bindery_fmu::solver::chain::Peaks::new(0.0)),
     }
 }
 

@@ -18,7 +18,7 @@
 //!
 //! A new mechanism with a compliant chain:
 //! 1. its ODE in `elastic.rs`: an [`OdeSystem`] on `y` with its bookkeeping in `Cell`s (a
-//!    dynamic factor: [`track_peaks`] in `on_step`, [`Peaks`] in the memory);
+//!    dynamic factor: [`Peaks::track`] in `on_step`, [`Peaks`] in the memory);
 //! 2. a struct of the chain's constants implementing [`ChainModel`]: the ODE from them and the
 //!    memory, how the memory starts and is read back and how many numbers it takes in the
 //!    snapshot ([`ChainModel::MEMORY_LEN`]), the hooks that differ from the defaults;
@@ -493,30 +493,8 @@ pub fn write_states<V: VarSet>(
     v[derivatives[2]] = power;
 }
 
-/// Running peak tracking of the dynamic factor over shaft turns, at an accepted step in turn
-/// `cycle` with chain force `f_dyn` and rigid (kinetostatic) force `f_rigid` (magnitudes):
-/// `peaks` = (turn, peak dynamic force, peak rigid force) of the running turn; at a new turn
-/// `k_d` becomes the ratio of the finished turn's peaks.
-pub fn track_peaks(
-    peaks: &Cell<(f64, f64, f64)>,
-    k_d: &Cell<f64>,
-    cycle: f64,
-    f_dyn: f64,
-    f_rigid: f64,
-) {
-    let (c0, pd, pr) = peaks.get();
-    if cycle != c0 {
-        if pr > 0.0 {
-            k_d.set(pd / pr);
-        }
-        peaks.set((cycle, f_dyn, f_rigid));
-    } else {
-        peaks.set((c0, pd.max(f_dyn), pr.max(f_rigid)));
-    }
-}
-
-/// The dynamic-factor bookkeeping of [`track_peaks`] as a chain carries it between steps (the
-/// ODE holds it in two `Cell`s).
+/// The dynamic-factor bookkeeping of a chain over shaft turns ([`Peaks::track`]), carried
+/// between steps (the ODE holds it in a `Cell`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Peaks {
     /// (turn, peak dynamic force, peak rigid force) of the running turn.
@@ -534,17 +512,21 @@ impl Peaks {
         }
     }
 
-    /// The ODE's cells `(peaks, k_d)` for these.
-    pub fn cells(&self) -> (Cell<(f64, f64, f64)>, Cell<f64>) {
-        (Cell::new(self.turn), Cell::new(self.k_d))
-    }
-
-    /// Read back from the ODE's cells.
-    pub fn get(peaks: &Cell<(f64, f64, f64)>, k_d: &Cell<f64>) -> Peaks {
-        Peaks {
-            turn: peaks.get(),
-            k_d: k_d.get(),
+    /// An accepted step in turn `cycle` with chain force `f_dyn` and rigid (kinetostatic)
+    /// force `f_rigid` (magnitudes), in the ODE's cell: the running turn's peaks grow; at a new
+    /// turn K_d becomes the ratio of the finished turn's peaks.
+    pub fn track(cell: &Cell<Peaks>, cycle: f64, f_dyn: f64, f_rigid: f64) {
+        let mut p = cell.get();
+        let (c0, pd, pr) = p.turn;
+        if cycle != c0 {
+            if pr > 0.0 {
+                p.k_d = pd / pr;
+            }
+            p.turn = (cycle, f_dyn, f_rigid);
+        } else {
+            p.turn = (c0, pd.max(f_dyn), pr.max(f_rigid));
         }
+        cell.set(p);
     }
 
     /// The four numbers of the FMU state: turn, peak dynamic force, peak rigid force, K_d.
@@ -792,13 +774,12 @@ mod tests {
 
     #[test]
     fn peaks_and_dyn_factor() {
-        let peaks = Cell::new((0.0, 0.0, 0.0));
-        let k_d = Cell::new(f64::NAN);
-        track_peaks(&peaks, &k_d, 0.0, 2.0, 1.0);
-        track_peaks(&peaks, &k_d, 0.0, 1.0, 4.0);
-        assert_eq!(Peaks::get(&peaks, &k_d).dyn_factor(), 0.5);
-        track_peaks(&peaks, &k_d, 1.0, 3.0, 1.0);
-        let p = Peaks::get(&peaks, &k_d);
+        let peaks = Cell::new(Peaks::new(0.0));
+        Peaks::track(&peaks, 0.0, 2.0, 1.0);
+        Peaks::track(&peaks, 0.0, 1.0, 4.0);
+        assert_eq!(peaks.get().dyn_factor(), 0.5);
+        Peaks::track(&peaks, 1.0, 3.0, 1.0);
+        let p = peaks.get();
         assert_eq!((p.turn, p.k_d, p.dyn_factor()), ((1.0, 3.0, 1.0), 0.5, 0.5));
         assert_eq!(Peaks::restore(&p.save()), p);
         assert_eq!(Peaks::new(0.0).dyn_factor(), 1.0);

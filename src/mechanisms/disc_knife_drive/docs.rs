@@ -343,8 +343,7 @@ fn rod_force_window(
         c: RodOde::damping(p, 2e8, 0.05),
         path: ShaftPath::new(0.0, 0.0, w, 0.0),
         c_dead: dead_point_threshold(p),
-        peaks: std::cell::Cell::new((0.0, 0.0, 0.0)),
-        k_d: std::cell::Cell::new(f64::NAN),
+        peaks: std::cell::Cell::new(crate::solver::chain::Peaks::new(0.0)),
     };
     let mut y = o.initial_state(0.0);
     let mut it = Integrator::new(Settings::default());

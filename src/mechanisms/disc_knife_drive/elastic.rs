@@ -79,7 +79,7 @@
 
 use super::physics::{Kinematics, Params, Vec2};
 use crate::mechanics::sgn;
-use crate::solver::chain::track_peaks;
+use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
 use num_dual::{Dual2, Dual64, DualNum};
 use std::cell::Cell;
@@ -209,10 +209,8 @@ pub struct RodOde<'a> {
     pub path: ShaftPath,
     /// |c| at which the slider counts as at the holder's dead point ([`dead_point_threshold`]).
     pub c_dead: f64,
-    /// Peak tracking over accepted steps: (shaft turn, peak |P|, peak |P_rigid|).
-    pub peaks: Cell<(f64, f64, f64)>,
-    /// Dynamic factor of the last complete turn (NaN: none yet).
-    pub k_d: Cell<f64>,
+    /// Peak tracking over accepted steps and the dynamic factor of the last complete turn.
+    pub peaks: Cell<Peaks>,
 }
 
 /// Everything at one instant, for the outputs.
@@ -520,7 +518,7 @@ impl OdeSystem for RodOde<'_> {
         let f_rigid = self.p.kinetostatics(&r.kin).rod_f.abs();
         let f_el = ev.force.abs();
         let cyc = self.path.cycle(t);
-        track_peaks(&self.peaks, &self.k_d, cyc, f_el, f_rigid);
+        Peaks::track(&self.peaks, cyc, f_el, f_rigid);
     }
 }
 

@@ -11,8 +11,7 @@ fn ode(p: &Params, k: f64, zeta: f64, w: f64) -> RodOde<'_> {
         c: RodOde::damping(p, k, zeta),
         path: ShaftPath::new(0.0, 0.0, w, 0.0),
         c_dead: dead_point_threshold(p),
-        peaks: Cell::new((0.0, 0.0, 0.0)),
-        k_d: Cell::new(f64::NAN),
+        peaks: Cell::new(crate::solver::chain::Peaks::new(0.0)),
     }
 }
 

@@ -114,7 +114,7 @@ impl ChainModel for RodChain {
     const STATE_NAME: &'static str = "DiscKnifeDrive elastodynamic state";
 
     fn ode<'a>(&self, p: &'a Params, path: ShaftPath, _: &Values<V>, m: &Peaks) -> RodOde<'a> {
-        let (peaks, k_d) = m.cells();
+        let peaks = std::cell::Cell::new(*m);
         RodOde {
             p,
             k: self.k,
@@ -122,7 +122,6 @@ impl ChainModel for RodChain {
             path,
             c_dead: self.c_dead,
             peaks,
-            k_d,
         }
     }
     fn initial_state(ode: &RodOde, t: f64) -> [f64; 3] {
@@ -135,7 +134,7 @@ impl ChainModel for RodChain {
         *m = Peaks::new(ode.path.cycle(path.t0));
     }
     fn absorb(ode: &RodOde, m: &mut Peaks) {
-        *m = Peaks::get(&ode.peaks, &ode.k_d);
+        *m = ode.peaks.get();
     }
     fn save_memory(m: &Peaks, out: &mut Vec<f64>) {
         out.extend(m.save());

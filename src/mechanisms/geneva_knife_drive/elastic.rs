@@ -22,7 +22,7 @@
 use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
 use crate::mechanics::{STANDARD_GRAVITY, sgn};
-use crate::solver::chain::track_peaks;
+use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
 
@@ -41,10 +41,8 @@ pub struct KnifeOde<'a> {
     /// Chain damping c, N.s/m.
     pub c: f64,
     pub path: ShaftPath,
-    /// Peak tracking over accepted steps: (cycle index, peak |F_el|, peak |F_rigid|).
-    pub peaks: Cell<(f64, f64, f64)>,
-    /// Dynamic factor of the last complete cycle (NaN: none yet).
-    pub k_d: Cell<f64>,
+    /// Peak tracking over accepted steps and the dynamic factor of the last complete turn.
+    pub peaks: Cell<Peaks>,
     /// The stack is cut through in this stroke (set at cut-through, cleared when the knife
     /// rises back above `cut.s_start`): no cutting resistance.
     pub cut_done: Cell<bool>,
@@ -240,6 +238,6 @@ impl OdeSystem for KnifeOde<'_> {
     fn on_step(&self, t: f64, y: &[f64]) {
         let pt = self.point(t, y);
         let cyc = self.cycle(t);
-        track_peaks(&self.peaks, &self.k_d, cyc, pt.f_el.abs(), pt.f_rigid.abs());
+        Peaks::track(&self.peaks, cyc, pt.f_el.abs(), pt.f_rigid.abs());
     }
 }

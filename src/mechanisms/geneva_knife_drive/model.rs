@@ -125,7 +125,7 @@ impl ChainModel for KnifeChain {
         _: &Values<V>,
         m: &KnifeMemory,
     ) -> KnifeOde<'a> {
-        let (peaks, k_d) = m.peaks.cells();
+        let peaks = Cell::new(m.peaks);
         KnifeOde {
             p,
             geneva: p.geneva(),
@@ -133,7 +133,6 @@ impl ChainModel for KnifeChain {
             c: self.c,
             path,
             peaks,
-            k_d,
             cut_done: Cell::new(m.cut_done),
         }
     }
@@ -148,7 +147,7 @@ impl ChainModel for KnifeChain {
         m.cut_done = false;
     }
     fn absorb(ode: &KnifeOde, m: &mut KnifeMemory) {
-        m.peaks = Peaks::get(&ode.peaks, &ode.k_d);
+        m.peaks = ode.peaks.get();
         m.cut_done = ode.cut_done.get();
     }
     fn save_memory(m: &KnifeMemory, out: &mut Vec<f64>) {

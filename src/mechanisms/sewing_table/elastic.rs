@@ -18,7 +18,7 @@
 
 use super::physics::{Kinematics, Params};
 use crate::mechanics::{STANDARD_GRAVITY, sgn};
-use crate::solver::chain::track_peaks;
+use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
 
@@ -31,9 +31,8 @@ pub struct TableOde<'a> {
     pub gap: f64,
     pub f_ext: f64,
     pub path: ShaftPath,
-    /// (cycle, peak |F_c|, peak |F_rigid|) of the running turn.
-    pub peaks: Cell<(f64, f64, f64)>,
-    pub k_d: Cell<f64>,
+    /// Peak tracking over accepted steps and the dynamic factor of the last complete turn.
+    pub peaks: Cell<Peaks>,
     /// Lift-offs so far.
     pub liftoffs: Cell<f64>,
     /// Largest contact force after a landing, N.
@@ -206,6 +205,6 @@ impl OdeSystem for TableOde<'_> {
             self.impact.set(self.impact.get().max(pt.f_c.abs()));
         }
         let cyc = self.path.cycle(t);
-        track_peaks(&self.peaks, &self.k_d, cyc, pt.f_c.abs(), pt.f_rigid.abs());
+        Peaks::track(&self.peaks, cyc, pt.f_c.abs(), pt.f_rigid.abs());
     }
 }

@@ -178,7 +178,7 @@ impl ChainModel for TableChain {
         v: &Values<V>,
         m: &TableMemory,
     ) -> TableOde<'a> {
-        let (peaks, k_d) = m.peaks.cells();
+        let peaks = Cell::new(m.peaks);
         TableOde {
             p,
             k: self.k,
@@ -187,7 +187,6 @@ impl ChainModel for TableChain {
             f_ext: v[V::table_F_ext],
             path,
             peaks,
-            k_d,
             liftoffs: Cell::new(m.liftoffs),
             impact: Cell::new(m.impact),
             landed: Cell::new(m.landed),
@@ -204,7 +203,7 @@ impl ChainModel for TableChain {
         m.peaks.turn = (path.cycle(path.t0), 0.0, 0.0);
     }
     fn absorb(ode: &TableOde, m: &mut TableMemory) {
-        m.peaks = Peaks::get(&ode.peaks, &ode.k_d);
+        m.peaks = ode.peaks.get();
         m.liftoffs = ode.liftoffs.get();
         m.impact = ode.impact.get();
         m.landed = ode.landed.get();
