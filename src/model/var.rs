@@ -49,6 +49,67 @@ impl EnumType {
     }
 }
 
+/// Declares a Rust enum and its FMI enumeration type once: the variants are the items 1, 2, ...
+/// in order (checked at compile time), `FMI` is the [`EnumType`] a variable's `declaredType`
+/// names, and `from_item` gives the variant of an item.
+///
+/// ```ignore
+/// crate::fmi_enum! {
+///     /// `contact.law`.
+///     pub enum ContactLaw ("ContactLaw", "Force law of the ramp contact") {
+///         /// Hertz line contact.
+///         Hertz = 1 ("hertz", "Hertz line contact K*pen^(10/9)"),
+///         Linear = 2 ("linear", "linear spring contact.k*pen"),
+///     }
+/// }
+/// ```
+#[macro_export]
+macro_rules! fmi_enum {
+    (
+        $( #[$meta:meta] )*
+        $vis:vis enum $name:ident ($fmi_name:literal, $fmi_description:literal) {
+            $( $( #[$vmeta:meta] )* $variant:ident = $item:literal ($item_name:literal, $item_description:expr) ),+ $(,)?
+        }
+    ) => {
+        $( #[$meta] )*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        $vis enum $name {
+            $( $( #[$vmeta] )* $variant = $item ),+
+        }
+
+        impl $name {
+            /// The FMI enumeration type: item `i` is the variant `= i`.
+            pub const FMI: $crate::model::EnumType = $crate::model::EnumType {
+                name: $fmi_name,
+                description: $fmi_description,
+                items: &[$( ($item_name, $item_description) ),+],
+            };
+            const _ITEMS_IN_ORDER: () = {
+                let mut i = 1;
+                $(
+                    assert!($item == i, "the items are numbered 1, 2, ... in order");
+                    i += 1;
+                )+
+                let _ = i;
+            };
+
+            /// The variant of FMI item `item`, if any.
+            pub fn from_item(item: i32) -> Option<Self> {
+                let () = Self::_ITEMS_IN_ORDER;
+                match item {
+                    $( $item => Some($name::$variant), )+
+                    _ => None,
+                }
+            }
+
+            /// The item's name.
+            pub fn name(self) -> &'static str {
+                Self::FMI.items[self as usize - 1].0
+            }
+        }
+    };
+}
+
 /// The FMI base type of a variable.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum VarType {

@@ -28,7 +28,7 @@
 //! explicit method out of its stability region): the caller returns `fmi2Discard` and keeps the
 //! state before the step.
 
-use crate::model::{EnumType, Var};
+use crate::model::Var;
 use nalgebra::DMatrix;
 
 pub mod chain;
@@ -147,50 +147,24 @@ fn event_between(a: f64, b: f64) -> bool {
     a.abs() != HELD && ((a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0) || b.abs() == HELD)
 }
 
-/// `solver.method`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Method {
-    Auto = 1,
-    Dopri5 = 2,
-    Radau5 = 3,
-    Rk4 = 4,
+crate::fmi_enum! {
+    /// `solver.method`.
+    pub enum Method ("SolverMethod", "Integrator of the elastodynamic level inside fmi2DoStep") {
+        Auto = 1 ("auto", "Dormand-Prince 5(4), switching to Radau IIA when the problem turns stiff (LSODA idea)"),
+        Dopri5 = 2 ("dopri5", "explicit adaptive Dormand-Prince 5(4)"),
+        Radau5 = 3 ("radau5", "implicit Radau IIA order 5, L-stable, analytic Jacobian"),
+        Rk4 = 4 ("rk4", "classical Runge-Kutta, fixed step solver.max_step"),
+    }
 }
 
 impl Method {
-    /// From the Enumeration value of `solver.method`.
+    /// From the Enumeration value of `solver.method` (`auto` for a value out of range).
     pub fn from_value(v: i32) -> Method {
-        match v {
-            2 => Method::Dopri5,
-            3 => Method::Radau5,
-            4 => Method::Rk4,
-            _ => Method::Auto,
-        }
+        Method::from_item(v).unwrap_or(Method::Auto)
     }
     /// Every method, for reports.
     pub const ALL: [Method; 4] = [Method::Auto, Method::Dopri5, Method::Radau5, Method::Rk4];
-    /// The item name.
-    pub fn name(self) -> &'static str {
-        SOLVER_METHOD.items[self as usize - 1].0
-    }
 }
-
-/// The Enumeration type of `solver.method`.
-pub static SOLVER_METHOD: EnumType = EnumType {
-    name: "SolverMethod",
-    description: "Integrator of the elastodynamic level inside fmi2DoStep",
-    items: &[
-        (
-            "auto",
-            "Dormand-Prince 5(4), switching to Radau IIA when the problem turns stiff (LSODA idea)",
-        ),
-        ("dopri5", "explicit adaptive Dormand-Prince 5(4)"),
-        (
-            "radau5",
-            "implicit Radau IIA order 5, L-stable, analytic Jacobian",
-        ),
-        ("rk4", "classical Runge-Kutta, fixed step solver.max_step"),
-    ],
-};
 
 /// The solver parameters every elastodynamic model declares (once, here).
 pub mod vars {
@@ -199,7 +173,7 @@ pub mod vars {
     pub fn method() -> Var {
         Var::enum_parameter(
             "solver.method",
-            &SOLVER_METHOD,
+            &Method::FMI,
             "auto",
             "Integrator of the elastodynamic level inside fmi2DoStep",
         )

@@ -43,13 +43,14 @@ use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
 use std::f64::consts::TAU;
 
-/// `contact.law`.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum ContactLaw {
-    /// Hertz line contact, `F = K·δ^(10/9)`.
-    Hertz = 1,
-    /// Linear spring `contact.k·δ`.
-    Linear = 2,
+crate::fmi_enum! {
+    /// `contact.law`.
+    pub enum ContactLaw ("ContactLaw", "Force law of the unilateral ramp contact") {
+        /// Hertz line contact, `F = K·δ^(10/9)`.
+        Hertz = 1 ("hertz", "Hertz line contact K*pen^(10/9), K from roller.b and the moduli (Palmgren)"),
+        /// Linear spring `contact.k·δ`.
+        Linear = 2 ("linear", "linear spring contact.k*pen"),
+    }
 }
 
 /// The contact: law, its stiffness constant (K in N/m^(10/9) for Hertz, N/m for linear), the

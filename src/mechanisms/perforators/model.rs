@@ -17,7 +17,7 @@ use crate::mechanics::cyclogram::Phase;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
-use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values};
+use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel};
 use crate::solver::{Integrator, OdeSystem, ShaftPath};
 use std::cell::Cell;
@@ -26,19 +26,6 @@ use std::f64::consts::TAU;
 #[path = "model/lever.rs"]
 mod lever;
 use lever::{Dynamic, LeverChain, LeverMemory, Lost, bounce_report};
-
-/// `synth.mode`.
-pub static SYNTH_MODE: EnumType = EnumType {
-    name: "SynthMode",
-    description: "Which lever swing the ramp is built for",
-    items: &[
-        (
-            "paper",
-            "paper 000's gamma_sum of eq. (3); the carriage then travels 2.3 % more than lambda_S",
-        ),
-        ("exact", "the swing that gives exactly lambda_S"),
-    ],
-};
 
 crate::stages! {
     FORCES = Stage::new("forces", "Kinetostatic force analysis: piercing load, carriage inertia and guide friction, rod, lever with spring and hinge friction, ramp contact force, table reaction, shaft torque", Fidelity::WITH_FORCES),
@@ -49,19 +36,6 @@ crate::stages! {
     /// What the loads, masses and spring feed.
     LOADS = FORCES.or(HERTZ).or(WATCH).or(ELASTIC),
 }
-
-/// `contact.law`.
-pub static CONTACT_LAW: EnumType = EnumType {
-    name: "ContactLaw",
-    description: "Force law of the unilateral ramp contact",
-    items: &[
-        (
-            "hertz",
-            "Hertz line contact K*pen^(10/9), K from roller.b and the moduli (Palmgren)",
-        ),
-        ("linear", "linear spring contact.k*pen"),
-    ],
-};
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 100.0, torque_needs = stage::FORCES) {
@@ -78,7 +52,7 @@ crate::model_variables! {
         synth_gamma1 = Var::parameter("synth.gamma1", 47f64.to_radians(), "rad", "gamma1: roller arm from the downward vertical in the lowest position (paper 000: 47 deg)"),
         synth_alpha = Var::parameter("synth.alpha", 37f64.to_radians(), "rad", "alpha: carriage line from the vertical (paper 000: 37 deg)"),
         synth_unit = Var::parameter("synth.unit", 0.030, "m", "The relative unit: lambda_S = 1 is 30 mm (paper 000, BNSh-6A)").min(0.0),
-        synth_mode = Var::enum_parameter("synth.mode", &SYNTH_MODE, "exact", "paper: ramp built for the paper's swing (eq. 3); exact: for the swing giving lambda_S"),
+        synth_mode = Var::enum_parameter("synth.mode", &Mode::FMI, "exact", "paper: ramp built for the paper's swing (eq. 3); exact: for the swing giving lambda_S"),
         // ---- the table it rides on (same as SewingTable)
         synth_l1 = Var::parameter("synth.l1", 1.0, "", "Table synthesis l1, relative (paper 000: 1.0; as SewingTable)").min(0.0),
         synth_R = Var::parameter("synth.R", 11.0, "", "Table synthesis R, relative (paper 000: 11.0; as SewingTable)").min(0.0),
@@ -139,7 +113,7 @@ crate::model_variables! {
         table_x = Var::output("table.x", "m", "Table position x_t: 0 at loading, table.stroke at sewing").depends(ON_PHI),
         table_F = Var::output("table.F", "N", "Force of the perforator drive on the table along +x (towards sewing): wire into SewingTable.table.F_ext").depends(ON_ALL).needs(stage::FORCES),
         // ---- elastodynamic level (dynamics.md)
-        contact_law = Var::enum_parameter("contact.law", &CONTACT_LAW, "hertz", "Ramp contact force law of the elastodynamic level: hertz K*pen^(10/9) or linear contact.k*pen, both with damping contact.c and never pulling").feeds(stage::ELASTIC),
+        contact_law = Var::enum_parameter("contact.law", &ContactLaw::FMI, "hertz", "Ramp contact force law of the elastodynamic level: hertz K*pen^(10/9) or linear contact.k*pen, both with damping contact.c and never pulling").feeds(stage::ELASTIC),
         contact_k = Var::parameter("contact.k", 1e8, "N/m", "Stiffness of the linear contact law (elastodynamic level; assumption)").min(1.0).feeds(stage::ELASTIC),
         contact_c = Var::parameter("contact.c", 3400.0, "N.s/m", "Damping of the ramp contact on the penetration rate, c*d(pen)/dt (elastodynamic level; assumption: 5 % of critical, 2*0.05*sqrt(k*m_red), with the Hertz law's stiffness 3.0e8 N/m at the spring's preload of 150 N and m_red = 3.83 kg)").min(0.0).feeds(stage::ELASTIC),
         @with crate::chain_variables { solver(stage::ELASTIC) },
@@ -357,11 +331,7 @@ fn write_kinematics(v: &mut Values<V>, k: &Kinematics) {
 
 /// The contact of the elastodynamic level from the `contact.*` parameters.
 pub fn contact_of(d: &Drive, v: &Values<V>) -> Contact {
-    let law = if v.int(V::contact_law) == 2 {
-        ContactLaw::Linear
-    } else {
-        ContactLaw::Hertz
-    };
+    let law = ContactLaw::from_item(v.int(V::contact_law)).unwrap_or(ContactLaw::Hertz);
     Contact::new(d, law, v[V::contact_k], v[V::contact_c])
 }
 
@@ -425,11 +395,7 @@ impl Perforators {
             gamma1: v[V::synth_gamma1],
             alpha: v[V::synth_alpha],
             unit: v[V::synth_unit],
-            mode: if v.int(V::synth_mode) == 1 {
-                Mode::Paper
-            } else {
-                Mode::Exact
-            },
+            mode: Mode::from_item(v.int(V::synth_mode)).unwrap_or(Mode::Exact),
             table,
             rise_fraction: v[V::travel_rise_fraction],
             law_rise: motion_law(v.int(V::law_rise)),

@@ -29,13 +29,14 @@ use crate::mechanics::{ParamError, STANDARD_GRAVITY, dot, sgn};
 use crate::mechanisms::sewing_table::physics::Params as TableParams;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
-/// Which lever swing the ramp is built for (`synth.mode`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Mode {
-    /// The paper's γΣ of eq. (3).
-    Paper = 1,
-    /// The swing that gives exactly the stroke λS.
-    Exact = 2,
+crate::fmi_enum! {
+    /// Which lever swing the ramp is built for (`synth.mode`).
+    pub enum Mode ("SynthMode", "Which lever swing the ramp is built for") {
+        /// The paper's γΣ of eq. (3).
+        Paper = 1 ("paper", "paper 000's gamma_sum of eq. (3); the carriage then travels 2.3 % more than lambda_S"),
+        /// The swing that gives exactly the stroke λS.
+        Exact = 2 ("exact", "the swing that gives exactly lambda_S"),
+    }
 }
 
 /// Parameters, SI units (angles rad); field docs name the FMI variable.

@@ -33,19 +33,6 @@ pub fn motion_law(item: i32) -> MotionLaw {
     }
 }
 
-/// `table.kind`.
-pub static TABLE_KIND: EnumType = EnumType {
-    name: "TableKind",
-    description: "Which sewing table",
-    items: &[
-        ("translating", "paper 000's translating table on a slot cam"),
-        (
-            "rocking",
-            "the BNSh-6A's rocking table, same cyclogram, for comparison",
-        ),
-    ],
-};
-
 /// Dependencies of what the external force on the table acts on.
 const ON_ALL_F: &[u32] = &[shaft::PHI, shaft::W, shaft::A, V::table_F_ext as u32];
 /// ... and of `shaft.tau0`, `shaft.J_red`.
@@ -79,7 +66,7 @@ crate::model_variables! {
         cycle_phi0 = Var::parameter("cycle.phi0", 0.0, "rad", "Shaft angle where the forward travel starts"),
         law_forward = Var::enum_parameter("law.forward", &MOTION_LAW, "cycloidal", "Motion law of the forward travel (cycloidal: the smooth stop paper 000 asks for)"),
         law_return = Var::enum_parameter("law.return", &MOTION_LAW, "cycloidal", "Motion law of the return travel"),
-        table_kind = Var::enum_parameter("table.kind", &TABLE_KIND, "translating", "translating (paper 000) or rocking (the table it replaces; drives table.x, forces and shaft.tau)"),
+        table_kind = Var::enum_parameter("table.kind", &Kind::FMI, "translating", "translating (paper 000) or rocking (the table it replaces; drives table.x, forces and shaft.tau)"),
         // ---- cam and forces
         cam_R0 = Var::parameter("cam.R0", 0.10, "m", "Base (pitch) radius of the slot cam (assumption; tune against the pressure angle)").min(0.0),
         cam_e = Var::parameter("cam.e", 0.0, "m", "Offset of the follower line from the cam axis (assumption)"),
@@ -255,11 +242,7 @@ impl SewingTable {
             phi0: v[V::cycle_phi0],
             law_forward: motion_law(v.int(V::law_forward)),
             law_return: motion_law(v.int(V::law_return)),
-            kind: if v.int(V::table_kind) == 2 {
-                Kind::Rocking
-            } else {
-                Kind::Translating
-            },
+            kind: Kind::from_item(v.int(V::table_kind)).unwrap_or(Kind::Translating),
             cam_r0: v[V::cam_R0],
             cam_e: v[V::cam_e],
             roller_r: v[V::roller_r],

@@ -19,13 +19,14 @@ use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::{ParamError, STANDARD_GRAVITY, sgn};
 use std::f64::consts::PI;
 
-/// Which table (`table.kind`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Kind {
-    /// The paper's translating table on a slot cam (default).
-    Translating = 1,
-    /// The existing rocking table of the BNSh-6A, for comparison.
-    Rocking = 2,
+crate::fmi_enum! {
+    /// Which table (`table.kind`).
+    pub enum Kind ("TableKind", "Which sewing table") {
+        /// The paper's translating table on a slot cam (default).
+        Translating = 1 ("translating", "paper 000's translating table on a slot cam"),
+        /// The existing rocking table of the BNSh-6A, for comparison.
+        Rocking = 2 ("rocking", "the BNSh-6A's rocking table, same cyclogram, for comparison"),
+    }
 }
 
 /// Parameters, SI units; field docs name the FMI variable (`sewing-table.md`).
