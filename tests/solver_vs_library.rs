@@ -15,6 +15,7 @@ mod common;
 
 use bindery_fmu::mechanisms::geneva_knife_drive::elastic::KnifeOde;
 use bindery_fmu::mechanisms::geneva_knife_drive::physics::Params;
+use bindery_fmu::solver::chain::ChainOde;
 use bindery_fmu::solver::{Method, Settings, ShaftPath};
 use common::ode::{Library, assert_agrees_with_library, max_diff_at, ours_on_grid};
 use differential_equations::prelude::*;

@@ -21,7 +21,7 @@
 //!    dynamic factor: [`Peaks::track`] in `on_step`, [`Peaks`] in the memory);
 //! 2. a struct of the chain's constants implementing [`ChainModel`]: the ODE from them and the
 //!    memory, how the memory starts and is read back and how many numbers it takes in the
-//!    snapshot ([`ChainModel::MEMORY_LEN`]), the hooks that differ from the defaults;
+//!    snapshot ([`Saved`], [`crate::chain_memory!`]), the hooks that differ from the defaults;
 //! 3. in the model, `Option<Chain<_>>` built at `prepare` with [`Chain::new`] and
 //!    `Integrator::new(`[`solver_settings`]`(v))`, the hooks by [`crate::chain_hooks!`], and in
 //!    `evaluate` the outputs at [`Chain::held_state`] ([`write_states`], [`Peaks::dyn_factor`]).
@@ -29,9 +29,10 @@
 use super::{Integrator, Memory, Method, OdeSystem, Settings, ShaftPath};
 
 mod macros;
+mod memory;
 use crate::model::shaft;
 use crate::model::{Log, Values, VarSet};
-use std::cell::Cell;
+pub use memory::{Peaks, Saved};
 use std::fmt::Debug;
 
 /// Where the elastodynamic level takes what it tracks over steps (peaks, turn minima, impact
@@ -44,6 +45,23 @@ macro_rules! at_accepted_steps {
     };
 }
 
+/// The ODE of a compliant chain on `y = [x, ẋ, W]`: an [`OdeSystem`] that also knows where the
+/// integration starts and the chain's energy.
+pub trait ChainOde: OdeSystem {
+    /// The chain at one instant: positions, forces, the acceleration `ẍ` and the power `Ẇ`.
+    type Point;
+    /// The chain at `(t, y)`.
+    fn point(&self, t: f64, y: &[f64]) -> Self::Point;
+    /// The chain's energy (kinetic plus spring) at a point.
+    fn energy(&self, pt: &Self::Point) -> f64;
+    /// The states at the start of the integration, time `t` (equilibrium on the rigid motion).
+    fn initial_state(&self, t: f64) -> [f64; 3];
+    /// The chain's energy at `(t, y)`.
+    fn energy_at(&self, t: f64, y: &[f64; 3]) -> f64 {
+        self.energy(&self.point(t, y))
+    }
+}
+
 /// What a mechanism supplies for its compliant chain. Implemented by the chain's constants
 /// (stiffness, damping, play...), fixed at `prepare`.
 pub trait ChainModel: Clone + Debug {
@@ -53,12 +71,11 @@ pub trait ChainModel: Clone + Debug {
     type Physics: 'static;
     /// What the ODE tracks between steps besides the states (peaks, K_d, contact counters),
     /// copied into the ODE's `Cell`s and read back from them ([`ChainModel::absorb`]).
-    type Memory: Clone + Debug + PartialEq;
+    /// It is saved in the FMU state as its [`Saved`] numbers.
+    type Memory: Clone + Debug + PartialEq + Saved;
     /// The ODE of one communication step (or of one Model Exchange call).
-    type Ode<'a>: OdeSystem;
+    type Ode<'a>: ChainOde;
 
-    /// Numbers of the mechanism's memory in the FMU state ([`ChainModel::save_memory`]).
-    const MEMORY_LEN: usize;
     /// Event indicators appended to the snapshot (the last event's or step's, so that Model
     /// Exchange transitions are counted after a restore too); 0: none. A snapshot without them
     /// (Co-Simulation) restores as well. A chain whose events count or switch anything (its
@@ -81,18 +98,10 @@ pub trait ChainModel: Clone + Debug {
         v: &Values<Self::Var>,
         memory: &Self::Memory,
     ) -> Self::Ode<'a>;
-    /// The states at the start of the integration, time `t` (equilibrium on the rigid motion).
-    fn initial_state(ode: &Self::Ode<'_>, t: f64) -> [f64; 3];
-    /// The chain's energy (kinetic plus spring) at `(t, y)`.
-    fn energy(ode: &Self::Ode<'_>, t: f64, y: &[f64; 3]) -> f64;
     /// The memory at the start of the integration on `path`.
     fn start(ode: &Self::Ode<'_>, path: &ShaftPath, memory: &mut Self::Memory);
     /// Reads the memory back from the ODE after a step, an event or a completed step.
     fn absorb(ode: &Self::Ode<'_>, memory: &mut Self::Memory);
-    /// The memory as [`ChainModel::MEMORY_LEN`] numbers.
-    fn save_memory(memory: &Self::Memory, out: &mut Vec<f64>);
-    /// The memory from the numbers [`ChainModel::save_memory`] wrote.
-    fn restore_memory(s: &[f64]) -> Self::Memory;
 
     /// Co-Simulation: after an accepted communication step from `t` over `h`, before
     /// [`ChainModel::absorb`] (`memory` still holds the memory before the step: what changed
@@ -186,7 +195,7 @@ pub struct Chain<C: ChainModel> {
 impl<C: ChainModel> Chain<C> {
     /// Numbers of the FMU state snapshot (without Model Exchange indicators): `[started, x, ẋ,
     /// W, e0]`, the integrator's whole [`Memory`], the mechanism's memory.
-    pub const STATE_LEN: usize = 5 + Memory::LEN + C::MEMORY_LEN;
+    pub const STATE_LEN: usize = 5 + Memory::LEN + <C::Memory as Saved>::LEN;
 
     /// A chain not started yet, with its initial memory.
     pub fn new(model: C, integ: Integrator, memory: C::Memory) -> Self {
@@ -210,8 +219,8 @@ impl<C: ChainModel> Chain<C> {
     /// energy, the memory's start.
     pub fn start(&mut self, p: &C::Physics, path: ShaftPath, v: &Values<C::Var>) {
         let ode = self.ode(p, path, v);
-        self.y = C::initial_state(&ode, path.t0);
-        self.e0 = C::energy(&ode, path.t0, &self.y);
+        self.y = ode.initial_state(path.t0);
+        self.e0 = ode.energy_at(path.t0, &self.y);
         C::start(&ode, &path, &mut self.memory);
         self.started = true;
     }
@@ -222,7 +231,7 @@ impl<C: ChainModel> Chain<C> {
         if self.started {
             self.y
         } else {
-            C::initial_state(ode, t)
+            ode.initial_state(t)
         }
     }
 
@@ -238,7 +247,7 @@ impl<C: ChainModel> Chain<C> {
             self.e0,
         ]);
         s.extend(self.integ.save().to_numbers());
-        C::save_memory(&self.memory, &mut s);
+        self.memory.save(&mut s);
         debug_assert_eq!(s.len(), Self::STATE_LEN);
         if C::SAVED_INDICATORS > 0 {
             s.extend_from_slice(&self.g_prev);
@@ -291,7 +300,7 @@ impl<C: ChainModel> Chain<C> {
         self.y = [s[1], s[2], s[3]];
         self.e0 = s[4];
         self.integ.restore(integ);
-        self.memory = C::restore_memory(&s[5 + Memory::LEN..n]);
+        self.memory = C::Memory::restore(&s[5 + Memory::LEN..n]);
         Ok(())
     }
 }
@@ -493,75 +502,11 @@ pub fn write_states<V: VarSet>(
     v[derivatives[2]] = power;
 }
 
-/// The dynamic-factor bookkeeping of a chain over shaft turns ([`Peaks::track`]), carried
-/// between steps (the ODE holds it in a `Cell`).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Peaks {
-    /// (turn, peak dynamic force, peak rigid force) of the running turn.
-    pub turn: (f64, f64, f64),
-    /// K_d of the last complete turn (NaN: none yet).
-    pub k_d: f64,
-}
-
-impl Peaks {
-    /// Nothing tracked yet, in turn `turn`, no K_d.
-    pub fn new(turn: f64) -> Peaks {
-        Peaks {
-            turn: (turn, 0.0, 0.0),
-            k_d: f64::NAN,
-        }
-    }
-
-    /// An accepted step in turn `cycle` with chain force `f_dyn` and rigid (kinetostatic)
-    /// force `f_rigid` (magnitudes), in the ODE's cell: the running turn's peaks grow; at a new
-    /// turn K_d becomes the ratio of the finished turn's peaks.
-    pub fn track(cell: &Cell<Peaks>, cycle: f64, f_dyn: f64, f_rigid: f64) {
-        let mut p = cell.get();
-        let (c0, pd, pr) = p.turn;
-        if cycle != c0 {
-            if pr > 0.0 {
-                p.k_d = pd / pr;
-            }
-            p.turn = (cycle, f_dyn, f_rigid);
-        } else {
-            p.turn = (c0, pd.max(f_dyn), pr.max(f_rigid));
-        }
-        cell.set(p);
-    }
-
-    /// The four numbers of the FMU state: turn, peak dynamic force, peak rigid force, K_d.
-    pub fn save(&self) -> [f64; 4] {
-        let (c, pd, pr) = self.turn;
-        [c, pd, pr, self.k_d]
-    }
-
-    /// From the first four numbers of `s` ([`Peaks::save`]).
-    pub fn restore(s: &[f64]) -> Peaks {
-        Peaks {
-            turn: (s[0], s[1], s[2]),
-            k_d: s[3],
-        }
-    }
-
-    /// The dynamic factor K_d to report: that of the last complete turn, or before one is
-    /// complete the running turn's peak ratio (1 without a rigid force yet).
-    pub fn dyn_factor(&self) -> f64 {
-        if self.k_d.is_nan() {
-            if self.turn.2 > 0.0 {
-                self.turn.1 / self.turn.2
-            } else {
-                1.0
-            }
-        } else {
-            self.k_d
-        }
-    }
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::model::NoLog;
+    use std::cell::Cell;
 
     crate::model_variables! {
         enum TV (nominal_rpm = 60.0) {
@@ -606,12 +551,24 @@ mod tests {
         }
     }
 
+    impl ChainOde for ToyOde {
+        type Point = [f64; 2];
+        fn point(&self, _t: f64, y: &[f64]) -> [f64; 2] {
+            [y[0], y[1]]
+        }
+        fn energy(&self, &[x, v]: &[f64; 2]) -> f64 {
+            0.5 * v * v + 0.5 * self.k * x * x
+        }
+        fn initial_state(&self, t: f64) -> [f64; 3] {
+            [self.path.at(t).0.sin(), 0.0, 0.0]
+        }
+    }
+
     impl ChainModel for Toy {
         type Var = TV;
         type Physics = ();
         type Memory = f64;
         type Ode<'a> = ToyOde;
-        const MEMORY_LEN: usize = 1;
         const SAVED_INDICATORS: usize = 1;
 
         fn ode(&self, _: &(), path: ShaftPath, _: &Values<TV>, m: &f64) -> ToyOde {
@@ -621,23 +578,11 @@ mod tests {
                 crossings: Cell::new(*m),
             }
         }
-        fn initial_state(ode: &ToyOde, t: f64) -> [f64; 3] {
-            [ode.path.at(t).0.sin(), 0.0, 0.0]
-        }
-        fn energy(ode: &ToyOde, _t: f64, y: &[f64; 3]) -> f64 {
-            0.5 * y[1] * y[1] + 0.5 * ode.k * y[0] * y[0]
-        }
         fn start(_: &ToyOde, _: &ShaftPath, m: &mut f64) {
             *m = 0.0;
         }
         fn absorb(ode: &ToyOde, m: &mut f64) {
             *m = ode.crossings.get();
-        }
-        fn save_memory(m: &f64, out: &mut Vec<f64>) {
-            out.push(*m);
-        }
-        fn restore_memory(s: &[f64]) -> f64 {
-            s[0]
         }
     }
 
@@ -781,7 +726,10 @@ mod tests {
         Peaks::track(&peaks, 1.0, 3.0, 1.0);
         let p = peaks.get();
         assert_eq!((p.turn, p.k_d, p.dyn_factor()), ((1.0, 3.0, 1.0), 0.5, 0.5));
-        assert_eq!(Peaks::restore(&p.save()), p);
+        let mut saved = Vec::new();
+        p.save(&mut saved);
+        assert_eq!(saved.len(), <Peaks as Saved>::LEN);
+        assert_eq!(Peaks::restore(&saved), p);
         assert_eq!(Peaks::new(0.0).dyn_factor(), 1.0);
     }
 }

@@ -7,6 +7,7 @@ use crate::docs::Documentation;
 use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
 use crate::md::ModelInfo;
 use crate::model::variables_of;
+use crate::solver::chain::ChainOde;
 use std::f64::consts::TAU;
 
 const WHAT: &str = r#"<p>Flow lines trim the spines of book and magazine blocks without stopping the

@@ -79,6 +79,7 @@
 
 use super::physics::{Kinematics, Params, Vec2};
 use crate::mechanics::sgn;
+use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
 use num_dual::{Dual2, Dual64, DualNum};
@@ -399,11 +400,6 @@ impl RodOde<'_> {
         }
     }
 
-    /// The model at time t and state y, for the outputs.
-    pub fn point(&self, t: f64, y: &[f64]) -> Point {
-        self.point_on(&self.rigid(t), y)
-    }
-
     /// As [`RodOde::point`] on a given rigid drive.
     pub fn point_on(&self, r: &Rigid, y: &[f64]) -> Point {
         let ev = self.eval(r, y[0], y[1]);
@@ -421,9 +417,17 @@ impl RodOde<'_> {
             shaft_tau,
         }
     }
+}
 
+impl ChainOde for RodOde<'_> {
+    type Point = Point;
+
+    /// The model at time t and state y, for the outputs.
+    fn point(&self, t: f64, y: &[f64]) -> Point {
+        self.point_on(&self.rigid(t), y)
+    }
     /// Energy of the downstream chain and the rod spring, J.
-    pub fn energy(&self, pt: &Point) -> f64 {
+    fn energy(&self, pt: &Point) -> f64 {
         let p = self.p;
         let k = &pt.kin;
         0.5 * (p.mass_c() * k.v_c * k.v_c
@@ -432,11 +436,10 @@ impl RodOde<'_> {
             + p.holder_j * k.beta_w * k.beta_w)
             + 0.5 * self.k * pt.eval.delta * pt.eval.delta
     }
-
     /// The state in equilibrium on the rigid motion at time t: the rod shortened by the
     /// kinetostatic rod force over k (none where that is over 5 % of the rod's length: a
     /// start at the jamming wedge), the slider at the rigid velocity.
-    pub fn initial_state(&self, t: f64) -> [f64; 3] {
+    fn initial_state(&self, t: f64) -> [f64; 3] {
         let r = self.rigid(t);
         let p = self.p;
         let f = p.kinetostatics(&r.kin).rod_f;

@@ -5,6 +5,7 @@ use super::elastic::{Point, RodOde, dead_point_threshold};
 use super::physics::{Forces, Kinematics, Params};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Severity, Stage, Values};
+use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, Settings, ShaftPath};
 
@@ -109,7 +110,6 @@ impl ChainModel for RodChain {
     /// Of the shaft turns: peak |P| and peak |P_rigid|, K_d.
     type Memory = Peaks;
     type Ode<'a> = RodOde<'a>;
-    const MEMORY_LEN: usize = 4;
     const SAVED_INDICATORS: usize = <DiscKnifeDrive as Dynamics<V>>::EVENT_INDICATORS;
     const STATE_NAME: &'static str = "DiscKnifeDrive elastodynamic state";
 
@@ -124,23 +124,11 @@ impl ChainModel for RodChain {
             peaks,
         }
     }
-    fn initial_state(ode: &RodOde, t: f64) -> [f64; 3] {
-        ode.initial_state(t)
-    }
-    fn energy(ode: &RodOde, t: f64, y: &[f64; 3]) -> f64 {
-        ode.energy(&ode.point(t, y))
-    }
     fn start(ode: &RodOde, path: &ShaftPath, m: &mut Peaks) {
         *m = Peaks::new(ode.path.cycle(path.t0));
     }
     fn absorb(ode: &RodOde, m: &mut Peaks) {
         *m = ode.peaks.get();
-    }
-    fn save_memory(m: &Peaks, out: &mut Vec<f64>) {
-        out.extend(m.save());
-    }
-    fn restore_memory(s: &[f64]) -> Peaks {
-        Peaks::restore(s)
     }
 
     /// The partial state tells a rod so soft that the slider left the range where the holder

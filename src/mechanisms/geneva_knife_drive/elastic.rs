@@ -22,6 +22,7 @@
 use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
 use crate::mechanics::{STANDARD_GRAVITY, sgn};
+use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
@@ -71,13 +72,6 @@ impl KnifeOde<'_> {
     /// Damping from the damping ratio.
     pub fn damping(p: &Params, k: f64, zeta: f64) -> f64 {
         2.0 * zeta * (k * p.slider_mass()).sqrt()
-    }
-
-    /// Evaluates the model at time t and state y.
-    pub fn point(&self, t: f64, y: &[f64]) -> Point {
-        let (phi, w, a) = self.path.at(t);
-        let kin = self.p.kinematics_of(&self.geneva, phi, w, a);
-        self.point_at(&kin, y)
     }
 
     /// As [`KnifeOde::point`], for given kinematics.
@@ -144,14 +138,28 @@ impl KnifeOde<'_> {
         }
     }
 
+    /// Cycle index of the driver at time t.
+    pub fn cycle(&self, t: f64) -> f64 {
+        self.path.cycle(t)
+    }
+}
+
+impl ChainOde for KnifeOde<'_> {
+    type Point = Point;
+
+    /// Evaluates the model at time t and state y.
+    fn point(&self, t: f64, y: &[f64]) -> Point {
+        let (phi, w, a) = self.path.at(t);
+        let kin = self.p.kinematics_of(&self.geneva, phi, w, a);
+        self.point_at(&kin, y)
+    }
     /// Energy of knife and chain spring, J.
-    pub fn energy(&self, pt: &Point) -> f64 {
+    fn energy(&self, pt: &Point) -> f64 {
         0.5 * self.p.slider_mass() * pt.xd * pt.xd + 0.5 * self.k * pt.delta * pt.delta
     }
-
     /// The state in static equilibrium on the rigid motion at time t: at rest relative to the
     /// chain, the spring holding the weight.
-    pub fn initial_state(&self, t: f64) -> [f64; 3] {
+    fn initial_state(&self, t: f64) -> [f64; 3] {
         let (phi, w, a) = self.path.at(t);
         let kin = self.p.kinematics_of(&self.geneva, phi, w, a);
         let x = if self.k > 0.0 {
@@ -160,11 +168,6 @@ impl KnifeOde<'_> {
             kin.s
         };
         [x, kin.v, 0.0]
-    }
-
-    /// Cycle index of the driver at time t.
-    pub fn cycle(&self, t: f64) -> f64 {
-        self.path.cycle(t)
     }
 }
 

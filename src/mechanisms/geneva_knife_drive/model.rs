@@ -6,6 +6,7 @@ use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
+use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
@@ -96,13 +97,15 @@ struct KnifeChain {
     c: f64,
 }
 
-/// What [`KnifeOde`] tracks between steps.
-#[derive(Clone, Debug, PartialEq)]
-struct KnifeMemory {
-    /// Of the driver turns: peak |F_el| and peak |F_rigid|, K_d.
-    peaks: Peaks,
-    /// The stack is cut through in this stroke.
-    cut_done: bool,
+crate::chain_memory! {
+    /// What [`KnifeOde`] tracks between steps.
+    #[derive(Clone, Debug, PartialEq)]
+    struct KnifeMemory {
+        /// Of the driver turns: peak |F_el| and peak |F_rigid|, K_d.
+        peaks: Peaks,
+        /// The stack is cut through in this stroke.
+        cut_done: bool,
+    }
 }
 
 /// What the elastodynamic level carries between steps.
@@ -113,7 +116,6 @@ impl ChainModel for KnifeChain {
     type Physics = Params;
     type Memory = KnifeMemory;
     type Ode<'a> = KnifeOde<'a>;
-    const MEMORY_LEN: usize = 5;
     const SAVED_INDICATORS: usize = <GenevaKnifeDrive as Dynamics<V>>::EVENT_INDICATORS;
     /// A cut-through or the knife back above the stack changes the indicators of the stack.
     const REEVALUATE_INDICATORS: bool = true;
@@ -136,12 +138,6 @@ impl ChainModel for KnifeChain {
             cut_done: Cell::new(m.cut_done),
         }
     }
-    fn initial_state(ode: &KnifeOde, t: f64) -> [f64; 3] {
-        ode.initial_state(t)
-    }
-    fn energy(ode: &KnifeOde, t: f64, y: &[f64; 3]) -> f64 {
-        ode.energy(&ode.point(t, y))
-    }
     fn start(ode: &KnifeOde, path: &ShaftPath, m: &mut KnifeMemory) {
         m.peaks = Peaks::new(ode.cycle(path.t0));
         m.cut_done = false;
@@ -149,16 +145,6 @@ impl ChainModel for KnifeChain {
     fn absorb(ode: &KnifeOde, m: &mut KnifeMemory) {
         m.peaks = ode.peaks.get();
         m.cut_done = ode.cut_done.get();
-    }
-    fn save_memory(m: &KnifeMemory, out: &mut Vec<f64>) {
-        out.extend(m.peaks.save());
-        out.push(m.cut_done as i32 as f64);
-    }
-    fn restore_memory(s: &[f64]) -> KnifeMemory {
-        KnifeMemory {
-            peaks: Peaks::restore(s),
-            cut_done: s[4] != 0.0,
-        }
     }
     /// A deflection beyond the knife's stroke: the chain is too soft to drive the knife.
     fn non_physical(&self, ode: &KnifeOde, t: f64, y: &[f64; 3]) -> Option<String> {

@@ -39,6 +39,7 @@
 use super::physics::{Drive, Forces, Kinematics};
 use crate::mechanics::hertz::{line_contact_energy, line_contact_force, line_contact_stiffness};
 use crate::mechanics::{STANDARD_GRAVITY, dot, sgn};
+use crate::solver::chain::ChainOde;
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
 use std::f64::consts::TAU;
@@ -105,15 +106,17 @@ impl Contact {
     }
 }
 
-/// Per-turn tracking over accepted steps.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Peaks {
-    /// Index of the shaft turn.
-    pub cycle: f64,
-    /// Peak dynamic contact force, peak |kinetostatic contact force|, smallest dynamic force.
-    pub dyn_max: f64,
-    pub rigid_max: f64,
-    pub dyn_min: f64,
+crate::chain_memory! {
+    /// Per-turn tracking over accepted steps.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct Peaks {
+        /// Index of the shaft turn.
+        pub cycle: f64,
+        /// Peak dynamic contact force, peak |kinetostatic contact force|, smallest dynamic force.
+        pub dyn_max: f64,
+        pub rigid_max: f64,
+        pub dyn_min: f64,
+    }
 }
 
 impl Peaks {
@@ -127,21 +130,23 @@ impl Peaks {
     }
 }
 
-/// What the ODE tracks through its steps and events (interior mutability).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Track {
-    pub peaks: Peaks,
-    /// K_d of the last complete turn (NaN: none yet).
-    pub k_d: f64,
-    /// Smallest dynamic contact force of the last complete turn (+inf: none yet).
-    pub last_min: f64,
-    /// Lift-offs so far, and the absolute shaft angle of the last.
-    pub liftoffs: f64,
-    pub lift_phi: f64,
-    /// Largest contact force in the first compression after a landing, N.
-    pub impact: f64,
-    /// In the first compression after a landing.
-    pub landed: bool,
+crate::chain_memory! {
+    /// What the ODE tracks through its steps and events (interior mutability).
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct Track {
+        pub peaks: Peaks,
+        /// K_d of the last complete turn (NaN: none yet).
+        pub k_d: f64,
+        /// Smallest dynamic contact force of the last complete turn (+inf: none yet).
+        pub last_min: f64,
+        /// Lift-offs so far, and the absolute shaft angle of the last.
+        pub liftoffs: f64,
+        pub lift_phi: f64,
+        /// Largest contact force in the first compression after a landing, N.
+        pub impact: f64,
+        /// In the first compression after a landing.
+        pub landed: bool,
+    }
 }
 
 impl Track {
@@ -232,12 +237,6 @@ impl LeverOde<'_> {
         let (_, r1, _) = d.p.roller(k.gamma);
         let a = dot(k.normal, r1);
         Self::j_eff(d, k.gamma) / (a * a)
-    }
-
-    pub fn point(&self, t: f64, y: &[f64]) -> Point {
-        let (phi, w, a) = self.path.at(t);
-        let rigid = self.d.kinematics(phi, w, a);
-        self.point_at(&rigid, y)
     }
 
     /// The kinematics of the elastic lever at Δγ, Δγ̇, Δγ̈ on the table of `rigid`.
@@ -346,39 +345,6 @@ impl LeverOde<'_> {
         }
     }
 
-    /// Energy of lever, carriage, spring 13, weight and contact, table frame, J.
-    pub fn energy(&self, pt: &Point) -> f64 {
-        let p = &self.d.p;
-        let g = pt.kin.gamma;
-        0.5 * pt.j_eff * pt.kin.gamma_w * pt.kin.gamma_w
-            + p.spring_m0 * g
-            + 0.5 * p.spring_kt * g * g
-            + p.perf_m * STANDARD_GRAVITY * p.alpha.cos() * pt.kin.s
-            + self.contact.energy(pt.pen)
-    }
-
-    /// The lever in equilibrium on its rigid motion at time t: pressed in by the kinetostatic
-    /// contact force (on the ramp without force if that is negative), at the rigid normal speed.
-    pub fn initial_state(&self, t: f64) -> [f64; 3] {
-        let (phi, w, a) = self.path.at(t);
-        let rigid = self.d.kinematics(phi, w, a);
-        let f = self.d.forces(&rigid).roller_f;
-        let pen = self.contact.penetration_of(f);
-        let p = &self.d.p;
-        let n = rigid.normal;
-        let (rr, rr1, _) = p.roller(rigid.gamma);
-        let arm_r = dot(n, rr1);
-        // Newton on n·(R(Δγ_r) − R(Δγ_r − q)) = δ
-        let mut q = pen / arm_r;
-        for _ in 0..3 {
-            let (r, r1, _) = p.roller(rigid.gamma - q);
-            q -= (dot(n, (rr.0 - r.0, rr.1 - r.1)) - pen) / dot(n, r1);
-        }
-        let (_, r1, _) = p.roller(rigid.gamma - q);
-        let arm = dot(n, r1);
-        [q, rigid.gamma_w * (1.0 - arm_r / arm), 0.0]
-    }
-
     /// Kinetostatic (rigid) contact force at time t.
     pub fn rigid_force(&self, rigid: &Kinematics) -> f64 {
         self.d.forces(rigid).roller_f
@@ -403,6 +369,47 @@ impl LeverOde<'_> {
 
 /// Number of event functions.
 pub const N_EVENTS: usize = 10;
+
+impl ChainOde for LeverOde<'_> {
+    type Point = Point;
+
+    fn point(&self, t: f64, y: &[f64]) -> Point {
+        let (phi, w, a) = self.path.at(t);
+        let rigid = self.d.kinematics(phi, w, a);
+        self.point_at(&rigid, y)
+    }
+    /// Energy of lever, carriage, spring 13, weight and contact, table frame, J.
+    fn energy(&self, pt: &Point) -> f64 {
+        let p = &self.d.p;
+        let g = pt.kin.gamma;
+        0.5 * pt.j_eff * pt.kin.gamma_w * pt.kin.gamma_w
+            + p.spring_m0 * g
+            + 0.5 * p.spring_kt * g * g
+            + p.perf_m * STANDARD_GRAVITY * p.alpha.cos() * pt.kin.s
+            + self.contact.energy(pt.pen)
+    }
+    /// The lever in equilibrium on its rigid motion at time t: pressed in by the kinetostatic
+    /// contact force (on the ramp without force if that is negative), at the rigid normal speed.
+    fn initial_state(&self, t: f64) -> [f64; 3] {
+        let (phi, w, a) = self.path.at(t);
+        let rigid = self.d.kinematics(phi, w, a);
+        let f = self.d.forces(&rigid).roller_f;
+        let pen = self.contact.penetration_of(f);
+        let p = &self.d.p;
+        let n = rigid.normal;
+        let (rr, rr1, _) = p.roller(rigid.gamma);
+        let arm_r = dot(n, rr1);
+        // Newton on n·(R(Δγ_r) − R(Δγ_r − q)) = δ
+        let mut q = pen / arm_r;
+        for _ in 0..3 {
+            let (r, r1, _) = p.roller(rigid.gamma - q);
+            q -= (dot(n, (rr.0 - r.0, rr.1 - r.1)) - pen) / dot(n, r1);
+        }
+        let (_, r1, _) = p.roller(rigid.gamma - q);
+        let arm = dot(n, r1);
+        [q, rigid.gamma_w * (1.0 - arm_r / arm), 0.0]
+    }
+}
 
 impl OdeSystem for LeverOde<'_> {
     fn dim(&self) -> usize {

@@ -10,7 +10,7 @@
 //! Co-Simulation each communication step, in Model Exchange the span since the last completed
 //! integrator step (the same samples for the same steps, so the outputs mean the same).
 
-use super::elastic::{Contact, ContactLaw, LeverOde, N_EVENTS, Peaks, Track};
+use super::elastic::{Contact, ContactLaw, LeverOde, N_EVENTS, Track};
 use super::physics::{Drive, Kinematics, Mode, Params};
 use crate::digest::TurnDigest;
 use crate::mechanics::cyclogram::Phase;
@@ -18,7 +18,8 @@ use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
-use crate::solver::chain::{self, Chain, ChainModel};
+use crate::solver::chain::ChainOde;
+use crate::solver::chain::{self, Chain, ChainModel, Saved};
 use crate::solver::{Integrator, OdeSystem, ShaftPath};
 use std::cell::Cell;
 use std::f64::consts::TAU;

@@ -18,6 +18,7 @@
 
 use super::physics::{Kinematics, Params};
 use crate::mechanics::{STANDARD_GRAVITY, sgn};
+use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
@@ -62,12 +63,6 @@ impl TableOde<'_> {
         2.0 * zeta * (k * p.table_m).sqrt()
     }
 
-    pub fn point(&self, t: f64, y: &[f64]) -> Point {
-        let (phi, w, a) = self.path.at(t);
-        let kin = self.p.kinematics(phi, w, a);
-        self.point_at(&kin, y)
-    }
-
     pub fn point_at(&self, kin: &Kinematics, y: &[f64]) -> Point {
         let m = self.p.table_m;
         let (x, xd) = (y[0], y[1]);
@@ -103,21 +98,6 @@ impl TableOde<'_> {
         }
     }
 
-    /// Energy of table and follower spring, J.
-    pub fn energy(&self, pt: &Point) -> f64 {
-        0.5 * self.p.table_m * pt.xd * pt.xd + 0.5 * self.k * pt.pen * pt.pen
-    }
-
-    /// The table in equilibrium on its rigid motion at time t (roller on the flank that holds
-    /// the rigid force, the spring carrying it).
-    pub fn initial_state(&self, t: f64) -> [f64; 3] {
-        let (phi, w, a) = self.path.at(t);
-        let kin = self.p.kinematics(phi, w, a);
-        let f = self.p.forces_with(&kin, a, self.f_ext, false).f_x;
-        let side = if f >= 0.0 { 1.0 } else { -1.0 };
-        [kin.c.x - f / self.k - side * self.gap, kin.v, 0.0]
-    }
-
     fn boundaries(&self) -> [f64; 4] {
         let c = self.p.cyclogram();
         let b0 = c.phi0;
@@ -127,6 +107,29 @@ impl TableOde<'_> {
             b0 + c.forward + c.dwell_far,
             b0 + c.forward + c.dwell_far + c.ret,
         ]
+    }
+}
+
+impl ChainOde for TableOde<'_> {
+    type Point = Point;
+
+    fn point(&self, t: f64, y: &[f64]) -> Point {
+        let (phi, w, a) = self.path.at(t);
+        let kin = self.p.kinematics(phi, w, a);
+        self.point_at(&kin, y)
+    }
+    /// Energy of table and follower spring, J.
+    fn energy(&self, pt: &Point) -> f64 {
+        0.5 * self.p.table_m * pt.xd * pt.xd + 0.5 * self.k * pt.pen * pt.pen
+    }
+    /// The table in equilibrium on its rigid motion at time t (roller on the flank that holds
+    /// the rigid force, the spring carrying it).
+    fn initial_state(&self, t: f64) -> [f64; 3] {
+        let (phi, w, a) = self.path.at(t);
+        let kin = self.p.kinematics(phi, w, a);
+        let f = self.p.forces_with(&kin, a, self.f_ext, false).f_x;
+        let side = if f >= 0.0 { 1.0 } else { -1.0 };
+        [kin.c.x - f / self.k - side * self.gap, kin.v, 0.0]
     }
 }
 

@@ -6,6 +6,7 @@ use super::physics::{Kind, Params};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values};
+use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
@@ -136,13 +137,15 @@ struct TableChain {
     gap: f64,
 }
 
-/// What [`TableOde`] tracks between steps.
-#[derive(Clone, Debug, PartialEq)]
-struct TableMemory {
-    peaks: Peaks,
-    liftoffs: f64,
-    impact: f64,
-    landed: bool,
+crate::chain_memory! {
+    /// What [`TableOde`] tracks between steps.
+    #[derive(Clone, Debug, PartialEq)]
+    struct TableMemory {
+        peaks: Peaks,
+        liftoffs: f64,
+        impact: f64,
+        landed: bool,
+    }
 }
 
 /// What the elastodynamic level carries between steps.
@@ -155,7 +158,6 @@ impl ChainModel for TableChain {
     type Physics = Params;
     type Memory = TableMemory;
     type Ode<'a> = TableOde<'a>;
-    const MEMORY_LEN: usize = 7;
     const SAVED_INDICATORS: usize = <SewingTable as Dynamics<V>>::EVENT_INDICATORS;
 
     fn ode<'a>(
@@ -179,13 +181,6 @@ impl ChainModel for TableChain {
             landed: Cell::new(m.landed),
         }
     }
-    /// The table in equilibrium on its rigid motion.
-    fn initial_state(ode: &TableOde, t: f64) -> [f64; 3] {
-        ode.initial_state(t)
-    }
-    fn energy(ode: &TableOde, t: f64, y: &[f64; 3]) -> f64 {
-        ode.energy(&ode.point(t, y))
-    }
     fn start(_: &TableOde, path: &ShaftPath, m: &mut TableMemory) {
         m.peaks.turn = (path.cycle(path.t0), 0.0, 0.0);
     }
@@ -194,18 +189,6 @@ impl ChainModel for TableChain {
         m.liftoffs = ode.liftoffs.get();
         m.impact = ode.impact.get();
         m.landed = ode.landed.get();
-    }
-    fn save_memory(m: &TableMemory, out: &mut Vec<f64>) {
-        out.extend(m.peaks.save());
-        out.extend([m.liftoffs, m.impact, m.landed as i32 as f64]);
-    }
-    fn restore_memory(s: &[f64]) -> TableMemory {
-        TableMemory {
-            peaks: Peaks::restore(s),
-            liftoffs: s[4],
-            impact: s[5],
-            landed: s[6] != 0.0,
-        }
     }
     /// A deflection beyond the table's travel: the chain is too soft to drive the table.
     fn non_physical(&self, ode: &TableOde, t: f64, y: &[f64; 3]) -> Option<String> {

@@ -12,15 +12,39 @@ pub(super) struct LeverChain {
     pub(super) range: (f64, f64),
 }
 
-/// What the elastodynamic level tracks between steps.
-#[derive(Clone, Debug, PartialEq)]
-pub(super) struct LeverMemory {
-    pub(super) track: Track,
-    /// Whether the roller lifted off during the last step.
-    pub(super) lost: Lost,
-    /// The lift-offs of the turn, reported once per turn: `[0, phi, t, w]` of the first
-    /// (absolute shaft angle, time, speed).
-    pub(super) liftoff: TurnDigest<4>,
+crate::chain_memory! {
+    /// What the elastodynamic level tracks between steps.
+    #[derive(Clone, Debug, PartialEq)]
+    pub(super) struct LeverMemory {
+        pub(super) track: Track,
+        /// Whether the roller lifted off during the last step.
+        pub(super) lost: Lost,
+        /// The lift-offs of the turn, reported once per turn: `[0, phi, t, w]` of the first
+        /// (absolute shaft angle, time, speed).
+        pub(super) liftoff: TurnDigest<4>,
+    }
+}
+
+/// One number ([`Lost::save`]).
+impl Saved for Lost {
+    const LEN: usize = 1;
+    fn save(&self, out: &mut Vec<f64>) {
+        out.push(Lost::save(self));
+    }
+    fn restore(s: &[f64]) -> Lost {
+        Lost::restore(s[0])
+    }
+}
+
+/// A digest that does not restore (a host's damage) restarts empty.
+impl<const N: usize> Saved for TurnDigest<N> {
+    const LEN: usize = TurnDigest::<N>::LEN;
+    fn save(&self, out: &mut Vec<f64>) {
+        TurnDigest::save(self, out);
+    }
+    fn restore(s: &[f64]) -> Self {
+        TurnDigest::restore(s).unwrap_or_default()
+    }
 }
 
 /// The warning of a turn's lift-offs at the elastodynamic level.
@@ -110,7 +134,6 @@ impl ChainModel for LeverChain {
     type Physics = Drive;
     type Memory = LeverMemory;
     type Ode<'a> = LeverOde<'a>;
-    const MEMORY_LEN: usize = 17;
     const SAVED_INDICATORS: usize = <Perforators as Dynamics<V>>::EVENT_INDICATORS;
 
     fn ode<'a>(
@@ -129,12 +152,6 @@ impl ChainModel for LeverChain {
             out_of_range: Cell::new(f64::NAN),
         }
     }
-    fn initial_state(ode: &LeverOde, t: f64) -> [f64; 3] {
-        ode.initial_state(t)
-    }
-    fn energy(ode: &LeverOde, t: f64, y: &[f64; 3]) -> f64 {
-        ode.energy(&ode.point(t, y))
-    }
     fn start(_: &LeverOde, path: &ShaftPath, m: &mut LeverMemory) {
         m.track = Track::new(path.cycle(path.t0));
         m.lost = Lost::default();
@@ -142,43 +159,6 @@ impl ChainModel for LeverChain {
     }
     fn absorb(ode: &LeverOde, m: &mut LeverMemory) {
         m.track = ode.track.get();
-    }
-    fn save_memory(m: &LeverMemory, out: &mut Vec<f64>) {
-        let t = &m.track;
-        out.extend([
-            t.peaks.cycle,
-            t.peaks.dyn_max,
-            t.peaks.rigid_max,
-            t.peaks.dyn_min,
-            t.k_d,
-            t.last_min,
-            t.liftoffs,
-            t.lift_phi,
-            t.impact,
-            t.landed as i32 as f64,
-            m.lost.save(),
-        ]);
-        m.liftoff.save(out);
-    }
-    fn restore_memory(s: &[f64]) -> LeverMemory {
-        LeverMemory {
-            track: Track {
-                peaks: Peaks {
-                    cycle: s[0],
-                    dyn_max: s[1],
-                    rigid_max: s[2],
-                    dyn_min: s[3],
-                },
-                k_d: s[4],
-                last_min: s[5],
-                liftoffs: s[6],
-                lift_phi: s[7],
-                impact: s[8],
-                landed: s[9] != 0.0,
-            },
-            lost: Lost::restore(s[10]),
-            liftoff: TurnDigest::restore(&s[11..11 + TurnDigest::<4>::LEN]).unwrap_or_default(),
-        }
     }
 
     /// Whether the roller lifted off in the step; the turn's lift-offs are counted and
