@@ -96,18 +96,17 @@ impl Integrator {
         (100.0 * h0).min(h1).min(max_step).max(1e-12)
     }
 
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn dopri(
         &self,
-        sys: &dyn OdeSystem,
-        t: f64,
-        y: &[f64],
-        k1: &[f64],
+        at: Start,
         h: f64,
         y1: &mut [f64],
         k7: &mut [f64],
         st: &mut Stats,
     ) -> Attempt {
+        let Start {
+            sys, t, y, f0: k1, ..
+        } = at;
         let n = y.len();
         let mut k2 = [0.0; MAX_DIM];
         let mut k3 = [0.0; MAX_DIM];

@@ -388,6 +388,17 @@ pub struct Integrator {
     pub mem: Memory,
 }
 
+/// Where a step attempt starts: the system, time, state, its derivative and (for Radau IIA) the
+/// Jacobian there.
+#[derive(Clone, Copy)]
+struct Start<'a> {
+    sys: &'a dyn OdeSystem,
+    t: f64,
+    y: &'a [f64],
+    f0: &'a [f64],
+    jac: &'a [f64],
+}
+
 /// Outcome of one step attempt.
 struct Attempt {
     err: f64,
@@ -565,7 +576,14 @@ impl Integrator {
             } else {
                 stepper
             };
-            let att = self.attempt(stepper, sys, t, y, &f0, &jac, hs, &mut y1, &mut f1, st);
+            let at = Start {
+                sys,
+                t,
+                y,
+                f0: &f0,
+                jac: &jac,
+            };
+            let att = self.attempt(stepper, at, hs, &mut y1, &mut f1, st);
             let accepted = match &att {
                 Ok(a) => a.err <= 1.0 && y1.iter().all(|x| x.is_finite()),
                 Err(_) => false,
@@ -674,10 +692,7 @@ impl Integrator {
                     if s <= lo || s >= hi {
                         continue;
                     }
-                    if self
-                        .attempt(stepper, sys, t, y, &f0, &jac, s, &mut yt, &mut ft, st)
-                        .is_err()
-                    {
+                    if self.attempt(stepper, at, s, &mut yt, &mut ft, st).is_err() {
                         lo = s; // treat as not yet crossed; bisection continues
                         continue;
                     }
@@ -739,24 +754,21 @@ impl Integrator {
         Ok(())
     }
 
-    #[allow(clippy::too_many_arguments)]
+    /// One attempt of `stepper` from `at` over `h`: the state `y1` and its derivative `f1`.
     fn attempt(
         &self,
         stepper: Stepper,
-        sys: &dyn OdeSystem,
-        t: f64,
-        y: &[f64],
-        f0: &[f64],
-        jac: &[f64],
+        at: Start,
         h: f64,
         y1: &mut [f64],
         f1: &mut [f64],
         st: &mut Stats,
     ) -> Result<Attempt, String> {
+        let Start { sys, t, .. } = at;
         match stepper {
-            Stepper::Dopri => Ok(self.dopri(sys, t, y, f0, h, y1, f1, st)),
+            Stepper::Dopri => Ok(self.dopri(at, h, y1, f1, st)),
             Stepper::Rk4 => {
-                rk4(sys, t, y, f0, h, y1, st);
+                rk4(at, h, y1, st);
                 sys.rhs(t + h, y1, f1);
                 st.rhs_evals += 1;
                 Ok(Attempt {
@@ -764,13 +776,13 @@ impl Integrator {
                     hlamb: 0.0,
                 })
             }
-            Stepper::Radau => match self.radau(sys, t, y, f0, jac, h, y1, f1, st) {
+            Stepper::Radau => match self.radau(at, h, y1, f1, st) {
                 // The Newton iteration cannot converge on a step whose stages straddle a
                 // discontinuity of the right-hand side (an event surface): the step that crosses
                 // it is taken explicitly; its error estimate still decides, and at the short
                 // steps near an event the explicit method is well inside its stability region.
                 Err(e) => {
-                    let a = self.dopri(sys, t, y, f0, h, y1, f1, st);
+                    let a = self.dopri(at, h, y1, f1, st);
                     if a.err <= 1.0 { Ok(a) } else { Err(e) }
                 }
                 ok => ok,
@@ -779,7 +791,10 @@ impl Integrator {
     }
 }
 
-fn rk4(sys: &dyn OdeSystem, t: f64, y: &[f64], k1: &[f64], h: f64, y1: &mut [f64], st: &mut Stats) {
+fn rk4(at: Start, h: f64, y1: &mut [f64], st: &mut Stats) {
+    let Start {
+        sys, t, y, f0: k1, ..
+    } = at;
     let n = y.len();
     let mut k2 = [0.0; MAX_DIM];
     let mut k3 = [0.0; MAX_DIM];

@@ -51,19 +51,15 @@ pub fn spectral_radius(n: usize, jac: &[f64]) -> f64 {
 }
 
 impl Integrator {
-    #[allow(clippy::too_many_arguments)]
     pub(super) fn radau(
         &self,
-        sys: &dyn OdeSystem,
-        t: f64,
-        y: &[f64],
-        f0: &[f64],
-        jac: &[f64],
+        at: Start,
         h: f64,
         y1: &mut [f64],
         f1: &mut [f64],
         st: &mut Stats,
     ) -> Result<Attempt, String> {
+        let Start { sys, t, y, f0, jac } = at;
         let n = y.len();
         let tab = radau_tab();
         let m = 3 * n;

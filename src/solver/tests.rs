@@ -150,11 +150,13 @@ fn radau_error_estimate_tracks_the_true_error() {
     let mut st = Stats::default();
     let a = it
         .radau(
-            &o,
-            0.0,
-            &[1.0, 0.0],
-            &f0,
-            &jac,
+            Start {
+                sys: &o,
+                t: 0.0,
+                y: &[1.0, 0.0],
+                f0: &f0,
+                jac: &jac,
+            },
             0.2,
             &mut y1,
             &mut f1,
