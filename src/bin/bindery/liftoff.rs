@@ -18,19 +18,13 @@ pub fn settings(m0: Option<f64>, kt: Option<f64>, set: &[String]) -> Result<Vec<
     texts.extend(m0.map(|x| format!("spring.M0={x}")));
     texts.extend(kt.map(|x| format!("spring.kt={x}")));
     texts.extend(set.iter().cloned());
-    let mut out: Vec<Setting> = Vec::new();
-    for t in &texts {
-        let s = params::parse("Perforators", &vars, t)?;
-        if matches!(s.name, "drive.n" | "drive.mode" | "drive.phi0") {
-            return Err(format!(
-                "{}: the search sets the speed itself (--from, --to, rpm)",
-                s.name
-            ));
-        }
-        out.retain(|o| o.name != s.name);
-        out.push(s);
-    }
-    Ok(out)
+    params::parse_all(
+        "Perforators",
+        &vars,
+        &texts,
+        &["drive.n", "drive.mode", "drive.phi0"],
+        "the search sets the speed itself (--from, --to, rpm)",
+    )
 }
 
 pub fn liftoff(from: f64, to: f64, set: &[Setting]) -> Result<(), String> {

@@ -58,19 +58,13 @@ impl Options {
         texts.extend(self.motor_kw.map(|x| format!("motor.P_rated={}", x * 1e3)));
         texts.extend(self.motor_rpm.map(|x| format!("motor.n_rated={x}rpm")));
         texts.extend(self.set.iter().cloned());
-        let mut out: Vec<Setting> = Vec::new();
-        for t in &texts {
-            let s = params::parse("MainShaft", &vars, t)?;
-            if matches!(s.name, "init.w" | "init.phi") {
-                return Err(format!(
-                    "{}: the runs set the start themselves (at speed, and from rest)",
-                    s.name
-                ));
-            }
-            out.retain(|o| o.name != s.name);
-            out.push(s);
-        }
-        Ok(out)
+        params::parse_all(
+            "MainShaft",
+            &vars,
+            &texts,
+            &["init.w", "init.phi"],
+            "the runs set the start themselves (at speed, and from rest)",
+        )
     }
 
     /// The machines to run, with the options applied to their drives.

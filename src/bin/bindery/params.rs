@@ -46,6 +46,27 @@ fn number_and_unit(text: &str) -> Option<(f64, Option<&str>)> {
         })
 }
 
+/// The settings of `texts` (NAME=VALUE) for `model`: a later setting of a name replaces an
+/// earlier one; a name in `reserved` is refused with `why` (what the command sets itself).
+pub fn parse_all(
+    model: &str,
+    vars: &[(u32, &'static Var)],
+    texts: &[String],
+    reserved: &[&str],
+    why: &str,
+) -> Result<Vec<Setting>, String> {
+    let mut out: Vec<Setting> = Vec::new();
+    for t in texts {
+        let s = parse(model, vars, t)?;
+        if reserved.contains(&s.name) {
+            return Err(format!("{}: {why}", s.name));
+        }
+        out.retain(|o| o.name != s.name);
+        out.push(s);
+    }
+    Ok(out)
+}
+
 /// The parameter `NAME=VALUE` of the FMU `model` (its variables `vars`), in SI, checked against
 /// its bounds. Errors name the parameter, the value, the bounds, or the valid names.
 pub fn parse(model: &str, vars: &[(u32, &'static Var)], text: &str) -> Result<Setting, String> {
