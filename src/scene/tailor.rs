@@ -134,6 +134,15 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
     let table = <M::Var as VarSet>::table();
     let stages = M::STAGES;
     let vr_of = |name: &str| table.iter().position(|v| v.name == name);
+    // a name the model does not have, with the nearest of the valid ones
+    let unknown = |key: String, span: &Range<usize>, what: &str, name: &str, valid: &[&str]| {
+        let near = nearest(name, valid);
+        scene.error_at(
+            key,
+            span,
+            format!("{} has no {what} {name:?}; {near}", M::IDENTIFIER),
+        )
+    };
     // a mechanism is driven through the shaft connector and has levels; a drive (MainShaft)
     // turns the shaft itself and has neither
     let driven = shaft::is_driven::<M::Var>();
@@ -188,15 +197,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
     for (i, (name, span)) in scene.outputs.iter().enumerate() {
         let key = format!("outputs[{i}]");
         let Some(vr) = vr_of(name) else {
-            return Err(scene.error_at(
-                key,
-                span,
-                format!(
-                    "{} has no output {name:?}; {}",
-                    M::IDENTIFIER,
-                    nearest(name, &output_names)
-                ),
-            ));
+            return Err(unknown(key, span, "output", name, &output_names));
         };
         let v = &table[vr];
         if !matches!(
@@ -280,15 +281,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
     for (name, x, span) in &scene.parameters {
         let key = format!("parameters.{name:?}");
         let Some(vr) = vr_of(name) else {
-            return Err(scene.error_at(
-                key,
-                span,
-                format!(
-                    "{} has no parameter {name:?}; {}",
-                    M::IDENTIFIER,
-                    nearest(name, &param_names)
-                ),
-            ));
+            return Err(unknown(key, span, "parameter", name, &param_names));
         };
         let v = &table[vr];
         if v.causality != Causality::Parameter {
