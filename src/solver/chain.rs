@@ -442,6 +442,7 @@ pub fn me_completed_step<C: ChainModel>(
     p: &C::Physics,
     v: &Values<C::Var>,
     time: f64,
+    _log: &mut dyn Log,
 ) {
     if let Some(d) = me_chain(chain, p, v, time) {
         let ode = d.ode(p, shaft::path(v, time), v);
@@ -700,7 +701,7 @@ mod tests {
         // the mass crosses zero: the completed step counts it, and the indicators travel with
         // the FMU state
         me_set_states(Some(&mut c), &(), &v, 0.0, &[-0.5, 0.0, 0.0]);
-        me_completed_step(Some(&mut c), &(), &v, 0.0);
+        me_completed_step(Some(&mut c), &(), &v, 0.0, &mut NoLog);
         assert_eq!(c.memory, 1.0);
         assert_eq!(c.integ.mem.stats.steps, 1, "the host's step is counted");
         let saved = save_state(Some(&c));

@@ -668,7 +668,7 @@ impl Dynamics<V> for Perforators {
     /// last completed step. Kinetostatic: that span watched as a Co-Simulation step over it.
     fn me_completed_step(&mut self, v: &Values<V>, time: f64, log: &mut dyn Log) {
         if let Some(d) = self.dynamic.as_mut() {
-            chain::me_completed_step(Some(&mut *d), &self.drive, v, time);
+            chain::me_completed_step(Some(&mut *d), &self.drive, v, time, log);
             d.memory.lost.completed();
         } else if self.watching(v) {
             self.state

@@ -75,59 +75,27 @@ macro_rules! chain_hooks {
         }
     };
     (@me_states $chain:ident $physics:ident) => {
-        fn me_states(&mut self, v: &$crate::model::Values<<Self as $crate::model::Model>::Var>, time: f64, x: &mut [f64]) {
-            $crate::solver::chain::me_states(self.$chain.as_mut(), &self.$physics, v, time, x);
-        }
+        $crate::chain_hooks!(@forward $chain $physics me_states(x: &mut [f64]));
     };
     (@me_set_states $chain:ident $physics:ident) => {
-        fn me_set_states(&mut self, v: &$crate::model::Values<<Self as $crate::model::Model>::Var>, time: f64, x: &[f64]) {
-            $crate::solver::chain::me_set_states(self.$chain.as_mut(), &self.$physics, v, time, x);
-        }
+        $crate::chain_hooks!(@forward $chain $physics me_set_states(x: &[f64]));
     };
     (@me_derivatives $chain:ident $physics:ident) => {
-        fn me_derivatives(
-            &mut self,
-            v: &$crate::model::Values<<Self as $crate::model::Model>::Var>,
-            time: f64,
-            dx: &mut [f64],
-        ) {
-            $crate::solver::chain::me_derivatives(self.$chain.as_mut(), &self.$physics, v, time, dx);
-        }
+        $crate::chain_hooks!(@forward $chain $physics me_derivatives(dx: &mut [f64]));
     };
     (@me_event_indicators $chain:ident $physics:ident) => {
-        fn me_event_indicators(
-            &mut self,
-            v: &$crate::model::Values<<Self as $crate::model::Model>::Var>,
-            time: f64,
-            z: &mut [f64],
-        ) {
-            $crate::solver::chain::me_event_indicators(
-                self.$chain.as_mut(),
-                &self.$physics,
-                v,
-                time,
-                z,
-            );
-        }
+        $crate::chain_hooks!(@forward $chain $physics me_event_indicators(z: &mut [f64]));
     };
     (@me_event $chain:ident $physics:ident) => {
-        fn me_event(
-            &mut self,
-            v: &$crate::model::Values<<Self as $crate::model::Model>::Var>,
-            time: f64,
-            log: &mut dyn $crate::model::Log,
-        ) {
-            $crate::solver::chain::me_event(self.$chain.as_mut(), &self.$physics, v, time, log);
-        }
+        $crate::chain_hooks!(@forward $chain $physics me_event(log: &mut dyn $crate::model::Log));
     };
     (@me_completed_step $chain:ident $physics:ident) => {
-        fn me_completed_step(
-            &mut self,
-            v: &$crate::model::Values<<Self as $crate::model::Model>::Var>,
-            time: f64,
-            _log: &mut dyn $crate::model::Log,
-        ) {
-            $crate::solver::chain::me_completed_step(self.$chain.as_mut(), &self.$physics, v, time);
+        $crate::chain_hooks!(@forward $chain $physics me_completed_step(log: &mut dyn $crate::model::Log));
+    };
+    // a Model Exchange hook `name(v, time, arg)` calls `solver::chain::name` of the same arguments
+    (@forward $chain:ident $physics:ident $name:ident($arg:ident: $ty:ty)) => {
+        fn $name(&mut self, v: &$crate::model::Values<<Self as $crate::model::Model>::Var>, time: f64, $arg: $ty) {
+            $crate::solver::chain::$name(self.$chain.as_mut(), &self.$physics, v, time, $arg);
         }
     };
     (@save_state $chain:ident $physics:ident) => {
