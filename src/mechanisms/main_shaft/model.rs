@@ -43,7 +43,7 @@ crate::model_variables! {
         bearing_w_s = Var::parameter("bearing.w_s", 0.01, "rad/s", "Speed over which the Coulomb friction is smoothed (numerical, assumption)").min(0.0),
         init_phi = Var::parameter("init.phi", 0.0, "rad", "Main-shaft angle at the start time"),
         init_w = Var::parameter("init.w", 0.0, "rad/s", "Main-shaft speed at the start time (0: start-up from rest)"),
-        @with crate::chain_variables { solver },
+        @with crate::chain_variables { solver() },
         // ---- calculated parameters
         motor_n_sync = Var::calculated("motor.n_sync", "rad/s", "Synchronous speed of the motor motor.n_rated/(1 - motor.s_rated)"),
         motor_tau_rated = Var::calculated("motor.tau_rated", "N.m", "Rated torque motor.P_rated/motor.n_rated"),

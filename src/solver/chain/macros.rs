@@ -6,27 +6,19 @@
 /// written once: used inside [`crate::model_variables!`] as `@with crate::chain_variables { .. }`.
 ///
 /// - `solver(STAGE)`: `solver.method`, `solver.rtol`, `solver.atol`, `solver.max_step`
-///   (parameters feeding the stage); `solver` alone: feeding everything (a model without stages);
+///   (parameters feeding the stage); `solver()`: feeding everything (a model without stages);
 /// - `results(STAGE)`: `elastic.E_residual` and `solver.steps` (outputs needing the stage);
 ///   `steps` alone: `solver.steps` of a model without stages;
 /// - `states(STAGE; x = ("elastic.x", "m", "State: ...") => der_x "m/s", ...)`: the continuous
 ///   states (locals needing the stage) and then their derivatives `der(<name>)`, in order.
 #[macro_export]
 macro_rules! chain_variables {
-    (@callback $head:tt [ $( $done:tt )* ] { solver($s:expr) } $( $rest:tt )*) => {
+    (@callback $head:tt [ $( $done:tt )* ] { solver($( $s:expr )?) } $( $rest:tt )*) => {
         $crate::model_variables!(@munch $head [ $( $done )*
-            (solver_method = $crate::solver::vars::method().feeds($s))
-            (solver_rtol = $crate::solver::vars::rtol().feeds($s))
-            (solver_atol = $crate::solver::vars::atol().feeds($s))
-            (solver_max_step = $crate::solver::vars::max_step().feeds($s))
-        ] $( $rest )*);
-    };
-    (@callback $head:tt [ $( $done:tt )* ] { solver } $( $rest:tt )*) => {
-        $crate::model_variables!(@munch $head [ $( $done )*
-            (solver_method = $crate::solver::vars::method())
-            (solver_rtol = $crate::solver::vars::rtol())
-            (solver_atol = $crate::solver::vars::atol())
-            (solver_max_step = $crate::solver::vars::max_step())
+            (solver_method = $crate::solver::vars::method() $( .feeds($s) )?)
+            (solver_rtol = $crate::solver::vars::rtol() $( .feeds($s) )?)
+            (solver_atol = $crate::solver::vars::atol() $( .feeds($s) )?)
+            (solver_max_step = $crate::solver::vars::max_step() $( .feeds($s) )?)
         ] $( $rest )*);
     };
     (@callback $head:tt [ $( $done:tt )* ] { results($s:expr) } $( $rest:tt )*) => {
