@@ -40,7 +40,15 @@ struct Case {
     extra: &'static [(&'static str, f64)],
 }
 
-const fn case(mech: &'static str, label: &'static str, k: f64, x: &'static str) -> Case {
+/// A chain with the stiffness `elastic.k = k`, its position output `x`, at `rpm` for `stop` s.
+const fn case(
+    mech: &'static str,
+    x: &'static str,
+    rpm: f64,
+    stop: f64,
+    label: &'static str,
+    k: f64,
+) -> Case {
     Case {
         mech,
         label,
@@ -48,87 +56,34 @@ const fn case(mech: &'static str, label: &'static str, k: f64, x: &'static str) 
         k,
         x,
         f: "elastic.F",
-        rpm: 0.0,
-        stop: 0.0,
+        rpm,
+        stop,
         extra: &[],
     }
 }
 
-/// Perforators' ramp contact with the linear law, so its stiffness is one number.
-const LINEAR_CONTACT: &[(&str, f64)] = &[("contact.law", 2.0)];
+/// Perforators' ramp contact with the linear law, so its stiffness is one number,
+/// `contact.k = k`.
+const fn contact(label: &'static str, k: f64) -> Case {
+    Case {
+        k_name: "contact.k",
+        extra: &[("contact.law", 2.0)],
+        ..case("Perforators", "lever.gamma", 100.0, 0.3, label, k)
+    }
+}
 
+#[rustfmt::skip]
 const CASES: [Case; 8] = [
-    Case {
-        rpm: 30.0,
-        stop: 0.5,
-        ..case(
-            "GenevaKnifeDrive",
-            "non-stiff (k = 5e7 N/m)",
-            5e7,
-            "knife.s",
-        )
-    },
-    Case {
-        rpm: 30.0,
-        stop: 0.5,
-        ..case("GenevaKnifeDrive", "stiff (k = 1e12 N/m)", 1e12, "knife.s")
-    },
-    Case {
-        rpm: 100.0,
-        stop: 0.6,
-        ..case("SewingTable", "non-stiff (k = 1e7 N/m)", 1e7, "table.x")
-    },
-    Case {
-        rpm: 100.0,
-        stop: 0.6,
-        ..case("SewingTable", "stiff (k = 1e12 N/m)", 1e12, "table.x")
-    },
-    Case {
-        k_name: "contact.k",
-        rpm: 100.0,
-        stop: 0.3,
-        extra: LINEAR_CONTACT,
-        ..case(
-            "Perforators",
-            "non-stiff (linear contact, k = 1e8 N/m)",
-            1e8,
-            "lever.gamma",
-        )
-    },
-    Case {
-        k_name: "contact.k",
-        rpm: 100.0,
-        stop: 0.3,
-        extra: LINEAR_CONTACT,
-        // (at 1e12 N/m neither dopri5 nor radau5 reaches rtol 1e-11 for a reference within the
-        // step budget: the contact rings, opening and closing, every few microseconds)
-        ..case(
-            "Perforators",
-            "stiff (linear contact, k = 1e10 N/m)",
-            1e10,
-            "lever.gamma",
-        )
-    },
-    Case {
-        rpm: 300.0,
-        stop: 0.2,
-        ..case(
-            "DiscKnifeDrive",
-            "non-stiff (rod k = 2e8 N/m)",
-            2e8,
-            "slider.x",
-        )
-    },
-    Case {
-        rpm: 300.0,
-        stop: 0.2,
-        ..case(
-            "DiscKnifeDrive",
-            "stiff (rod k = 1e12 N/m)",
-            1e12,
-            "slider.x",
-        )
-    },
+    case("GenevaKnifeDrive", "knife.s", 30.0, 0.5, "non-stiff (k = 5e7 N/m)", 5e7),
+    case("GenevaKnifeDrive", "knife.s", 30.0, 0.5, "stiff (k = 1e12 N/m)", 1e12),
+    case("SewingTable", "table.x", 100.0, 0.6, "non-stiff (k = 1e7 N/m)", 1e7),
+    case("SewingTable", "table.x", 100.0, 0.6, "stiff (k = 1e12 N/m)", 1e12),
+    contact("non-stiff (linear contact, k = 1e8 N/m)", 1e8),
+    // (at 1e12 N/m neither dopri5 nor radau5 reaches rtol 1e-11 for a reference within the
+    // step budget: the contact rings, opening and closing, every few microseconds)
+    contact("stiff (linear contact, k = 1e10 N/m)", 1e10),
+    case("DiscKnifeDrive", "slider.x", 300.0, 0.2, "non-stiff (rod k = 2e8 N/m)", 2e8),
+    case("DiscKnifeDrive", "slider.x", 300.0, 0.2, "stiff (rod k = 1e12 N/m)", 1e12),
 ];
 
 /// One run: the position and chain force on the 1 ms output grid.
