@@ -3,10 +3,9 @@
 
 use super::model::DiscKnifeDrive;
 use super::physics::Params;
-use crate::docs::Documentation;
-use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
-use crate::md::ModelInfo;
-use crate::model::variables_of;
+use crate::docs::{
+    Documentation, Figure, Question, Series, Sweep, model_page, number, over_turn as turn, sweep,
+};
 use std::f64::consts::TAU;
 
 const WHAT: &str = r#"<p>Flow lines trim the spines of book and magazine blocks without stopping the
@@ -139,16 +138,6 @@ fn path_of_s(p: &Params, n: usize) -> Vec<(f64, f64)> {
         .map(|j| {
             let s = p.kinematics(TAU * j as f64 / n as f64, 1.0, 0.0).s * 1e3;
             (s.x, s.y)
-        })
-        .collect()
-}
-
-/// `f(φ)` over one crank turn, φ in degrees.
-fn turn(n: usize, f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
-    (0..=n)
-        .map(|j| {
-            let phi = TAU * j as f64 / n as f64;
-            (phi.to_degrees(), f(phi))
         })
         .collect()
 }
@@ -544,7 +533,6 @@ fn questions(s: &Sweep, n: &Numbers) -> Vec<Question> {
 
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
-    let vars = variables_of::<DiscKnifeDrive>();
     let p = Params::default();
     let s = sweep::<DiscKnifeDrive>()?;
     let mut figs = figures();
@@ -569,17 +557,15 @@ pub fn documentation() -> Result<Documentation, String> {
         k_d,
     };
     let notes = notes(&numbers);
-    let files = crate::docs::page_files(&Page {
-        info: &ModelInfo::of::<DiscKnifeDrive>(),
-        vars: &vars,
-        what: WHAT,
-        picture: Some(&picture),
-        questions: &questions(&s, &numbers),
-        figures: &figs,
-        notes: &notes,
-        sweep: Some(&s),
-    })?;
-    Ok((files, icon_png("Disc")?))
+    model_page::<DiscKnifeDrive>(
+        WHAT,
+        Some(&picture),
+        &questions(&s, &numbers),
+        &figs,
+        &notes,
+        &s,
+        "Disc",
+    )
 }
 
 #[cfg(test)]

@@ -3,10 +3,7 @@
 
 use super::model::MainShaft;
 use super::physics::{Load, Params};
-use crate::docs::Documentation;
-use crate::docs::{Figure, Page, Question, Series, Sweep, defaults, icon_png, number};
-use crate::md::ModelInfo;
-use crate::model::variables_of;
+use crate::docs::{Documentation, Figure, Question, Series, Sweep, defaults, model_page, number};
 
 const WHAT: &str = r#"<p>The drive of a bookbinding machine's <b>main shaft</b>: an induction motor, a gear
 pair of ratio <code>gear.i</code> to the main shaft, a flywheel <code>fly.J</code> and the bearings'
@@ -136,19 +133,16 @@ fn questions(s: &Sweep, t95: f64) -> Vec<Question> {
 
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
-    let vars = variables_of::<MainShaft>();
     let s = defaults::<MainShaft>()?;
     let (mut figs, t95) = figures();
     let picture = figs.remove(0);
-    let files = crate::docs::page_files(&Page {
-        info: &ModelInfo::of::<MainShaft>(),
-        vars: &vars,
-        what: WHAT,
-        picture: Some(&picture),
-        questions: &questions(&s, t95),
-        figures: &figs,
-        notes: NOTES,
-        sweep: Some(&s),
-    })?;
-    Ok((files, icon_png("Main shaft")?))
+    model_page::<MainShaft>(
+        WHAT,
+        Some(&picture),
+        &questions(&s, t95),
+        &figs,
+        NOTES,
+        &s,
+        "Main shaft",
+    )
 }

@@ -3,10 +3,9 @@
 
 use super::model::Perforators;
 use super::physics::{Mode, Params};
-use crate::docs::Documentation;
-use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
-use crate::md::ModelInfo;
-use crate::model::variables_of;
+use crate::docs::{
+    Documentation, Figure, Question, Series, Sweep, model_page, number, over_turn, sweep,
+};
 use std::f64::consts::PI;
 
 const WHAT: &str = r#"<p>Before a signature is sewn, perforators (a bar of needles) pierce holes in its
@@ -97,14 +96,7 @@ pub fn figures(liftoff: f64) -> Vec<Figure> {
     .expect("defaults assemble");
     let w = 100.0 * PI / 30.0;
     let n = 720;
-    let turn = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> {
-        (0..=n)
-            .map(|k| {
-                let phi = 2.0 * PI * k as f64 / n as f64;
-                (phi.to_degrees(), f(phi))
-            })
-            .collect()
-    };
+    let turn = |f: &dyn Fn(f64) -> f64| over_turn(n, f);
     let travel = |f: &dyn Fn(f64) -> (f64, f64)| -> Vec<(f64, f64)> {
         (0..=n).map(|k| f(d.cyc.h * k as f64 / n as f64)).collect()
     };
@@ -326,21 +318,18 @@ fn questions(s: &Sweep, liftoff: f64) -> Vec<Question> {
 
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
-    let vars = variables_of::<Perforators>();
     let s = sweep::<Perforators>()?;
     let liftoff = liftoff_rpm();
     let mut figs = figures(liftoff);
     let picture = figs.remove(0);
     let notes = notes(liftoff);
-    let files = crate::docs::page_files(&Page {
-        info: &ModelInfo::of::<Perforators>(),
-        vars: &vars,
-        what: WHAT,
-        picture: Some(&picture),
-        questions: &questions(&s, liftoff),
-        figures: &figs,
-        notes: &notes,
-        sweep: Some(&s),
-    })?;
-    Ok((files, icon_png("Perforators")?))
+    model_page::<Perforators>(
+        WHAT,
+        Some(&picture),
+        &questions(&s, liftoff),
+        &figs,
+        &notes,
+        &s,
+        "Perforators",
+    )
 }
