@@ -40,6 +40,13 @@ pub fn sgn(x: f64) -> f64 {
     }
 }
 
+/// Viscous damping `c = 2·ζ·√(k·m)` of a spring `k` carrying a mass `m` at the damping ratio
+/// `ζ` (`elastic.zeta`; `dynamics.md`: ζ = c / (2√(k·m)), 1 the critical damping).
+#[inline]
+pub fn viscous_damping(k: f64, m: f64, zeta: f64) -> f64 {
+    2.0 * zeta * (k * m).sqrt()
+}
+
 /// The dot product of two plane vectors.
 #[inline]
 pub fn dot(a: (f64, f64), b: (f64, f64)) -> f64 {

@@ -70,7 +70,7 @@ pub struct Point {
 impl KnifeOde<'_> {
     /// Damping from the damping ratio.
     pub fn damping(p: &Params, k: f64, zeta: f64) -> f64 {
-        2.0 * zeta * (k * p.slider_mass()).sqrt()
+        crate::mechanics::viscous_damping(k, p.slider_mass(), zeta)
     }
 
     /// Evaluates the model at time t and state y.
