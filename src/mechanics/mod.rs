@@ -90,6 +90,34 @@ impl ParamError {
     }
 }
 
+/// Refuses the first of `params` (name, value) that is not a finite value ≥ 0: masses, moments
+/// of inertia, friction coefficients, forces.
+pub fn check_non_negative(params: &[(&'static str, f64)]) -> Result<(), ParamError> {
+    first_failing(
+        params,
+        |v| v >= 0.0 && v.is_finite(),
+        "must be a finite value >= 0",
+    )
+}
+
+/// Refuses the first of `params` (name, value) that is not finite: coordinates, offsets and
+/// speeds of either sign.
+pub fn check_finite(params: &[(&'static str, f64)]) -> Result<(), ParamError> {
+    first_failing(params, f64::is_finite, "must be finite")
+}
+
+/// Refuses the first of `params` that is not `ok`, with `condition`.
+fn first_failing(
+    params: &[(&'static str, f64)],
+    ok: impl Fn(f64) -> bool,
+    condition: &str,
+) -> Result<(), ParamError> {
+    match params.iter().find(|(_, v)| !ok(*v)) {
+        Some(&(name, v)) => Err(ParamError::new(name, v, condition)),
+        None => Ok(()),
+    }
+}
+
 impl fmt::Display for ParamError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{} = {}: {}", self.param, self.value, self.condition)

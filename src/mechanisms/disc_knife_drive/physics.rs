@@ -90,7 +90,7 @@
 //! `shaft.tau = τ` and `shaft.P = τ·ω`.
 
 use crate::mechanics::slider_crank::SliderCrank;
-use crate::mechanics::{ParamError, sgn, wrap_angle};
+use crate::mechanics::{ParamError, check_finite, check_non_negative, sgn, wrap_angle};
 use nalgebra::{SMatrix, SVector, Vector2};
 use num_dual::{Dual2_64, DualNum};
 use std::f64::consts::{PI, TAU};
@@ -690,9 +690,7 @@ impl Params {
                 "the crank length must be positive".into(),
             );
         }
-        if !self.crank_e.is_finite() {
-            return err("crank.e", self.crank_e, "must be finite".into());
-        }
+        check_finite(&[("crank.e", self.crank_e)])?;
         if !(self.slider_crank().can_turn() && self.rod_lambda2.is_finite()) {
             return err(
                 "rod.lambda2",
@@ -731,14 +729,10 @@ impl Params {
                 "the angle of EQ from the vertical must be in [-pi/2, pi/2]".into(),
             );
         }
-        for (name, v) in [
+        check_finite(&[
             ("support.xQ", self.support_xq),
             ("support.yQ", self.support_yq),
-        ] {
-            if !v.is_finite() {
-                return err(name, v, "must be finite".into());
-            }
-        }
+        ])?;
         if self.branch != 1 && self.branch != -1 {
             return err(
                 "assembly.branch",
@@ -746,7 +740,7 @@ impl Params {
                 "must be +1 or -1 (the two positions of the holder)".into(),
             );
         }
-        for (name, v) in [
+        check_non_negative(&[
             ("holder.m", self.holder_m),
             ("holder.J", self.holder_j),
             ("slider5.m", self.slider5_m),
@@ -756,20 +750,12 @@ impl Params {
             ("guide.mu", self.guide_mu),
             ("support.mu", self.support_mu),
             ("cut.F", self.cut_f),
-        ] {
-            if !(v >= 0.0 && v.is_finite()) {
-                return err(name, v, "must be a finite value >= 0".into());
-            }
-        }
-        for (name, v) in [
+        ])?;
+        check_finite(&[
             ("feed.V", self.feed_v),
             ("gravity.g", self.gravity_g),
             ("drive.n", self.drive_n),
-        ] {
-            if !v.is_finite() {
-                return err(name, v, "must be finite".into());
-            }
-        }
+        ])?;
         if let Some(f) = self.assembly_failure() {
             return err(
                 "holder.l4",

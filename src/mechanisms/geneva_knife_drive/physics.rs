@@ -23,7 +23,7 @@
 
 use crate::mechanics::geneva::Geneva;
 use crate::mechanics::slider_crank::{Pose, SliderCrank};
-use crate::mechanics::{ParamError, STANDARD_GRAVITY, sgn, wrap_angle};
+use crate::mechanics::{ParamError, STANDARD_GRAVITY, check_non_negative, sgn, wrap_angle};
 use std::f64::consts::PI;
 
 /// Parameters of the Geneva knife drive, SI units (`geneva-knife-drive.md`, table "Geometry and
@@ -273,17 +273,13 @@ impl Params {
                 ),
             );
         }
-        for (name, value) in [
+        check_non_negative(&[
             ("knife.m", self.knife_m),
             ("rod.m", self.rod_m),
             ("crank.J", self.crank_j),
             ("cross.J", self.cross_j),
             ("driver.J", self.driver_j),
-        ] {
-            if !(value >= 0.0 && value.is_finite()) {
-                return err(name, value, "must be a finite value >= 0".into());
-            }
-        }
+        ])?;
         if !(self.guide_mu >= 0.0 && self.guide_mu.is_finite()) {
             return err(
                 "guide.mu",
