@@ -308,32 +308,21 @@ impl Params {
             );
         }
         let stroke = self.stroke();
-        if !(self.cut_s_start >= 0.0 && self.cut_s_start <= stroke) {
-            return err(
-                "cut.s_start",
-                self.cut_s_start,
-                format!("must lie within the knife stroke [0, {stroke}]"),
-            );
-        }
-        if !(self.cut_s_full >= self.cut_s_start && self.cut_s_full <= stroke) {
-            return err(
-                "cut.s_full",
-                self.cut_s_full,
-                format!(
-                    "must lie between cut.s_start = {} and the stroke {stroke}",
-                    self.cut_s_start
-                ),
-            );
-        }
-        if !(self.cut_s_end >= self.cut_s_full && self.cut_s_end <= stroke) {
-            return err(
-                "cut.s_end",
-                self.cut_s_end,
-                format!(
-                    "must lie between cut.s_full = {} and the stroke {stroke}",
-                    self.cut_s_full
-                ),
-            );
+        // the cut's window in order: 0 <= cut.s_start <= cut.s_full <= cut.s_end <= the stroke
+        let mut below: Option<(&str, f64)> = None;
+        for (param, s) in [
+            ("cut.s_start", self.cut_s_start),
+            ("cut.s_full", self.cut_s_full),
+            ("cut.s_end", self.cut_s_end),
+        ] {
+            if !(s >= below.map_or(0.0, |b| b.1) && s <= stroke) {
+                let condition = match below {
+                    None => format!("must lie within the knife stroke [0, {stroke}]"),
+                    Some((b, sb)) => format!("must lie between {b} = {sb} and the stroke {stroke}"),
+                };
+                return err(param, s, condition);
+            }
+            below = Some((param, s));
         }
         if !self.drive_n.is_finite() {
             return err(
