@@ -1,6 +1,7 @@
 //! Tests of `physics.rs`.
 
 use super::*;
+use crate::mechanisms::assert_printed;
 use approx::assert_abs_diff_eq;
 use proptest::prelude::*;
 use std::f64::consts::FRAC_PI_2;
@@ -14,17 +15,6 @@ fn with_alpha(deg: f64) -> Params {
         support_alpha: deg.to_radians(),
         ..params()
     }
-}
-
-/// Asserts `x` prints as `reference` with `decimals` decimals: |x − reference| ≤ half a unit
-/// of the last printed digit.
-#[track_caller]
-fn assert_printed(x: f64, reference: f64, decimals: i32) {
-    let tol = 0.5 * 10f64.powi(-decimals) * (1.0 + 1e-9);
-    assert!(
-        (x - reference).abs() <= tol,
-        "{x} does not print as {reference} ({decimals} decimals)"
-    );
 }
 
 /// `n` crank angles over one turn, offset from the dead centres.
