@@ -126,6 +126,24 @@ impl fmt::Display for ParamError {
 
 impl std::error::Error for ParamError {}
 
+/// Asserts that the first and second derivatives `f(x).1` and `f(x).2` match central
+/// differences of `f(.).0` and `f(.).1` with the step `h`, within `eps1` and `eps2`: the check of
+/// a closed form's derivatives (motion laws, slider-crank).
+#[cfg(test)]
+#[track_caller]
+pub(crate) fn assert_derivatives_match_differences(
+    f: impl Fn(f64) -> (f64, f64, f64),
+    x: f64,
+    h: f64,
+    eps1: f64,
+    eps2: f64,
+) {
+    let (_, d1, d2) = f(x);
+    let (plus, minus) = (f(x + h), f(x - h));
+    approx::assert_abs_diff_eq!(d1, (plus.0 - minus.0) / (2.0 * h), epsilon = eps1);
+    approx::assert_abs_diff_eq!(d2, (plus.1 - minus.1) / (2.0 * h), epsilon = eps2);
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
