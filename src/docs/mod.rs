@@ -93,6 +93,30 @@ pub struct Figure {
     pub markers: bool,
 }
 
+impl Figure {
+    /// A plot of lines: the `series` in the file `file` with its `title`, axis labels and
+    /// `caption`; the axes scaled each to its own range, no markers.
+    pub fn lines(
+        file: &str,
+        title: impl Into<String>,
+        x_label: &str,
+        y_label: &str,
+        series: Vec<Series>,
+        caption: impl Into<String>,
+    ) -> Self {
+        Figure {
+            file: file.into(),
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series,
+            caption: caption.into(),
+            equal_axes: false,
+            markers: false,
+        }
+    }
+}
+
 /// Every file of a plain `documentation/` (an introduction, the variables, the figures), in
 /// order: `index.html`, then each figure's PNG. See [`page_files`].
 pub fn documentation(

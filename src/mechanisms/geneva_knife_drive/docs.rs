@@ -42,19 +42,14 @@ fn figure(
     points: Vec<(f64, f64)>,
     caption: &str,
 ) -> Figure {
-    Figure {
-        file: file.into(),
-        title: title.into(),
-        x_label: "driver angle phi, deg".into(),
-        y_label: y.into(),
-        series: vec![Series {
-            label: label.into(),
-            points,
-        }],
-        caption: caption.into(),
-        equal_axes: false,
-        markers: false,
-    }
+    Figure::lines(
+        file,
+        title,
+        "driver angle phi, deg",
+        y,
+        vec![Series::new(label, points)],
+        caption,
+    )
 }
 
 /// The paper's Figs. 2-7 over one driver turn, with the default parameters.

@@ -71,19 +71,6 @@ pub fn liftoff_rpm() -> f64 {
         .map_or(f64::NAN, |w| w / rpm)
 }
 
-fn fig(file: &str, title: &str, x: &str, y: &str, series: Vec<Series>, caption: &str) -> Figure {
-    Figure {
-        file: file.into(),
-        title: title.into(),
-        x_label: x.into(),
-        y_label: y.into(),
-        series,
-        caption: caption.into(),
-        equal_axes: false,
-        markers: false,
-    }
-}
-
 /// Figures with the default parameters at the nominal 100 rpm; `liftoff` is the lift-off
 /// speed, rpm.
 pub fn figures(liftoff: f64) -> Vec<Figure> {
@@ -112,7 +99,7 @@ pub fn figures(liftoff: f64) -> Vec<Figure> {
             .collect()
     };
     vec![
-        fig(
+        Figure::lines(
             "cyclogram.png",
             "Cyclogram: table and perforators",
             "shaft angle phi, deg",
@@ -132,7 +119,7 @@ pub fn figures(liftoff: f64) -> Vec<Figure> {
         Figure {
             equal_axes: true,
             markers: false,
-            ..fig(
+            ..Figure::lines(
                 "ramp_profile.png",
                 "The synthesized ramp",
                 "x (lever frame at loading), mm",
@@ -151,7 +138,7 @@ pub fn figures(liftoff: f64) -> Vec<Figure> {
                 "Ramp 7 in the frame of the lever pivot at the loading position: the roller centre's path and the profile (offset by roller.r) for both synthesis modes.",
             )
         },
-        fig(
+        Figure::lines(
             "sigma_H.png",
             "Hertz stress roller - ramp over the travel at 100 rpm",
             "table position x_t, mm",
@@ -168,7 +155,7 @@ pub fn figures(liftoff: f64) -> Vec<Figure> {
             )],
             "Hertz stress (paper 002, eq. 8) between roller and ramp on the forward travel, with the piercing load.",
         ),
-        fig(
+        Figure::lines(
             "forces.png",
             "Contact force and table reaction at 100 rpm",
             "shaft angle phi, deg",
@@ -218,7 +205,7 @@ fn liftoff_figure(liftoff: f64) -> Figure {
     }
     let dynamic_peak = dynamic.iter().map(|p| p.1).fold(0.0, f64::max);
     let quantity_n = |x: f64| format!("{} kN", number(x / 1e3, 3));
-    fig(
+    Figure::lines(
         "liftoff.png",
         "Contact force at 130 rpm: elastodynamic against kinetostatic",
         "shaft angle phi, deg",
@@ -227,7 +214,7 @@ fn liftoff_figure(liftoff: f64) -> Figure {
             Series::new("roller.F_kin (rigid, kinetostatic)", rigid),
             Series::new("elastic.F (elastodynamic, Hertz contact)", dynamic),
         ],
-        &format!(
+        format!(
             "Above the rigid lift-off speed ({} rpm) the kinetostatic force turns negative near the top of the rise (the ramp would have to pull); the elastic roller leaves the ramp there (force 0) and lands again with impacts of up to {} (contact.F_impact), far above the rigid force.",
             number(liftoff, 5),
             quantity_n(dynamic_peak)

@@ -41,16 +41,7 @@ true end-to-end displacement on its circle is 3.686 horizontally and 1.003 verti
 The FMU keeps the paper's l<sub>2</sub> = 3.72 as the translating table's travel.</p>"#;
 
 fn fig(file: &str, title: &str, y: &str, series: Vec<Series>, caption: &str) -> Figure {
-    Figure {
-        file: file.into(),
-        title: title.into(),
-        x_label: "shaft angle phi, deg".into(),
-        y_label: y.into(),
-        series,
-        caption: caption.into(),
-        equal_axes: false,
-        markers: false,
-    }
+    Figure::lines(file, title, "shaft angle phi, deg", y, series, caption)
 }
 
 /// Figures with the default parameters at the nominal 100 rpm.
