@@ -106,6 +106,12 @@ pub fn check_finite(params: &[(&'static str, f64)]) -> Result<(), ParamError> {
     first_failing(params, f64::is_finite, "must be finite")
 }
 
+/// Refuses `param = value` with `condition` unless the value is finite and > 0: lengths, radii,
+/// ratios, ratings.
+pub fn check_positive(param: &'static str, value: f64, condition: &str) -> Result<(), ParamError> {
+    first_failing(&[(param, value)], |v| v > 0.0 && v.is_finite(), condition)
+}
+
 /// Refuses the first of `params` that is not `ok`, with `condition`.
 fn first_failing(
     params: &[(&'static str, f64)],

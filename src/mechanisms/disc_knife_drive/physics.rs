@@ -90,7 +90,9 @@
 //! `shaft.tau = τ` and `shaft.P = τ·ω`.
 
 use crate::mechanics::slider_crank::SliderCrank;
-use crate::mechanics::{ParamError, check_finite, check_non_negative, sgn, wrap_angle};
+use crate::mechanics::{
+    ParamError, check_finite, check_non_negative, check_positive, sgn, wrap_angle,
+};
 use nalgebra::{SMatrix, SVector, Vector2};
 use num_dual::{Dual2_64, DualNum};
 use std::f64::consts::{PI, TAU};
@@ -683,13 +685,11 @@ impl Params {
     /// violation found.
     pub fn validate(&self) -> Result<(), ParamError> {
         let err = |p: &'static str, v: f64, c: String| Err(ParamError::new(p, v, c));
-        if !(self.crank_l1 > 0.0 && self.crank_l1.is_finite()) {
-            return err(
-                "crank.l1",
-                self.crank_l1,
-                "the crank length must be positive".into(),
-            );
-        }
+        check_positive(
+            "crank.l1",
+            self.crank_l1,
+            "the crank length must be positive",
+        )?;
         check_finite(&[("crank.e", self.crank_e)])?;
         if !(self.slider_crank().can_turn() && self.rod_lambda2.is_finite()) {
             return err(
@@ -708,13 +708,11 @@ impl Params {
                 "the series form (1) of paper 004 holds for e = 0 only: set crank.e = 0 or kinematics.series = false".into(),
             );
         }
-        if !(self.holder_l4 > 0.0 && self.holder_l4.is_finite()) {
-            return err(
-                "holder.l4",
-                self.holder_l4,
-                "the holder length must be positive".into(),
-            );
-        }
+        check_positive(
+            "holder.l4",
+            self.holder_l4,
+            "the holder length must be positive",
+        )?;
         if !(self.holder_ls.is_finite() && (0.0..=1.0).contains(&self.holder_ls)) {
             return err(
                 "holder.lS",

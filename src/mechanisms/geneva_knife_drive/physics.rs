@@ -23,7 +23,9 @@
 
 use crate::mechanics::geneva::Geneva;
 use crate::mechanics::slider_crank::{Pose, SliderCrank};
-use crate::mechanics::{ParamError, STANDARD_GRAVITY, check_non_negative, sgn, wrap_angle};
+use crate::mechanics::{
+    ParamError, STANDARD_GRAVITY, check_non_negative, check_positive, sgn, wrap_angle,
+};
 use std::f64::consts::PI;
 
 /// Parameters of the Geneva knife drive, SI units (`geneva-knife-drive.md`, table "Geometry and
@@ -225,13 +227,11 @@ impl Params {
         if z < 3 {
             return err("geneva.Z", f64::from(z), "needs at least 3 slots".into());
         }
-        if !(self.geneva_r1 > 0.0 && self.geneva_r1.is_finite()) {
-            return err(
-                "geneva.r1",
-                self.geneva_r1,
-                "the driver radius must be positive".into(),
-            );
-        }
+        check_positive(
+            "geneva.r1",
+            self.geneva_r1,
+            "the driver radius must be positive",
+        )?;
         let i = self.gear_i;
         if i == 0 {
             return err(
@@ -256,13 +256,7 @@ impl Params {
                 "the mesh efficiency must be in (0, 1]".into(),
             );
         }
-        if !(self.crank_r > 0.0 && self.crank_r.is_finite()) {
-            return err(
-                "crank.r",
-                self.crank_r,
-                "the crank radius must be positive".into(),
-            );
-        }
+        check_positive("crank.r", self.crank_r, "the crank radius must be positive")?;
         if !(self.rod_l > self.crank_r && self.rod_l.is_finite()) {
             return err(
                 "rod.l",
