@@ -18,7 +18,7 @@ pub use plot::{FIGURE_SIZE, ICON_SIZE, icon_png, render_png, render_svg};
 pub use sweep::{Stat, Sweep, defaults, quantity, sweep};
 
 use crate::md::ModelInfo;
-use crate::model::Var;
+use crate::model::{Model, Var, variables_of};
 
 /// An FMU's `documentation/` files (index.html first, then figures) and its `model.png` icon.
 pub type Documentation = (Vec<(String, Vec<u8>)>, Vec<u8>);
@@ -93,6 +93,30 @@ pub struct Figure {
     pub markers: bool,
 }
 
+impl Figure {
+    /// A plot of lines: the `series` in the file `file` with its `title`, axis labels and
+    /// `caption`; the axes scaled each to its own range, no markers.
+    pub fn lines(
+        file: &str,
+        title: impl Into<String>,
+        x_label: &str,
+        y_label: &str,
+        series: Vec<Series>,
+        caption: impl Into<String>,
+    ) -> Self {
+        Figure {
+            file: file.into(),
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            series,
+            caption: caption.into(),
+            equal_axes: false,
+            markers: false,
+        }
+    }
+}
+
 /// Every file of a plain `documentation/` (an introduction, the variables, the figures), in
 /// order: `index.html`, then each figure's PNG. See [`page_files`].
 pub fn documentation(
@@ -141,6 +165,42 @@ pub fn page_files(page: &Page) -> Result<Vec<(String, Vec<u8>)>, String> {
         files.push((fig.file.clone(), render_png(fig)?));
     }
     Ok(files)
+}
+
+/// A mechanism's documentation and icon: the page of `M`'s variables ([`page_files`]) with the
+/// introduction `what`, the `picture` next to it, the `questions` answered at the defaults, the
+/// `figures`, the `notes` and the table of the sweep `s`; the icon labelled `icon`.
+pub fn model_page<M: Model>(
+    what: &str,
+    picture: Option<&Figure>,
+    questions: &[Question],
+    figures: &[Figure],
+    notes: &str,
+    s: &Sweep,
+    icon: &str,
+) -> Result<Documentation, String> {
+    let files = page_files(&Page {
+        info: &ModelInfo::of::<M>(),
+        vars: &variables_of::<M>(),
+        what,
+        picture,
+        questions,
+        figures,
+        notes,
+        sweep: Some(s),
+    })?;
+    Ok((files, icon_png(icon)?))
+}
+
+/// `f(φ)` sampled at `n + 1` points over one turn, φ from 0 to 2π, as `(φ in degrees, f(φ))`:
+/// the points of a figure over a shaft turn.
+pub fn over_turn(n: usize, f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
+    (0..=n)
+        .map(|k| {
+            let phi = std::f64::consts::TAU * k as f64 / n as f64;
+            (phi.to_degrees(), f(phi))
+        })
+        .collect()
 }
 
 #[cfg(test)]

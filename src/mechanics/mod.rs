@@ -40,6 +40,13 @@ pub fn sgn(x: f64) -> f64 {
     }
 }
 
+/// Viscous damping `c = 2·ζ·√(k·m)` of a spring `k` carrying a mass `m` at the damping ratio
+/// `ζ` (`elastic.zeta`; `dynamics.md`: ζ = c / (2√(k·m)), 1 the critical damping).
+#[inline]
+pub fn viscous_damping(k: f64, m: f64, zeta: f64) -> f64 {
+    2.0 * zeta * (k * m).sqrt()
+}
+
 /// The dot product of two plane vectors.
 #[inline]
 pub fn dot(a: (f64, f64), b: (f64, f64)) -> f64 {
@@ -83,6 +90,40 @@ impl ParamError {
     }
 }
 
+/// Refuses the first of `params` (name, value) that is not a finite value ≥ 0: masses, moments
+/// of inertia, friction coefficients, forces.
+pub fn check_non_negative(params: &[(&'static str, f64)]) -> Result<(), ParamError> {
+    first_failing(
+        params,
+        |v| v >= 0.0 && v.is_finite(),
+        "must be a finite value >= 0",
+    )
+}
+
+/// Refuses the first of `params` (name, value) that is not finite: coordinates, offsets and
+/// speeds of either sign.
+pub fn check_finite(params: &[(&'static str, f64)]) -> Result<(), ParamError> {
+    first_failing(params, f64::is_finite, "must be finite")
+}
+
+/// Refuses `param = value` with `condition` unless the value is finite and > 0: lengths, radii,
+/// ratios, ratings.
+pub fn check_positive(param: &'static str, value: f64, condition: &str) -> Result<(), ParamError> {
+    first_failing(&[(param, value)], |v| v > 0.0 && v.is_finite(), condition)
+}
+
+/// Refuses the first of `params` that is not `ok`, with `condition`.
+fn first_failing(
+    params: &[(&'static str, f64)],
+    ok: impl Fn(f64) -> bool,
+    condition: &str,
+) -> Result<(), ParamError> {
+    match params.iter().find(|(_, v)| !ok(*v)) {
+        Some(&(name, v)) => Err(ParamError::new(name, v, condition)),
+        None => Ok(()),
+    }
+}
+
 impl fmt::Display for ParamError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         write!(f, "{} = {}: {}", self.param, self.value, self.condition)
@@ -90,6 +131,24 @@ impl fmt::Display for ParamError {
 }
 
 impl std::error::Error for ParamError {}
+
+/// Asserts that the first and second derivatives `f(x).1` and `f(x).2` match central
+/// differences of `f(.).0` and `f(.).1` with the step `h`, within `eps1` and `eps2`: the check of
+/// a closed form's derivatives (motion laws, slider-crank).
+#[cfg(test)]
+#[track_caller]
+pub(crate) fn assert_derivatives_match_differences(
+    f: impl Fn(f64) -> (f64, f64, f64),
+    x: f64,
+    h: f64,
+    eps1: f64,
+    eps2: f64,
+) {
+    let (_, d1, d2) = f(x);
+    let (plus, minus) = (f(x + h), f(x - h));
+    approx::assert_abs_diff_eq!(d1, (plus.0 - minus.0) / (2.0 * h), epsilon = eps1);
+    approx::assert_abs_diff_eq!(d2, (plus.1 - minus.1) / (2.0 * h), epsilon = eps2);
+}
 
 #[cfg(test)]
 mod tests {

@@ -89,6 +89,7 @@ impl MotionLaw {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mechanics::assert_derivatives_match_differences;
     use approx::assert_abs_diff_eq;
 
     /// Dense grid of the rise, ends included.
@@ -170,11 +171,7 @@ mod tests {
         let h = 1e-6;
         for law in MotionLaw::ALL {
             for u in grid(400).filter(|&u| u > 2.0 * h && u < 1.0 - 2.0 * h) {
-                let (_, d1, d2) = law.eval(u);
-                let fd1 = (law.eval(u + h).0 - law.eval(u - h).0) / (2.0 * h);
-                let fd2 = (law.eval(u + h).1 - law.eval(u - h).1) / (2.0 * h);
-                assert_abs_diff_eq!(d1, fd1, epsilon = 1e-8);
-                assert_abs_diff_eq!(d2, fd2, epsilon = 1e-7);
+                assert_derivatives_match_differences(|u| law.eval(u), u, h, 1e-8, 1e-7);
             }
         }
     }

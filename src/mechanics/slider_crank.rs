@@ -222,6 +222,7 @@ impl SliderCrank {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::mechanics::assert_derivatives_match_differences;
     use approx::{assert_abs_diff_eq, assert_relative_eq};
     use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
@@ -297,11 +298,7 @@ mod tests {
         let sc = CASES[1];
         let h = 1e-5;
         for th in angles() {
-            let (_, d1, d2) = sc.x_series(th);
-            let fd1 = (sc.x_series(th + h).0 - sc.x_series(th - h).0) / (2.0 * h);
-            let fd2 = (sc.x_series(th + h).1 - sc.x_series(th - h).1) / (2.0 * h);
-            assert_abs_diff_eq!(d1, fd1, epsilon = 1e-11);
-            assert_abs_diff_eq!(d2, fd2, epsilon = 1e-11);
+            assert_derivatives_match_differences(|th| sc.x_series(th), th, h, 1e-11, 1e-11);
         }
     }
 

@@ -3,10 +3,9 @@
 
 use super::model::DiscKnifeDrive;
 use super::physics::Params;
-use crate::docs::Documentation;
-use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
-use crate::md::ModelInfo;
-use crate::model::variables_of;
+use crate::docs::{
+    Documentation, Figure, Question, Series, Sweep, model_page, number, over_turn as turn, sweep,
+};
 use crate::solver::chain::ChainOde;
 use std::f64::consts::TAU;
 
@@ -144,16 +143,6 @@ fn path_of_s(p: &Params, n: usize) -> Vec<(f64, f64)> {
         .collect()
 }
 
-/// `f(φ)` over one crank turn, φ in degrees.
-fn turn(n: usize, f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
-    (0..=n)
-        .map(|j| {
-            let phi = TAU * j as f64 / n as f64;
-            (phi.to_degrees(), f(phi))
-        })
-        .collect()
-}
-
 fn alpha(deg: f64) -> Params {
     Params {
         support_alpha: deg.to_radians(),
@@ -181,44 +170,43 @@ pub fn figures() -> Vec<Figure> {
         });
     vec![
         Figure {
-            file: "fig2_path_of_S.png".into(),
-            title: "Fig. 2: path of the knife point S".into(),
-            x_label: "x of S, mm".into(),
-            y_label: "y of S, mm".into(),
-            series: angles
-                .iter()
-                .map(|&a| Series::new(format!("alpha = {a} deg"), path_of_s(&alpha(a), n)))
-                .collect(),
-            caption: format!(
-                "Path of S over one crank turn (out in the working stroke, back along the same curve in the idle stroke) for three angles of the support line EQ (paper 004, Fig. 2, redrawn with the defaults): the steeper EQ stands, the more S moves across the feed; its y-range is {}, {} and {} mm at 45, 55 and 70 deg, and x runs from {} to {} mm at 45 deg.",
-                number(range(45.0), 3),
-                number(range(55.0), 3),
-                number(range(70.0), 3),
-                number(x45.0, 3),
-                number(x45.1, 3)
-            ),
             equal_axes: true,
-            markers: false,
+            ..Figure::lines(
+                "fig2_path_of_S.png",
+                "Fig. 2: path of the knife point S",
+                "x of S, mm",
+                "y of S, mm",
+                angles
+                    .iter()
+                    .map(|&a| Series::new(format!("alpha = {a} deg"), path_of_s(&alpha(a), n)))
+                    .collect(),
+                format!(
+                    "Path of S over one crank turn (out in the working stroke, back along the same curve in the idle stroke) for three angles of the support line EQ (paper 004, Fig. 2, redrawn with the defaults): the steeper EQ stands, the more S moves across the feed; its y-range is {}, {} and {} mm at 45, 55 and 70 deg, and x runs from {} to {} mm at 45 deg.",
+                    number(range(45.0), 3),
+                    number(range(55.0), 3),
+                    number(range(70.0), 3),
+                    number(x45.0, 3),
+                    number(x45.1, 3)
+                ),
+            )
         },
-        Figure {
-            file: "fig2_y_range.png".into(),
-            title: "y-range of S against the angle of EQ".into(),
-            x_label: "support.alpha, deg".into(),
-            y_label: "max - min of y of S, mm".into(),
-            series: vec![Series::new(
+        Figure::lines(
+            "fig2_y_range.png",
+            "y-range of S against the angle of EQ",
+            "support.alpha, deg",
+            "max - min of y of S, mm",
+            vec![Series::new(
                 "y-range of S",
                 (40..=75).map(|a| (a as f64, range(a as f64))).collect(),
             )],
-            caption: "Range of y of S over a crank turn as EQ is set from 40 to 75 deg (the dependence paper 004's Fig. 2 shows).".into(),
-            equal_axes: false,
-            markers: false,
-        },
-        Figure {
-            file: "coordinates_of_S.png".into(),
-            title: "Coordinates of S over a crank turn".into(),
-            x_label: "crank angle phi, deg".into(),
-            y_label: "mm".into(),
-            series: angles
+            "Range of y of S over a crank turn as EQ is set from 40 to 75 deg (the dependence paper 004's Fig. 2 shows).",
+        ),
+        Figure::lines(
+            "coordinates_of_S.png",
+            "Coordinates of S over a crank turn",
+            "crank angle phi, deg",
+            "mm",
+            angles
                 .iter()
                 .flat_map(|&a| {
                     let q = alpha(a);
@@ -234,18 +222,16 @@ pub fn figures() -> Vec<Figure> {
                     ]
                 })
                 .collect(),
-            caption: "x and y of S against the crank angle; the working stroke (C moving to +x) is 180..360 deg.".into(),
-            equal_axes: false,
-            markers: false,
-        },
+            "x and y of S against the crank angle; the working stroke (C moving to +x) is 180..360 deg.",
+        ),
         {
             let ps = Params { series: true, ..p };
-            Figure {
-                file: "series_error.png".into(),
-                title: "Error of the series form (1)".into(),
-                x_label: "crank angle phi, deg".into(),
-                y_label: "series - exact, mm".into(),
-                series: vec![
+            Figure::lines(
+                "series_error.png",
+                "Error of the series form (1)",
+                "crank angle phi, deg",
+                "series - exact, mm",
+                vec![
                     Series::new(
                         "x_C",
                         turn(n, |f| {
@@ -260,14 +246,12 @@ pub fn figures() -> Vec<Figure> {
                         }),
                     ),
                 ],
-                caption: format!(
+                format!(
                     "The paper's series form against the exact slider position (defaults): x_C is overestimated by up to {} mm at 90 and 270 deg, S is off by up to {} mm.",
                     number(series_error(&p).0, 3),
                     number(series_error(&p).1, 3)
                 ),
-                equal_axes: false,
-                markers: false,
-            }
+            )
         },
         {
             let w = p.drive_n;
@@ -282,29 +266,27 @@ pub fn figures() -> Vec<Figure> {
                 support_mu: 0.0,
                 ..p
             };
-            Figure {
-                file: "shaft_tau.png".into(),
-                title: "Shaft torque at 300 rpm".into(),
-                x_label: "crank angle phi, deg".into(),
-                y_label: "shaft.tau, N.m".into(),
-                series: vec![
+            Figure::lines(
+                "shaft_tau.png",
+                "Shaft torque at 300 rpm",
+                "crank angle phi, deg",
+                "shaft.tau, N.m",
+                vec![
                     Series::new("alpha = 45 deg, no friction", turn(n, tau(no_friction))),
                     Series::new("alpha = 55 deg, mu = 0.1", turn(n, tau(alpha(55.0)))),
                     Series::new("alpha = 70 deg, mu = 0.1", turn(n, tau(alpha(70.0)))),
                 ],
-                caption: "Torque at the shaft over a turn at 300 rpm with the 150 N cutting force in the working stroke (180..360 deg). The defaults with friction (alpha = 45 deg, mu = 0.1) self-lock near 180 deg: see the next figure.".into(),
-                equal_axes: false,
-                markers: false,
-            }
+                "Torque at the shaft over a turn at 300 rpm with the 150 N cutting force in the working stroke (180..360 deg). The defaults with friction (alpha = 45 deg, mu = 0.1) self-lock near 180 deg: see the next figure.",
+            )
         },
         {
             let w = p.drive_n;
-            Figure {
-                file: "shaft_tau_locking.png".into(),
-                title: "Self-locking with the defaults (alpha = 45 deg, mu = 0.1)".into(),
-                x_label: "crank angle phi, deg".into(),
-                y_label: "shaft.tau, N.m".into(),
-                series: vec![Series::new(
+            Figure::lines(
+                "shaft_tau_locking.png",
+                "Self-locking with the defaults (alpha = 45 deg, mu = 0.1)",
+                "crank angle phi, deg",
+                "shaft.tau, N.m",
+                vec![Series::new(
                     "shaft.tau",
                     (0..=1000)
                         .map(|j| {
@@ -315,14 +297,12 @@ pub fn figures() -> Vec<Figure> {
                         })
                         .collect(),
                 )],
-                caption: format!(
+                format!(
                     "Between {} and {} deg slider 7 self-locks (sliders.locked; forces without friction there). Leaving that zone in the working stroke, the Coulomb solution needs a steeply rising torque (the wedge effect; drawn up to 50 N.m).",
                     number(locking_window(&p).0, 5),
                     number(locking_window(&p).1, 5)
                 ),
-                equal_axes: false,
-                markers: false,
-            }
+            )
         },
     ]
 }
@@ -392,14 +372,15 @@ fn elastic_figures(p: &Params) -> Result<(Vec<Figure>, f64, f64, f64), String> {
     let (lock_from, lock_to) = locking_window(p);
     // the rigid force off the scale of the dynamic one is left out, not clipped to a plateau
     let scale = 1.2 * jam_peak;
-    let fig = |file: &str, title: String, series: Vec<Series>, caption: String| Figure {
-        file: file.into(),
-        title,
-        x_label: "crank angle phi, deg".into(),
-        y_label: "rod force P, N (compression +)".into(),
-        series,
-        caption,
-        ..Default::default()
+    let fig = |file: &str, title: String, series: Vec<Series>, caption: String| {
+        Figure::lines(
+            file,
+            title,
+            "crank angle phi, deg",
+            "rod force P, N (compression +)",
+            series,
+            caption,
+        )
     };
     Ok((
         vec![
@@ -545,7 +526,6 @@ fn questions(s: &Sweep, n: &Numbers) -> Vec<Question> {
 
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
-    let vars = variables_of::<DiscKnifeDrive>();
     let p = Params::default();
     let s = sweep::<DiscKnifeDrive>()?;
     let mut figs = figures();
@@ -570,17 +550,15 @@ pub fn documentation() -> Result<Documentation, String> {
         k_d,
     };
     let notes = notes(&numbers);
-    let files = crate::docs::page_files(&Page {
-        info: &ModelInfo::of::<DiscKnifeDrive>(),
-        vars: &vars,
-        what: WHAT,
-        picture: Some(&picture),
-        questions: &questions(&s, &numbers),
-        figures: &figs,
-        notes: &notes,
-        sweep: Some(&s),
-    })?;
-    Ok((files, icon_png("Disc")?))
+    model_page::<DiscKnifeDrive>(
+        WHAT,
+        Some(&picture),
+        &questions(&s, &numbers),
+        &figs,
+        &notes,
+        &s,
+        "Disc",
+    )
 }
 
 #[cfg(test)]

@@ -231,7 +231,7 @@ impl RodOde<'_> {
     /// centre).
     pub fn damping(p: &Params, k: f64, zeta: f64) -> f64 {
         let x0 = p.slider_x(0.0).0;
-        2.0 * zeta * (k * reduced_mass(p, x0)).sqrt()
+        crate::mechanics::viscous_damping(k, reduced_mass(p, x0), zeta)
     }
 
     /// The rigid drive at time t.

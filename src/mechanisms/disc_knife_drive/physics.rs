@@ -90,7 +90,9 @@
 //! `shaft.tau = τ` and `shaft.P = τ·ω`.
 
 use crate::mechanics::slider_crank::SliderCrank;
-use crate::mechanics::{ParamError, sgn, wrap_angle};
+use crate::mechanics::{
+    ParamError, check_finite, check_non_negative, check_positive, sgn, wrap_angle,
+};
 use nalgebra::{SMatrix, SVector, Vector2};
 use num_dual::{Dual2_64, DualNum};
 use std::f64::consts::{PI, TAU};
@@ -683,16 +685,12 @@ impl Params {
     /// violation found.
     pub fn validate(&self) -> Result<(), ParamError> {
         let err = |p: &'static str, v: f64, c: String| Err(ParamError::new(p, v, c));
-        if !(self.crank_l1 > 0.0 && self.crank_l1.is_finite()) {
-            return err(
-                "crank.l1",
-                self.crank_l1,
-                "the crank length must be positive".into(),
-            );
-        }
-        if !self.crank_e.is_finite() {
-            return err("crank.e", self.crank_e, "must be finite".into());
-        }
+        check_positive(
+            "crank.l1",
+            self.crank_l1,
+            "the crank length must be positive",
+        )?;
+        check_finite(&[("crank.e", self.crank_e)])?;
         if !(self.slider_crank().can_turn() && self.rod_lambda2.is_finite()) {
             return err(
                 "rod.lambda2",
@@ -710,13 +708,11 @@ impl Params {
                 "the series form (1) of paper 004 holds for e = 0 only: set crank.e = 0 or kinematics.series = false".into(),
             );
         }
-        if !(self.holder_l4 > 0.0 && self.holder_l4.is_finite()) {
-            return err(
-                "holder.l4",
-                self.holder_l4,
-                "the holder length must be positive".into(),
-            );
-        }
+        check_positive(
+            "holder.l4",
+            self.holder_l4,
+            "the holder length must be positive",
+        )?;
         if !(self.holder_ls.is_finite() && (0.0..=1.0).contains(&self.holder_ls)) {
             return err(
                 "holder.lS",
@@ -731,14 +727,10 @@ impl Params {
                 "the angle of EQ from the vertical must be in [-pi/2, pi/2]".into(),
             );
         }
-        for (name, v) in [
+        check_finite(&[
             ("support.xQ", self.support_xq),
             ("support.yQ", self.support_yq),
-        ] {
-            if !v.is_finite() {
-                return err(name, v, "must be finite".into());
-            }
-        }
+        ])?;
         if self.branch != 1 && self.branch != -1 {
             return err(
                 "assembly.branch",
@@ -746,7 +738,7 @@ impl Params {
                 "must be +1 or -1 (the two positions of the holder)".into(),
             );
         }
-        for (name, v) in [
+        check_non_negative(&[
             ("holder.m", self.holder_m),
             ("holder.J", self.holder_j),
             ("slider5.m", self.slider5_m),
@@ -756,20 +748,12 @@ impl Params {
             ("guide.mu", self.guide_mu),
             ("support.mu", self.support_mu),
             ("cut.F", self.cut_f),
-        ] {
-            if !(v >= 0.0 && v.is_finite()) {
-                return err(name, v, "must be a finite value >= 0".into());
-            }
-        }
-        for (name, v) in [
+        ])?;
+        check_finite(&[
             ("feed.V", self.feed_v),
             ("gravity.g", self.gravity_g),
             ("drive.n", self.drive_n),
-        ] {
-            if !v.is_finite() {
-                return err(name, v, "must be finite".into());
-            }
-        }
+        ])?;
         if let Some(f) = self.assembly_failure() {
             return err(
                 "holder.l4",

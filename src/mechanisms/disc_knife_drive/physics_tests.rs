@@ -1,6 +1,7 @@
 //! Tests of `physics.rs`.
 
 use super::*;
+use crate::mechanisms::assert_printed;
 use approx::assert_abs_diff_eq;
 use proptest::prelude::*;
 use std::f64::consts::FRAC_PI_2;
@@ -14,17 +15,6 @@ fn with_alpha(deg: f64) -> Params {
         support_alpha: deg.to_radians(),
         ..params()
     }
-}
-
-/// Asserts `x` prints as `reference` with `decimals` decimals: |x − reference| ≤ half a unit
-/// of the last printed digit.
-#[track_caller]
-fn assert_printed(x: f64, reference: f64, decimals: i32) {
-    let tol = 0.5 * 10f64.powi(-decimals) * (1.0 + 1e-9);
-    assert!(
-        (x - reference).abs() <= tol,
-        "{x} does not print as {reference} ({decimals} decimals)"
-    );
 }
 
 /// `n` crank angles over one turn, offset from the dead centres.
@@ -349,12 +339,14 @@ fn rigid_cases() -> impl Iterator<Item = Params> {
     cases().into_iter().filter(|p| !p.series)
 }
 
-fn frictionless(p: Params) -> Params {
-    Params {
-        guide_mu: 0.0,
-        support_mu: 0.0,
+/// The rigid cases under gravity with the friction coefficients `guide_mu` and `support_mu`.
+fn heavy_rigid_cases(guide_mu: f64, support_mu: f64) -> impl Iterator<Item = Params> {
+    rigid_cases().map(move |p| Params {
+        guide_mu,
+        support_mu,
+        gravity_g: 9.80665,
         ..p
-    }
+    })
 }
 
 /// Statics (ω = ε = 0) by virtual work, independent of the Newton–Euler system: with a load F
@@ -363,11 +355,7 @@ fn frictionless(p: Params) -> Params {
 #[test]
 fn static_equilibrium_by_virtual_work() {
     let h = 1e-6;
-    for p in rigid_cases() {
-        let p = Params {
-            gravity_g: 9.80665,
-            ..frictionless(p)
-        };
+    for p in heavy_rigid_cases(0.0, 0.0) {
         for (j, phi) in turn(180).enumerate() {
             let load = Vec2::new(40.0 * (j as f64).cos() - 100.0, 70.0 * (j as f64).sin());
             let k = p.kinematics(phi, 0.0, 0.0);
@@ -410,11 +398,10 @@ fn energy(p: &Params, phi0: f64, w: f64, eps: f64, t: f64) -> f64 {
 #[test]
 fn power_balance_without_friction() {
     let h = 1e-6;
-    for p in rigid_cases() {
+    for p in heavy_rigid_cases(0.0, 0.0) {
         let p = Params {
-            gravity_g: 9.80665,
             holder_j: 2e-4,
-            ..frictionless(p)
+            ..p
         };
         for (w, eps) in [(p.drive_n, 0.0), (-25.0, 300.0), (12.0, -900.0)] {
             for phi in turn(240) {
@@ -435,13 +422,7 @@ fn power_balance_without_friction() {
 #[test]
 fn friction_dissipates() {
     let h = 1e-6;
-    for p in rigid_cases() {
-        let p = Params {
-            guide_mu: 0.15,
-            support_mu: 0.2,
-            gravity_g: 9.80665,
-            ..p
-        };
+    for p in heavy_rigid_cases(0.15, 0.2) {
         assert_eq!(p.validate(), Ok(()));
         for (w, eps) in [(p.drive_n, 0.0), (-25.0, 300.0)] {
             for phi in turn(240) {

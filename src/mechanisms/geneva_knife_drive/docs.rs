@@ -3,10 +3,9 @@
 
 use super::model::GenevaKnifeDrive;
 use super::physics::Params;
-use crate::docs::Documentation;
-use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
-use crate::md::ModelInfo;
-use crate::model::variables_of;
+use crate::docs::{
+    Documentation, Figure, Question, Series, Sweep, model_page, number, over_turn as turn, sweep,
+};
 use std::f64::consts::PI;
 
 const WHAT: &str = r#"<p>A three-knife trimmer cuts book blocks, brochures and magazines on three sides.
@@ -35,16 +34,6 @@ hosts as states.</p>
 6 &minus; cos 4&gamma; &minus; 5 cos &nu; by S = 2r<sub>2</sub> (the factor is r<sub>2</sub>), and its
 slider velocity leaves out the gear ratio (&theta;' = i&gamma;').</p>"#;
 
-/// Samples `f` over one driver turn.
-fn turn(n: usize, f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
-    (0..=n)
-        .map(|k| {
-            let phi = 2.0 * PI * k as f64 / n as f64;
-            (phi.to_degrees(), f(phi))
-        })
-        .collect()
-}
-
 fn figure(
     file: &str,
     title: &str,
@@ -53,19 +42,14 @@ fn figure(
     points: Vec<(f64, f64)>,
     caption: &str,
 ) -> Figure {
-    Figure {
-        file: file.into(),
-        title: title.into(),
-        x_label: "driver angle phi, deg".into(),
-        y_label: y.into(),
-        series: vec![Series {
-            label: label.into(),
-            points,
-        }],
-        caption: caption.into(),
-        equal_axes: false,
-        markers: false,
-    }
+    Figure::lines(
+        file,
+        title,
+        "driver angle phi, deg",
+        y,
+        vec![Series::new(label, points)],
+        caption,
+    )
 }
 
 /// The paper's Figs. 2-7 over one driver turn, with the default parameters.
@@ -237,21 +221,18 @@ fn questions(s: &Sweep) -> Vec<Question> {
 
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
-    let vars = variables_of::<GenevaKnifeDrive>();
     let s = sweep::<GenevaKnifeDrive>()?;
     let mut figs = figures();
     let picture = figs.pop();
-    let files = crate::docs::page_files(&Page {
-        info: &ModelInfo::of::<GenevaKnifeDrive>(),
-        vars: &vars,
-        what: WHAT,
-        picture: picture.as_ref(),
-        questions: &questions(&s),
-        figures: &figs,
-        notes: NOTES,
-        sweep: Some(&s),
-    })?;
-    Ok((files, icon_png("Geneva")?))
+    model_page::<GenevaKnifeDrive>(
+        WHAT,
+        picture.as_ref(),
+        &questions(&s),
+        &figs,
+        NOTES,
+        &s,
+        "Geneva",
+    )
 }
 
 #[cfg(test)]

@@ -71,7 +71,7 @@ pub struct Point {
 impl KnifeOde<'_> {
     /// Damping from the damping ratio.
     pub fn damping(p: &Params, k: f64, zeta: f64) -> f64 {
-        2.0 * zeta * (k * p.slider_mass()).sqrt()
+        crate::mechanics::viscous_damping(k, p.slider_mass(), zeta)
     }
 
     /// As [`KnifeOde::point`], for given kinematics.

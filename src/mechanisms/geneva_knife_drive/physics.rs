@@ -23,7 +23,9 @@
 
 use crate::mechanics::geneva::Geneva;
 use crate::mechanics::slider_crank::{Pose, SliderCrank};
-use crate::mechanics::{ParamError, STANDARD_GRAVITY, sgn, wrap_angle};
+use crate::mechanics::{
+    ParamError, STANDARD_GRAVITY, check_non_negative, check_positive, sgn, wrap_angle,
+};
 use std::f64::consts::PI;
 
 /// Parameters of the Geneva knife drive, SI units (`geneva-knife-drive.md`, table "Geometry and
@@ -225,13 +227,11 @@ impl Params {
         if z < 3 {
             return err("geneva.Z", f64::from(z), "needs at least 3 slots".into());
         }
-        if !(self.geneva_r1 > 0.0 && self.geneva_r1.is_finite()) {
-            return err(
-                "geneva.r1",
-                self.geneva_r1,
-                "the driver radius must be positive".into(),
-            );
-        }
+        check_positive(
+            "geneva.r1",
+            self.geneva_r1,
+            "the driver radius must be positive",
+        )?;
         let i = self.gear_i;
         if i == 0 {
             return err(
@@ -256,13 +256,7 @@ impl Params {
                 "the mesh efficiency must be in (0, 1]".into(),
             );
         }
-        if !(self.crank_r > 0.0 && self.crank_r.is_finite()) {
-            return err(
-                "crank.r",
-                self.crank_r,
-                "the crank radius must be positive".into(),
-            );
-        }
+        check_positive("crank.r", self.crank_r, "the crank radius must be positive")?;
         if !(self.rod_l > self.crank_r && self.rod_l.is_finite()) {
             return err(
                 "rod.l",
@@ -273,17 +267,13 @@ impl Params {
                 ),
             );
         }
-        for (name, value) in [
+        check_non_negative(&[
             ("knife.m", self.knife_m),
             ("rod.m", self.rod_m),
             ("crank.J", self.crank_j),
             ("cross.J", self.cross_j),
             ("driver.J", self.driver_j),
-        ] {
-            if !(value >= 0.0 && value.is_finite()) {
-                return err(name, value, "must be a finite value >= 0".into());
-            }
-        }
+        ])?;
         if !(self.guide_mu >= 0.0 && self.guide_mu.is_finite()) {
             return err(
                 "guide.mu",
@@ -312,32 +302,21 @@ impl Params {
             );
         }
         let stroke = self.stroke();
-        if !(self.cut_s_start >= 0.0 && self.cut_s_start <= stroke) {
-            return err(
-                "cut.s_start",
-                self.cut_s_start,
-                format!("must lie within the knife stroke [0, {stroke}]"),
-            );
-        }
-        if !(self.cut_s_full >= self.cut_s_start && self.cut_s_full <= stroke) {
-            return err(
-                "cut.s_full",
-                self.cut_s_full,
-                format!(
-                    "must lie between cut.s_start = {} and the stroke {stroke}",
-                    self.cut_s_start
-                ),
-            );
-        }
-        if !(self.cut_s_end >= self.cut_s_full && self.cut_s_end <= stroke) {
-            return err(
-                "cut.s_end",
-                self.cut_s_end,
-                format!(
-                    "must lie between cut.s_full = {} and the stroke {stroke}",
-                    self.cut_s_full
-                ),
-            );
+        // the cut's window in order: 0 <= cut.s_start <= cut.s_full <= cut.s_end <= the stroke
+        let mut below: Option<(&str, f64)> = None;
+        for (param, s) in [
+            ("cut.s_start", self.cut_s_start),
+            ("cut.s_full", self.cut_s_full),
+            ("cut.s_end", self.cut_s_end),
+        ] {
+            if !(s >= below.map_or(0.0, |b| b.1) && s <= stroke) {
+                let condition = match below {
+                    None => format!("must lie within the knife stroke [0, {stroke}]"),
+                    Some((b, sb)) => format!("must lie between {b} = {sb} and the stroke {stroke}"),
+                };
+                return err(param, s, condition);
+            }
+            below = Some((param, s));
         }
         if !self.drive_n.is_finite() {
             return err(

@@ -1,6 +1,7 @@
 //! Tests of `physics.rs`.
 
 use super::*;
+use crate::mechanisms::assert_printed;
 use approx::assert_abs_diff_eq;
 use proptest::prelude::*;
 use std::f64::consts::{FRAC_PI_4, TAU};
@@ -16,17 +17,6 @@ fn params() -> Params {
 fn valid(p: Params) -> Params {
     assert_eq!(p.validate(), Ok(()));
     p
-}
-
-/// Asserts `x` equals the printed reference `reference` to the digits printed:
-/// |x − reference| ≤ half a unit of the last printed decimal (`decimals` after the point).
-#[track_caller]
-fn assert_printed(x: f64, reference: f64, decimals: i32) {
-    let tol = 0.5 * 10f64.powi(-decimals) * (1.0 + 1e-9);
-    assert!(
-        (x - reference).abs() <= tol,
-        "{x} does not print as {reference} ({decimals} decimals)"
-    );
 }
 
 #[test]

@@ -3,10 +3,7 @@
 
 use super::model::MainShaft;
 use super::physics::{Load, Params};
-use crate::docs::Documentation;
-use crate::docs::{Figure, Page, Question, Series, Sweep, defaults, icon_png, number};
-use crate::md::ModelInfo;
-use crate::model::variables_of;
+use crate::docs::{Documentation, Figure, Question, Series, Sweep, defaults, model_page, number};
 
 const WHAT: &str = r#"<p>The drive of a bookbinding machine's <b>main shaft</b>: an induction motor, a gear
 pair of ratio <code>gear.i</code> to the main shaft, a flywheel <code>fly.J</code> and the bearings'
@@ -61,35 +58,31 @@ pub fn figures() -> (Vec<Figure>, f64) {
         w += h * p.point(w, &load).map_or(0.0, |pt| pt.eps);
     }
     let figures = vec![
-        Figure {
-            file: "motor_characteristic.png".into(),
-            title: "Motor torque-speed characteristic (Kloss's formula)".into(),
-            x_label: "motor speed, rpm".into(),
-            y_label: "motor torque, N.m".into(),
-            series: vec![Series::new("motor.tau", characteristic)],
-            caption: format!(
+        Figure::lines(
+            "motor_characteristic.png",
+            "Motor torque-speed characteristic (Kloss's formula)",
+            "motor speed, rpm",
+            "motor torque, N.m",
+            vec![Series::new("motor.tau", characteristic)],
+            format!(
                 "Torque of the default {} kW, {} rpm motor from standstill to the synchronous {} rpm: breakdown torque {} times the rated torque.",
                 number(m.p_rated / 1e3, 3),
                 number(m.w_rated * rpm, 4),
                 number(m.w_sync() * rpm, 4),
                 number(m.lambda, 3)
             ),
-            equal_axes: false,
-            markers: false,
-        },
-        Figure {
-            file: "startup.png".into(),
-            title: "Start-up under half the rated load".into(),
-            x_label: "time, s".into(),
-            y_label: "shaft.w, rpm".into(),
-            series: vec![Series::new("shaft.w", start)],
-            caption: format!(
+        ),
+        Figure::lines(
+            "startup.png",
+            "Start-up under half the rated load",
+            "time, s",
+            "shaft.w, rpm",
+            vec![Series::new("shaft.w", start)],
+            format!(
                 "Main-shaft speed from rest with the default flywheel and a constant load of half the motor's rated torque at the main shaft: 95 % of the running speed after {} s.",
                 number(t95, 3)
             ),
-            equal_axes: false,
-            markers: false,
-        },
+        ),
     ];
     (figures, t95)
 }
@@ -136,19 +129,16 @@ fn questions(s: &Sweep, t95: f64) -> Vec<Question> {
 
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
-    let vars = variables_of::<MainShaft>();
     let s = defaults::<MainShaft>()?;
     let (mut figs, t95) = figures();
     let picture = figs.remove(0);
-    let files = crate::docs::page_files(&Page {
-        info: &ModelInfo::of::<MainShaft>(),
-        vars: &vars,
-        what: WHAT,
-        picture: Some(&picture),
-        questions: &questions(&s, t95),
-        figures: &figs,
-        notes: NOTES,
-        sweep: Some(&s),
-    })?;
-    Ok((files, icon_png("Main shaft")?))
+    model_page::<MainShaft>(
+        WHAT,
+        Some(&picture),
+        &questions(&s, t95),
+        &figs,
+        NOTES,
+        &s,
+        "Main shaft",
+    )
 }

@@ -14,7 +14,7 @@
 //! co-simulation stable when their inertia is large against the flywheel's: the plain coupling
 //! `J·ε_{n+1} = M − τ(ε_n)` has the loop gain `−J_red/J` whatever the step.
 
-use crate::mechanics::ParamError;
+use crate::mechanics::{ParamError, check_positive};
 
 /// Induction motor data (rated values from a catalogue; every default is an assumption).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -87,15 +87,8 @@ impl Motor {
 
     /// Checks the data.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let pos = |name: &'static str, x: f64| {
-            if x > 0.0 && x.is_finite() {
-                Ok(())
-            } else {
-                Err(ParamError::new(name, x, "must be positive"))
-            }
-        };
-        pos("motor.P_rated", self.p_rated)?;
-        pos("motor.n_rated", self.w_rated)?;
+        check_positive("motor.P_rated", self.p_rated, "must be positive")?;
+        check_positive("motor.n_rated", self.w_rated, "must be positive")?;
         if !(self.s_rated > 0.0 && self.s_rated < 1.0) {
             return Err(ParamError::new(
                 "motor.s_rated",
@@ -183,9 +176,7 @@ impl Params {
     /// Checks the parameters.
     pub fn validate(&self) -> Result<(), ParamError> {
         self.motor.validate()?;
-        if !(self.gear_i > 0.0 && self.gear_i.is_finite()) {
-            return Err(ParamError::new("gear.i", self.gear_i, "must be positive"));
-        }
+        check_positive("gear.i", self.gear_i, "must be positive")?;
         for (name, x) in [
             ("fly.J", self.fly_j),
             ("bearing.tau_c", self.bearing_tau_c),

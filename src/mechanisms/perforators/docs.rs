@@ -3,10 +3,9 @@
 
 use super::model::Perforators;
 use super::physics::{Mode, Params};
-use crate::docs::Documentation;
-use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
-use crate::md::ModelInfo;
-use crate::model::variables_of;
+use crate::docs::{
+    Documentation, Figure, Question, Series, Sweep, model_page, number, over_turn, sweep,
+};
 use std::f64::consts::PI;
 
 const WHAT: &str = r#"<p>Before a signature is sewn, perforators (a bar of needles) pierce holes in its
@@ -72,19 +71,6 @@ pub fn liftoff_rpm() -> f64 {
         .map_or(f64::NAN, |w| w / rpm)
 }
 
-fn fig(file: &str, title: &str, x: &str, y: &str, series: Vec<Series>, caption: &str) -> Figure {
-    Figure {
-        file: file.into(),
-        title: title.into(),
-        x_label: x.into(),
-        y_label: y.into(),
-        series,
-        caption: caption.into(),
-        equal_axes: false,
-        markers: false,
-    }
-}
-
 /// Figures with the default parameters at the nominal 100 rpm; `liftoff` is the lift-off
 /// speed, rpm.
 pub fn figures(liftoff: f64) -> Vec<Figure> {
@@ -97,14 +83,7 @@ pub fn figures(liftoff: f64) -> Vec<Figure> {
     .expect("defaults assemble");
     let w = 100.0 * PI / 30.0;
     let n = 720;
-    let turn = |f: &dyn Fn(f64) -> f64| -> Vec<(f64, f64)> {
-        (0..=n)
-            .map(|k| {
-                let phi = 2.0 * PI * k as f64 / n as f64;
-                (phi.to_degrees(), f(phi))
-            })
-            .collect()
-    };
+    let turn = |f: &dyn Fn(f64) -> f64| over_turn(n, f);
     let travel = |f: &dyn Fn(f64) -> (f64, f64)| -> Vec<(f64, f64)> {
         (0..=n).map(|k| f(d.cyc.h * k as f64 / n as f64)).collect()
     };
@@ -120,7 +99,7 @@ pub fn figures(liftoff: f64) -> Vec<Figure> {
             .collect()
     };
     vec![
-        fig(
+        Figure::lines(
             "cyclogram.png",
             "Cyclogram: table and perforators",
             "shaft angle phi, deg",
@@ -140,7 +119,7 @@ pub fn figures(liftoff: f64) -> Vec<Figure> {
         Figure {
             equal_axes: true,
             markers: false,
-            ..fig(
+            ..Figure::lines(
                 "ramp_profile.png",
                 "The synthesized ramp",
                 "x (lever frame at loading), mm",
@@ -159,7 +138,7 @@ pub fn figures(liftoff: f64) -> Vec<Figure> {
                 "Ramp 7 in the frame of the lever pivot at the loading position: the roller centre's path and the profile (offset by roller.r) for both synthesis modes.",
             )
         },
-        fig(
+        Figure::lines(
             "sigma_H.png",
             "Hertz stress roller - ramp over the travel at 100 rpm",
             "table position x_t, mm",
@@ -176,7 +155,7 @@ pub fn figures(liftoff: f64) -> Vec<Figure> {
             )],
             "Hertz stress (paper 002, eq. 8) between roller and ramp on the forward travel, with the piercing load.",
         ),
-        fig(
+        Figure::lines(
             "forces.png",
             "Contact force and table reaction at 100 rpm",
             "shaft angle phi, deg",
@@ -226,7 +205,7 @@ fn liftoff_figure(liftoff: f64) -> Figure {
     }
     let dynamic_peak = dynamic.iter().map(|p| p.1).fold(0.0, f64::max);
     let quantity_n = |x: f64| format!("{} kN", number(x / 1e3, 3));
-    fig(
+    Figure::lines(
         "liftoff.png",
         "Contact force at 130 rpm: elastodynamic against kinetostatic",
         "shaft angle phi, deg",
@@ -235,7 +214,7 @@ fn liftoff_figure(liftoff: f64) -> Figure {
             Series::new("roller.F_kin (rigid, kinetostatic)", rigid),
             Series::new("elastic.F (elastodynamic, Hertz contact)", dynamic),
         ],
-        &format!(
+        format!(
             "Above the rigid lift-off speed ({} rpm) the kinetostatic force turns negative near the top of the rise (the ramp would have to pull); the elastic roller leaves the ramp there (force 0) and lands again with impacts of up to {} (contact.F_impact), far above the rigid force.",
             number(liftoff, 5),
             quantity_n(dynamic_peak)
@@ -326,21 +305,18 @@ fn questions(s: &Sweep, liftoff: f64) -> Vec<Question> {
 
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
-    let vars = variables_of::<Perforators>();
     let s = sweep::<Perforators>()?;
     let liftoff = liftoff_rpm();
     let mut figs = figures(liftoff);
     let picture = figs.remove(0);
     let notes = notes(liftoff);
-    let files = crate::docs::page_files(&Page {
-        info: &ModelInfo::of::<Perforators>(),
-        vars: &vars,
-        what: WHAT,
-        picture: Some(&picture),
-        questions: &questions(&s, liftoff),
-        figures: &figs,
-        notes: &notes,
-        sweep: Some(&s),
-    })?;
-    Ok((files, icon_png("Perforators")?))
+    model_page::<Perforators>(
+        WHAT,
+        Some(&picture),
+        &questions(&s, liftoff),
+        &figs,
+        &notes,
+        &s,
+        "Perforators",
+    )
 }

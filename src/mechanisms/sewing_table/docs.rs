@@ -3,10 +3,9 @@
 
 use super::model::SewingTable;
 use super::physics::{Kind, Params};
-use crate::docs::Documentation;
-use crate::docs::{Figure, Page, Question, Series, Sweep, icon_png, number, sweep};
-use crate::md::ModelInfo;
-use crate::model::variables_of;
+use crate::docs::{
+    Documentation, Figure, Question, Series, Sweep, model_page, number, over_turn as turn, sweep,
+};
 use std::f64::consts::PI;
 
 const WHAT: &str = r#"<p>A thread-sewing machine sews book blocks signature by signature. Its table takes a
@@ -41,26 +40,8 @@ height at loading from the distance of the chord A<sub>1</sub>A<sub>2</sub> to t
 true end-to-end displacement on its circle is 3.686 horizontally and 1.003 vertically (chord 3.82).
 The FMU keeps the paper's l<sub>2</sub> = 3.72 as the translating table's travel.</p>"#;
 
-fn turn(n: usize, f: impl Fn(f64) -> f64) -> Vec<(f64, f64)> {
-    (0..=n)
-        .map(|k| {
-            let phi = 2.0 * PI * k as f64 / n as f64;
-            (phi.to_degrees(), f(phi))
-        })
-        .collect()
-}
-
 fn fig(file: &str, title: &str, y: &str, series: Vec<Series>, caption: &str) -> Figure {
-    Figure {
-        file: file.into(),
-        title: title.into(),
-        x_label: "shaft angle phi, deg".into(),
-        y_label: y.into(),
-        series,
-        caption: caption.into(),
-        equal_axes: false,
-        markers: false,
-    }
+    Figure::lines(file, title, "shaft angle phi, deg", y, series, caption)
 }
 
 /// Figures with the default parameters at the nominal 100 rpm.
@@ -232,19 +213,16 @@ fn questions(s: &Sweep) -> Vec<Question> {
 
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
-    let vars = variables_of::<SewingTable>();
     let s = sweep::<SewingTable>()?;
     let mut figs = figures();
     let picture = figs.remove(0);
-    let files = crate::docs::page_files(&Page {
-        info: &ModelInfo::of::<SewingTable>(),
-        vars: &vars,
-        what: WHAT,
-        picture: Some(&picture),
-        questions: &questions(&s),
-        figures: &figs,
-        notes: NOTES,
-        sweep: Some(&s),
-    })?;
-    Ok((files, icon_png("Sewing table")?))
+    model_page::<SewingTable>(
+        WHAT,
+        Some(&picture),
+        &questions(&s),
+        &figs,
+        NOTES,
+        &s,
+        "Sewing table",
+    )
 }

@@ -60,7 +60,7 @@ pub struct Point {
 impl TableOde<'_> {
     /// Damping from the damping ratio.
     pub fn damping(p: &Params, k: f64, zeta: f64) -> f64 {
-        2.0 * zeta * (k * p.table_m).sqrt()
+        crate::mechanics::viscous_damping(k, p.table_m, zeta)
     }
 
     pub fn point_at(&self, kin: &Kinematics, y: &[f64]) -> Point {

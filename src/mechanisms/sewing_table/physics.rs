@@ -235,26 +235,23 @@ impl Params {
             ));
         }
         let s = self.synthesis();
-        if !(s.alpha3 > 0.0) {
-            return Err(ParamError::new(
-                "synth.alpha2",
-                self.alpha2,
-                format!(
-                    "alpha1 + alpha2 = {:.3} deg must stay below 90 deg",
-                    (s.alpha1 + self.alpha2).to_degrees()
-                ),
-            ));
-        }
-        if !(s.l2 > 0.0) {
-            return Err(ParamError::new(
-                "synth.alpha2",
-                self.alpha2,
-                format!(
-                    "A1A2 = {:.4} must exceed k0 = {:.4} (l2 = sqrt(A1A2^2 - k0^2))",
-                    s.a1a2,
-                    s.k0.abs()
-                ),
-            ));
+        // synth.alpha2 must leave an angle alpha3 > 0 and then a real l2
+        let alpha2_refused = if !(s.alpha3 > 0.0) {
+            Some(format!(
+                "alpha1 + alpha2 = {:.3} deg must stay below 90 deg",
+                (s.alpha1 + self.alpha2).to_degrees()
+            ))
+        } else if !(s.l2 > 0.0) {
+            Some(format!(
+                "A1A2 = {:.4} must exceed k0 = {:.4} (l2 = sqrt(A1A2^2 - k0^2))",
+                s.a1a2,
+                s.k0.abs()
+            ))
+        } else {
+            None
+        };
+        if let Some(condition) = alpha2_refused {
+            return Err(ParamError::new("synth.alpha2", self.alpha2, condition));
         }
         self.cyclogram().validate()?;
         if !(self.cam_e.abs() < self.cam_r0) {

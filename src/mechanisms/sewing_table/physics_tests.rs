@@ -239,32 +239,21 @@ fn smallest_r0_terminates_for_huge_and_tiny_radii() {
 #[test]
 fn other_refusals() {
     let p = Params::default();
-    assert_eq!(
-        Params { l1: 12.0, ..p }.validate().unwrap_err().param,
-        "synth.l1"
-    );
-    assert_eq!(
-        Params { alpha2: 1.6, ..p }.validate().unwrap_err().param,
-        "synth.alpha2"
-    );
-    assert_eq!(
-        Params { cam_e: 0.2, ..p }.validate().unwrap_err().param,
-        "cam.e"
-    );
-    assert_eq!(
-        Params { guide_f: 5.0, ..p }.validate().unwrap_err().param,
-        "guide.f"
-    );
-    assert_eq!(
-        Params {
-            dwell_sew: 3.5,
-            ..p
-        }
-        .validate()
-        .unwrap_err()
-        .param,
-        "cycle.dwell_sew"
-    );
+    for (wrong, param) in [
+        (Params { l1: 12.0, ..p }, "synth.l1"),
+        (Params { alpha2: 1.6, ..p }, "synth.alpha2"),
+        (Params { cam_e: 0.2, ..p }, "cam.e"),
+        (Params { guide_f: 5.0, ..p }, "guide.f"),
+        (
+            Params {
+                dwell_sew: 3.5,
+                ..p
+            },
+            "cycle.dwell_sew",
+        ),
+    ] {
+        assert_eq!(wrong.validate().unwrap_err().param, param);
+    }
     // the rocking table has no slot cam to undercut
     assert!(
         Params {
