@@ -3,7 +3,7 @@
 //! under `fmus/`; the FMI layer does not change.
 
 use crate::md::ModelInfo;
-use crate::model::Var;
+use crate::model::{Model, Var};
 use crate::scene::{Scene, SceneError, Tailored};
 
 pub use crate::docs::{Documentation, Files};
@@ -29,68 +29,44 @@ pub struct Entry {
     pub scene_documentation: fn(&Tailored) -> Result<Files, String>,
 }
 
+impl Entry {
+    /// The entry of model `M`, built by the cdylib `package`, with its `documentation`.
+    pub fn of<M: Model>(
+        package: &'static str,
+        documentation: fn() -> Result<Documentation, String>,
+    ) -> Entry {
+        Entry {
+            identifier: M::IDENTIFIER,
+            package,
+            describe: crate::md::describe::<M>,
+            info: ModelInfo::of::<M>,
+            variables: variables_of::<M>,
+            documentation,
+            tailor: crate::scene::tailor::<M>,
+            scene_documentation: crate::docs::scene::documentation::<M>,
+        }
+    }
+}
+
 /// Every FMU, in the order they are built.
 pub fn all() -> Vec<Entry> {
-    use crate::mechanisms::geneva_knife_drive as geneva;
+    use crate::mechanisms::{disc_knife_drive, geneva_knife_drive, main_shaft};
+    use crate::mechanisms::{perforators, sewing_table};
     vec![
-        Entry {
-            identifier: "GenevaKnifeDrive",
-            package: "geneva-knife-drive-fmu",
-            describe: crate::md::describe::<geneva::GenevaKnifeDrive>,
-            info: ModelInfo::of::<geneva::GenevaKnifeDrive>,
-            variables: variables_of::<geneva::GenevaKnifeDrive>,
-            documentation: geneva::docs::documentation,
-            tailor: crate::scene::tailor::<geneva::GenevaKnifeDrive>,
-            scene_documentation: crate::docs::scene::documentation::<geneva::GenevaKnifeDrive>,
-        },
-        Entry {
-            identifier: "SewingTable",
-            package: "sewing-table-fmu",
-            describe: crate::md::describe::<crate::mechanisms::sewing_table::SewingTable>,
-            info: ModelInfo::of::<crate::mechanisms::sewing_table::SewingTable>,
-            variables: variables_of::<crate::mechanisms::sewing_table::SewingTable>,
-            documentation: crate::mechanisms::sewing_table::docs::documentation,
-            tailor: crate::scene::tailor::<crate::mechanisms::sewing_table::SewingTable>,
-            scene_documentation: crate::docs::scene::documentation::<
-                crate::mechanisms::sewing_table::SewingTable,
-            >,
-        },
-        Entry {
-            identifier: "Perforators",
-            package: "perforators-fmu",
-            describe: crate::md::describe::<crate::mechanisms::perforators::Perforators>,
-            info: ModelInfo::of::<crate::mechanisms::perforators::Perforators>,
-            variables: variables_of::<crate::mechanisms::perforators::Perforators>,
-            documentation: crate::mechanisms::perforators::docs::documentation,
-            tailor: crate::scene::tailor::<crate::mechanisms::perforators::Perforators>,
-            scene_documentation: crate::docs::scene::documentation::<
-                crate::mechanisms::perforators::Perforators,
-            >,
-        },
-        Entry {
-            identifier: "DiscKnifeDrive",
-            package: "disc-knife-drive-fmu",
-            describe: crate::md::describe::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
-            info: ModelInfo::of::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
-            variables: variables_of::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
-            documentation: crate::mechanisms::disc_knife_drive::docs::documentation,
-            tailor: crate::scene::tailor::<crate::mechanisms::disc_knife_drive::DiscKnifeDrive>,
-            scene_documentation: crate::docs::scene::documentation::<
-                crate::mechanisms::disc_knife_drive::DiscKnifeDrive,
-            >,
-        },
-        Entry {
-            identifier: "MainShaft",
-            package: "main-shaft-fmu",
-            describe: crate::md::describe::<crate::mechanisms::main_shaft::MainShaft>,
-            info: ModelInfo::of::<crate::mechanisms::main_shaft::MainShaft>,
-            variables: variables_of::<crate::mechanisms::main_shaft::MainShaft>,
-            documentation: crate::mechanisms::main_shaft::docs::documentation,
-            tailor: crate::scene::tailor::<crate::mechanisms::main_shaft::MainShaft>,
-            scene_documentation: crate::docs::scene::documentation::<
-                crate::mechanisms::main_shaft::MainShaft,
-            >,
-        },
+        Entry::of::<geneva_knife_drive::GenevaKnifeDrive>(
+            "geneva-knife-drive-fmu",
+            geneva_knife_drive::docs::documentation,
+        ),
+        Entry::of::<sewing_table::SewingTable>(
+            "sewing-table-fmu",
+            sewing_table::docs::documentation,
+        ),
+        Entry::of::<perforators::Perforators>("perforators-fmu", perforators::docs::documentation),
+        Entry::of::<disc_knife_drive::DiscKnifeDrive>(
+            "disc-knife-drive-fmu",
+            disc_knife_drive::docs::documentation,
+        ),
+        Entry::of::<main_shaft::MainShaft>("main-shaft-fmu", main_shaft::docs::documentation),
     ]
 }
 
