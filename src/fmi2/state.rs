@@ -1,18 +1,53 @@
 //! The FMI 2.0 co-simulation state machine, as a declarative table of which call is legal in
 //! which state (FMI 2.0 standard, section 4.2.4, and the "MASK_" table of the Reference FMUs).
 
-/// States of a co-simulation slave. Each is one bit, so a set of states is a mask.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u16)]
-pub enum State {
-    Instantiated = 1 << 0,
-    InitializationMode = 1 << 1,
-    StepComplete = 1 << 2,
-    StepFailed = 1 << 3,
-    StepCanceled = 1 << 4,
-    Terminated = 1 << 5,
-    Error = 1 << 6,
-    Fatal = 1 << 7,
+/// A set of states of one bit each (so a set of them is a mask): the enum, the array of
+/// all its states (`$all`) and the `const fn` (`$mask`) that makes a mask of some.
+macro_rules! bit_states {
+    (
+        $(#[$doc:meta])*
+        $vis:vis enum $name:ident: $repr:ident { $($state:ident = $bit:expr,)* }
+        $(#[$all_doc:meta])*
+        $all_vis:vis const $all:ident;
+        fn $mask:ident;
+    ) => {
+        $(#[$doc])*
+        #[derive(Clone, Copy, Debug, PartialEq, Eq)]
+        #[repr($repr)]
+        $vis enum $name {
+            $($state = $bit,)*
+        }
+
+        $(#[$all_doc])*
+        $all_vis const $all: [$name; [$($name::$state),*].len()] = [$($name::$state),*];
+
+        /// The mask of `states`.
+        const fn $mask(states: &[$name]) -> $repr {
+            let mut m = 0;
+            let mut i = 0;
+            while i < states.len() {
+                m |= states[i] as $repr;
+                i += 1;
+            }
+            m
+        }
+    };
+}
+
+bit_states! {
+    /// States of a co-simulation slave. Each is one bit, so a set of states is a mask.
+    pub enum State: u16 {
+        Instantiated = 1 << 0,
+        InitializationMode = 1 << 1,
+        StepComplete = 1 << 2,
+        StepFailed = 1 << 3,
+        StepCanceled = 1 << 4,
+        Terminated = 1 << 5,
+        Error = 1 << 6,
+        Fatal = 1 << 7,
+    }
+    const ALL_STATES;
+    fn mask;
 }
 
 impl State {
@@ -26,28 +61,7 @@ impl State {
     }
 }
 
-const ALL_STATES: [State; 8] = [
-    State::Instantiated,
-    State::InitializationMode,
-    State::StepComplete,
-    State::StepFailed,
-    State::StepCanceled,
-    State::Terminated,
-    State::Error,
-    State::Fatal,
-];
-
 use State::*;
-
-const fn mask(states: &[State]) -> u16 {
-    let mut m = 0;
-    let mut i = 0;
-    while i < states.len() {
-        m |= states[i] as u16;
-        i += 1;
-    }
-    m
-}
 
 /// Every state an instance can be in (for calls legal anywhere but Fatal).
 const ANY: u16 = mask(&[
@@ -249,38 +263,21 @@ impl Call {
     }
 }
 
-/// States of a Model Exchange instance (FMI 2.0 standard, section 3.2.3). The runtime keeps
-/// one state variable for both interfaces: an initialized Model Exchange instance is in
-/// [`State::StepComplete`] with its mode (event or continuous-time) beside it.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-#[repr(u8)]
-pub enum MeState {
-    Instantiated = 1 << 0,
-    InitializationMode = 1 << 1,
-    EventMode = 1 << 2,
-    ContinuousTimeMode = 1 << 3,
-    Terminated = 1 << 4,
-    Error = 1 << 5,
-}
-
-/// Every Model Exchange state, for tests that walk them all.
-pub const ME_STATES: [MeState; 6] = [
-    MeState::Instantiated,
-    MeState::InitializationMode,
-    MeState::EventMode,
-    MeState::ContinuousTimeMode,
-    MeState::Terminated,
-    MeState::Error,
-];
-
-const fn me_mask(states: &[MeState]) -> u8 {
-    let mut m = 0;
-    let mut i = 0;
-    while i < states.len() {
-        m |= states[i] as u8;
-        i += 1;
+bit_states! {
+    /// States of a Model Exchange instance (FMI 2.0 standard, section 3.2.3). The runtime keeps
+    /// one state variable for both interfaces: an initialized Model Exchange instance is in
+    /// [`State::StepComplete`] with its mode (event or continuous-time) beside it.
+    pub enum MeState: u8 {
+        Instantiated = 1 << 0,
+        InitializationMode = 1 << 1,
+        EventMode = 1 << 2,
+        ContinuousTimeMode = 1 << 3,
+        Terminated = 1 << 4,
+        Error = 1 << 5,
     }
-    m
+    /// Every Model Exchange state, for tests that walk them all.
+    pub const ME_STATES;
+    fn me_mask;
 }
 
 /// The Model Exchange table: in which states each call is legal (FMI 2.0 section 3.2.3, as
