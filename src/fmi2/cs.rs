@@ -146,6 +146,37 @@ pub unsafe fn do_step<M: Model>(c: Component, t: f64, h: f64, _no_prior: Boolean
     }
 }
 
+/// A typed `fmi2Get*Status` of a synchronous slave: it answers one status `kind`, `known`,
+/// with `read`; any other kind is refused.
+///
+/// # Safety
+/// As [`entry`]; `value` points to one element.
+unsafe fn typed_status<M: Model, T>(
+    c: Component,
+    call: Call,
+    known: StatusKind,
+    kind: std::ffi::c_int,
+    value: *mut T,
+    read: impl FnOnce(&Instance<M>) -> T,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M>(c, call, |inst| {
+            if value.is_null() {
+                return Err("value is NULL".into());
+            }
+            if kind != known as i32 {
+                return Err(format!(
+                    "fmi2{call:?} answers fmi2{known:?} ({}) only, not {kind}",
+                    known as i32
+                ));
+            }
+            *value = read(inst);
+            Ok(Status::Ok)
+        })
+    }
+}
+
 /// `fmi2GetStatus` and the typed variants: only what a synchronous slave can answer.
 ///
 /// # Safety
@@ -155,21 +186,9 @@ pub unsafe fn get_real_status<M: Model>(
     kind: std::ffi::c_int,
     value: *mut Real,
 ) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M>(c, Call::GetRealStatus, |inst| {
-            if value.is_null() {
-                return Err("value is NULL".into());
-            }
-            if kind != StatusKind::LastSuccessfulTime as i32 {
-                return Err(format!(
-                    "fmi2GetRealStatus answers fmi2LastSuccessfulTime (2) only, not {kind}"
-                ));
-            }
-            *value = inst.time;
-            Ok(Status::Ok)
-        })
-    }
+    let known = StatusKind::LastSuccessfulTime;
+    // SAFETY: as this function.
+    unsafe { typed_status::<M, _>(c, Call::GetRealStatus, known, kind, value, |i| i.time) }
 }
 
 /// `fmi2GetBooleanStatus`: `fmi2Terminated` is always false (the slave never ends a run itself).
@@ -181,19 +200,7 @@ pub unsafe fn get_boolean_status<M: Model>(
     kind: std::ffi::c_int,
     value: *mut Boolean,
 ) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M>(c, Call::GetBooleanStatus, |_| {
-            if value.is_null() {
-                return Err("value is NULL".into());
-            }
-            if kind != StatusKind::Terminated as i32 {
-                return Err(format!(
-                    "fmi2GetBooleanStatus answers fmi2Terminated (3) only, not {kind}"
-                ));
-            }
-            *value = FALSE;
-            Ok(Status::Ok)
-        })
-    }
+    let known = StatusKind::Terminated;
+    // SAFETY: as this function.
+    unsafe { typed_status::<M, _>(c, Call::GetBooleanStatus, known, kind, value, |_| FALSE) }
 }

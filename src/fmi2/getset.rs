@@ -2,6 +2,7 @@
 //! model does not support.
 
 use super::*;
+use std::borrow::Cow;
 
 /// The FMI type a get/set call handles: its name (for messages), its [`access`] bit and the
 /// declared types it covers (Integer calls also read and write Enumerations).
@@ -12,193 +13,111 @@ pub(super) struct Kind {
     pub(super) ok: fn(VarType) -> bool,
 }
 
-pub(super) const REAL: Kind = Kind {
-    name: "Real",
-    bit: access::REAL,
-    ok: |t| t == VarType::Real,
-};
-pub(super) const INTEGER: Kind = Kind {
-    name: "Integer",
-    bit: access::INTEGER,
-    ok: VarType::is_integer_like,
-};
-pub(super) const BOOLEAN: Kind = Kind {
-    name: "Boolean",
-    bit: access::BOOLEAN,
-    ok: |t| t == VarType::Boolean,
-};
+impl Kind {
+    const fn new(name: &'static str, bit: access::Bits, ok: fn(VarType) -> bool) -> Kind {
+        Kind { name, bit, ok }
+    }
+}
+
+pub(super) const REAL: Kind = Kind::new("Real", access::REAL, |t| t == VarType::Real);
+pub(super) const INTEGER: Kind = Kind::new("Integer", access::INTEGER, VarType::is_integer_like);
+pub(super) const BOOLEAN: Kind = Kind::new("Boolean", access::BOOLEAN, |t| t == VarType::Boolean);
 /// The models have no String variables: every String call is refused by the slow path.
-pub(super) const STRING: Kind = Kind {
-    name: "String",
-    bit: 0,
-    ok: |_| false,
-};
+pub(super) const STRING: Kind = Kind::new("String", 0, |_| false);
 
-/// `fmi2GetReal`.
+/// One `fmi2Get*` call: the host's arrays, then [`Instance::read_values`] with `conv`.
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn get_real<M: Model>(
+unsafe fn get<M: Model, T>(
     c: Component,
+    call: Call,
     vr: *const ValueReference,
     n: usize,
-    value: *mut Real,
+    value: *mut T,
+    kind: Kind,
+    conv: impl Fn(f64) -> T,
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::GetReal, |inst| {
+        entry::<M>(c, call, |inst| {
             let vrs = slice(vr, n, "vr")?;
             let out = slice_mut(value, n, "value")?;
-            inst.read_values(vrs, out, REAL, |x| x)
+            inst.read_values(vrs, out, kind, conv)
         })
     }
 }
 
-/// `fmi2GetInteger` (Integer and Enumeration variables).
+/// One `fmi2Set*` call: the host's arrays, the values as `f64` (`conv`), then
+/// [`Instance::set_values`].
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn get_integer<M: Model>(
+unsafe fn set<M: Model, T>(
     c: Component,
+    call: Call,
     vr: *const ValueReference,
     n: usize,
-    value: *mut Integer,
+    value: *const T,
+    kind: Kind,
+    conv: impl FnOnce(&[T]) -> Cow<'_, [f64]>,
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::GetInteger, |inst| {
+        entry::<M>(c, call, |inst| {
             let vrs = slice(vr, n, "vr")?;
-            let out = slice_mut(value, n, "value")?;
-            inst.read_values(vrs, out, INTEGER, |x| x as Integer)
+            let vals = conv(slice(value, n, "value")?);
+            inst.set_values(vrs, &vals, kind)
         })
     }
 }
 
-/// `fmi2GetBoolean`.
-///
-/// # Safety
-/// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn get_boolean<M: Model>(
-    c: Component,
-    vr: *const ValueReference,
-    n: usize,
-    value: *mut Boolean,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M>(c, Call::GetBoolean, |inst| {
-            let vrs = slice(vr, n, "vr")?;
-            let out = slice_mut(value, n, "value")?;
-            inst.read_values(vrs, out, BOOLEAN, |x| if x != 0.0 { TRUE } else { FALSE })
-        })
-    }
+/// The public get and set calls, one entry each: the name, the host's value array, and
+/// [`get`] or [`set`] with the call, its [`Kind`] and the conversion.
+macro_rules! get_set_calls {
+    ($(
+        $(#[$doc:meta])*
+        $name:ident($value:ty) = $how:ident($call:ident, $kind:ident, $conv:expr);
+    )*) => {$(
+        $(#[$doc])*
+        ///
+        /// # Safety
+        /// As [`entry`]; arrays hold `n` elements.
+        pub unsafe fn $name<M: Model>(
+            c: Component,
+            vr: *const ValueReference,
+            n: usize,
+            value: $value,
+        ) -> Status {
+            // SAFETY: as this function.
+            unsafe { $how::<M, _>(c, Call::$call, vr, n, value, $kind, $conv) }
+        }
+    )*};
 }
 
-/// `fmi2GetString`: the models have no String variables.
-///
-/// # Safety
-/// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn get_string<M: Model>(
-    c: Component,
-    vr: *const ValueReference,
-    n: usize,
-    value: *mut FmiString,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M>(c, Call::GetString, |inst| {
-            let vrs = slice(vr, n, "vr")?;
-            let out = slice_mut(value, n, "value")?;
-            inst.read_values(vrs, out, STRING, |_| std::ptr::null())
-        })
-    }
-}
-
-/// `fmi2SetReal`: non-finite values are refused and the previous values kept.
-///
-/// # Safety
-/// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn set_real<M: Model>(
-    c: Component,
-    vr: *const ValueReference,
-    n: usize,
-    value: *const Real,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M>(c, Call::SetReal, |inst| {
-            let vrs = slice(vr, n, "vr")?;
-            let vals = slice(value, n, "value")?;
-            inst.set_values(vrs, vals, REAL)
-        })
-    }
-}
-
-/// `fmi2SetInteger` (Integer and Enumeration variables).
-///
-/// # Safety
-/// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn set_integer<M: Model>(
-    c: Component,
-    vr: *const ValueReference,
-    n: usize,
-    value: *const Integer,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M>(c, Call::SetInteger, |inst| {
-            let vrs = slice(vr, n, "vr")?;
-            let vals: Vec<f64> = slice(value, n, "value")?
-                .iter()
-                .map(|&x| x as f64)
-                .collect();
-            inst.set_values(vrs, &vals, INTEGER)
-        })
-    }
-}
-
-/// `fmi2SetBoolean`.
-///
-/// # Safety
-/// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn set_boolean<M: Model>(
-    c: Component,
-    vr: *const ValueReference,
-    n: usize,
-    value: *const Boolean,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M>(c, Call::SetBoolean, |inst| {
-            let vrs = slice(vr, n, "vr")?;
-            let vals: Vec<f64> = slice(value, n, "value")?
-                .iter()
-                .map(|&x| if x != FALSE { 1.0 } else { 0.0 })
-                .collect();
-            inst.set_values(vrs, &vals, BOOLEAN)
-        })
-    }
-}
-
-/// `fmi2SetString`: the models have no String variables.
-///
-/// # Safety
-/// As [`entry`]; arrays hold `n` elements.
-pub unsafe fn set_string<M: Model>(
-    c: Component,
-    vr: *const ValueReference,
-    n: usize,
-    value: *const FmiString,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M>(c, Call::SetString, |inst| {
-            let vrs = slice(vr, n, "vr")?;
-            let _ = slice(value, n, "value")?;
-            let vals = vec![0.0; n];
-            inst.set_values(vrs, &vals, STRING)
-        })
-    }
+get_set_calls! {
+    /// `fmi2GetReal`.
+    get_real(*mut Real) = get(GetReal, REAL, |x| x);
+    /// `fmi2GetInteger` (Integer and Enumeration variables).
+    get_integer(*mut Integer) = get(GetInteger, INTEGER, |x| x as Integer);
+    /// `fmi2GetBoolean`.
+    get_boolean(*mut Boolean) = get(GetBoolean, BOOLEAN, |x| {
+        if x != 0.0 { TRUE } else { FALSE }
+    });
+    /// `fmi2GetString`: the models have no String variables.
+    get_string(*mut FmiString) = get(GetString, STRING, |_| std::ptr::null());
+    /// `fmi2SetReal`: non-finite values are refused and the previous values kept.
+    set_real(*const Real) = set(SetReal, REAL, |v| v.into());
+    /// `fmi2SetInteger` (Integer and Enumeration variables).
+    set_integer(*const Integer) = set(SetInteger, INTEGER, |v| {
+        v.iter().map(|&x| x as f64).collect()
+    });
+    /// `fmi2SetBoolean`.
+    set_boolean(*const Boolean) = set(SetBoolean, BOOLEAN, |v| {
+        v.iter().map(|&x| if x != FALSE { 1.0 } else { 0.0 }).collect()
+    });
+    /// `fmi2SetString`: the models have no String variables.
+    set_string(*const FmiString) = set(SetString, STRING, |v| vec![0.0; v.len()].into());
 }
 
 /// A call whose capability flag is false: logged and refused.

@@ -2,7 +2,7 @@
 //! states with its own solver (e.g. FMPy with CVode) through states, derivatives and event
 //! indicators ([`Dynamics::STATES`], [`Dynamics::me_derivatives`], ...). A submodule of the runtime:
 //! it uses the same instance and entry wrapper; [`entry`] checks each call against the Model
-//! Exchange table (`state::ME_LEGAL`), whose event and continuous-time modes both run in the
+//! Exchange column of `state::LEGAL`, whose event and continuous-time modes both run in the
 //! runtime's state `StepComplete`, told apart by [`Mode`].
 
 use super::*;

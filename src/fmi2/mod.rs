@@ -15,7 +15,6 @@ macro_rules! export_fmu {
             #![allow(non_snake_case, clippy::missing_safety_doc)]
             use super::*;
             use $crate::fmi2::runtime as rt;
-            use $crate::fmi2::state::Call;
             use $crate::fmi2::types::*;
             type M = $model;
 
@@ -52,362 +51,169 @@ macro_rules! export_fmu {
             pub extern "C" fn fmi2GetVersion() -> FmiString {
                 VERSION.as_ptr()
             }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetDebugLogging(
-                c: Component,
-                on: Boolean,
-                n: usize,
-                cats: *const FmiString,
-            ) -> Status {
-                unsafe { rt::set_debug_logging::<M>(c, on, n, cats) }
+            $crate::__fmi2_forward! { M;
+                fmi2SetDebugLogging(c: Component, on: Boolean, n: usize, cats: *const FmiString)
+                    -> Status => rt::set_debug_logging;
+                fmi2Instantiate(
+                    name: FmiString,
+                    ty: std::ffi::c_int,
+                    guid: FmiString,
+                    resources: FmiString,
+                    functions: *const CallbackFunctions,
+                    visible: Boolean,
+                    logging_on: Boolean,
+                ) -> Component => rt::instantiate_c;
+                fmi2FreeInstance(c: Component) => rt::free_instance;
+                fmi2SetupExperiment(
+                    c: Component,
+                    tol_defined: Boolean,
+                    tol: Real,
+                    start: Real,
+                    stop_defined: Boolean,
+                    stop: Real,
+                ) -> Status => rt::setup_experiment;
+                fmi2EnterInitializationMode(c: Component)
+                    -> Status => rt::enter_initialization_mode;
+                fmi2ExitInitializationMode(c: Component) -> Status => rt::exit_initialization_mode;
+                fmi2Terminate(c: Component) -> Status => rt::terminate;
+                fmi2Reset(c: Component) -> Status => rt::reset;
+                fmi2GetFMUstate(c: Component, s: *mut FMUstate) -> Status => rt::get_fmu_state;
+                fmi2SetFMUstate(c: Component, s: FMUstate) -> Status => rt::set_fmu_state;
+                fmi2FreeFMUstate(c: Component, s: *mut FMUstate) -> Status => rt::free_fmu_state;
+                fmi2SerializedFMUstateSize(c: Component, s: FMUstate, size: *mut usize)
+                    -> Status => rt::serialized_fmu_state_size;
+                fmi2SerializeFMUstate(c: Component, s: FMUstate, bytes: *mut Byte, size: usize)
+                    -> Status => rt::serialize_fmu_state;
+                fmi2DeSerializeFMUstate(
+                    c: Component,
+                    bytes: *const Byte,
+                    size: usize,
+                    s: *mut FMUstate,
+                ) -> Status => rt::deserialize_fmu_state;
+                fmi2SetRealInputDerivatives(
+                    c: Component,
+                    vr: *const ValueReference,
+                    n: usize,
+                    order: *const Integer,
+                    v: *const Real,
+                ) -> Status => rt::set_real_input_derivatives;
+                fmi2DoStep(c: Component, t: Real, h: Real, no_prior: Boolean)
+                    -> Status => rt::do_step;
+                fmi2GetRealStatus(c: Component, kind: std::ffi::c_int, v: *mut Real)
+                    -> Status => rt::get_real_status;
+                fmi2GetBooleanStatus(c: Component, kind: std::ffi::c_int, v: *mut Boolean)
+                    -> Status => rt::get_boolean_status;
             }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2Instantiate(
-                name: FmiString,
-                ty: std::ffi::c_int,
-                guid: FmiString,
-                resources: FmiString,
-                functions: *const CallbackFunctions,
-                visible: Boolean,
-                logging_on: Boolean,
-            ) -> Component {
-                unsafe {
-                    rt::instantiate_c::<M>(
-                        name, ty, guid, resources, functions, visible, logging_on,
-                    )
-                }
+
+            // the get and set calls, each (component, value references, n, values)
+            $crate::__fmi2_forward! { M; get_set:
+                fmi2GetReal(*mut Real) => rt::get_real;
+                fmi2GetInteger(*mut Integer) => rt::get_integer;
+                fmi2GetBoolean(*mut Boolean) => rt::get_boolean;
+                fmi2GetString(*mut FmiString) => rt::get_string;
+                fmi2SetReal(*const Real) => rt::set_real;
+                fmi2SetInteger(*const Integer) => rt::set_integer;
+                fmi2SetBoolean(*const Boolean) => rt::set_boolean;
+                fmi2SetString(*const FmiString) => rt::set_string;
             }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2FreeInstance(c: Component) {
-                unsafe { rt::free_instance::<M>(c) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetupExperiment(
-                c: Component,
-                tol_defined: Boolean,
-                tol: Real,
-                start: Real,
-                stop_defined: Boolean,
-                stop: Real,
-            ) -> Status {
-                unsafe { rt::setup_experiment::<M>(c, tol_defined, tol, start, stop_defined, stop) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2EnterInitializationMode(c: Component) -> Status {
-                unsafe { rt::enter_initialization_mode::<M>(c) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2ExitInitializationMode(c: Component) -> Status {
-                unsafe { rt::exit_initialization_mode::<M>(c) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2Terminate(c: Component) -> Status {
-                unsafe { rt::terminate::<M>(c) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2Reset(c: Component) -> Status {
-                unsafe { rt::reset::<M>(c) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetReal(
-                c: Component,
-                vr: *const ValueReference,
-                n: usize,
-                v: *mut Real,
-            ) -> Status {
-                unsafe { rt::get_real::<M>(c, vr, n, v) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetInteger(
-                c: Component,
-                vr: *const ValueReference,
-                n: usize,
-                v: *mut Integer,
-            ) -> Status {
-                unsafe { rt::get_integer::<M>(c, vr, n, v) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetBoolean(
-                c: Component,
-                vr: *const ValueReference,
-                n: usize,
-                v: *mut Boolean,
-            ) -> Status {
-                unsafe { rt::get_boolean::<M>(c, vr, n, v) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetString(
-                c: Component,
-                vr: *const ValueReference,
-                n: usize,
-                v: *mut FmiString,
-            ) -> Status {
-                unsafe { rt::get_string::<M>(c, vr, n, v) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetReal(
-                c: Component,
-                vr: *const ValueReference,
-                n: usize,
-                v: *const Real,
-            ) -> Status {
-                unsafe { rt::set_real::<M>(c, vr, n, v) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetInteger(
-                c: Component,
-                vr: *const ValueReference,
-                n: usize,
-                v: *const Integer,
-            ) -> Status {
-                unsafe { rt::set_integer::<M>(c, vr, n, v) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetBoolean(
-                c: Component,
-                vr: *const ValueReference,
-                n: usize,
-                v: *const Boolean,
-            ) -> Status {
-                unsafe { rt::set_boolean::<M>(c, vr, n, v) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetString(
-                c: Component,
-                vr: *const ValueReference,
-                n: usize,
-                v: *const FmiString,
-            ) -> Status {
-                unsafe { rt::set_string::<M>(c, vr, n, v) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetFMUstate(c: Component, s: *mut FMUstate) -> Status {
-                unsafe { rt::get_fmu_state::<M>(c, s) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetFMUstate(c: Component, s: FMUstate) -> Status {
-                unsafe { rt::set_fmu_state::<M>(c, s) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2FreeFMUstate(c: Component, s: *mut FMUstate) -> Status {
-                unsafe { rt::free_fmu_state::<M>(c, s) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SerializedFMUstateSize(
-                c: Component,
-                s: FMUstate,
-                size: *mut usize,
-            ) -> Status {
-                unsafe { rt::serialized_fmu_state_size::<M>(c, s, size) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SerializeFMUstate(
-                c: Component,
-                s: FMUstate,
-                bytes: *mut Byte,
-                size: usize,
-            ) -> Status {
-                unsafe { rt::serialize_fmu_state::<M>(c, s, bytes, size) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2DeSerializeFMUstate(
-                c: Component,
-                bytes: *const Byte,
-                size: usize,
-                s: *mut FMUstate,
-            ) -> Status {
-                unsafe { rt::deserialize_fmu_state::<M>(c, bytes, size, s) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetDirectionalDerivative(
-                c: Component,
-                _unknown: *const ValueReference,
-                _nu: usize,
-                _known: *const ValueReference,
-                _nk: usize,
-                _dv_known: *const Real,
-                _dv_unknown: *mut Real,
-            ) -> Status {
-                unsafe {
-                    rt::unsupported::<M>(
-                        c,
-                        Call::GetDirectionalDerivative,
-                        "providesDirectionalDerivative is false",
-                    )
-                }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetRealInputDerivatives(
-                c: Component,
-                vr: *const ValueReference,
-                n: usize,
-                order: *const Integer,
-                v: *const Real,
-            ) -> Status {
-                unsafe { rt::set_real_input_derivatives::<M>(c, vr, n, order, v) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetRealOutputDerivatives(
-                c: Component,
-                _vr: *const ValueReference,
-                _n: usize,
-                _order: *const Integer,
-                _v: *mut Real,
-            ) -> Status {
-                unsafe {
-                    rt::unsupported::<M>(
-                        c,
-                        Call::GetRealOutputDerivatives,
-                        "maxOutputDerivativeOrder is 0",
-                    )
-                }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2DoStep(
-                c: Component,
-                t: Real,
-                h: Real,
-                no_prior: Boolean,
-            ) -> Status {
-                unsafe { rt::do_step::<M>(c, t, h, no_prior) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2CancelStep(c: Component) -> Status {
-                unsafe {
-                    rt::unsupported::<M>(c, Call::CancelStep, "canRunAsynchronuously is false")
-                }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetStatus(
-                c: Component,
-                _kind: std::ffi::c_int,
-                _v: *mut Status,
-            ) -> Status {
-                unsafe {
-                    rt::unsupported::<M>(
-                        c,
-                        Call::GetStatus,
-                        "steps are synchronous; no status is pending",
-                    )
-                }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetRealStatus(
-                c: Component,
-                kind: std::ffi::c_int,
-                v: *mut Real,
-            ) -> Status {
-                unsafe { rt::get_real_status::<M>(c, kind, v) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetIntegerStatus(
-                c: Component,
-                _kind: std::ffi::c_int,
-                _v: *mut Integer,
-            ) -> Status {
-                unsafe {
-                    rt::unsupported::<M>(
-                        c,
-                        Call::GetIntegerStatus,
-                        "no integer status is defined in FMI 2.0",
-                    )
-                }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetBooleanStatus(
-                c: Component,
-                kind: std::ffi::c_int,
-                v: *mut Boolean,
-            ) -> Status {
-                unsafe { rt::get_boolean_status::<M>(c, kind, v) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetStringStatus(
-                c: Component,
-                _kind: std::ffi::c_int,
-                _v: *mut FmiString,
-            ) -> Status {
-                unsafe {
-                    rt::unsupported::<M>(c, Call::GetStringStatus, "no status message is pending")
-                }
+
+            // the calls whose capability flag is false: logged and refused (rt::unsupported)
+            $crate::__fmi2_unsupported! { M;
+                fmi2GetDirectionalDerivative(
+                    _unknown: *const ValueReference,
+                    _nu: usize,
+                    _known: *const ValueReference,
+                    _nk: usize,
+                    _dv_known: *const Real,
+                    _dv_unknown: *mut Real,
+                ) = GetDirectionalDerivative, "providesDirectionalDerivative is false";
+                fmi2GetRealOutputDerivatives(
+                    _vr: *const ValueReference,
+                    _n: usize,
+                    _order: *const Integer,
+                    _v: *mut Real,
+                ) = GetRealOutputDerivatives, "maxOutputDerivativeOrder is 0";
+                fmi2CancelStep() = CancelStep, "canRunAsynchronuously is false";
+                fmi2GetStatus(_kind: std::ffi::c_int, _v: *mut Status)
+                    = GetStatus, "steps are synchronous; no status is pending";
+                fmi2GetIntegerStatus(_kind: std::ffi::c_int, _v: *mut Integer)
+                    = GetIntegerStatus, "no integer status is defined in FMI 2.0";
+                fmi2GetStringStatus(_kind: std::ffi::c_int, _v: *mut FmiString)
+                    = GetStringStatus, "no status message is pending";
             }
 
             // ---- Model Exchange (runtime::me); refused on a Co-Simulation instance
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2EnterEventMode(c: Component) -> Status {
-                unsafe { rt::me::enter_event_mode::<M>(c) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2NewDiscreteStates(
-                c: Component,
-                info: *mut rt::me::EventInfo,
-            ) -> Status {
-                unsafe { rt::me::new_discrete_states::<M>(c, info) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2EnterContinuousTimeMode(c: Component) -> Status {
-                unsafe { rt::me::enter_continuous_time_mode::<M>(c) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2CompletedIntegratorStep(
-                c: Component,
-                no_set_prior: Boolean,
-                enter_event_mode: *mut Boolean,
-                terminate: *mut Boolean,
-            ) -> Status {
-                unsafe {
-                    rt::me::completed_integrator_step::<M>(
-                        c,
-                        no_set_prior,
-                        enter_event_mode,
-                        terminate,
-                    )
-                }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetTime(c: Component, t: Real) -> Status {
-                unsafe { rt::me::set_time::<M>(c, t) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2SetContinuousStates(
-                c: Component,
-                x: *const Real,
-                nx: usize,
-            ) -> Status {
-                unsafe { rt::me::set_continuous_states::<M>(c, x, nx) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetDerivatives(
-                c: Component,
-                dx: *mut Real,
-                nx: usize,
-            ) -> Status {
-                unsafe { rt::me::get_derivatives::<M>(c, dx, nx) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetEventIndicators(
-                c: Component,
-                z: *mut Real,
-                ni: usize,
-            ) -> Status {
-                unsafe { rt::me::get_event_indicators::<M>(c, z, ni) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetContinuousStates(
-                c: Component,
-                x: *mut Real,
-                nx: usize,
-            ) -> Status {
-                unsafe { rt::me::get_continuous_states::<M>(c, x, nx) }
-            }
-            #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi2GetNominalsOfContinuousStates(
-                c: Component,
-                x: *mut Real,
-                nx: usize,
-            ) -> Status {
-                unsafe { rt::me::get_nominals::<M>(c, x, nx) }
+            $crate::__fmi2_forward! { M;
+                fmi2EnterEventMode(c: Component) -> Status => rt::me::enter_event_mode;
+                fmi2NewDiscreteStates(c: Component, info: *mut rt::me::EventInfo)
+                    -> Status => rt::me::new_discrete_states;
+                fmi2EnterContinuousTimeMode(c: Component)
+                    -> Status => rt::me::enter_continuous_time_mode;
+                fmi2CompletedIntegratorStep(
+                    c: Component,
+                    no_set_prior: Boolean,
+                    enter_event_mode: *mut Boolean,
+                    terminate: *mut Boolean,
+                ) -> Status => rt::me::completed_integrator_step;
+                fmi2SetTime(c: Component, t: Real) -> Status => rt::me::set_time;
+                fmi2SetContinuousStates(c: Component, x: *const Real, nx: usize)
+                    -> Status => rt::me::set_continuous_states;
+                fmi2GetDerivatives(c: Component, dx: *mut Real, nx: usize)
+                    -> Status => rt::me::get_derivatives;
+                fmi2GetEventIndicators(c: Component, z: *mut Real, ni: usize)
+                    -> Status => rt::me::get_event_indicators;
+                fmi2GetContinuousStates(c: Component, x: *mut Real, nx: usize)
+                    -> Status => rt::me::get_continuous_states;
+                fmi2GetNominalsOfContinuousStates(c: Component, x: *mut Real, nx: usize)
+                    -> Status => rt::me::get_nominals;
             }
         }
     };
+}
+
+/// For [`crate::export_fmu!`]: `extern "C"` functions, each passing its arguments on, in
+/// order, to the runtime function named after `=>`, for the model `$m`. After `get_set:`, the
+/// calls of the get/set signature, named with the type of their value array only.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __fmi2_forward {
+    ($m:ty; get_set: $($name:ident($value:ty) => $($f:ident)::+;)*) => {
+        $crate::__fmi2_forward! { $m; $(
+            $name(
+                c: $crate::fmi2::types::Component,
+                vr: *const $crate::fmi2::types::ValueReference,
+                n: usize,
+                v: $value,
+            ) -> $crate::fmi2::types::Status => $($f)::+;
+        )* }
+    };
+    ($m:ty; $(
+        $name:ident($($arg:ident: $t:ty),* $(,)?) $(-> $ret:ty)? => $($f:ident)::+;
+    )*) => {$(
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name($($arg: $t),*) $(-> $ret)? {
+            unsafe { $($f)::+::<$m>($($arg),*) }
+        }
+    )*};
+}
+
+/// For [`crate::export_fmu!`]: `extern "C"` functions of calls the model does not support, each
+/// taking the component and the listed (unused) arguments, and refusing the call with its
+/// reason ([`crate::fmi2::runtime::unsupported`]).
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __fmi2_unsupported {
+    ($m:ty; $(
+        $name:ident($($arg:ident: $t:ty),* $(,)?) = $call:ident, $why:literal;
+    )*) => {$(
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name(
+            c: $crate::fmi2::types::Component,
+            $($arg: $t),*
+        ) -> $crate::fmi2::types::Status {
+            unsafe {
+                $crate::fmi2::runtime::unsupported::<$m>(c, $crate::fmi2::state::Call::$call, $why)
+            }
+        }
+    )*};
 }
