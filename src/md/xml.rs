@@ -72,14 +72,9 @@ struct Fmd {
     structure: ModelStructure,
 }
 
+/// The capability flags both interfaces state, the same for both.
 #[derive(Serialize)]
-struct ModelExch {
-    #[serde(rename = "@modelIdentifier")]
-    model_identifier: String,
-    #[serde(rename = "@needsExecutionTool")]
-    needs_execution_tool: bool,
-    #[serde(rename = "@completedIntegratorStepNotNeeded")]
-    completed_step_not_needed: bool,
+struct Capabilities {
     #[serde(rename = "@canBeInstantiatedOnlyOncePerProcess")]
     once_per_process: bool,
     #[serde(rename = "@canNotUseMemoryManagementFunctions")]
@@ -90,6 +85,26 @@ struct ModelExch {
     serialize_state: bool,
     #[serde(rename = "@providesDirectionalDerivative")]
     directional_derivative: bool,
+}
+
+const CAPABILITIES: Capabilities = Capabilities {
+    once_per_process: false,
+    no_memory_functions: true,
+    get_set_state: true,
+    serialize_state: true,
+    directional_derivative: false,
+};
+
+#[derive(Serialize)]
+struct ModelExch {
+    #[serde(rename = "@modelIdentifier")]
+    model_identifier: String,
+    #[serde(rename = "@needsExecutionTool")]
+    needs_execution_tool: bool,
+    #[serde(rename = "@completedIntegratorStepNotNeeded")]
+    completed_step_not_needed: bool,
+    #[serde(flatten)]
+    capabilities: Capabilities,
 }
 
 #[derive(Serialize)]
@@ -106,16 +121,8 @@ struct CoSim {
     max_output_derivative_order: u32,
     #[serde(rename = "@canRunAsynchronuously")]
     async_run: bool,
-    #[serde(rename = "@canBeInstantiatedOnlyOncePerProcess")]
-    once_per_process: bool,
-    #[serde(rename = "@canNotUseMemoryManagementFunctions")]
-    no_memory_functions: bool,
-    #[serde(rename = "@canGetAndSetFMUstate")]
-    get_set_state: bool,
-    #[serde(rename = "@canSerializeFMUstate")]
-    serialize_state: bool,
-    #[serde(rename = "@providesDirectionalDerivative")]
-    directional_derivative: bool,
+    #[serde(flatten)]
+    capabilities: Capabilities,
 }
 
 #[derive(Serialize)]
@@ -504,11 +511,7 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             model_identifier: info.identifier.to_string(),
             needs_execution_tool: false,
             completed_step_not_needed: false,
-            once_per_process: false,
-            no_memory_functions: true,
-            get_set_state: true,
-            serialize_state: true,
-            directional_derivative: false,
+            capabilities: CAPABILITIES,
         }),
         co_simulation: CoSim {
             model_identifier: info.identifier.to_string(),
@@ -517,11 +520,7 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             interpolate_inputs: info.can_interpolate_inputs,
             max_output_derivative_order: 0,
             async_run: false,
-            once_per_process: false,
-            no_memory_functions: true,
-            get_set_state: true,
-            serialize_state: true,
-            directional_derivative: false,
+            capabilities: CAPABILITIES,
         },
         units: Units { unit: units },
         types: Types { simple: types },
