@@ -10,10 +10,12 @@
 //! - [`geneva`]: external Geneva pair (driver with roller, cross with Z slots).
 //! - [`hertz`]: Hertz line-contact stress.
 //! - [`cam`]: pitch-curve curvature and pressure angle of a radial cam.
+//! - [`circles`]: where two links meet (circle intersection, on dual numbers).
 //! - [`cyclogram`]: forward / dwell / return / dwell over one shaft turn (paper 000, Fig. 2).
 //! - [`slider_line`]: a link from a joint to a slider on a line (the perforators' rod, paper 000 Fig. 4).
 
 pub mod cam;
+pub mod circles;
 pub mod cyclogram;
 pub mod geneva;
 pub mod hertz;

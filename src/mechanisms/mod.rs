@@ -2,6 +2,7 @@
 
 pub mod disc_knife_drive;
 pub mod geneva_knife_drive;
+pub mod legacy_needle_drive;
 pub mod main_shaft;
 pub mod perforators;
 pub mod sewing_table;
