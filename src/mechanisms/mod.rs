@@ -1,5 +1,6 @@
 //! One module per mechanism: its physics (pure math, no FFI) and its FMU model.
 
+pub mod contact_watch;
 pub mod disc_knife_drive;
 pub mod geneva_knife_drive;
 pub mod legacy_needle_drive;

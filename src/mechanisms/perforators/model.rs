@@ -1,7 +1,7 @@
 //! The Perforators FMU: its variables, declared once, and the glue from them to
 //! [`super::physics`] (`../shared/spec/perforators.md`).
 //!
-//! Per-cycle quantities of the kinetostatic level live in the model's state ([`CycleState`]): the
+//! Per-cycle quantities of the kinetostatic level live in the model's state ([`ContactWatch`]): the
 //! smallest ramp contact force of the current and of the last completed shaft turn
 //! (`roller.F_margin`), and whether the roller lost contact during the last step
 //! (`roller.lost_contact`, with a `logWarning` naming the shaft angle where it starts). A step's
@@ -14,9 +14,10 @@ use super::elastic::{Contact, ContactLaw, LeverOde, N_EVENTS, Track};
 use super::physics::{Drive, Kinematics, Mode, Params};
 use crate::digest::TurnDigest;
 use crate::mechanics::cyclogram::Phase;
+use crate::mechanisms::contact_watch::{ContactWatch, WatchedContact, times};
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
-use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
+use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel, Saved};
@@ -141,179 +142,34 @@ crate::model_variables! {
 /// Largest curvature radius reported, m: a flat stretch of the ramp is reported as this.
 pub const RHO_FLAT: f64 = 1000.0;
 
-/// Per-cycle state of the kinetostatic level, advanced by [`CycleState::watch`] over each step.
-#[derive(Clone, Copy, Debug, PartialEq)]
-struct CycleState {
-    /// Index of the shaft turn being sampled (NaN before the first step).
-    cycle: f64,
-    /// Smallest contact force in that turn so far.
-    cur_min: f64,
-    /// Smallest contact force of the last completed turn (+inf if none).
-    last_min: f64,
-    /// A negative contact force during the last step.
-    lost_step: bool,
-    /// The last sample was negative (to count the onset once).
-    prev_negative: bool,
-    /// The lift-offs of the turn: `[pull, phi, t, w]` of the worst sample (the force the ramp
-    /// would have to pull with, N; absolute shaft angle; time; speed), reported once per turn.
-    liftoff: TurnDigest<4>,
-    /// Model Exchange: the time of the last completed integrator step (NaN: none yet) and the
-    /// shaft there, where the next completed step's span starts.
-    me_t: f64,
-    me_shaft: ShaftState,
-}
-
-impl Default for CycleState {
-    fn default() -> Self {
-        Self {
-            cycle: f64::NAN,
-            cur_min: f64::INFINITY,
-            last_min: f64::INFINITY,
-            lost_step: false,
-            prev_negative: false,
-            me_t: f64::NAN,
-            me_shaft: ShaftState {
-                phi: f64::NAN,
-                w: f64::NAN,
-                a: f64::NAN,
+/// The kinetostatic level's watch of the ramp contact ([`ContactWatch`]).
+impl WatchedContact for Drive {
+    fn contact_force(&self, phi: f64, w: f64, a: f64) -> f64 {
+        self.forces(&self.kinematics(phi, w, a)).roller_f
+    }
+    fn turn_start(&self) -> f64 {
+        self.cyc.phi0
+    }
+    /// The warning of a turn's lift-offs at the kinetostatic level.
+    fn liftoff_report(&self, g: &TurnDigest<4>) -> String {
+        let d = self;
+        let [pull, phi, t, w] = g.worst;
+        let psi = crate::mechanics::wrap_angle(phi - d.cyc.phi0);
+        format!(
+            "roller lifts off the ramp {} in the shaft turn {}: worst at shaft angle {:.2} deg ({:.2} deg into the turn, {}) at t = {t:.6} s, {:.1} rpm, where the ramp would have to pull with {pull:.2} N; spring.M0 = {} N.m, spring.kt = {} N.m/rad are too weak at this speed",
+            times(g.count),
+            g.turn,
+            phi.to_degrees(),
+            psi.to_degrees(),
+            if d.cyc.at(phi).phase == Phase::Forward {
+                "forward travel"
+            } else {
+                "return travel"
             },
-            liftoff: TurnDigest::default(),
-        }
-    }
-}
-
-/// The warning of a turn's lift-offs at the kinetostatic level.
-fn liftoff_report(d: &Drive, g: &TurnDigest<4>) -> String {
-    let [pull, phi, t, w] = g.worst;
-    let psi = crate::mechanics::wrap_angle(phi - d.cyc.phi0);
-    format!(
-        "roller lifts off the ramp {} in the shaft turn {}: worst at shaft angle {:.2} deg ({:.2} deg into the turn, {}) at t = {t:.6} s, {:.1} rpm, where the ramp would have to pull with {pull:.2} N; spring.M0 = {} N.m, spring.kt = {} N.m/rad are too weak at this speed",
-        times(g.count),
-        g.turn,
-        phi.to_degrees(),
-        psi.to_degrees(),
-        if d.cyc.at(phi).phase == Phase::Forward {
-            "forward travel"
-        } else {
-            "return travel"
-        },
-        w * 30.0 / std::f64::consts::PI,
-        d.p.spring_m0,
-        d.p.spring_kt
-    )
-}
-
-/// "once", "3 times".
-fn times(n: f64) -> String {
-    if n == 1.0 {
-        "once".into()
-    } else {
-        format!("{n} times")
-    }
-}
-
-impl CycleState {
-    /// Numbers of [`CycleState::save`] (5 before Model Exchange watched its steps, 9 before
-    /// the lift-offs were reported once per turn: still restored).
-    const LEN: usize = 9 + TurnDigest::<4>::LEN;
-
-    /// Watches the contact force along the shaft's path from `st` at `t0` over `h` (`h = 0`: the
-    /// one point): samples at most 0.25° of shaft angle apart, the turn minima, a negative force
-    /// (`lost_step`, the onset logged with the angle).
-    fn watch(&mut self, d: &Drive, st: ShaftState, t0: f64, h: f64, log: &mut dyn Log) {
-        let dphi = (st.w * h).abs() + 0.5 * (st.a * h * h).abs();
-        let n = ((dphi / 0.25f64.to_radians()).ceil() as usize).clamp(1, 4000);
-        let s = self;
-        s.lost_step = false;
-        for j in 0..=n {
-            let tau = h * j as f64 / n as f64;
-            let phi = st.phi + st.w * tau + 0.5 * st.a * tau * tau;
-            let w = st.w + st.a * tau;
-            let f = d.forces(&d.kinematics(phi, w, st.a)).roller_f;
-            let cycle = ((phi - d.cyc.phi0) / TAU).floor();
-            let report = |g: &TurnDigest<4>| liftoff_report(d, g);
-            if s.cycle.is_nan() {
-                s.cycle = cycle;
-            } else if cycle != s.cycle {
-                s.last_min = s.cur_min;
-                s.cur_min = f64::INFINITY;
-                s.cycle = cycle;
-            }
-            s.liftoff.at_turn(cycle, log, &report);
-            s.cur_min = s.cur_min.min(f);
-            let negative = f < 0.0;
-            if negative {
-                s.lost_step = true;
-                let data = [-f, phi, t0 + tau, w];
-                if s.prev_negative {
-                    s.liftoff.worsen(data);
-                } else {
-                    s.liftoff.note(cycle, data, log, &report);
-                }
-            }
-            s.prev_negative = negative;
-        }
-    }
-
-    /// Model Exchange, at a completed integrator step at `time` with the shaft `now`: the span
-    /// since the last one watched as a Co-Simulation step over it would be (the first: the
-    /// point alone), and `now` kept as the next span's start.
-    fn me_watch(&mut self, d: &Drive, now: ShaftState, time: f64, log: &mut dyn Log) {
-        if self.me_t.is_nan() {
-            self.watch(d, now, time, 0.0, log);
-        } else if time > self.me_t {
-            let (t0, st) = (self.me_t, self.me_shaft);
-            self.watch(d, st, t0, time - t0, log);
-        }
-        self.me_t = time;
-        self.me_shaft = now;
-    }
-
-    fn save(&self) -> Vec<f64> {
-        let mut out = vec![
-            self.cycle,
-            self.cur_min,
-            self.last_min,
-            self.lost_step as u8 as f64,
-            self.prev_negative as u8 as f64,
-            self.me_t,
-            self.me_shaft.phi,
-            self.me_shaft.w,
-            self.me_shaft.a,
-        ];
-        self.liftoff.save(&mut out);
-        out
-    }
-
-    fn restore(state: &[f64]) -> Result<CycleState, String> {
-        match *state {
-            [] => Ok(CycleState::default()),
-            [cycle, cur_min, last_min, lost, prev, ref me @ ..]
-                if me.is_empty() || me.len() == 4 || me.len() == 4 + TurnDigest::<4>::LEN =>
-            {
-                let mut s = CycleState {
-                    cycle,
-                    cur_min,
-                    last_min,
-                    lost_step: lost != 0.0,
-                    prev_negative: prev != 0.0,
-                    ..CycleState::default()
-                };
-                if let [t, phi, w, a, ..] = *me {
-                    s.me_t = t;
-                    s.me_shaft = ShaftState { phi, w, a };
-                }
-                if me.len() > 4 {
-                    s.liftoff = TurnDigest::restore(&me[4..])?;
-                }
-                Ok(s)
-            }
-            _ => Err(format!(
-                "Perforators state has {} values, expected {} (or 5, 9)",
-                state.len(),
-                Self::LEN
-            )),
-        }
+            w * 30.0 / std::f64::consts::PI,
+            d.p.spring_m0,
+            d.p.spring_kt
+        )
     }
 }
 
@@ -365,7 +221,7 @@ fn check_contact(d: &Drive, v: &Values<V>) -> Result<(), ParamError> {
 /// The perforator drive of paper 000 on the translating table, as an FMU model.
 pub struct Perforators {
     drive: Drive,
-    state: CycleState,
+    state: ContactWatch,
     dynamic: Option<Dynamic>,
 }
 
@@ -424,7 +280,7 @@ impl Perforators {
         &self.drive
     }
 
-    /// Does the kinetostatic level watch the contact force over the steps ([`CycleState`])?
+    /// Does the kinetostatic level watch the contact force over the steps ([`ContactWatch`])?
     fn watching(&self, v: &Values<V>) -> bool {
         self.dynamic.is_none()
             && shaft::fidelity(v) == Fidelity::Kinetostatic
@@ -526,7 +382,7 @@ impl Model for Perforators {
         });
         Ok(Perforators {
             drive,
-            state: CycleState::default(),
+            state: ContactWatch::default(),
             dynamic,
         })
     }
@@ -582,11 +438,7 @@ impl Model for Perforators {
                 V::roller_lost_contact,
                 self.state.lost_step || f.roller_f < 0.0,
             );
-            v[V::roller_F_margin] = if self.state.last_min.is_finite() {
-                self.state.last_min
-            } else {
-                self.state.cur_min.min(f.roller_f)
-            };
+            v[V::roller_F_margin] = self.state.margin(f.roller_f);
             f.tau
         } else {
             v.set_flag(V::roller_lost_contact, false);
@@ -607,7 +459,7 @@ impl Model for Perforators {
         } else {
             self.state
                 .liftoff
-                .flush(log, &|g: &TurnDigest<4>| liftoff_report(drive, g));
+                .flush(log, &|g: &TurnDigest<4>| drive.liftoff_report(g));
         }
     }
 }
@@ -687,7 +539,7 @@ impl Dynamics<V> for Perforators {
         if let Some(d) = self.dynamic.as_mut() {
             return d.restore(state);
         }
-        self.state = CycleState::restore(state)?;
+        self.state = ContactWatch::restore(state, "Perforators")?;
         Ok(())
     }
 }
