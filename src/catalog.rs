@@ -50,7 +50,9 @@ impl Entry {
 
 /// Every FMU, in the order they are built.
 pub fn all() -> Vec<Entry> {
-    use crate::mechanisms::{disc_knife_drive, geneva_knife_drive, main_shaft};
+    use crate::mechanisms::{
+        disc_knife_drive, geneva_knife_drive, legacy_needle_drive, main_shaft,
+    };
     use crate::mechanisms::{perforators, sewing_table};
     vec![
         Entry::of::<geneva_knife_drive::GenevaKnifeDrive>(
@@ -67,6 +69,10 @@ pub fn all() -> Vec<Entry> {
             disc_knife_drive::docs::documentation,
         ),
         Entry::of::<main_shaft::MainShaft>("main-shaft-fmu", main_shaft::docs::documentation),
+        Entry::of::<legacy_needle_drive::LegacyNeedleDrive>(
+            "legacy-needle-drive-fmu",
+            legacy_needle_drive::docs::documentation,
+        ),
     ]
 }
 

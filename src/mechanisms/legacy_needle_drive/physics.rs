@@ -563,6 +563,21 @@ impl Drive {
         }
     }
 
+    /// Paper 002's quantity of the β study: the largest Hertz stress over the run-up of the
+    /// needles' rise (where ψ1'' > 0), at shaft speed `w`, sampled `samples` times over the
+    /// rise (the `own` timing's rise; the `perforators` timing's forward travel), Pa.
+    pub fn run_up_stress(&self, w: f64, samples: usize) -> f64 {
+        let (start, span) = match self.p.timing {
+            Timing::Own => (self.own.phi0, self.own.forward),
+            Timing::Perforators => (self.curve.cyc.phi0, self.curve.cyc.forward),
+        };
+        (0..=samples)
+            .map(|i| self.kinematics(start + span * i as f64 / samples as f64, w, 0.0))
+            .filter(|k| k.psi1_dd > 0.0)
+            .map(|k| self.forces(&k, 0.0, true).sigma_h)
+            .fold(0.0, f64::max)
+    }
+
     /// The roller centre on the cam (the pitch curve in the cam's frame) at `phi`:
     /// `K_cam(φ) = Rot(−φ)·K`.
     pub fn pitch_point(&self, phi: f64) -> [f64; 2] {

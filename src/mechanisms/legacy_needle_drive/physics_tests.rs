@@ -242,7 +242,8 @@ fn the_needle_curve_is_the_perforators_one() {
     }
 }
 
-/// Largest σ_H over the run-up of the rise (ψ1'' > 0), `own` timing, `kmk.beta = beta`.
+/// Largest σ_H over the run-up of the rise (ψ1'' > 0), `own` timing, `kmk.beta = beta`, and
+/// ψ1 over the rise.
 fn run_up_stress(beta: f64) -> (f64, Vec<f64>) {
     let d = Params {
         timing: Timing::Own,
@@ -251,18 +252,13 @@ fn run_up_stress(beta: f64) -> (f64, Vec<f64>) {
     }
     .drive()
     .unwrap();
-    let (start, rise) = (d.own.phi0, d.p.phi_rise);
-    let mut psi = Vec::new();
-    let mut max = 0.0f64;
-    for i in 0..=20_000 {
-        let phi = start + rise * i as f64 / 20_000.0;
-        let k = d.kinematics(phi, W100, 0.0);
-        psi.push(k.psi1);
-        if k.psi1_dd > 0.0 {
-            max = max.max(d.forces(&k, 0.0, true).sigma_h);
-        }
-    }
-    (max, psi)
+    let psi = (0..=200)
+        .map(|i| {
+            d.kinematics(d.own.phi0 + d.own.forward * i as f64 / 200.0, W100, 0.0)
+                .psi1
+        })
+        .collect();
+    (d.run_up_stress(W100, 20_000), psi)
 }
 
 #[test]

@@ -1,0 +1,349 @@
+//! The LegacyNeedleDrive FMU: its variables, declared once, and the glue from them to
+//! [`super::physics`] (`../shared/spec/legacy-needle-drive.md`).
+//!
+//! The needle motion, the piercing load and the names of the shared parameters are the
+//! Perforators' (`cycle.*`, `law.*`, `travel.rise_fraction`, `pierce.*`, `perf.m`, `guide.mu`,
+//! `joint.*`), so the two FMUs set alike move their needles alike. The cam force is watched over
+//! each step as the Perforators' ramp force is ([`ContactWatch`]): with a spring-closed cam a
+//! pull is a lift-off, flagged and warned once per turn.
+
+use super::physics::{Closure, Drive, Kinematics, Params, Timing};
+use crate::digest::TurnDigest;
+use crate::mechanics::wrap_angle;
+use crate::mechanisms::contact_watch::{ContactWatch, WatchedContact, times};
+use crate::mechanisms::perforators::physics::Params as NeedleParams;
+use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
+use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
+use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
+use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
+
+crate::stages! {
+    FORCES = Stage::new("forces", "Kinetostatic force chain of paper 002, eqs. (1)-(7): load of a branch, rod, bell cranks, coupler, cam-roller force with guide and hinge friction, shaft torque", Fidelity::WITH_FORCES),
+    HERTZ = Stage::new("hertz", "Hertz contact stress cam - roller (paper 002, eq. 8)", Fidelity::WITH_FORCES).requires(stage::FORCES),
+    WATCH = Stage::new("contact_watch", "Over each step (inside fmi2DoStep), the cam force sampled every 0.25 deg of shaft angle: with a spring-closed cam lift-off detection and warning; the smallest force per turn", Fidelity::WITH_FORCES).requires(stage::FORCES).guards(),
+    SYNTHESIS = Stage::new("synthesis", "The chain's derived sizes and angles reported as calculated parameters", Fidelity::ALL);
+    /// What the loads, masses and friction feed.
+    LOADS = FORCES.or(HERTZ).or(WATCH),
+}
+
+crate::model_variables! {
+    pub enum V (nominal_rpm = 100.0, torque_needs = stage::FORCES) {
+        // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
+        shaft_J_red = shaft::j_red_var(ON_PHI_W).needs(stage::FORCES),
+        shaft_tau0 = shaft::tau0_var(ON_PHI_W).needs(stage::FORCES),
+        // ---- cam-rocker pair (KMK)
+        kmk_lk = Var::parameter("kmk.lk", 0.150, "m", "Base distance l_k = O1O2 between the cam shaft and the rocker pivot (assumption)").min(0.0),
+        kmk_beta = Var::parameter("kmk.beta", 0.48, "", "beta = L_rocker/l_k, rocker arm over base distance (paper 002: 0.48 on the NSh-6)").min(0.0),
+        kmk_theta = Var::parameter("kmk.theta", std::f64::consts::PI, "rad", "Direction of O1 -> O2 from +x (assumption)"),
+        kmk_kappa = Var::parameter("kmk.kappa", 120f64.to_radians(), "rad", "Angle kappa from the rocker arm O2K to the crank O2A, counter-clockwise (one bell crank; assumption)"),
+        // ---- four-bar (ChShRM)
+        fb_R = Var::parameter("fb.R", 0.100, "m", "Crank O2A, R (assumption)").min(0.0).feeds(stage::LOADS),
+        fb_c = Var::parameter("fb.c", 0.300, "m", "Coupler AB (assumption)").min(0.0),
+        fb_b = Var::parameter("fb.b", 0.070, "m", "Rocker O3B, b (assumption)").min(0.0).feeds(stage::LOADS),
+        fb_O3x = Var::parameter("fb.O3x", -0.180, "m", "x of the pivot O3 (assumption)"),
+        fb_O3y = Var::parameter("fb.O3y", 0.300, "m", "y of the pivot O3 (assumption)"),
+        fb_branch = Var::int_parameter("fb.branch", 1, "Assembly branch of the four-bar: A left (+1) or right (-1) of O2 -> B").min(-1.0).max(1.0),
+        // ---- rocker-slider (KPM) and the needle bar
+        kpm_chi = Var::parameter("kpm.chi", std::f64::consts::PI, "rad", "Angle chi from the rocker O3B to the arm O3C, counter-clockwise (one bell crank; assumption)"),
+        kpm_Rk = Var::parameter("kpm.Rk", 0.060, "m", "Arm O3C, R_k (assumption)").min(0.0).feeds(stage::LOADS),
+        kpm_l = Var::parameter("kpm.l", 0.100, "m", "Rod CD to the needle bar (assumption)").min(0.0),
+        kpm_branch = Var::int_parameter("kpm.branch", -1, "Assembly branch of the rocker-slider: C left (+1) or right (-1) of O3 -> D").min(-1.0).max(1.0),
+        bar_dir = Var::parameter("bar.dir", std::f64::consts::FRAC_PI_2, "rad", "Direction u_g of the needle bar's guide from +x; the needles rise along it (assumption: vertical)"),
+        bar_D0x = Var::parameter("bar.D0x", -0.120, "m", "x of the rod's joint D on the bar with the needles lowest (assumption)"),
+        bar_D0y = Var::parameter("bar.D0y", 0.385, "m", "y of D with the needles lowest (assumption)"),
+        legacy_branches = Var::int_parameter("legacy.branches", 2, "Cams and lever branches driving the bar, sharing its load equally (paper 002: two)").min(1.0).max(8.0).feeds(stage::LOADS),
+        // ---- the needle law the cam is made for
+        needle_timing = Var::enum_parameter("needle.timing", &Timing::FMI, "perforators", "perforators: the Perforators' needle curve (equal needle motion); own: paper 002's cycloidal rise and harmonic fall"),
+        needle_phi_start = Var::parameter("needle.phi_start", 61f64.to_radians(), "rad", "own timing: shaft angle after cycle.phi0 where the needles start to rise (assumption)"),
+        needle_Phi_rise = Var::parameter("needle.Phi_rise", 41f64.to_radians(), "rad", "own timing: shaft angle of the rise (assumption)").min(0.0),
+        needle_Phi_top = Var::parameter("needle.Phi_top", 0.0, "rad", "own timing: dwell at the top (assumption)").min(0.0),
+        needle_Phi_fall = Var::parameter("needle.Phi_fall", 41f64.to_radians(), "rad", "own timing: shaft angle of the fall (assumption)").min(0.0),
+        needle_law_rise = Var::enum_parameter("needle.law_rise", &MOTION_LAW, "cycloidal", "own timing: law of the rise (paper 002's 'Co' on the working stroke)"),
+        needle_law_fall = Var::enum_parameter("needle.law_fall", &MOTION_LAW, "harmonic", "own timing: law of the fall (paper 002's 'K' on the idle stroke)"),
+        // ---- shared with Perforators: the table cycle and the needle curve on it
+        synth_unit = Var::parameter("synth.unit", 0.030, "m", "Needle stroke S (as Perforators' synth.unit with its exact swing: 30 mm)").min(0.0),
+        cycle_forward = Var::parameter("cycle.forward", 82f64.to_radians(), "rad", "Shaft angle of the table's forward travel (as Perforators)").min(0.0),
+        cycle_dwell_sew = Var::parameter("cycle.dwell_sew", 110f64.to_radians(), "rad", "Table dwell at sewing (as Perforators)").min(0.0),
+        cycle_return = Var::parameter("cycle.return", 90f64.to_radians(), "rad", "Shaft angle of the table's return (as Perforators)").min(0.0),
+        cycle_phi0 = Var::parameter("cycle.phi0", 0.0, "rad", "Shaft angle where the table's forward travel starts (as Perforators)"),
+        law_forward = Var::enum_parameter("law.forward", &MOTION_LAW, "cycloidal", "Table law of the forward travel (as Perforators)"),
+        travel_rise_fraction = Var::parameter("travel.rise_fraction", 0.5, "", "perforators timing: fraction of the table travel over which the needles rise (as Perforators)").min(0.0).max(1.0),
+        law_rise = Var::enum_parameter("law.rise", &MOTION_LAW, "cycloidal", "perforators timing: needle law of the rise over the table position (as Perforators)"),
+        law_fall = Var::enum_parameter("law.fall", &MOTION_LAW, "cycloidal", "perforators timing: needle law of the fall over the table position (as Perforators)"),
+        // ---- loads (eq. 1) and friction
+        pierce_Q = Var::parameter("pierce.Q", 22.0 * crate::mechanics::STANDARD_GRAVITY, "N", "Piercing load of 12 needles in a 16-page signature of paper No. 2: 22 kgf (paper 002)").min(0.0).feeds(stage::LOADS),
+        pierce_s_in = Var::parameter("pierce.s_in", 0.55, "", "Fraction of the stroke where the needles meet the fold (as Perforators)").min(0.0).max(1.0).feeds(stage::LOADS),
+        pierce_s_out = Var::parameter("pierce.s_out", 0.75, "", "Fraction of the stroke where they are through (as Perforators)").min(0.0).max(1.0).feeds(stage::LOADS),
+        pierce_k_f = Var::parameter("pierce.k_f", 0.15, "", "Needle friction after piercing, fraction of pierce.Q (as Perforators)").min(0.0).feeds(stage::LOADS),
+        perf_m = Var::parameter("perf.m", 0.6, "kg", "Mass of the needle bar and needles, the other links lumped in (as Perforators)").min(0.0).feeds(stage::LOADS),
+        load_Kd = Var::parameter("load.Kd", 1.0, "", "Dynamic factor K_d on the bar's inertia force, eq. (1) (assumption)").min(0.0).feeds(stage::LOADS),
+        load_F = Var::parameter("load.F", 0.0, "N", "Further friction load on the bar against its rise, eq. (1) (assumption)").feeds(stage::LOADS),
+        load_P_spring = Var::parameter("load.P_spring", 0.0, "N", "Spring load on the bar against its rise, eq. (1) (assumption)").feeds(stage::LOADS),
+        guide_mu = Var::parameter("guide.mu", 0.1, "", "Friction coefficient f of the bar's guide (as Perforators)").min(0.0).feeds(stage::LOADS),
+        joint_f = Var::parameter("joint.f", 0.05, "", "Hinge friction coefficient of the five hinges O2, A, B, O3, C (as Perforators; 0 disables)").min(0.0).feeds(stage::LOADS),
+        joint_r = Var::parameter("joint.r", 0.006, "m", "Hinge pin radius (as Perforators)").min(0.0).feeds(stage::LOADS),
+        // ---- cam and roller
+        cam_closure = Var::enum_parameter("cam.closure", &Closure::FMI, "groove", "groove: either flank pushes; spring: the roller is held on the raising flank and lifts off where the cam would have to pull").feeds(stage::LOADS),
+        roller_r = Var::parameter("roller.r", 0.015, "m", "Cam roller radius r_r (assumption)").min(0.0),
+        roller_b = Var::parameter("roller.b", 0.015, "m", "Cam roller contact length B (assumption)").min(0.0).feeds(stage::HERTZ),
+        cam_E = Var::parameter("cam.E", 2.1e11, "Pa", "Young's modulus of the cam (assumption: steel)").min(0.0).feeds(stage::HERTZ),
+        roller_E = Var::parameter("roller.E", 2.1e11, "Pa", "Young's modulus of the roller (assumption: steel)").min(0.0).feeds(stage::HERTZ),
+        cam_J = Var::parameter("cam.J", 0.0, "kg.m2", "Moment of inertia of the cams on the shaft (assumption)").min(0.0).feeds(stage::LOADS),
+        // ---- calculated parameters
+        kmk_L = Var::calculated("kmk.L", "m", "Rocker arm O2K, L = beta*l_k").needs(stage::SYNTHESIS),
+        kmk_psi_low = Var::calculated("kmk.psi_low", "rad", "Rocker angle psi1 with the needles lowest").needs(stage::SYNTHESIS),
+        kmk_psi_high = Var::calculated("kmk.psi_high", "rad", "Rocker angle psi1 with the needles highest").needs(stage::SYNTHESIS),
+        cam_r0 = Var::calculated("cam.r0", "m", "Radius |O1K| of the pitch curve with the needles lowest").needs(stage::SYNTHESIS),
+        perforators_stroke = Var::calculated("perforators.stroke", "m", "Needle stroke S (the Perforators' stroke)").needs(stage::SYNTHESIS),
+        // ---- outputs
+        perforators_s = Var::output("perforators.s", "m", "Needle displacement s from the lowest position, along the bar's guide").depends(ON_PHI),
+        perforators_v = Var::output("perforators.v", "m/s", "Needle velocity").depends(ON_PHI_W),
+        perforators_a = Var::output("perforators.a", "m/s2", "Needle acceleration").depends(ON_ALL),
+        rocker_psi = Var::output("rocker.psi", "rad", "Rocker angle psi1 from the centre line O2 -> O1, counter-clockwise").depends(ON_PHI),
+        rocker_w = Var::output("rocker.w", "rad/s", "Rocker angular velocity").depends(ON_PHI_W),
+        rocker_a = Var::output("rocker.a", "rad/s2", "Rocker angular acceleration").depends(ON_ALL),
+        lever3_theta = Var::output("lever3.theta", "rad", "Direction theta_C of the arm O3C from +x").depends(ON_PHI),
+        rod_alpha = Var::output("rod.alpha", "rad", "alpha_sh: the rod CD against the bar's guide (pressure angle of the rocker-slider)").depends(ON_PHI),
+        fb_mu = Var::output("fb.mu", "rad", "Transmission angle mu of the coupler AB on the rocker O3B (as asin |e_AB x e_O3B|, 90 deg best)").depends(ON_PHI),
+        fb_delta_psi = Var::output("fb.delta_psi", "rad", "delta - psi: the coupler AB against the crank O2A (as asin |e_O2A x e_AB|; 0: crank and coupler in line)").depends(ON_PHI),
+        cam_theta = Var::output("cam.theta", "rad", "Pressure angle alpha of the cam on the roller; < 0 while the rocker turns with the cam").depends(ON_PHI),
+        cam_rho = Var::output("cam.rho", "m", "Curvature radius rho_p of the cam's pitch curve, + convex").depends(ON_PHI),
+        load_Q = Var::output("load.Q", "N", "Load Q_b one branch carries along the guide against the rise, eq. (1) over legacy.branches (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        pierce_Q_out = Var::output("pierce.Q_T", "N", "Piercing load on the needles while they rise (kinetostatic level)").depends(ON_PHI_W).needs(stage::FORCES),
+        perforators_F_inertia = Var::output("perforators.F_inertia", "N", "Inertia force of the bar along its guide, -load.Kd*perf.m*a (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        rod_F = Var::output("rod.F", "N", "Force P_sh1 in the rod CD, eq. (2) (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        lever3_P_C = Var::output("lever3.P_C", "N", "Force at C normal to O3C, eq. (3) (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        lever3_P_B = Var::output("lever3.P_B", "N", "Force at B normal to O3B, eq. (4) (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        fb_F = Var::output("fb.F", "N", "Force P_sh2 along the coupler AB, eq. (5) (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        rocker_P_A = Var::output("rocker.P_A", "N", "Force at A normal to O2A, eq. (6) (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        roller_F = Var::output("roller.F", "N", "Cam-roller force P_kr of one branch, eq. (7): > 0 the cam pushes on the flank that raises the needles (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        roller_sigma_H = Var::output("roller.sigma_H", "Pa", "Hertz stress cam - roller on the loaded flank, paper 002 eq. 8 (kinetostatic level)").depends(ON_ALL).needs(stage::HERTZ),
+        cam_rho_red = Var::output("cam.rho_red", "m", "Reduced curvature radius of the contact on the loaded flank, 1/rho = 1/roller.r + 1/rho_flank (kinetostatic level)").depends(ON_ALL).needs(stage::HERTZ),
+        cam_flank = Var::int_output("cam.flank", "Loaded flank: +1 the one that raises the needles, -1 the other (a groove; kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        roller_lost_contact = Var::bool_output("roller.lost_contact", "True with a spring-closed cam if it would have to pull the roller now or did during the last communication step, the shaft's path over it sampled at most 0.25 deg apart (kinetostatic level)").depends(ON_ALL).needs(stage::WATCH),
+        roller_F_margin = Var::output("roller.F_margin", "N", "Smallest cam force over the last completed shaft turn (during the first turn: so far, and now), along the shaft's path over each communication step sampled at most 0.25 deg apart; a groove: of |roller.F|, the loaded flank's (kinetostatic level)").depends(ON_ALL).needs(stage::WATCH),
+    }
+}
+
+/// Where the legacy drive's cam force is watched ([`ContactWatch`]): the force of one branch;
+/// with a groove the loaded flank's, which never pulls.
+impl WatchedContact for Drive {
+    fn contact_force(&self, phi: f64, w: f64, a: f64) -> f64 {
+        let f = self.forces(&self.kinematics(phi, w, a), a, false).p_kr;
+        match self.p.closure {
+            Closure::Groove => f.abs(),
+            Closure::Spring => f,
+        }
+    }
+    fn turn_start(&self) -> f64 {
+        self.p.needles.table.phi0
+    }
+    fn liftoff_report(&self, g: &TurnDigest<4>) -> String {
+        let [pull, phi, t, w] = g.worst;
+        format!(
+            "roller lifts off the cam {} in the shaft turn {}: worst at shaft angle {:.2} deg ({:.2} deg into the turn) at t = {t:.6} s, {:.1} rpm, where the cam would have to pull with {pull:.2} N; a spring-closed cam needs a spring load (load.P_spring) that holds the roller on, or a groove (cam.closure)",
+            times(g.count),
+            g.turn,
+            phi.to_degrees(),
+            wrap_angle(phi - self.turn_start()).to_degrees(),
+            w * 30.0 / std::f64::consts::PI,
+        )
+    }
+}
+
+/// The legacy needle drive of paper 002 as an FMU model.
+pub struct LegacyNeedleDrive {
+    drive: Drive,
+    state: ContactWatch,
+}
+
+impl LegacyNeedleDrive {
+    /// The physics parameters from the variables.
+    pub fn params(v: &Values<V>) -> Params {
+        let table = TableParams {
+            forward: v[V::cycle_forward],
+            dwell_sew: v[V::cycle_dwell_sew],
+            ret: v[V::cycle_return],
+            phi0: v[V::cycle_phi0],
+            law_forward: motion_law(v.int(V::law_forward)),
+            kind: Kind::Translating,
+            ..TableParams::default()
+        };
+        let needles = NeedleParams {
+            unit: v[V::synth_unit],
+            table,
+            rise_fraction: v[V::travel_rise_fraction],
+            law_rise: motion_law(v.int(V::law_rise)),
+            law_fall: motion_law(v.int(V::law_fall)),
+            pierce_q: v[V::pierce_Q],
+            pierce_s_in: v[V::pierce_s_in],
+            pierce_s_out: v[V::pierce_s_out],
+            pierce_k_f: v[V::pierce_k_f],
+            perf_m: v[V::perf_m],
+            guide_mu: v[V::guide_mu],
+            joint_f: v[V::joint_f],
+            joint_r: v[V::joint_r],
+            ..NeedleParams::default()
+        };
+        Params {
+            l_k: v[V::kmk_lk],
+            beta: v[V::kmk_beta],
+            theta12: v[V::kmk_theta],
+            kappa: v[V::kmk_kappa],
+            r: v[V::fb_R],
+            c: v[V::fb_c],
+            b: v[V::fb_b],
+            o3: [v[V::fb_O3x], v[V::fb_O3y]],
+            chi: v[V::kpm_chi],
+            r_k: v[V::kpm_Rk],
+            l_rod: v[V::kpm_l],
+            bar_dir: v[V::bar_dir],
+            d0: [v[V::bar_D0x], v[V::bar_D0y]],
+            fb_branch: f64::from(v.int(V::fb_branch)),
+            kpm_branch: f64::from(v.int(V::kpm_branch)),
+            n: f64::from(v.int(V::legacy_branches)),
+            k_d: v[V::load_Kd],
+            load_f: v[V::load_F],
+            p_spring: v[V::load_P_spring],
+            closure: Closure::from_item(v.int(V::cam_closure)).unwrap_or(Closure::Groove),
+            roller_r: v[V::roller_r],
+            roller_b: v[V::roller_b],
+            cam_e_mod: v[V::cam_E],
+            roller_e_mod: v[V::roller_E],
+            cam_j: v[V::cam_J],
+            timing: Timing::from_item(v.int(V::needle_timing)).unwrap_or(Timing::Perforators),
+            phi_start: v[V::needle_phi_start],
+            phi_rise: v[V::needle_Phi_rise],
+            phi_top: v[V::needle_Phi_top],
+            phi_fall: v[V::needle_Phi_fall],
+            law_rise: motion_law(v.int(V::needle_law_rise)),
+            law_fall: motion_law(v.int(V::needle_law_fall)),
+            needles,
+        }
+    }
+
+    /// The physics of this instance.
+    pub fn drive(&self) -> &Drive {
+        &self.drive
+    }
+
+    /// Does the kinetostatic level watch the cam force over the steps ([`ContactWatch`])?
+    fn watching(&self, v: &Values<V>) -> bool {
+        shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::WATCH)
+    }
+}
+
+/// The chain's positions and rates of a [`Kinematics`].
+fn write_kinematics(v: &mut Values<V>, k: &Kinematics) {
+    v[V::perforators_s] = k.s;
+    v[V::perforators_v] = k.v;
+    v[V::perforators_a] = k.a;
+    v[V::rocker_psi] = k.psi1;
+    v[V::rocker_w] = k.psi1_w;
+    v[V::rocker_a] = k.psi1_a;
+    v[V::lever3_theta] = k.theta_c;
+    v[V::rod_alpha] = k.cos_alpha_sh.min(1.0).acos();
+    v[V::fb_mu] = k.sin_mu.min(1.0).asin();
+    v[V::fb_delta_psi] = k.sin_delta_psi.min(1.0).asin();
+    v[V::cam_theta] = k.alpha;
+    v[V::cam_rho] = k.rho_p;
+}
+
+impl Model for LegacyNeedleDrive {
+    type Var = V;
+    const IDENTIFIER: &'static str = "LegacyNeedleDrive";
+    const DESCRIPTION: &'static str = "Legacy three-contour needle drive of a thread-sewing automat: cam, rocker, four-bar and rocker-slider to the needle bar (paper 002)";
+    const EXPERIMENT: Experiment = Experiment::until(1.2, 1e-3);
+    const STAGES: &'static [Stage] = STAGES;
+
+    fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
+        shaft::require_level(v, &[Fidelity::Kinematic, Fidelity::Kinetostatic]).map_err(|e| {
+            ParamError {
+                condition: "LegacyNeedleDrive has the kinematic and kinetostatic levels only: paper 002 gives no compliance of its links for an elastodynamic level".into(),
+                ..e
+            }
+        })?;
+        Ok(LegacyNeedleDrive {
+            drive: Self::params(v).drive()?,
+            state: ContactWatch::default(),
+        })
+    }
+
+    fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
+        let d = &self.drive;
+        if v.wants(stage::SYNTHESIS) {
+            v[V::kmk_L] = d.l;
+            v[V::kmk_psi_low] = d.psi_low;
+            v[V::kmk_psi_high] = d.psi_high;
+            v[V::cam_r0] = d.r0;
+            v[V::perforators_stroke] = d.stroke;
+        }
+        let st = shaft::state(v, time);
+        let k = d.kinematics(st.phi, st.w, st.a);
+        write_kinematics(v, &k);
+        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS) {
+            let f = d.forces(&k, st.a, v.wants(stage::HERTZ));
+            let r = shaft::reduce_at(f.tau, st.a, |a| {
+                d.forces(&d.kinematics(st.phi, st.w, a), a, false).tau
+            });
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
+            v[V::load_Q] = f.q_b;
+            v[V::pierce_Q_out] = f.q_t;
+            v[V::perforators_F_inertia] = f.f_inertia;
+            v[V::rod_F] = f.p_sh1;
+            v[V::lever3_P_C] = f.p_c;
+            v[V::lever3_P_B] = f.p_b;
+            v[V::fb_F] = f.p_sh2;
+            v[V::rocker_P_A] = f.p_a;
+            v[V::roller_F] = f.p_kr;
+            v[V::roller_sigma_H] = f.sigma_h;
+            v[V::cam_rho_red] = f.rho_red;
+            v[V::cam_flank] = f64::from(f.flank);
+            v.set_flag(
+                V::roller_lost_contact,
+                self.state.lost_step || f.lost_contact,
+            );
+            v[V::roller_F_margin] = self.state.margin(d.contact_force(st.phi, st.w, st.a));
+            f.tau
+        } else {
+            v.set_flag(V::roller_lost_contact, false);
+            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, shaft::Reduced::default());
+            0.0
+        };
+        shaft::set_outputs(v, tau, st.w);
+    }
+
+    /// The lift-offs of the unfinished turn are reported.
+    fn finish(&mut self, _v: &Values<V>, log: &mut dyn Log) {
+        let drive = &self.drive;
+        self.state
+            .liftoff
+            .flush(log, &|g: &TurnDigest<4>| drive.liftoff_report(g));
+    }
+}
+
+/// Co-Simulation only: the watch of the cam force over each step is its memory.
+impl Dynamics<V> for LegacyNeedleDrive {
+    fn do_step(
+        &mut self,
+        v: &mut Values<V>,
+        time: f64,
+        h: f64,
+        log: &mut dyn Log,
+    ) -> Result<(), String> {
+        if self.watching(v) {
+            self.state
+                .watch(&self.drive, shaft::state(v, time), time, h, log);
+        }
+        Ok(())
+    }
+
+    fn save_state(&self) -> Vec<f64> {
+        self.state.save()
+    }
+
+    fn restore_state(&mut self, state: &[f64]) -> Result<(), String> {
+        self.state = ContactWatch::restore(state, "LegacyNeedleDrive")?;
+        Ok(())
+    }
+}
