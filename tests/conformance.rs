@@ -164,13 +164,6 @@ fn all_rows() -> impl Iterator<Item = &'static Row> {
 }
 
 /// The FMU's number of continuous states (0: no Model Exchange interface).
-fn n_states(e: &Entry) -> usize {
-    vars(e)
-        .iter()
-        .filter(|(_, v)| v.derivative.is_some())
-        .count()
-}
-
 /// The FMU's number of event indicators.
 fn n_indicators(e: &Entry) -> usize {
     (e.info)().event_indicators as usize
@@ -1353,18 +1346,21 @@ fn input_derivative_calls_are_checked_and_atomic() {
             );
             assert_eq!(s.state_bytes(), bytes);
         }
-        // not on a Model Exchange instance: the host integrates and sets the inputs itself
-        let me = f.me_instance("ider-me");
-        me.setup_and_init(0.0, None);
-        assert_eq!(
-            me.set_input_derivatives(&[phi], &[1], &[1.0]),
-            Status::Error
-        );
-        assert!(
-            me.last_error().contains("Model Exchange"),
-            "{}",
-            me.last_error()
-        );
+        // not on a Model Exchange instance (of an FMU that has one): the host integrates and
+        // sets the inputs itself
+        if n_states(&e) > 0 {
+            let me = f.me_instance("ider-me");
+            me.setup_and_init(0.0, None);
+            assert_eq!(
+                me.set_input_derivatives(&[phi], &[1], &[1.0]),
+                Status::Error
+            );
+            assert!(
+                me.last_error().contains("Model Exchange"),
+                "{}",
+                me.last_error()
+            );
+        }
         // the instance goes on, with its derivatives
         assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
     }

@@ -6,9 +6,6 @@
 //! declares the capability, at each of its levels: every level moves the shaft over a step
 //! along that path and ends the step where it leads.
 
-/// The fidelity levels of a mechanism.
-const LEVELS: [i32; 3] = [1, 2, 3];
-
 mod common;
 
 use bindery_fmu::catalog::{self, Entry};
@@ -144,7 +141,7 @@ fn shaft_phi_with_its_derivatives_drives_as_well_as_shaft_w_and_shaft_a() {
         }
         let f = Fmu::of(&e);
         let (h, n) = (0.05, 40);
-        for level in LEVELS {
+        for level in levels(&e) {
             let reference = run(&f, &e, level, Host::Values, h, n);
             for host in [Host::PhiDerivatives, Host::PhiAndWDerivatives] {
                 // the same path inside every step: the same run to rounding (the outputs that
@@ -177,7 +174,10 @@ fn shaft_phi_with_its_derivatives_drives_as_well_as_shaft_w_and_shaft_a() {
             tested += 1;
         }
     }
-    assert_eq!(tested, 12, "four mechanisms at three levels");
+    assert_eq!(
+        tested, 14,
+        "four mechanisms at three levels, LegacyNeedleDrive at two"
+    );
 }
 
 /// Derivatives apply to one step: the step after falls back to `shaft.w`/`shaft.a`, which the
@@ -189,7 +189,7 @@ fn derivatives_expire_after_the_step_and_travel_with_fmu_states() {
             continue;
         }
         let f = Fmu::of(&e);
-        for level in LEVELS {
+        for level in levels(&e) {
             let at_level = Start {
                 integers: &[(vr_of(&e, "model.fidelity"), level)],
                 ..Start::default()
@@ -273,7 +273,7 @@ fn the_extrapolated_shaft_phi_leaves_drive_phi0_out() {
         for (_, name, x) in RUN_UP_PARAMETERS.iter().filter(|p| p.0 == e.identifier) {
             reals.push((vr_of(&e, name), *x));
         }
-        for level in LEVELS {
+        for level in levels(&e) {
             let start = Start {
                 reals: &reals,
                 integers: &[(vr_of(&e, "model.fidelity"), level)],
@@ -324,5 +324,8 @@ fn the_extrapolated_shaft_phi_leaves_drive_phi0_out() {
             tested += 1;
         }
     }
-    assert_eq!(tested, 12, "four mechanisms at three levels");
+    assert_eq!(
+        tested, 14,
+        "four mechanisms at three levels, LegacyNeedleDrive at two"
+    );
 }

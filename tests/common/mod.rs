@@ -605,3 +605,27 @@ pub fn assert_state_replays<T: PartialEq + Debug>(
         run: first,
     }
 }
+
+/// The FMU's number of continuous states: 0 for one without Model Exchange.
+#[allow(dead_code)]
+pub fn n_states(e: &bindery_fmu::catalog::Entry) -> usize {
+    (e.variables)()
+        .iter()
+        .filter(|(_, v)| v.derivative.is_some())
+        .count()
+}
+
+/// The fidelity levels (`model.fidelity` items) a mechanism implements: kinematic and
+/// kinetostatic, and elastodynamic where it has continuous states (the elastodynamic level is
+/// the one with states); none for a model without levels (MainShaft).
+#[allow(dead_code)]
+pub fn levels(e: &bindery_fmu::catalog::Entry) -> Vec<i32> {
+    let has_levels = (e.variables)()
+        .iter()
+        .any(|(_, v)| v.name == "model.fidelity");
+    match (has_levels, n_states(e) > 0) {
+        (false, _) => vec![],
+        (true, false) => vec![1, 2],
+        (true, true) => vec![1, 2, 3],
+    }
+}
