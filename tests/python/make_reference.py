@@ -43,6 +43,7 @@ import closed_form  # noqa: E402
 import main_shaft_reference  # noqa: E402
 import closed_form_sewing  # noqa: E402
 import disc_knife_closed_form  # noqa: E402
+import legacy_closed_form  # noqa: E402
 from harness import (FMU_DIR, SHAFT_INPUTS, Extracted, check_no_input_lag,  # noqa: E402
                      cross_check_paths, shaft_input, simulate_cross_check, write_csv, write_ref_opt)
 
@@ -90,6 +91,15 @@ MODELS = {
         speed=100 * math.pi / 30,
         # table.x, perforators.s (the needle law of x_t) and shaft.tau = -table.F*dx_t/dphi
         check=lambda result: closed_form_sewing.mismatches_perforators(result, rtol=1e-9),
+    ),
+    "LegacyNeedleDrive": Reference(
+        outputs=["perforators.s", "perforators.v", "rocker.psi", "lever3.theta", "cam.theta",
+                 "rocker.w", "roller.F", "roller.sigma_H", "shaft.tau"],
+        start=0.0, stop=1.2, step=0.002, rel_tol=1e-6,
+        speed=100 * math.pi / 30,  # 100 rpm, the nominal speed: two turns in 1.2 s
+        # the needle law, the chain's angles (NumPy circle intersections) and shaft.tau as the
+        # roller's moment on the rocker
+        check=lambda result: legacy_closed_form.mismatches(result, rtol=1e-9),
     ),
     "MainShaft": Reference(
         outputs=["shaft.phi", "shaft.w", "shaft.a", "motor.tau", "motor.s", "shaft.tau_load"],

@@ -99,7 +99,9 @@ def interpolating_fmus() -> list:
 # DiscKnifeDrive's default support friction self-locks slider 7 near 180 deg (sliders.locked),
 # without it the forces compared stay regular.
 RUN_UP_STOP, RUN_UP_STEP, RUN_UP_ALPHA = 2.0, 0.05, 12.0
-RUN_UP = {"Perforators": (2.0, ()), "DiscKnifeDrive": (RUN_UP_ALPHA, ("support.mu=0",))}
+# LegacyNeedleDrive has no elastodynamic level: it runs up at its kinetostatic one.
+RUN_UP = {"Perforators": (2.0, ()), "DiscKnifeDrive": (RUN_UP_ALPHA, ("support.mu=0",)),
+          "LegacyNeedleDrive": (RUN_UP_ALPHA, ("model.fidelity=2",))}
 # Both hosts describe the same path inside every step, so the runs are the same to rounding
 # (measured: 3e-16 of a column's largest magnitude); tests/input_derivatives.rs holds the same
 # comparison through the Rust C ABI to 1e-9 of that scale.
