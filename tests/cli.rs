@@ -353,3 +353,62 @@ fn bad_values_are_refused_naming_the_bounds() {
         assert!(err.contains(want), "{args:?}: {want:?} not in {err}");
     }
 }
+
+#[test]
+fn needles_compares_the_two_drives_at_equal_needle_motion() {
+    let dir = scratch("needles");
+    let (ok, out, err) = bindery(&dir, &["needles", "--out", "n"], &[]);
+    assert!(ok, "{err}");
+    // equal needle motion: the same stroke, a ratio of 1
+    assert!(
+        out.contains("| needle stroke | mm | 30 | 30 | 1 |"),
+        "{out}"
+    );
+    for row in [
+        "peak roller force",
+        "peak Hertz stress",
+        "peak shaft torque",
+        "RMS shaft torque",
+    ] {
+        assert!(out.contains(row), "{row}: {out}");
+    }
+    assert!(
+        out.contains("from 0.48 to 1 lowers the largest Hertz stress"),
+        "{out}"
+    );
+    for f in [
+        "needles.md",
+        "torque.png",
+        "roller_force.png",
+        "sigma_H.png",
+        "beta_study.png",
+    ] {
+        assert!(dir.join("n").join(f).is_file(), "{f}: {err}");
+    }
+    assert!(err.contains("wrote"), "{err}");
+    // a spring-closed cam: the pull is said with its shaft angle
+    let (ok, out, err) = bindery(
+        &dir,
+        &["needles", "--out", "n", "--set", "cam.closure=spring"],
+        &[],
+    );
+    assert!(
+        ok && out.contains("would have to pull the roller"),
+        "{out}{err}"
+    );
+    // what the comparison sets itself, a bad speed and an undercut cam are refused by name
+    for (args, why) in [
+        (
+            &["needles", "--set", "needle.timing=own"][..],
+            "needle.timing",
+        ),
+        (&["needles", "--rpm", "0"][..], "--rpm"),
+        (
+            &["needles", "--set", "kmk.beta=1"][..],
+            "undercut at shaft angle",
+        ),
+    ] {
+        let (ok, _, err) = bindery(&dir, args, &[]);
+        assert!(!ok && err.contains(why), "{args:?}: {err}");
+    }
+}

@@ -15,6 +15,8 @@
 mod liftoff;
 #[path = "bindery/machines.rs"]
 mod machines;
+#[path = "bindery/needles.rs"]
+mod needles;
 #[path = "bindery/params.rs"]
 mod params;
 #[path = "bindery/place.rs"]
@@ -97,6 +99,25 @@ enum Cmd {
         /// Any parameter of the Perforators FMU, NAME=VALUE (repeatable)
         #[arg(long = "set", value_name = "NAME=VALUE")]
         set: Vec<String>,
+    },
+    /// The legacy needle drive (LegacyNeedleDrive, paper 002) against the Perforators at equal
+    /// needle motion over one shaft turn (kinetostatic): peak roller force, peak Hertz stress,
+    /// shaft torque, and paper 002's beta study: out/needles/needles.md and PNG plots
+    #[command(
+        after_help = "A parameter the two FMUs share (cycle.*, law.*, travel.rise_fraction, \
+        synth.unit, pierce.*, perf.m, guide.mu, joint.*) is set on both. Examples:\n  \
+        bindery needles --rpm 120\n  bindery needles --set kmk.beta=1 --set cam.closure=spring"
+    )]
+    Needles {
+        /// Shaft speed, rpm
+        #[arg(long, default_value_t = 100.0)]
+        rpm: f64,
+        /// Any parameter of the LegacyNeedleDrive FMU, NAME=VALUE (repeatable)
+        #[arg(long = "set", value_name = "NAME=VALUE")]
+        set: Vec<String>,
+        /// Output folder (default: out/needles in the checkout)
+        #[arg(long)]
+        out: Option<PathBuf>,
     },
     /// Error against wall time of the elastodynamic level: every solver method over a ladder of
     /// tolerances and communication steps, against FMPy + CVode on Model Exchange (needs .venv
@@ -367,6 +388,7 @@ fn main() -> ExitCode {
             kt,
             set,
         } => liftoff::settings(m0, kt, &set).and_then(|s| liftoff::liftoff(from, to, &s)),
+        Cmd::Needles { rpm, set, out } => needles::needles(rpm, &set, &out),
         Cmd::Report { out, no_fmpy, only } => report::report(&out, !no_fmpy, &only),
         Cmd::Ssp { fmus, out } => ssp(&fmus, &out),
         Cmd::Machines { out, options } => machines::machines(&out, &options),

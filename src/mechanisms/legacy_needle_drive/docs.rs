@@ -1,6 +1,7 @@
 //! The LegacyNeedleDrive FMU's `documentation/`: the mechanism, every variable, and figures drawn
 //! from [`super::physics`] (paper 002), with the Perforators beside it at equal needle motion.
 
+use super::compare::{legacy_turn, new_turn};
 use super::model::LegacyNeedleDrive;
 use super::physics::{Drive, Params, Timing};
 use crate::docs::{
@@ -105,7 +106,9 @@ pub fn figures() -> Vec<Figure> {
         .expect("the defaults assemble");
     let w = 100.0 * RPM;
     let n = 720;
-    let f = |d: &Drive, phi: f64| d.forces(&d.kinematics(phi, w, 0.0), 0.0, true);
+    let (turn_d, turn_own) = (legacy_turn(&d, w, n), legacy_turn(&own, w, n));
+    let mpa =
+        |t: &[(f64, f64)]| -> Vec<(f64, f64)> { t.iter().map(|p| (p.0, 1e-6 * p.1)).collect() };
     vec![
         Figure {
             equal_axes: true,
@@ -148,22 +151,10 @@ pub fn figures() -> Vec<Figure> {
             "shaft angle phi, deg",
             "roller.F, N / roller.sigma_H, MPa",
             vec![
-                Series::new(
-                    "roller.F, perforators timing",
-                    over_turn(n, |phi| f(&d, phi).p_kr),
-                ),
-                Series::new(
-                    "roller.sigma_H, perforators timing",
-                    over_turn(n, |phi| 1e-6 * f(&d, phi).sigma_h),
-                ),
-                Series::new(
-                    "roller.F, own timing",
-                    over_turn(n, |phi| f(&own, phi).p_kr),
-                ),
-                Series::new(
-                    "roller.sigma_H, own timing",
-                    over_turn(n, |phi| 1e-6 * f(&own, phi).sigma_h),
-                ),
+                Series::new("roller.F, perforators timing", turn_d.roller_f.clone()),
+                Series::new("roller.sigma_H, perforators timing", mpa(&turn_d.sigma_h)),
+                Series::new("roller.F, own timing", turn_own.roller_f.clone()),
+                Series::new("roller.sigma_H, own timing", mpa(&turn_own.sigma_h)),
             ],
             "The force of one branch's cam on its roller (paper 002, eq. 7) and the Hertz stress on the loaded flank (eq. 8), groove cam, with the piercing load while the needles rise.",
         ),
@@ -173,16 +164,8 @@ pub fn figures() -> Vec<Figure> {
             "shaft angle phi, deg",
             "shaft.tau, N.m",
             vec![
-                Series::new(
-                    "LegacyNeedleDrive (both branches)",
-                    over_turn(n, |phi| f(&d, phi).tau),
-                ),
-                Series::new(
-                    "Perforators",
-                    over_turn(n, |phi| {
-                        perforators.forces(&perforators.kinematics(phi, w, 0.0)).tau
-                    }),
-                ),
+                Series::new("LegacyNeedleDrive (both branches)", turn_d.tau.clone()),
+                Series::new("Perforators", new_turn(&perforators, w, n).tau),
             ],
             "The needle drives' share of the main-shaft torque at equal needle motion and piercing load.",
         ),
