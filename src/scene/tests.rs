@@ -7,6 +7,7 @@ use crate::catalog;
 use crate::docs::scene as docs;
 use crate::mechanisms::disc_knife_drive::DiscKnifeDrive;
 use crate::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
+use crate::mechanisms::legacy_needle_drive::LegacyNeedleDrive;
 use crate::mechanisms::perforators::Perforators;
 use crate::mechanisms::sewing_table::SewingTable;
 use crate::model::Dynamics;
@@ -278,6 +279,9 @@ fn tailored_outputs_equal_the_full_models_bit_for_bit() {
             "Perforators" => same_outputs::<Perforators>(&tailor::<Perforators>(&scene).unwrap()),
             "DiscKnifeDrive" => {
                 same_outputs::<DiscKnifeDrive>(&tailor::<DiscKnifeDrive>(&scene).unwrap())
+            }
+            "LegacyNeedleDrive" => {
+                same_outputs::<LegacyNeedleDrive>(&tailor::<LegacyNeedleDrive>(&scene).unwrap())
             }
             m => panic!("{}: mechanism {m} not covered by this test", path.display()),
         }
