@@ -224,7 +224,7 @@ fn main() {
         if mechanism {
             let fid = vr("model.fidelity").unwrap();
             let mode = vr("drive.mode").unwrap();
-            for level in 1..=3 {
+            for level in levels(&e) {
                 let ints = [(fid, level)];
                 let start = Start {
                     integers: &ints,
@@ -265,7 +265,7 @@ fn main() {
                     .find(|(r, _)| *r == n)
                     .and_then(|(_, v)| v.start)
                     .unwrap();
-                for level in 2..=3 {
+                for level in levels(&e).into_iter().filter(|&l| l >= 2) {
                     let ints = [(fid, level), (mode, 2)];
                     let reals = [(n, 4.0 * n0)];
                     let start = Start {

@@ -23,8 +23,6 @@ const RPM: f64 = std::f64::consts::PI / 30.0;
 /// them goes to both, so the needles move alike.
 const SHARED: &[&str] = &[
     "cycle.forward",
-    "cycle.dwell_sew",
-    "cycle.return",
     "cycle.phi0",
     "law.forward",
     "travel.rise_fraction",

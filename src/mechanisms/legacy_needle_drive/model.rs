@@ -11,6 +11,7 @@ use super::physics::{Closure, Drive, Kinematics, Params, Timing};
 use crate::digest::TurnDigest;
 use crate::mechanics::wrap_angle;
 use crate::mechanisms::contact_watch::{ContactWatch, WatchedContact, times};
+use crate::mechanisms::perforators::needles;
 use crate::mechanisms::perforators::physics::Params as NeedleParams;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
@@ -62,26 +63,24 @@ crate::model_variables! {
         needle_law_fall = Var::enum_parameter("needle.law_fall", &MOTION_LAW, "harmonic", "own timing: law of the fall (paper 002's 'K' on the idle stroke)"),
         // ---- shared with Perforators: the table cycle and the needle curve on it
         synth_unit = Var::parameter("synth.unit", 0.030, "m", "Needle stroke S (as Perforators' synth.unit with its exact swing: 30 mm)").min(0.0),
-        cycle_forward = Var::parameter("cycle.forward", 82f64.to_radians(), "rad", "Shaft angle of the table's forward travel (as Perforators)").min(0.0),
-        cycle_dwell_sew = Var::parameter("cycle.dwell_sew", 110f64.to_radians(), "rad", "Table dwell at sewing (as Perforators)").min(0.0),
-        cycle_return = Var::parameter("cycle.return", 90f64.to_radians(), "rad", "Shaft angle of the table's return (as Perforators)").min(0.0),
-        cycle_phi0 = Var::parameter("cycle.phi0", 0.0, "rad", "Shaft angle where the table's forward travel starts (as Perforators)"),
-        law_forward = Var::enum_parameter("law.forward", &MOTION_LAW, "cycloidal", "Table law of the forward travel (as Perforators)"),
-        travel_rise_fraction = Var::parameter("travel.rise_fraction", 0.5, "", "perforators timing: fraction of the table travel over which the needles rise (as Perforators)").min(0.0).max(1.0),
-        law_rise = Var::enum_parameter("law.rise", &MOTION_LAW, "cycloidal", "perforators timing: needle law of the rise over the table position (as Perforators)"),
-        law_fall = Var::enum_parameter("law.fall", &MOTION_LAW, "cycloidal", "perforators timing: needle law of the fall over the table position (as Perforators)"),
+        cycle_forward = needles::cycle_forward(),
+        cycle_phi0 = needles::cycle_phi0(),
+        law_forward = needles::law_forward(),
+        travel_rise_fraction = needles::rise_fraction(),
+        law_rise = needles::law_rise(),
+        law_fall = needles::law_fall(),
         // ---- loads (eq. 1) and friction
-        pierce_Q = Var::parameter("pierce.Q", 22.0 * crate::mechanics::STANDARD_GRAVITY, "N", "Piercing load of 12 needles in a 16-page signature of paper No. 2: 22 kgf (paper 002)").min(0.0).feeds(stage::LOADS),
-        pierce_s_in = Var::parameter("pierce.s_in", 0.55, "", "Fraction of the stroke where the needles meet the fold (as Perforators)").min(0.0).max(1.0).feeds(stage::LOADS),
-        pierce_s_out = Var::parameter("pierce.s_out", 0.75, "", "Fraction of the stroke where they are through (as Perforators)").min(0.0).max(1.0).feeds(stage::LOADS),
-        pierce_k_f = Var::parameter("pierce.k_f", 0.15, "", "Needle friction after piercing, fraction of pierce.Q (as Perforators)").min(0.0).feeds(stage::LOADS),
-        perf_m = Var::parameter("perf.m", 0.6, "kg", "Mass of the needle bar and needles, the other links lumped in (as Perforators)").min(0.0).feeds(stage::LOADS),
+        pierce_Q = needles::pierce_q(stage::LOADS),
+        pierce_s_in = needles::pierce_s_in(stage::LOADS),
+        pierce_s_out = needles::pierce_s_out(stage::LOADS),
+        pierce_k_f = needles::pierce_k_f(stage::LOADS),
+        perf_m = needles::perf_m(stage::LOADS),
         load_Kd = Var::parameter("load.Kd", 1.0, "", "Dynamic factor K_d on the bar's inertia force, eq. (1) (assumption)").min(0.0).feeds(stage::LOADS),
         load_F = Var::parameter("load.F", 0.0, "N", "Further friction load on the bar against its rise, eq. (1) (assumption)").feeds(stage::LOADS),
         load_P_spring = Var::parameter("load.P_spring", 0.0, "N", "Spring load on the bar against its rise, eq. (1) (assumption)").feeds(stage::LOADS),
-        guide_mu = Var::parameter("guide.mu", 0.1, "", "Friction coefficient f of the bar's guide (as Perforators)").min(0.0).feeds(stage::LOADS),
-        joint_f = Var::parameter("joint.f", 0.05, "", "Hinge friction coefficient of the five hinges O2, A, B, O3, C (as Perforators; 0 disables)").min(0.0).feeds(stage::LOADS),
-        joint_r = Var::parameter("joint.r", 0.006, "m", "Hinge pin radius (as Perforators)").min(0.0).feeds(stage::LOADS),
+        guide_mu = needles::guide_mu(stage::LOADS),
+        joint_f = needles::joint_f(stage::LOADS),
+        joint_r = needles::joint_r(stage::LOADS),
         // ---- cam and roller
         cam_closure = Var::enum_parameter("cam.closure", &Closure::FMI, "groove", "groove: either flank pushes; spring: the roller is held on the raising flank and lifts off where the cam would have to pull").feeds(stage::LOADS),
         roller_r = Var::parameter("roller.r", 0.015, "m", "Cam roller radius r_r (assumption)").min(0.0),
@@ -162,8 +161,6 @@ impl LegacyNeedleDrive {
     pub fn params(v: &Values<V>) -> Params {
         let table = TableParams {
             forward: v[V::cycle_forward],
-            dwell_sew: v[V::cycle_dwell_sew],
-            ret: v[V::cycle_return],
             phi0: v[V::cycle_phi0],
             law_forward: motion_law(v.int(V::law_forward)),
             kind: Kind::Translating,

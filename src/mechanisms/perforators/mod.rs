@@ -6,6 +6,7 @@
 pub mod docs;
 pub mod elastic;
 pub mod model;
+pub mod needles;
 pub mod physics;
 
 pub use model::Perforators;

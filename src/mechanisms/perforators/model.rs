@@ -11,6 +11,7 @@
 //! integrator step (the same samples for the same steps, so the outputs mean the same).
 
 use super::elastic::{Contact, ContactLaw, LeverOde, N_EVENTS, Track};
+use super::needles;
 use super::physics::{Drive, Kinematics, Mode, Params};
 use crate::digest::TurnDigest;
 use crate::mechanics::cyclogram::Phase;
@@ -59,28 +60,28 @@ crate::model_variables! {
         synth_l1 = Var::parameter("synth.l1", 1.0, "", "Table synthesis l1, relative (paper 000: 1.0; as SewingTable)").min(0.0),
         synth_R = Var::parameter("synth.R", 11.0, "", "Table synthesis R, relative (paper 000: 11.0; as SewingTable)").min(0.0),
         synth_alpha2 = Var::parameter("synth.alpha2", 20f64.to_radians(), "rad", "Swing of the rocking table the travel is synthesized from (paper 000: 20 deg; as SewingTable)").min(0.0).max(std::f64::consts::FRAC_PI_2),
-        cycle_forward = Var::parameter("cycle.forward", 82f64.to_radians(), "rad", "Shaft angle of the table's forward travel (as SewingTable)").min(0.0),
+        cycle_forward = needles::cycle_forward(),
         cycle_dwell_sew = Var::parameter("cycle.dwell_sew", 110f64.to_radians(), "rad", "Table dwell at sewing (as SewingTable; assumption)").min(0.0),
         cycle_return = Var::parameter("cycle.return", 90f64.to_radians(), "rad", "Shaft angle of the table's return (as SewingTable; assumption)").min(0.0),
-        cycle_phi0 = Var::parameter("cycle.phi0", 0.0, "rad", "Shaft angle where the forward travel starts (as SewingTable)"),
-        law_forward = Var::enum_parameter("law.forward", &MOTION_LAW, "cycloidal", "Table law of the forward travel (as SewingTable)"),
+        cycle_phi0 = needles::cycle_phi0(),
+        law_forward = needles::law_forward(),
         law_return = Var::enum_parameter("law.return", &MOTION_LAW, "cycloidal", "Table law of the return travel (as SewingTable)"),
         // ---- needle law over the travel
-        travel_rise_fraction = Var::parameter("travel.rise_fraction", 0.5, "", "Fraction of the table travel over which the perforators rise (paper 000: half)").min(0.0).max(1.0),
-        law_rise = Var::enum_parameter("law.rise", &MOTION_LAW, "cycloidal", "Needle law of the rise over the table position (paper 002: 'Co' on the working stroke)"),
-        law_fall = Var::enum_parameter("law.fall", &MOTION_LAW, "cycloidal", "Needle law of the fall over the table position"),
+        travel_rise_fraction = needles::rise_fraction(),
+        law_rise = needles::law_rise(),
+        law_fall = needles::law_fall(),
         // ---- loads and masses
-        pierce_Q = Var::parameter("pierce.Q", 22.0 * crate::mechanics::STANDARD_GRAVITY, "N", "Piercing load of 12 needles in a 16-page signature of paper No. 2: 22 kgf (paper 002)").min(0.0).feeds(stage::LOADS),
-        pierce_s_in = Var::parameter("pierce.s_in", 0.55, "", "Fraction of the stroke where the needles meet the fold (assumption)").min(0.0).max(1.0).feeds(stage::LOADS),
-        pierce_s_out = Var::parameter("pierce.s_out", 0.75, "", "Fraction of the stroke where they are through (assumption)").min(0.0).max(1.0).feeds(stage::LOADS),
-        pierce_k_f = Var::parameter("pierce.k_f", 0.15, "", "Needle friction after piercing, fraction of pierce.Q (assumption)").min(0.0).feeds(stage::LOADS),
-        perf_m = Var::parameter("perf.m", 0.6, "kg", "Mass of carriage and perforators (assumption)").min(0.0).feeds(stage::LOADS),
-        guide_mu = Var::parameter("guide.mu", 0.1, "", "Friction coefficient of the carriage guides (assumption)").min(0.0).feeds(stage::LOADS),
+        pierce_Q = needles::pierce_q(stage::LOADS),
+        pierce_s_in = needles::pierce_s_in(stage::LOADS),
+        pierce_s_out = needles::pierce_s_out(stage::LOADS),
+        pierce_k_f = needles::pierce_k_f(stage::LOADS),
+        perf_m = needles::perf_m(stage::LOADS),
+        guide_mu = needles::guide_mu(stage::LOADS),
         lever_J = Var::parameter("lever.J", 0.002, "kg.m2", "Lever's moment of inertia about its pivot (assumption)").min(0.0).feeds(stage::LOADS),
         spring_M0 = Var::parameter("spring.M0", 6.0, "N.m", "Spring moment on the lever in the lowest position (assumption)").min(0.0).feeds(stage::LOADS),
         spring_kt = Var::parameter("spring.kt", 20.0, "N.m/rad", "Spring rate about the pivot (assumption)").min(0.0).feeds(stage::LOADS),
-        joint_f = Var::parameter("joint.f", 0.05, "", "Hinge friction coefficient, moment f*r*|F| in O1, A and B (as paper 002; 0 disables)").min(0.0).feeds(stage::LOADS),
-        joint_r = Var::parameter("joint.r", 0.006, "m", "Hinge pin radius (assumption)").min(0.0).feeds(stage::LOADS),
+        joint_f = needles::joint_f(stage::LOADS),
+        joint_r = needles::joint_r(stage::LOADS),
         roller_r = Var::parameter("roller.r", 0.010, "m", "Ramp roller radius (assumption)").min(0.0),
         roller_b = Var::parameter("roller.b", 0.010, "m", "Ramp roller width (assumption)").min(0.0).feeds(stage::HERTZ),
         ramp_E = Var::parameter("ramp.E", 2.1e11, "Pa", "Young's modulus of the ramp (assumption: steel)").min(0.0).feeds(stage::HERTZ),

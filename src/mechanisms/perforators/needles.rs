@@ -1,0 +1,150 @@
+//! The needle parameters the Perforators share with the LegacyNeedleDrive, the drive they
+//! replace: the same names, meanings, defaults and bounds, declared once here; each model lists
+//! them in its `model_variables!` block (`loads`: the stages a load parameter feeds), so two
+//! FMUs set alike move their needles alike and carry the same piercing load.
+
+use crate::mechanisms::sewing_table::model::MOTION_LAW;
+use crate::model::{Stages, Var};
+
+/// `cycle.forward`.
+pub fn cycle_forward() -> Var {
+    Var::parameter(
+        "cycle.forward",
+        82f64.to_radians(),
+        "rad",
+        "Shaft angle of the table's forward travel (as SewingTable)",
+    )
+    .min(0.0)
+}
+/// `cycle.phi0`.
+pub fn cycle_phi0() -> Var {
+    Var::parameter(
+        "cycle.phi0",
+        0.0,
+        "rad",
+        "Shaft angle where the forward travel starts (as SewingTable)",
+    )
+}
+/// `law.forward`.
+pub fn law_forward() -> Var {
+    Var::enum_parameter(
+        "law.forward",
+        &MOTION_LAW,
+        "cycloidal",
+        "Table law of the forward travel (as SewingTable)",
+    )
+}
+/// `travel.rise_fraction`.
+pub fn rise_fraction() -> Var {
+    Var::parameter(
+        "travel.rise_fraction",
+        0.5,
+        "",
+        "Fraction of the table travel over which the perforators rise (paper 000: half)",
+    )
+    .min(0.0)
+    .max(1.0)
+}
+/// `law.rise`.
+pub fn law_rise() -> Var {
+    Var::enum_parameter(
+        "law.rise",
+        &MOTION_LAW,
+        "cycloidal",
+        "Needle law of the rise over the table position (paper 002: 'Co' on the working stroke)",
+    )
+}
+/// `law.fall`.
+pub fn law_fall() -> Var {
+    Var::enum_parameter(
+        "law.fall",
+        &MOTION_LAW,
+        "cycloidal",
+        "Needle law of the fall over the table position",
+    )
+}
+/// `pierce.Q`.
+pub fn pierce_q(loads: Stages) -> Var {
+    Var::parameter(
+        "pierce.Q",
+        22.0 * crate::mechanics::STANDARD_GRAVITY,
+        "N",
+        "Piercing load of 12 needles in a 16-page signature of paper No. 2: 22 kgf (paper 002)",
+    )
+    .min(0.0)
+    .feeds(loads)
+}
+/// `pierce.s_in`.
+pub fn pierce_s_in(loads: Stages) -> Var {
+    Var::parameter(
+        "pierce.s_in",
+        0.55,
+        "",
+        "Fraction of the stroke where the needles meet the fold (assumption)",
+    )
+    .min(0.0)
+    .max(1.0)
+    .feeds(loads)
+}
+/// `pierce.s_out`.
+pub fn pierce_s_out(loads: Stages) -> Var {
+    Var::parameter(
+        "pierce.s_out",
+        0.75,
+        "",
+        "Fraction of the stroke where they are through (assumption)",
+    )
+    .min(0.0)
+    .max(1.0)
+    .feeds(loads)
+}
+/// `pierce.k_f`.
+pub fn pierce_k_f(loads: Stages) -> Var {
+    Var::parameter(
+        "pierce.k_f",
+        0.15,
+        "",
+        "Needle friction after piercing, fraction of pierce.Q (assumption)",
+    )
+    .min(0.0)
+    .feeds(loads)
+}
+/// `perf.m`.
+pub fn perf_m(loads: Stages) -> Var {
+    Var::parameter(
+        "perf.m",
+        0.6,
+        "kg",
+        "Mass of carriage and perforators (assumption)",
+    )
+    .min(0.0)
+    .feeds(loads)
+}
+/// `guide.mu`.
+pub fn guide_mu(loads: Stages) -> Var {
+    Var::parameter(
+        "guide.mu",
+        0.1,
+        "",
+        "Friction coefficient of the carriage guides (assumption)",
+    )
+    .min(0.0)
+    .feeds(loads)
+}
+/// `joint.f`.
+pub fn joint_f(loads: Stages) -> Var {
+    Var::parameter(
+        "joint.f",
+        0.05,
+        "",
+        "Friction coefficient of the linkage's hinges, moment f*r*|F| (as paper 002; 0 disables)",
+    )
+    .min(0.0)
+    .feeds(loads)
+}
+/// `joint.r`.
+pub fn joint_r(loads: Stages) -> Var {
+    Var::parameter("joint.r", 0.006, "m", "Hinge pin radius (assumption)")
+        .min(0.0)
+        .feeds(loads)
+}
