@@ -5,8 +5,9 @@
 //! flywheel that brings it below a target, peak and RMS motor torque, start-up time.
 
 use crate::mechanisms::{
-    disc_knife_drive::DiscKnifeDrive, geneva_knife_drive::GenevaKnifeDrive, main_shaft::MainShaft,
-    perforators::Perforators, sewing_table::SewingTable,
+    disc_knife_drive::DiscKnifeDrive, geneva_knife_drive::GenevaKnifeDrive,
+    legacy_needle_drive::LegacyNeedleDrive, main_shaft::MainShaft, perforators::Perforators,
+    sewing_table::SewingTable,
 };
 use crate::model::{Model, NoLog, Values, VarSet};
 use crate::ssp::Machine;
@@ -73,6 +74,7 @@ fn instance(id: &'static str) -> Result<Box<dyn Instance>, String> {
         "SewingTable" => make::<SewingTable>(id),
         "Perforators" => make::<Perforators>(id),
         "DiscKnifeDrive" => make::<DiscKnifeDrive>(id),
+        "LegacyNeedleDrive" => make::<LegacyNeedleDrive>(id),
         _ => return Err(format!("no model {id}")),
     })
 }

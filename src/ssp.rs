@@ -156,6 +156,34 @@ pub fn machines() -> Vec<Machine> {
             step: 1e-3,
         }
     };
+    // the same machine with the needle drive it replaced: its cams on the main shaft, the lever
+    // chain on the frame (the needles pierce while the table rests), its torque a load of its own
+    let sewing_legacy = {
+        let mut connections = shaft_to("table", 1);
+        connections.extend(shaft_to("needles", 2));
+        let mut components = sewing.components.clone();
+        components[2] = Component {
+            name: "needles",
+            fmu: "LegacyNeedleDrive",
+            params: vec![],
+            // rod force, cam-roller force and its Hertz stress, piercing load
+            record: vec![
+                "perforators.s",
+                "rod.F",
+                "roller.F",
+                "roller.sigma_H",
+                "pierce.Q_T",
+                "shaft.tau",
+            ],
+        };
+        Machine {
+            name: "ThreadSewingMachineLegacy",
+            description: "Thread-sewing machine with the needle drive the perforators replace: main-shaft drive, cam-driven sewing table and the legacy three-contour needle drive, cams on the main shaft (papers 000, 002)",
+            components,
+            connections,
+            ..sewing.clone()
+        }
+    };
     let trimmer = {
         let mut connections = shaft_to("side_left", 1);
         connections.extend(shaft_to("side_right", 2));
@@ -191,7 +219,7 @@ pub fn machines() -> Vec<Machine> {
             step: 2e-3,
         }
     };
-    vec![sewing, trimmer]
+    vec![sewing, trimmer, sewing_legacy]
 }
 
 fn esc(s: &str) -> String {

@@ -233,7 +233,7 @@ fn names_are_checked_against_the_catalog() {
             vec!["machines", "--machine", "Trimmer"],
             vec![
                 "unknown machine \"Trimmer\"",
-                "ThreadSewingMachine, ThreeKnifeTrimmer",
+                "ThreadSewingMachine, ThreeKnifeTrimmer, ThreadSewingMachineLegacy",
             ],
         ),
     ] {

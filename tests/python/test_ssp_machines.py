@@ -38,7 +38,7 @@ NS = {
     "ssc": "http://ssp-standard.org/SSP1/SystemStructureCommon",
     "oms": "https://raw.githubusercontent.com/OpenModelica/OMSimulator/master/schema/oms.xsd",
 }
-MACHINES = ["ThreadSewingMachine", "ThreeKnifeTrimmer"]
+MACHINES = ["ThreadSewingMachine", "ThreeKnifeTrimmer", "ThreadSewingMachineLegacy"]
 RPM = math.pi / 30
 
 # what a designer reads of each component: main forces, shaft torque; the drive's motor
@@ -46,6 +46,7 @@ DESIGNER = {
     "drive": ["shaft.w", "motor.tau", "motor.w", "motor.P", "shaft.tau_load"],
     "table": ["table.x", "cam.F", "cam.sigma_H", "table.F_inertia", "shaft.tau"],
     "perforators": ["perforators.s", "rod.F", "roller.F", "pierce.Q_T", "table.F", "shaft.tau"],
+    "needles": ["perforators.s", "rod.F", "roller.F", "roller.sigma_H", "pierce.Q_T", "shaft.tau"],
     "side_left": ["knife.s", "rod.F", "knife.F_cut", "geneva.F", "shaft.tau"],
     "side_right": ["knife.s", "rod.F", "knife.F_cut", "geneva.F", "shaft.tau"],
     "front": ["knife.s", "rod.F", "knife.F_cut", "geneva.F", "shaft.tau"],

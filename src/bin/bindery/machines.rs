@@ -24,7 +24,7 @@ use std::path::PathBuf;
     bindery machines --machine ThreadSewingMachine --rpm 120 --flywheel 4"
 )]
 pub struct Options {
-    /// Only this machine (ThreadSewingMachine, ThreeKnifeTrimmer)
+    /// Only this machine (ThreadSewingMachine, ThreeKnifeTrimmer, ThreadSewingMachineLegacy)
     #[arg(long)]
     machine: Option<String>,
     /// Nominal main-shaft speed, rpm; the gear ratio becomes the motor's synchronous speed over
