@@ -240,6 +240,10 @@ pub struct Drive {
     pub psi_low: f64,
     pub psi_high: f64,
     pub r0: f64,
+    /// The sense the rocker turns in to raise the needles: the sign of dψ1/ds, the same over
+    /// the whole stroke (checked). The force chain's factors are magnitudes (the vector form),
+    /// so the raising flank's moment about O2 is `psi_sense·P_kr·L·cos α`.
+    pub psi_sense: f64,
     /// The hinges' relative friction arms ε_j = f·r/ℓ_j: C and O3 (ℓ = R_k), B (ℓ = b), A and
     /// O2 (ℓ = R).
     pub eps_c: f64,
@@ -343,15 +347,34 @@ impl Params {
             psi_low: f64::NAN,
             psi_high: f64::NAN,
             r0: f64::NAN,
+            psi_sense: f64::NAN,
             eps_c: jr / self.r_k,
             eps_b: jr / self.b,
             eps_a: jr / self.r,
         };
-        // every bar position of the stroke assembles
+        // every bar position of the stroke assembles, and the rocker turns one way over it (a
+        // chain through a dead point cannot be driven from the cam)
+        let rate = |d: &Drive, s: f64| {
+            d.pose(Dual64::new(s, 1.0))
+                .map(|p| p.psi1.eps)
+                .map_err(|e| d.assembly_error(e, s))
+        };
+        let sense = sgn(rate(&d, 0.5 * stroke)?);
         for k in 0..=SAMPLES {
             let s = stroke * k as f64 / SAMPLES as f64;
-            d.pose(s).map_err(|e| d.assembly_error(e, s))?;
+            let r = rate(&d, s)?;
+            if !(r * sense > 0.0) {
+                return Err(ParamError::new(
+                    "fb.branch",
+                    self.fb_branch,
+                    format!(
+                        "the chain passes a dead point at bar position s = {:.3} mm (dpsi1/ds = {r:.4} rad/m): the rocker turns back within the stroke",
+                        1000.0 * s
+                    ),
+                ));
+            }
         }
+        d.psi_sense = sense;
         let low = d.pose(0.0).map_err(|e| d.assembly_error(e, 0.0))?;
         let high = d.pose(stroke).map_err(|e| d.assembly_error(e, stroke))?;
         d.psi_low = low.psi1;
@@ -559,7 +582,7 @@ impl Drive {
             rho_red: 1.0 / inv_rho,
             flank: flank as i32,
             lost_contact,
-            tau: p.n * p_kr * self.l * cos_alpha * k.psi1_d + p.cam_j * eps,
+            tau: p.n * p_kr * self.l * cos_alpha * k.psi1_d * self.psi_sense + p.cam_j * eps,
         }
     }
 

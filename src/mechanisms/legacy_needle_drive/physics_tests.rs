@@ -139,7 +139,7 @@ fn frictionless_cam_force_is_virtual_work_and_power_balances() {
             }
             let f = d.forces(&k, 0.0, false);
             // (7) = Q_b/(L·cos α·dψ1/ds)
-            let reference = f.q_b / (d.l * k.alpha.cos() * k.psi1_s);
+            let reference = f.q_b / (d.l * k.alpha.cos() * k.psi1_s.abs());
             assert!(
                 (f.p_kr - reference).abs() <= 1e-12 * reference.abs().max(1e-3),
                 "{timing:?} phi {phi}: {} vs {reference}",
@@ -334,5 +334,52 @@ fn refusals_name_the_loop_the_parameter_or_the_shaft_angle() {
         ),
     ] {
         assert_eq!(refused(p).param, name);
+    }
+}
+
+#[test]
+fn every_assembly_branch_closes_its_loops_and_balances_power() {
+    let mut psi = Vec::new();
+    for (fb, kpm) in [(1.0, -1.0), (-1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+        let mut p = Params {
+            fb_branch: fb,
+            kpm_branch: kpm,
+            ..Params::default()
+        };
+        p.needles.guide_mu = 0.0;
+        p.needles.joint_f = 0.0;
+        let d = p.drive().unwrap();
+        let len = |a: [f64; 2], b: [f64; 2]| (a[0] - b[0]).hypot(a[1] - b[1]);
+        let side = |p: [f64; 2], q: [f64; 2], x: [f64; 2]| {
+            ((q[0] - p[0]) * (x[1] - p[1]) - (q[1] - p[1]) * (x[0] - p[0])).signum()
+        };
+        for i in 0..=20 {
+            let q = d.pose(d.stroke * i as f64 / 20.0).unwrap();
+            for (x, y, l) in [
+                (q.c, p.o3, p.r_k),
+                (q.c, q.d, p.l_rod),
+                (q.a, d.o2, p.r),
+                (q.a, q.b, p.c),
+                (q.b, p.o3, p.b),
+                (q.k, d.o2, d.l),
+            ] {
+                assert!((len(x, y) - l).abs() <= 1e-14, "branches {fb} {kpm}");
+            }
+            assert_eq!(side(p.o3, q.d, q.c), kpm);
+            assert_eq!(side(d.o2, q.b, q.a), fb);
+        }
+        for phi in turn(90) {
+            let k = d.kinematics(phi, W100, 0.0);
+            let f = d.forces(&k, 0.0, false);
+            let p_bar = d.p.n * f.q_b * k.v;
+            assert!((f.tau * W100 - p_bar).abs() <= 1e-9 * p_bar.abs().max(1.0));
+        }
+        psi.push(d.psi_low);
+    }
+    // four different assemblies
+    for i in 0..4 {
+        for j in 0..i {
+            assert!((psi[i] - psi[j]).abs() > 0.1, "{psi:?}");
+        }
     }
 }
