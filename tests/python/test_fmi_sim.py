@@ -117,9 +117,17 @@ class Case:
     refused: bool = False  # a scene without states declares no Model Exchange: both hosts refuse it
 
 
+def _has_me(model: str) -> bool:
+    return "<ModelExchange" in (MD_DIR / f"{model}.xml").read_text()
+
+
 def _levels(model: str) -> list[str]:
+    """The levels a model has: none (MainShaft), or kinematic and kinetostatic, and elastodynamic
+    where it is also Model Exchange (LegacyNeedleDrive is neither)."""
     md = (MD_DIR / f"{model}.xml").read_text()
-    return list(LEVELS) if 'name="model.fidelity"' in md else [""]
+    if 'name="model.fidelity"' not in md:
+        return [""]
+    return [lv for lv in LEVELS if lv != "elastodynamic" or _has_me(model)]
 
 
 def _full_fmu_cases() -> list:
@@ -136,6 +144,7 @@ def _full_fmu_cases() -> list:
             for interface in ("CoSimulation", "ModelExchange"):
                 case = Case(FMU_DIR / f"{model}.fmu", interface, dict(start), paths["in"], opt["StopTime"],
                             opt["StepSize"], opt["RelTol"])
+                case.refused = interface == "ModelExchange" and not _has_me(model)
                 if level == "elastodynamic" and interface == "CoSimulation":
                     case.start_values.update(FIXED_STEP)
                 if level == "elastodynamic" and interface == "ModelExchange":
