@@ -364,14 +364,7 @@ impl Params {
             let s = stroke * k as f64 / SAMPLES as f64;
             let r = rate(&d, s)?;
             if !(r * sense > 0.0) {
-                return Err(ParamError::new(
-                    "fb.branch",
-                    self.fb_branch,
-                    format!(
-                        "the chain passes a dead point at bar position s = {:.3} mm (dpsi1/ds = {r:.4} rad/m): the rocker turns back within the stroke",
-                        1000.0 * s
-                    ),
-                ));
+                return Err(d.dead_point(s, r));
             }
         }
         d.psi_sense = sense;
@@ -445,7 +438,45 @@ impl Drive {
         )
     }
 
-    /// The needle law: `(s, ds/dφ, d²s/dφ², rising)` at shaft angle `phi`.
+    /// The refusal of a chain that passes a dead point at bar position `s` (dψ1/ds = `rate`
+    /// changes sign): ds/dψ1 is unbounded where the four-bar's coupler AB comes in line with
+    /// its rocker O3B (sin μ = 0) or the rod CD stands across the guide (cos α_sh = 0); the
+    /// loop nearer to it is named.
+    fn dead_point(&self, s: f64, rate: f64) -> ParamError {
+        let q = self.pose(s).expect("assembles (checked before)");
+        let sin_mu = cross(unit(q.a, q.b), unit(self.p.o3, q.b)).abs();
+        let cos_sh = {
+            let e = unit(q.c, q.d);
+            (e[0] * self.u_g[0] + e[1] * self.u_g[1]).abs()
+        };
+        let (param, value, what) = if sin_mu <= cos_sh {
+            (
+                "fb.b",
+                self.p.b,
+                format!(
+                    "the four-bar's coupler AB comes in line with its rocker O3B (sin mu = {sin_mu:.4})"
+                ),
+            )
+        } else {
+            (
+                "kpm.l",
+                self.p.l_rod,
+                format!(
+                    "the rocker-slider's rod CD stands across the guide (cos alpha_sh = {cos_sh:.4})"
+                ),
+            )
+        };
+        ParamError::new(
+            param,
+            value,
+            format!(
+                "the chain passes a dead point at bar position s = {:.3} mm, where {what}: the rocker turns back within the stroke (dpsi1/ds = {rate:.4} rad/m)",
+                1000.0 * s
+            ),
+        )
+    }
+
+    /// The needle law: `(s, ds/dφ, d²s/dφ²)` at shaft angle `phi`.
     pub fn needle(&self, phi: f64) -> (f64, f64, f64) {
         match self.p.timing {
             Timing::Perforators => {

@@ -383,3 +383,18 @@ fn every_assembly_branch_closes_its_loops_and_balances_power() {
         }
     }
 }
+
+#[test]
+fn a_dead_point_within_the_stroke_is_refused_naming_the_loop() {
+    // the pivot O3 moved so that the four-bar's coupler comes in line with its rocker
+    let e = Params {
+        o3: [-0.09, 0.27],
+        ..Params::default()
+    }
+    .drive()
+    .unwrap_err();
+    assert!(
+        e.param == "fb.b" && e.condition.contains("dead point") && e.condition.contains("four-bar"),
+        "{e}"
+    );
+}
