@@ -55,6 +55,12 @@ pub fn dot(a: (f64, f64), b: (f64, f64)) -> f64 {
     a.0 * b.0 + a.1 * b.1
 }
 
+/// The cross product `a × b` of two plane vectors (the z component).
+#[inline]
+pub fn cross(a: (f64, f64), b: (f64, f64)) -> f64 {
+    a.0 * b.1 - a.1 * b.0
+}
+
 /// The angle `phi` reduced to one turn, in `[0, 2π)`.
 ///
 /// Uses `rem_euclid`, so negative angles wrap forwards; rounding can make `rem_euclid` return

@@ -22,7 +22,7 @@ use crate::mechanics::cyclogram::{Cyclogram, Phase};
 use crate::mechanics::hertz::{Surface, line_contact_stress};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::{
-    ParamError, STANDARD_GRAVITY, check_finite, check_non_negative, check_positive, sgn,
+    ParamError, STANDARD_GRAVITY, check_finite, check_non_negative, check_positive, cross, dot, sgn,
 };
 use crate::mechanisms::perforators::physics::{Drive as NeedleCurve, Params as NeedleParams};
 use num_dual::{Dual2_64, Dual64, DualNum};
@@ -251,16 +251,11 @@ pub struct Drive {
     pub eps_a: f64,
 }
 
-/// 2-D cross product.
-fn cross(a: [f64; 2], b: [f64; 2]) -> f64 {
-    a[0] * b[1] - a[1] * b[0]
-}
-
 /// Unit vector from `p` to `q`.
-fn unit(p: [f64; 2], q: [f64; 2]) -> [f64; 2] {
+fn unit(p: [f64; 2], q: [f64; 2]) -> (f64, f64) {
     let d = [q[0] - p[0], q[1] - p[1]];
     let n = d[0].hypot(d[1]);
-    [d[0] / n, d[1] / n]
+    (d[0] / n, d[1] / n)
 }
 
 fn re<T: DualNum<Primitive = f64>>(x: &[T; 2]) -> [f64; 2] {
@@ -445,10 +440,7 @@ impl Drive {
     fn dead_point(&self, s: f64, rate: f64) -> ParamError {
         let q = self.pose(s).expect("assembles (checked before)");
         let sin_mu = cross(unit(q.a, q.b), unit(self.p.o3, q.b)).abs();
-        let cos_sh = {
-            let e = unit(q.c, q.d);
-            (e[0] * self.u_g[0] + e[1] * self.u_g[1]).abs()
-        };
+        let cos_sh = { dot(unit(q.c, q.d), (self.u_g[0], self.u_g[1])).abs() };
         let (param, value, what) = if sin_mu <= cos_sh {
             (
                 "fb.b",
@@ -533,7 +525,7 @@ impl Drive {
             theta_c: o3c[1].atan2(o3c[0]),
             alpha,
             rho_p,
-            cos_alpha_sh: (e_cd[0] * self.u_g[0] + e_cd[1] * self.u_g[1]).abs(),
+            cos_alpha_sh: dot(e_cd, (self.u_g[0], self.u_g[1])).abs(),
             sin_gamma: cross(e_o3c, e_cd).abs(),
             sin_mu: cross(e_ab, e_o3b).abs(),
             sin_delta_psi: cross(e_o2a, e_ab).abs(),

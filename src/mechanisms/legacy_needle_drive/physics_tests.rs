@@ -216,7 +216,7 @@ fn derivatives_match_finite_differences() {
                 (c[0] - 2.0 * b[0] + a[0]) / 1e-8,
                 (c[1] - 2.0 * b[1] + a[1]) / 1e-8,
             ];
-            let rho = d1[0].hypot(d1[1]).powi(3) / cross(d1, d2);
+            let rho = d1[0].hypot(d1[1]).powi(3) / cross((d1[0], d1[1]), (d2[0], d2[1]));
             assert!(
                 (k.rho_p.abs() - rho.abs()).abs() <= 1e-4 * rho.abs(),
                 "{timing:?} phi {phi}: rho_p {} vs {rho}",

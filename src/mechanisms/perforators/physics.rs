@@ -25,7 +25,7 @@ use crate::mechanics::cyclogram::{CyclePoint, Cyclogram, Phase};
 use crate::mechanics::hertz::{Surface, line_contact_stress};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::slider_line::SliderLine;
-use crate::mechanics::{ParamError, STANDARD_GRAVITY, dot, sgn};
+use crate::mechanics::{ParamError, STANDARD_GRAVITY, cross, dot, sgn};
 use crate::mechanisms::sewing_table::physics::Params as TableParams;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
@@ -210,10 +210,6 @@ pub struct Forces {
     pub table_f: f64,
     /// `shaft.tau`: the perforators' share at the main shaft, `−table.F·dx_t/dφ`.
     pub tau: f64,
-}
-
-fn cross(a: (f64, f64), b: (f64, f64)) -> f64 {
-    a.0 * b.1 - a.1 * b.0
 }
 
 const SAMPLES: usize = 2000;
