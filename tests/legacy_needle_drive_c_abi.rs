@@ -128,6 +128,12 @@ fn refusals_name_the_level_the_shaft_angle_or_the_loop() {
         let e = s.initialization_refusal();
         assert!(e.contains(words), "{e}");
     }
+    // an integer inside the declared bounds but not a branch
+    let s = f.slave("branch");
+    assert_eq!(s.setup(0.0, None), Status::Ok);
+    assert_eq!(s.set_integer(&[V::fb_branch.vr()], &[0]), Status::Ok);
+    let e = s.initialization_refusal();
+    assert!(e.contains("fb.branch") && e.contains("+1 or -1"), "{e}");
 }
 
 #[test]

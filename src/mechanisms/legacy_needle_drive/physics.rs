@@ -282,6 +282,18 @@ impl Params {
             check_positive(name, x, "must be a finite length or modulus > 0")?;
         }
         check_positive("kmk.beta", self.beta, "beta = L_rocker/l_k must be > 0")?;
+        for (name, x) in [
+            ("fb.branch", self.fb_branch),
+            ("kpm.branch", self.kpm_branch),
+        ] {
+            if x.abs() != 1.0 {
+                return Err(ParamError::new(
+                    name,
+                    x,
+                    "an assembly branch is +1 or -1 (the side of the loop's second joint)",
+                ));
+            }
+        }
         if !(self.n >= 1.0) {
             return Err(ParamError::new(
                 "legacy.branches",

@@ -332,6 +332,20 @@ fn refusals_name_the_loop_the_parameter_or_the_shaft_angle() {
             },
             "legacy.branches",
         ),
+        (
+            Params {
+                fb_branch: 0.0,
+                ..Params::default()
+            },
+            "fb.branch",
+        ),
+        (
+            Params {
+                kpm_branch: 0.0,
+                ..Params::default()
+            },
+            "kpm.branch",
+        ),
     ] {
         assert_eq!(refused(p).param, name);
     }
