@@ -51,10 +51,11 @@ def perforator_s(x_t):
     return np.where(rise, S * cycloidal(x_t / (h / 2))[0], S * (1 - cycloidal((x_t - h / 2) / (h / 2))[0]))
 
 
-def mismatches_table(result, rtol=1e-9):
-    x, v, a, _ = table_motion(result["shaft.phi"], result["shaft.w"], result["shaft.a"])
+def compare(result, wants, rtol=1e-9):
+    """The columns of `result` that differ from their closed form `wants` ((name, array), ...) by
+    more than rtol of the closed form's largest magnitude, the first bad row of each."""
     out = []
-    for name, want in (("table.x", x), ("table.v", v), ("table.a", a)):
+    for name, want in wants:
         got = result[name]
         scale = np.max(np.abs(want)) + 1e-300
         bad = np.abs(got - want) > rtol * scale
@@ -62,18 +63,15 @@ def mismatches_table(result, rtol=1e-9):
             i = int(np.argmax(bad))
             out.append(f"{name} at row {i}: FMU {got[i]!r}, closed form {want[i]!r}")
     return out
+
+
+def mismatches_table(result, rtol=1e-9):
+    x, v, a, _ = table_motion(result["shaft.phi"], result["shaft.w"], result["shaft.a"])
+    return compare(result, (("table.x", x), ("table.v", v), ("table.a", a)), rtol)
 
 
 def mismatches_perforators(result, rtol=1e-9):
     x, _, _, dx = table_motion(result["shaft.phi"], result["shaft.w"], result["shaft.a"])
     s = perforator_s(x)
     tau = -result["table.F"] * dx
-    out = []
-    for name, want in (("table.x", x), ("perforators.s", s), ("shaft.tau", tau)):
-        got = result[name]
-        scale = np.max(np.abs(want)) + 1e-300
-        bad = np.abs(got - want) > rtol * scale
-        if np.any(bad):
-            i = int(np.argmax(bad))
-            out.append(f"{name} at row {i}: FMU {got[i]!r}, closed form {want[i]!r}")
-    return out
+    return compare(result, (("table.x", x), ("perforators.s", s), ("shaft.tau", tau)), rtol)

@@ -9,7 +9,7 @@ import math
 
 import numpy as np
 
-from closed_form_sewing import perforator_s, table_motion
+from closed_form_sewing import compare, perforator_s, table_motion
 
 LK, BETA, THETA12, KAPPA = 0.150, 0.48, math.pi, 120 * math.pi / 180
 R, C, B, O3 = 0.100, 0.300, 0.070, np.array([-0.180, 0.300])
@@ -55,13 +55,5 @@ def mismatches(result, rtol=1e-9):
     # the roller's moment on the rocker, every branch: tau = n*P_kr*L*cos(alpha)*dpsi1/dphi
     tau = (N_BRANCHES * result["roller.F"] * BETA * LK * np.cos(result["cam.theta"])
            * result["rocker.w"] / result["shaft.w"])
-    out = []
-    for name, want in (("perforators.s", s), ("lever3.theta", theta_c), ("rocker.psi", psi1),
-                       ("shaft.tau", tau)):
-        got = result[name]
-        scale = np.max(np.abs(want)) + 1e-300
-        bad = np.abs(got - want) > rtol * scale
-        if np.any(bad):
-            i = int(np.argmax(bad))
-            out.append(f"{name} at row {i}: FMU {got[i]!r}, closed form {want[i]!r}")
-    return out
+    return compare(result, (("perforators.s", s), ("lever3.theta", theta_c), ("rocker.psi", psi1),
+                            ("shaft.tau", tau)), rtol)

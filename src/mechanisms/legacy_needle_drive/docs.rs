@@ -175,7 +175,10 @@ pub fn figures() -> Vec<Figure> {
             "kmk.beta = L_rocker / l_k",
             "largest roller.sigma_H in the run-up, MPa",
             vec![Series::new("own timing, 100 rpm", beta_study())],
-            "The largest Hertz stress cam-roller over the run-up of the rise (where the rocker accelerates), the rocker's swing held: raising beta from the NSh-6's 0.48 to 1 lowers it 1.70-fold here (the paper: 1.83 with its unknown sizes).",
+            format!(
+                "The largest Hertz stress cam-roller over the run-up of the rise (where the rocker accelerates), the rocker's swing held: raising beta from the NSh-6's 0.48 to 1 lowers it {}-fold here (the paper: 1.83 with its unknown sizes).",
+                number(beta_ratio(), 3)
+            ),
         ),
     ]
 }
