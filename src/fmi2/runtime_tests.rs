@@ -41,7 +41,7 @@ fn snapshot_bytes_round_trip_and_refuse_garbage() {
 
 // ---- the runtime over a tiny model, called as a host would, without a cdylib ----------
 
-use crate::model::{Experiment, ParamError};
+use crate::model::{Experiment, Outcome, ParamError};
 use std::sync::Mutex;
 
 crate::model_variables! {
@@ -70,13 +70,7 @@ impl Model for Tiny {
 }
 
 impl crate::model::Dynamics<TV> for Tiny {
-    fn do_step(
-        &mut self,
-        v: &mut Values<TV>,
-        time: f64,
-        _: f64,
-        _: &mut dyn Log,
-    ) -> Result<(), String> {
+    fn do_step(&mut self, v: &mut Values<TV>, time: f64, _: f64, _: &mut dyn Log) -> Outcome {
         if v.flag(TV::fail) {
             return Err(format!("solver gave up at t = {time}"));
         }

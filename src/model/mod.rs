@@ -47,6 +47,10 @@ impl Experiment {
 /// A parameter set the mechanism cannot work with (defined with the shared mechanics).
 pub use crate::mechanics::ParamError;
 
+/// What a step of a model ends in: done, or refused with the reason (the runtime answers
+/// `fmi2Discard` with it and keeps the instance as it was before the call).
+pub type Outcome = Result<(), String>;
+
 /// Severity of a message a model emits while it runs.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Severity {
@@ -163,13 +167,7 @@ pub trait Dynamics<V: VarSet> {
     /// Advances internal state (if any) from `time` over `h`, the shaft following
     /// [`shaft::path`] from the inputs at `time`; algebraic models need nothing. A host calls
     /// [`Model::step`], which also brings the inputs to the end of the step.
-    fn do_step(
-        &mut self,
-        _values: &mut Values<V>,
-        _time: f64,
-        _h: f64,
-        _log: &mut dyn Log,
-    ) -> Result<(), String> {
+    fn do_step(&mut self, _: &mut Values<V>, _time: f64, _h: f64, _: &mut dyn Log) -> Outcome {
         Ok(())
     }
 

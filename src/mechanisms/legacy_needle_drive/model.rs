@@ -16,7 +16,7 @@ use crate::mechanisms::perforators::physics::Params as NeedleParams;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
-use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
+use crate::model::{Dynamics, Experiment, Log, Model, Outcome, ParamError, Stage, Values};
 
 crate::stages! {
     FORCES = Stage::new("forces", "Kinetostatic force chain of paper 002, eqs. (1)-(7): load of a branch, rod, bell cranks, coupler, cam-roller force with guide and hinge friction, shaft torque", Fidelity::WITH_FORCES),
@@ -321,13 +321,7 @@ impl Model for LegacyNeedleDrive {
 
 /// Co-Simulation only: the watch of the cam force over each step is its memory.
 impl Dynamics<V> for LegacyNeedleDrive {
-    fn do_step(
-        &mut self,
-        v: &mut Values<V>,
-        time: f64,
-        h: f64,
-        log: &mut dyn Log,
-    ) -> Result<(), String> {
+    fn do_step(&mut self, v: &mut Values<V>, time: f64, h: f64, log: &mut dyn Log) -> Outcome {
         if self.watching(v) {
             self.state
                 .watch(&self.drive, shaft::state(v, time), time, h, log);

@@ -3,7 +3,7 @@
 //! `shaft.w`, `shaft.a` are its outputs, the load its inputs.
 
 use super::physics::{Load, Motor, Params, Point};
-use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Values};
+use crate::model::{Dynamics, Experiment, Log, Model, Outcome, ParamError, Values};
 use crate::solver::{Integrator, Memory, Method, OdeSystem, Settings};
 use std::f64::consts::PI;
 
@@ -181,13 +181,7 @@ impl Model for MainShaft {
 }
 
 impl Dynamics<V> for MainShaft {
-    fn do_step(
-        &mut self,
-        v: &mut Values<V>,
-        time: f64,
-        h: f64,
-        _log: &mut dyn Log,
-    ) -> Result<(), String> {
+    fn do_step(&mut self, v: &mut Values<V>, time: f64, h: f64, _log: &mut dyn Log) -> Outcome {
         let ode = ShaftOde {
             p: &self.params,
             load: Self::load(v),

@@ -19,7 +19,7 @@ use crate::mechanisms::contact_watch::{ContactWatch, WatchedContact, times};
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
-use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
+use crate::model::{Dynamics, Experiment, Log, Model, Outcome, ParamError, Stage, Values};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel, Saved};
 use crate::solver::{Integrator, OdeSystem, ShaftPath};
@@ -466,13 +466,7 @@ impl Model for Perforators {
 }
 
 impl Dynamics<V> for Perforators {
-    fn do_step(
-        &mut self,
-        v: &mut Values<V>,
-        time: f64,
-        h: f64,
-        log: &mut dyn Log,
-    ) -> Result<(), String> {
+    fn do_step(&mut self, v: &mut Values<V>, time: f64, h: f64, log: &mut dyn Log) -> Outcome {
         if self.dynamic.is_some() {
             return chain::do_step(self.dynamic.as_mut(), &self.drive, v, time, h, log);
         }

@@ -62,7 +62,7 @@ macro_rules! chain_hooks {
             time: f64,
             h: f64,
             log: &mut dyn $crate::model::Log,
-        ) -> Result<(), String> {
+        ) -> $crate::model::Outcome {
             $crate::solver::chain::do_step(self.$chain.as_mut(), &self.$physics, v, time, h, log)
         }
     };
