@@ -22,6 +22,9 @@ pub enum Variability {
     Continuous,
 }
 
+use Causality::{CalculatedParameter, Input, Local, Output, Parameter};
+use Variability::{Continuous, Discrete, Fixed};
+
 /// `initial` of an FMI 2.0 ScalarVariable.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Initial {
@@ -167,24 +170,30 @@ pub fn default_display_unit(unit: &str) -> Option<&'static str> {
 }
 
 impl Var {
+    /// A variable of this type, causality and variability, described by `desc`. Its `initial`
+    /// follows from the causality: `calculated` for outputs, locals and calculated parameters
+    /// (the FMU computes them), none for parameters and inputs (their start value is exact).
     fn base(
         name: &'static str,
-        ty: VarType,
-        causality: Causality,
-        variability: Variability,
+        desc: &'static str,
+        (ty, causality, variability): (VarType, Causality, Variability),
     ) -> Self {
+        let computed = matches!(
+            causality,
+            Causality::Output | Causality::Local | Causality::CalculatedParameter
+        );
         Var {
             name,
             ty,
             causality,
             variability,
-            initial: None,
+            initial: computed.then_some(Initial::Calculated),
             start: None,
             unit: None,
             display_unit: None,
             min: None,
             max: None,
-            description: "",
+            description: desc,
             depends: &[],
             derivative: None,
             needs: Stages::NONE,
@@ -200,6 +209,11 @@ impl Var {
         self
     }
 
+    fn with_start(mut self, start: f64) -> Self {
+        self.start = Some(start);
+        self
+    }
+
     /// A fixed Real parameter with its default; `desc` says where the value comes from
     /// (a paper, or "assumption").
     pub fn parameter(
@@ -208,42 +222,19 @@ impl Var {
         unit: &'static str,
         desc: &'static str,
     ) -> Self {
-        let mut v = Self::base(
-            name,
-            VarType::Real,
-            Causality::Parameter,
-            Variability::Fixed,
-        )
-        .with_unit(unit);
-        v.start = Some(start);
-        v.description = desc;
-        v
+        Self::base(name, desc, (VarType::Real, Parameter, Fixed))
+            .with_unit(unit)
+            .with_start(start)
     }
 
     /// A fixed Integer parameter.
     pub fn int_parameter(name: &'static str, start: i32, desc: &'static str) -> Self {
-        let mut v = Self::base(
-            name,
-            VarType::Integer,
-            Causality::Parameter,
-            Variability::Fixed,
-        );
-        v.start = Some(start as f64);
-        v.description = desc;
-        v
+        Self::base(name, desc, (VarType::Integer, Parameter, Fixed)).with_start(start as f64)
     }
 
     /// A fixed Boolean parameter.
     pub fn bool_parameter(name: &'static str, start: bool, desc: &'static str) -> Self {
-        let mut v = Self::base(
-            name,
-            VarType::Boolean,
-            Causality::Parameter,
-            Variability::Fixed,
-        );
-        v.start = Some(start as i32 as f64);
-        v.description = desc;
-        v
+        Self::base(name, desc, (VarType::Boolean, Parameter, Fixed)).with_start(start as i32 as f64)
     }
 
     /// A fixed Enumeration parameter; `start` is the item's name.
@@ -253,88 +244,45 @@ impl Var {
         start: &str,
         desc: &'static str,
     ) -> Self {
-        let mut v = Self::base(
-            name,
-            VarType::Enumeration(ty),
-            Causality::Parameter,
-            Variability::Fixed,
-        );
         let pos = ty
             .items
             .iter()
             .position(|it| it.0 == start)
             .expect("start item of an enumeration");
-        v.start = Some((pos + 1) as f64);
-        v.description = desc;
-        v
+        Self::base(name, desc, (VarType::Enumeration(ty), Parameter, Fixed))
+            .with_start((pos + 1) as f64)
     }
 
     /// A Real calculated parameter (a derived quantity the paper computes).
     pub fn calculated(name: &'static str, unit: &'static str, desc: &'static str) -> Self {
-        let mut v = Self::base(
-            name,
-            VarType::Real,
-            Causality::CalculatedParameter,
-            Variability::Fixed,
-        )
-        .with_unit(unit);
-        v.initial = Some(Initial::Calculated);
-        v.description = desc;
-        v
+        Self::base(name, desc, (VarType::Real, CalculatedParameter, Fixed)).with_unit(unit)
     }
 
     /// A continuous Real input with its start value.
     pub fn input(name: &'static str, start: f64, unit: &'static str, desc: &'static str) -> Self {
-        let mut v = Self::base(
-            name,
-            VarType::Real,
-            Causality::Input,
-            Variability::Continuous,
-        )
-        .with_unit(unit);
-        v.start = Some(start);
-        v.description = desc;
-        v
+        Self::base(name, desc, (VarType::Real, Input, Continuous))
+            .with_unit(unit)
+            .with_start(start)
     }
 
     /// A continuous Real output.
     pub fn output(name: &'static str, unit: &'static str, desc: &'static str) -> Self {
-        let mut v = Self::base(
-            name,
-            VarType::Real,
-            Causality::Output,
-            Variability::Continuous,
-        )
-        .with_unit(unit);
-        v.initial = Some(Initial::Calculated);
-        v.description = desc;
-        v
+        Self::base(name, desc, (VarType::Real, Output, Continuous)).with_unit(unit)
     }
 
     /// A discrete Boolean output (a flag).
     pub fn bool_output(name: &'static str, desc: &'static str) -> Self {
-        let mut v = Self::base(
-            name,
-            VarType::Boolean,
-            Causality::Output,
-            Variability::Discrete,
-        );
-        v.initial = Some(Initial::Calculated);
-        v.description = desc;
-        v
+        Self::base(name, desc, (VarType::Boolean, Output, Discrete))
     }
 
     /// A discrete Integer output.
     pub fn int_output(name: &'static str, desc: &'static str) -> Self {
-        let mut v = Self::base(
-            name,
-            VarType::Integer,
-            Causality::Output,
-            Variability::Discrete,
-        );
-        v.initial = Some(Initial::Calculated);
-        v.description = desc;
-        v
+        Self::base(name, desc, (VarType::Integer, Output, Discrete))
+    }
+
+    /// A continuous Real local variable: a Model Exchange state or state derivative.
+    pub fn local(name: &'static str, unit: &'static str, desc: &'static str) -> Self {
+        Self::base(name, desc, (VarType::Real, Local, Continuous)).with_unit(unit)
     }
 
     /// Lower bound (physics, not taste).
@@ -353,20 +301,6 @@ impl Var {
     pub fn display(mut self, unit: &'static str) -> Self {
         self.display_unit = Some(unit);
         self
-    }
-
-    /// A continuous Real local variable: a Model Exchange state or state derivative.
-    pub fn local(name: &'static str, unit: &'static str, desc: &'static str) -> Self {
-        let mut v = Self::base(
-            name,
-            VarType::Real,
-            Causality::Local,
-            Variability::Continuous,
-        )
-        .with_unit(unit);
-        v.initial = Some(Initial::Calculated);
-        v.description = desc;
-        v
     }
 
     /// Marks this variable as the derivative of the state with value reference `state`.
@@ -696,50 +630,39 @@ macro_rules! model_variables {
 
     // ---- the enum and its table
     (@emit [$vis:vis $name:ident (standalone)] $( ($id:ident = $decl:expr) )*) => {
-        #[allow(non_camel_case_types, dead_code)]
-        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-        #[repr(u32)]
-        $vis enum $name {
-            $( $id ),*
-        }
-        impl $crate::model::VarSet for $name {
-            const SHAFT_CONNECTOR: bool = false;
-            fn table() -> &'static [$crate::model::Var] {
-                static TABLE: ::std::sync::OnceLock<&'static [$crate::model::Var]> = ::std::sync::OnceLock::new();
-                TABLE.get_or_init(|| {
-                    #[allow(unused_imports)]
-                    use $crate::model::{Var, shaft};
-                    $crate::lifetime::keep(vec![$( $decl ),*]).as_slice()
-                })
-            }
-            #[inline]
-            fn vr(self) -> u32 {
-                self as u32
-            }
-        }
+        $crate::model_variables!(@set $vis $name false [ $( $id, )* ] {
+            vec![$( $decl ),*]
+        });
     };
     (@emit [$vis:vis $name:ident (connector $rpm:expr, $dep:expr, $needs:expr)] $( ($id:ident = $decl:expr) )*) => {
+        $crate::model_variables!(@set $vis $name true [
+            shaft_phi, shaft_w, shaft_a, shaft_tau, shaft_P, drive_mode, drive_n, drive_phi0, model_fidelity,
+            $( $id, )*
+        ] {
+            let mut t = shaft::declarations($rpm);
+            t.extend([$( $decl ),*]);
+            t[shaft::TAU as usize].depends = $dep;
+            t[shaft::P as usize].depends = $dep;
+            t[shaft::TAU as usize].needs = $needs;
+            t[shaft::P as usize].needs = $needs;
+            t
+        });
+    };
+    (@set $vis:vis $name:ident $connector:literal [ $( $id:ident, )* ] { $( $table:tt )* }) => {
         #[allow(non_camel_case_types, dead_code)]
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         #[repr(u32)]
         $vis enum $name {
-            shaft_phi, shaft_w, shaft_a, shaft_tau, shaft_P, drive_mode, drive_n, drive_phi0, model_fidelity,
             $( $id ),*
         }
         impl $crate::model::VarSet for $name {
-            const SHAFT_CONNECTOR: bool = true;
+            const SHAFT_CONNECTOR: bool = $connector;
             fn table() -> &'static [$crate::model::Var] {
                 static TABLE: ::std::sync::OnceLock<&'static [$crate::model::Var]> = ::std::sync::OnceLock::new();
                 TABLE.get_or_init(|| {
                     #[allow(unused_imports)]
                     use $crate::model::{Var, shaft};
-                    let mut t = shaft::declarations($rpm);
-                    t.extend([$( $decl ),*]);
-                    t[shaft::TAU as usize].depends = $dep;
-                    t[shaft::P as usize].depends = $dep;
-                    t[shaft::TAU as usize].needs = $needs;
-                    t[shaft::P as usize].needs = $needs;
-                    $crate::lifetime::keep(t).as_slice()
+                    $crate::lifetime::keep({ $( $table )* }).as_slice()
                 })
             }
             #[inline]
