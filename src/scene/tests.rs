@@ -58,6 +58,14 @@ fn refusal(text: &str) -> SceneError {
     }
 }
 
+/// `refused!(scene text => "key", line N: "part of the message", ..)`: the scene is refused
+/// naming that key at that line, with every part in the message.
+macro_rules! refused {
+    ($text:expr => $key:literal, line $line:literal $(: $($part:literal),+)?) => {
+        assert_refused(&$text, $key, $line, &[$($($part),+)?])
+    };
+}
+
 #[track_caller]
 fn assert_refused(text: &str, key: &str, line: usize, parts: &[&str]) {
     let e = refusal(text);
@@ -128,33 +136,31 @@ fn a_kinematic_scene_with_its_own_drive_leaves_out_forces_inputs_and_loads() {
         &(GENEVA.to_string() + "[drive]\nmode = \"constant_speed\"\nn = 30\n"),
     )
     .unwrap();
-    let names: Vec<&str> = t.variables.iter().map(|(_, v)| v.name).collect();
-    for kept in [
-        "knife.s",
-        "crank.r",
-        "rod.l",
-        "geneva.Z",
-        "drive.n",
-        "drive.phi0",
-    ] {
-        assert!(names.contains(&kept), "{kept} missing from {names:?}");
-    }
-    for gone in [
-        "shaft.phi",
-        "shaft.w",
-        "shaft.a",
-        "shaft.tau",
-        "knife.m",
-        "cut.F_max",
-        "elastic.k",
-        "solver.rtol",
-        "drive.mode",
-        "model.fidelity",
-        "knife.F_cut",
-        "elastic.x",
-    ] {
-        assert!(!names.contains(&gone), "{gone} listed: {names:?}");
-    }
+    assert_lists(
+        &t,
+        &[
+            "knife.s",
+            "crank.r",
+            "rod.l",
+            "geneva.Z",
+            "drive.n",
+            "drive.phi0",
+        ],
+        &[
+            "shaft.phi",
+            "shaft.w",
+            "shaft.a",
+            "shaft.tau",
+            "knife.m",
+            "cut.F_max",
+            "elastic.k",
+            "solver.rtol",
+            "drive.mode",
+            "model.fidelity",
+            "knife.F_cut",
+            "elastic.x",
+        ],
+    );
     assert_eq!(t.stages, Stages::NONE, "no force analysis, no ODE");
     assert!(!t.model_description().contains("<ModelExchange"));
     // the drive and the level are start values inside
@@ -166,12 +172,7 @@ fn a_kinematic_scene_with_its_own_drive_leaves_out_forces_inputs_and_loads() {
 #[test]
 fn an_input_driven_scene_lists_the_inputs_its_outputs_depend_on() {
     let t = tailor_text::<GenevaKnifeDrive>(GENEVA).unwrap();
-    let inputs: Vec<&str> = t
-        .variables
-        .iter()
-        .filter(|(_, v)| v.causality == Causality::Input)
-        .map(|(_, v)| v.name)
-        .collect();
+    let inputs = names_of(&t, |v| v.causality == Causality::Input);
     assert_eq!(
         inputs,
         ["shaft.phi", "shaft.w", "shaft.a"],
@@ -181,15 +182,10 @@ fn an_input_driven_scene_lists_the_inputs_its_outputs_depend_on() {
         "name = \"f\"\nmechanism = \"SewingTable\"\nfidelity = \"kinetostatic\"\noutputs = [\"cam.F\"]\n",
     )
     .unwrap();
-    let inputs: Vec<&str> = t
-        .variables
-        .iter()
-        .filter(|(_, v)| v.causality == Causality::Input)
-        .map(|(_, v)| v.name)
-        .collect();
+    let inputs = names_of(&t, |v| v.causality == Causality::Input);
     assert_eq!(inputs, ["shaft.phi", "shaft.w", "shaft.a", "table.F_ext"]);
     // Hertz stress and the rocking table are skipped; its moduli are left out
-    let names: Vec<&str> = t.variables.iter().map(|(_, v)| v.name).collect();
+    let names = names_of(&t, |_| true);
     assert!(!names.contains(&"cam.E") && !names.contains(&"roller.b"));
     // rocking.J feeds the torque of the rocking kind (a parameter's value): kept, conservatively
     assert!(names.contains(&"rocking.J"));
@@ -204,18 +200,40 @@ fn an_elastodynamic_scene_keeps_its_states_and_model_exchange() {
         "name = \"e\"\nmechanism = \"GenevaKnifeDrive\"\nfidelity = \"elastodynamic\"\noutputs = [\"knife.s\"]\n",
     )
     .unwrap();
-    let names: Vec<&str> = t.variables.iter().map(|(_, v)| v.name).collect();
-    for kept in [
-        "elastic.x",
-        "der(elastic.x)",
-        "elastic.k",
-        "solver.method",
-        "knife.m",
-        "shaft.w",
-    ] {
-        assert!(names.contains(&kept), "{kept} missing from {names:?}");
-    }
+    assert_lists(
+        &t,
+        &[
+            "elastic.x",
+            "der(elastic.x)",
+            "elastic.k",
+            "solver.method",
+            "knife.m",
+            "shaft.w",
+        ],
+        &[],
+    );
     assert!(t.model_description().contains("<ModelExchange"));
+}
+
+/// The names of the scene's variables that pass `keep`, in order.
+fn names_of(t: &Tailored, keep: impl Fn(&Var) -> bool) -> Vec<&'static str> {
+    t.variables
+        .iter()
+        .filter(|(_, v)| keep(v))
+        .map(|(_, v)| v.name)
+        .collect()
+}
+
+/// The scene lists every variable of `kept` and none of `gone`.
+#[track_caller]
+fn assert_lists(t: &Tailored, kept: &[&str], gone: &[&str]) {
+    let names = names_of(t, |_| true);
+    for k in kept {
+        assert!(names.contains(k), "{k} missing from {names:?}");
+    }
+    for g in gone {
+        assert!(!names.contains(g), "{g} listed: {names:?}");
+    }
 }
 
 /// Runs the full model and the tailored one side by side (prepare, steps, evaluate) and
@@ -330,40 +348,12 @@ fn the_documentation_says_what_is_left_out_and_why() {
 
 #[test]
 fn syntax_and_unknown_keys() {
-    assert_refused("name = \"a\"\nmechanism = = 3\n", "", 2, &[]);
-    assert_refused(
-        &(GENEVA.to_string() + "colour = \"red\"\n"),
-        "colour",
-        5,
-        &[
-            "unknown key",
-            "valid: name, mechanism, fidelity, outputs, parameters, experiment, drive",
-        ],
-    );
-    assert_refused(
-        &(GENEVA.to_string() + "[experiment]\nstop = 1.0\nstep = 1e-3\nend = 2\n"),
-        "experiment.end",
-        8,
-        &["unknown key", "valid: start, stop, step, tolerance"],
-    );
-    assert_refused(
-        &(GENEVA.to_string() + "[experiment]\nstop = \"1 s\"\nstep = 1e-3\n"),
-        "experiment.stop",
-        6,
-        &["must be a number, not a string"],
-    );
-    assert_refused(
-        &GENEVA.replace("outputs = [\"knife.s\"]", "outputs = \"knife.s\""),
-        "outputs",
-        4,
-        &["must be an array of output names, not a string"],
-    );
-    assert_refused(
-        &GENEVA.replace("outputs = [\"knife.s\"]", "outputs = [\"knife.s\", 3]"),
-        "outputs[1]",
-        4,
-        &["must be a string, not an integer"],
-    );
+    refused!("name = \"a\"\nmechanism = = 3\n" => "", line 2);
+    refused!((GENEVA.to_string() + "colour = \"red\"\n") => "colour", line 5: "unknown key", "valid: name, mechanism, fidelity, outputs, parameters, experiment, drive");
+    refused!((GENEVA.to_string() + "[experiment]\nstop = 1.0\nstep = 1e-3\nend = 2\n") => "experiment.end", line 8: "unknown key", "valid: start, stop, step, tolerance");
+    refused!((GENEVA.to_string() + "[experiment]\nstop = \"1 s\"\nstep = 1e-3\n") => "experiment.stop", line 6: "must be a number, not a string");
+    refused!(GENEVA.replace("outputs = [\"knife.s\"]", "outputs = \"knife.s\"") => "outputs", line 4: "must be an array of output names, not a string");
+    refused!(GENEVA.replace("outputs = [\"knife.s\"]", "outputs = [\"knife.s\", 3]") => "outputs[1]", line 4: "must be a string, not an integer");
     // a missing key
     let e = refusal("name = \"a\"\nmechanism = \"SewingTable\"\nfidelity = \"kinematic\"\n");
     assert_eq!(e.key, "outputs");
@@ -372,98 +362,30 @@ fn syntax_and_unknown_keys() {
 
 #[test]
 fn unknown_mechanism_lists_the_mechanisms() {
-    assert_refused(
-        &GENEVA.replace("GenevaKnifeDrive", "GenevaDrive"),
-        "mechanism",
-        2,
-        &[
-            "GenevaDrive",
-            "GenevaKnifeDrive, SewingTable, Perforators, DiscKnifeDrive",
-        ],
-    );
+    refused!(GENEVA.replace("GenevaKnifeDrive", "GenevaDrive") => "mechanism", line 2: "GenevaDrive", "GenevaKnifeDrive, SewingTable, Perforators, DiscKnifeDrive");
 }
 
 #[test]
 fn bad_name_fidelity_and_drive() {
-    assert_refused(
-        &GENEVA.replace("\"t\"", "\"a b\""),
-        "name",
-        1,
-        &["modelIdentifier"],
-    );
-    assert_refused(
-        &GENEVA.replace("kinematic", "static"),
-        "fidelity",
-        3,
-        &["kinematic, kinetostatic, elastodynamic"],
-    );
-    assert_refused(
-        &(GENEVA.to_string() + "[drive]\nmode = \"constant\"\n"),
-        "drive.mode",
-        6,
-        &["input, constant_speed"],
-    );
-    assert_refused(
-        &(GENEVA.to_string() + "[drive]\nmode = \"constant_speed\"\n"),
-        "drive.n",
-        6,
-        &["needs the speed n"],
-    );
-    assert_refused(
-        &(GENEVA.to_string() + "[experiment]\nstop = 1.0\nstep = 2.0\n"),
-        "experiment.step",
-        7,
-        &["at most stop - start"],
-    );
+    refused!(GENEVA.replace("\"t\"", "\"a b\"") => "name", line 1: "modelIdentifier");
+    refused!(GENEVA.replace("kinematic", "static") => "fidelity", line 3: "kinematic, kinetostatic, elastodynamic");
+    refused!((GENEVA.to_string() + "[drive]\nmode = \"constant\"\n") => "drive.mode", line 6: "input, constant_speed");
+    refused!((GENEVA.to_string() + "[drive]\nmode = \"constant_speed\"\n") => "drive.n", line 6: "needs the speed n");
+    refused!((GENEVA.to_string() + "[experiment]\nstop = 1.0\nstep = 2.0\n") => "experiment.step", line 7: "at most stop - start");
 }
 
 #[test]
 fn unknown_output_gives_the_nearest_names() {
-    assert_refused(
-        &GENEVA.replace("[\"knife.s\"]", "[\"knife.s\", \"knife.vel\"]"),
-        "outputs[1]",
-        4,
-        &["no output \"knife.vel\"", "knife.v"],
-    );
-    assert_refused(
-        &GENEVA.replace("[\"knife.s\"]", "[\"knife.s\",\n  \"crank.r\"]"),
-        "outputs[1]",
-        5,
-        &["is a parameter, not an output", "[parameters]"],
-    );
-    assert_refused(
-        &GENEVA.replace("[\"knife.s\"]", "[\"knife.s\", \"knife.s\"]"),
-        "outputs[1]",
-        4,
-        &["listed twice"],
-    );
+    refused!(GENEVA.replace("[\"knife.s\"]", "[\"knife.s\", \"knife.vel\"]") => "outputs[1]", line 4: "no output \"knife.vel\"", "knife.v");
+    refused!(GENEVA.replace("[\"knife.s\"]", "[\"knife.s\",\n  \"crank.r\"]") => "outputs[1]", line 5: "is a parameter, not an output", "[parameters]");
+    refused!(GENEVA.replace("[\"knife.s\"]", "[\"knife.s\", \"knife.s\"]") => "outputs[1]", line 4: "listed twice");
 }
 
 #[test]
 fn output_not_at_this_fidelity_names_the_levels_that_have_it() {
-    assert_refused(
-        &GENEVA.replace("[\"knife.s\"]", "[\"knife.s\", \"rod.F\"]"),
-        "outputs[1]",
-        4,
-        &[
-            "not computed at fidelity \"kinematic\"",
-            "it is at: kinetostatic, elastodynamic",
-        ],
-    );
-    assert_refused(
-        &GENEVA
-            .replace("[\"knife.s\"]", "[\"dyn.factor\"]")
-            .replace("kinematic", "kinetostatic"),
-        "outputs[0]",
-        4,
-        &["it is at: elastodynamic"],
-    );
-    assert_refused(
-        "name = \"t\"\nmechanism = \"SewingTable\"\nfidelity = \"kinematic\"\noutputs = [\"cam.rho\", \"cam.sigma_H\"]\n",
-        "outputs[1]",
-        4,
-        &["it is at: kinetostatic, elastodynamic"],
-    );
+    refused!(GENEVA.replace("[\"knife.s\"]", "[\"knife.s\", \"rod.F\"]") => "outputs[1]", line 4: "not computed at fidelity \"kinematic\"", "it is at: kinetostatic, elastodynamic");
+    refused!(GENEVA.replace("[\"knife.s\"]", "[\"dyn.factor\"]").replace("kinematic", "kinetostatic") => "outputs[0]", line 4: "it is at: elastodynamic");
+    refused!("name = \"t\"\nmechanism = \"SewingTable\"\nfidelity = \"kinematic\"\noutputs = [\"cam.rho\", \"cam.sigma_H\"]\n" => "outputs[1]", line 4: "it is at: kinetostatic, elastodynamic");
 }
 
 #[test]
@@ -487,12 +409,7 @@ fn an_elastodynamic_disc_knife_scene_lists_its_dynamic_outputs_and_states() {
         );
     }
     // a kinematic scene cannot ask for the dynamic force
-    assert_refused(
-        "name = \"t\"\nmechanism = \"DiscKnifeDrive\"\nfidelity = \"kinematic\"\noutputs = [\"elastic.F\"]\n",
-        "outputs[0]",
-        4,
-        &["not computed at fidelity \"kinematic\"", "elastodynamic"],
-    );
+    refused!("name = \"t\"\nmechanism = \"DiscKnifeDrive\"\nfidelity = \"kinematic\"\noutputs = [\"elastic.F\"]\n" => "outputs[0]", line 4: "not computed at fidelity \"kinematic\"", "elastodynamic");
 }
 
 #[test]
@@ -515,12 +432,7 @@ fn bad_parameters_are_named() {
     // the mechanism cannot assemble: rod shorter than the crank
     refused("crank.r", "0.5", &["refused by GenevaKnifeDrive"]);
     let sew = "name = \"t\"\nmechanism = \"SewingTable\"\nfidelity = \"kinematic\"\noutputs = [\"table.x\"]\n[parameters]\n\"law.forward\" = \"sine\"\n";
-    assert_refused(
-        sew,
-        "parameters.\"law.forward\"",
-        6,
-        &["cycloidal, harmonic, poly345"],
-    );
+    refused!(sew => "parameters.\"law.forward\"", line 6: "cycloidal, harmonic, poly345");
 }
 
 const DRIVE: &str = r#"name = "d"
@@ -560,12 +472,7 @@ fn a_drive_scene_sets_its_start_values_and_has_no_level_or_drive() {
         }
     }
     // shaft.a depends on the loads: all load inputs are listed; the load of a plain coupling too
-    let inputs: Vec<&str> = t
-        .variables
-        .iter()
-        .filter(|(_, v)| v.causality == Causality::Input)
-        .map(|(_, v)| v.name)
-        .collect();
+    let inputs = names_of(&t, |v| v.causality == Causality::Input);
     assert_eq!(inputs.len(), 7, "{inputs:?}");
     assert!(!t.info.description.contains("level"));
     assert!(t.model_description().contains("<ModelExchange"));
@@ -643,28 +550,8 @@ fn levels_and_drives_belong_to_mechanisms() {
         e.message.contains("missing") && e.message.contains("GenevaKnifeDrive"),
         "{e}"
     );
-    assert_refused(
-        &DRIVE.replace("outputs", "fidelity = \"kinematic\"\noutputs"),
-        "fidelity",
-        3,
-        &["MainShaft has no fidelity levels"],
-    );
-    assert_refused(
-        &(DRIVE.to_string() + "[drive]\nmode = \"input\"\n"),
-        "drive",
-        8,
-        &["MainShaft drives the shaft itself"],
-    );
-    assert_refused(
-        &(GENEVA.to_string() + "[drive]\nmode = \"input\"\nn = 30\n"),
-        "drive.n",
-        7,
-        &["constant_speed"],
-    );
-    assert_refused(
-        &(GENEVA.to_string() + "[drive]\nmode = \"input\"\nphi0 = inf\n"),
-        "drive.phi0",
-        7,
-        &["finite"],
-    );
+    refused!(DRIVE.replace("outputs", "fidelity = \"kinematic\"\noutputs") => "fidelity", line 3: "MainShaft has no fidelity levels");
+    refused!((DRIVE.to_string() + "[drive]\nmode = \"input\"\n") => "drive", line 8: "MainShaft drives the shaft itself");
+    refused!((GENEVA.to_string() + "[drive]\nmode = \"input\"\nn = 30\n") => "drive.n", line 7: "constant_speed");
+    refused!((GENEVA.to_string() + "[drive]\nmode = \"input\"\nphi0 = inf\n") => "drive.phi0", line 7: "finite");
 }
