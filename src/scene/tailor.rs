@@ -204,24 +204,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
             v.causality,
             Causality::Output | Causality::CalculatedParameter
         ) {
-            return Err(scene.error_at(
-                key,
-                span,
-                format!(
-                    "{name:?} is a{} {}, not an output{}",
-                    if v.causality == Causality::Input {
-                        "n"
-                    } else {
-                        ""
-                    },
-                    format!("{:?}", v.causality).to_lowercase(),
-                    if v.causality == Causality::Parameter {
-                        " (set it under [parameters])"
-                    } else {
-                        ""
-                    }
-                ),
-            ));
+            return Err(scene.error_at(key, span, misplaced(name, v, "an output")));
         }
         let levels = levels_of(stages, v.needs);
         if let Some(fid) = fid
@@ -285,24 +268,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         };
         let v = &table[vr];
         if v.causality != Causality::Parameter {
-            return Err(scene.error_at(
-                key,
-                span,
-                format!(
-                    "{name:?} is not a parameter but a{} {:?} variable{}",
-                    if v.causality == Causality::Input {
-                        "n"
-                    } else {
-                        ""
-                    },
-                    v.causality,
-                    if v.causality == Causality::Output {
-                        " (list it under outputs)"
-                    } else {
-                        ""
-                    }
-                ),
-            ));
+            return Err(scene.error_at(key, span, misplaced(name, v, "a parameter")));
         }
         if is_structural(vr as u32) {
             return Err(scene.error_at(
@@ -494,4 +460,17 @@ pub fn cached<M: Model>(text: &str) -> Result<std::sync::Arc<Tailored>, SceneErr
         cache.push((id, h, t.clone()));
     }
     Ok(t)
+}
+
+/// Why `name` cannot stand where the scene put it (`wanted`: "an output", "a parameter"):
+/// what it is, and where it belongs if the scene may name it elsewhere.
+fn misplaced(name: &str, v: &Var, wanted: &str) -> String {
+    let (what, hint) = match v.causality {
+        Causality::Parameter => ("a parameter", " (set it under [parameters])"),
+        Causality::CalculatedParameter => ("a calculated parameter", " (list it under outputs)"),
+        Causality::Output => ("an output", " (list it under outputs)"),
+        Causality::Input => ("an input", ""),
+        Causality::Local => ("a local variable", ""),
+    };
+    format!("{name:?} is {what}, not {wanted}{hint}")
 }
