@@ -22,8 +22,12 @@ pub const N: u32 = 6;
 pub const PHI0: u32 = 7;
 /// Value reference of `model.fidelity`.
 pub const FIDELITY: u32 = 8;
+/// Value reference of `shaft.J_red` ([`Reduced`]).
+pub const J_RED: u32 = 9;
+/// Value reference of `shaft.tau0` ([`Reduced`]).
+pub const TAU0: u32 = 10;
 /// How many common variables precede a model's own.
-pub const COUNT: usize = 9;
+pub const COUNT: usize = 11;
 
 /// Is `V` driven through the shaft connector, with the common variables at these value
 /// references (a mechanism), rather than declared `standalone` (a drive such as MainShaft)?
@@ -135,6 +139,8 @@ pub fn declarations(nominal_rpm: f64) -> Vec<Var> {
             "kinetostatic",
             "Level of physics: kinematic, kinetostatic or elastodynamic",
         ),
+        j_red_var(),
+        tau0_var(),
     ]
 }
 
@@ -293,25 +299,24 @@ pub fn set_outputs<V: VarSet>(values: &mut Values<V>, tau: f64, w: f64) {
 }
 
 /// `shaft.J_red`: the coefficient of `shaft.a` in `shaft.tau`, for a drive that solves its
-/// shaft's acceleration with the load's inertia (MainShaft's `load*.J_red`). `depends`: as
-/// `shaft.tau` less `shaft.a` (it is the torque's slope in `shaft.a`, not a function of it).
-pub fn j_red_var(depends: &'static [u32]) -> Var {
+/// shaft's acceleration with the load's inertia (MainShaft's `load*.J_red`). It depends on
+/// what `shaft.tau` depends on less `shaft.a` (it is the torque's slope in `shaft.a`, not a
+/// function of it; [`crate::model_variables!`] sets that).
+fn j_red_var() -> Var {
     Var::output(
         "shaft.J_red",
         "kg.m2",
         "Moment of inertia reduced to the shaft: shaft.tau = shaft.tau0 + shaft.J_red*shaft.a, the torque's slope in shaft.a between a = 0 and a = 1 rad/s2 (exact where friction does not depend on shaft.a; at the elastodynamic level only the rigid links between the shaft and the compliance)",
     )
-    .depends(depends)
 }
 
-/// `shaft.tau0`: the torque at zero shaft acceleration (`depends`: as for [`j_red_var`]).
-pub fn tau0_var(depends: &'static [u32]) -> Var {
+/// `shaft.tau0`: the torque at zero shaft acceleration (depends: as [`j_red_var`]).
+fn tau0_var() -> Var {
     Var::output(
         "shaft.tau0",
         "N.m",
         "Torque the mechanism requires at its shaft with shaft.a = 0 (same angle, speed and state): shaft.tau = shaft.tau0 + shaft.J_red*shaft.a",
     )
-    .depends(depends)
 }
 
 /// The split `τ(a) = τ0 + J_red·a` of a shaft torque: `τ0` the torque at zero shaft
@@ -369,9 +374,10 @@ pub fn reduce_at(tau_a: f64, a: f64, mut torque_at: impl FnMut(f64) -> f64) -> R
 }
 
 /// Writes `shaft.J_red` and `shaft.tau0`.
-pub fn set_reduced<V: VarSet>(values: &mut Values<V>, j_red: V, tau0: V, r: Reduced) {
-    values[j_red] = r.j_red;
-    values[tau0] = r.tau0;
+pub fn set_reduced<V: VarSet>(values: &mut Values<V>, r: Reduced) {
+    let raw = values.raw_mut();
+    raw[J_RED as usize] = r.j_red;
+    raw[TAU0 as usize] = r.tau0;
 }
 
 /// The shaft's motion inside a communication step, extrapolated from its state at the step's

@@ -637,6 +637,7 @@ macro_rules! model_variables {
     (@emit [$vis:vis $name:ident (connector $rpm:expr, $dep:expr, $needs:expr)] $( ($id:ident = $decl:expr) )*) => {
         $crate::model_variables!(@set $vis $name true [
             shaft_phi, shaft_w, shaft_a, shaft_tau, shaft_P, drive_mode, drive_n, drive_phi0, model_fidelity,
+            shaft_J_red, shaft_tau0,
             $( $id, )*
         ] {
             let mut t = shaft::declarations($rpm);
@@ -645,6 +646,13 @@ macro_rules! model_variables {
             t[shaft::P as usize].depends = $dep;
             t[shaft::TAU as usize].needs = $needs;
             t[shaft::P as usize].needs = $needs;
+            // the torque split: its slope in shaft.a and its value at a = 0 depend on the rest
+            let split: Vec<u32> = $dep.iter().copied().filter(|&vr| vr != shaft::A).collect();
+            let split = $crate::lifetime::keep(split).as_slice();
+            for vr in [shaft::J_RED, shaft::TAU0] {
+                t[vr as usize].depends = split;
+                t[vr as usize].needs = $needs;
+            }
             t
         });
     };

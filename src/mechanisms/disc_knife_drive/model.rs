@@ -18,9 +18,6 @@ crate::stages! {
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 300.0, torque_needs = stage::FORCES) {
-        // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
-        shaft_J_red = shaft::j_red_var(ON_PHI_W).needs(stage::FORCES),
-        shaft_tau0 = shaft::tau0_var(ON_PHI_W).needs(stage::FORCES),
         // ---- parameters (paper 004 where it gives them, else documented assumptions)
         crank_l1 = Var::parameter("crank.l1", 0.019, "m", "Crank length l1 (assumption: paper 004 gives relative sizes only)").min(0.0),
         rod_lambda2 = Var::parameter("rod.lambda2", 2.0, "", "lambda2 = l2/l1, rod over crank (paper 004: 2)").min(1.0),
@@ -281,7 +278,7 @@ impl Model for DiscKnifeDrive {
                     .point(time, &y)
                     .shaft_tau
             });
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
+            shaft::set_reduced(v, r);
             self.warn_locked(pt.eval.locked, &pt.kin, time, log);
             shaft::set_outputs(v, pt.shaft_tau, s.w);
             return;
@@ -295,13 +292,13 @@ impl Model for DiscKnifeDrive {
             let r = shaft::reduce_at(f.shaft_tau, s.a, |a| {
                 p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau
             });
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
+            shaft::set_reduced(v, r);
             Self::write_forces(v, &f);
             v[V::rod_F_kin] = f.rod_f;
             self.warn_locked(f.locked, &k, time, log);
             f.shaft_tau
         } else {
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, shaft::Reduced::default());
+            shaft::set_reduced(v, shaft::Reduced::default());
             0.0
         };
         shaft::set_outputs(v, tau, s.w);

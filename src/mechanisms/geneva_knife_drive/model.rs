@@ -20,9 +20,6 @@ crate::stages! {
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 30.0, torque_needs = stage::FORCES) {
-        // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
-        shaft_J_red = shaft::j_red_var(ON_PHI_W).needs(stage::FORCES),
-        shaft_tau0 = shaft::tau0_var(ON_PHI_W).needs(stage::FORCES),
         // ---- parameters (paper 003 where it gives them, else documented assumptions)
         geneva_Z = Var::int_parameter("geneva.Z", 4, "Number of slots of the Geneva cross Z (paper 003: 4)").min(3.0).max(36.0),
         geneva_r1 = Var::parameter("geneva.r1", 0.08, "m", "Driver radius r1: crank pin (roller) to driver axis (assumption)").min(0.0),
@@ -255,7 +252,7 @@ impl Model for GenevaKnifeDrive {
             let tau = elastic_outputs(p, v, &pt, s.w, s.a);
             let r =
                 shaft::reduce(|a| elastic_torques(p, &p.at_shaft_accel(&k, s.w, a), pt.f_el, a)[3]);
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
+            shaft::set_reduced(v, r);
             v[V::elastic_E_residual] =
                 ode.energy(&pt) - if d.started { d.e0 } else { ode.energy(&pt) } - y[2];
             v[V::dyn_factor] = d.memory.peaks.dyn_factor();
@@ -272,7 +269,7 @@ impl Model for GenevaKnifeDrive {
                 p.kinetostatics(&p.at_shaft_accel(&k, s.w, a), s.w, a)
                     .shaft_tau
             });
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
+            shaft::set_reduced(v, r);
             v[V::knife_F_cut] = f.f_cut;
             v[V::knife_F_inertia] = f.f_inertia;
             v[V::rod_F] = f.rod_f;
@@ -282,7 +279,7 @@ impl Model for GenevaKnifeDrive {
             v[V::geneva_F] = f.geneva_f;
             f.shaft_tau
         } else {
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, shaft::Reduced::default());
+            shaft::set_reduced(v, shaft::Reduced::default());
             0.0
         };
         shaft::set_outputs(v, tau, s.w);

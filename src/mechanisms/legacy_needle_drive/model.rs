@@ -29,9 +29,6 @@ crate::stages! {
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 100.0, torque_needs = stage::FORCES) {
-        // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
-        shaft_J_red = shaft::j_red_var(ON_PHI_W).needs(stage::FORCES),
-        shaft_tau0 = shaft::tau0_var(ON_PHI_W).needs(stage::FORCES),
         // ---- cam-rocker pair (KMK)
         kmk_lk = Var::parameter("kmk.lk", 0.150, "m", "Base distance l_k = O1O2 between the cam shaft and the rocker pivot (assumption)").min(0.0),
         kmk_beta = Var::parameter("kmk.beta", 0.48, "", "beta = L_rocker/l_k, rocker arm over base distance (paper 002: 0.48 on the NSh-6)").min(0.0),
@@ -283,7 +280,7 @@ impl Model for LegacyNeedleDrive {
             let r = shaft::reduce_at(f.tau, st.a, |a| {
                 d.forces(&d.kinematics(st.phi, st.w, a), a, false).tau
             });
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
+            shaft::set_reduced(v, r);
             v[V::load_Q] = f.q_b;
             v[V::pierce_Q_out] = f.q_t;
             v[V::perforators_F_inertia] = f.f_inertia;
@@ -304,7 +301,7 @@ impl Model for LegacyNeedleDrive {
             f.tau
         } else {
             v.set_flag(V::roller_lost_contact, false);
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, shaft::Reduced::default());
+            shaft::set_reduced(v, shaft::Reduced::default());
             0.0
         };
         shaft::set_outputs(v, tau, st.w);

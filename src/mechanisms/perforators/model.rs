@@ -42,9 +42,6 @@ crate::stages! {
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 100.0, torque_needs = stage::FORCES) {
-        // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
-        shaft_J_red = shaft::j_red_var(ON_PHI_W).needs(stage::FORCES),
-        shaft_tau0 = shaft::tau0_var(ON_PHI_W).needs(stage::FORCES),
         // ---- linkage synthesis (paper 000)
         synth_lambda_S = Var::parameter("synth.lambda_S", 1.0, "", "lambda_S: perforator stroke, the relative unit (paper 000: 1.0)").min(0.0),
         synth_lambda1 = Var::parameter("synth.lambda1", 1.07, "", "lambda1: rod length, relative (paper 000: 1.07)").min(0.0),
@@ -352,7 +349,7 @@ impl Perforators {
                 .forces
                 .tau
         });
-        shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
+        shaft::set_reduced(v, r);
         f.tau
     }
 }
@@ -427,7 +424,7 @@ impl Model for Perforators {
             let r = shaft::reduce_at(f.tau, st.a, |a| {
                 d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau
             });
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
+            shaft::set_reduced(v, r);
             v[V::pierce_Q_out] = f.pierce_q;
             v[V::perforators_F_inertia] = f.f_inertia;
             v[V::rod_F] = f.rod_f;
@@ -443,7 +440,7 @@ impl Model for Perforators {
             f.tau
         } else {
             v.set_flag(V::roller_lost_contact, false);
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, shaft::Reduced::default());
+            shaft::set_reduced(v, shaft::Reduced::default());
             0.0
         };
         shaft::set_outputs(v, tau, st.w);

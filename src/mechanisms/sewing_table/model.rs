@@ -36,8 +36,6 @@ pub fn motion_law(item: i32) -> MotionLaw {
 
 /// Dependencies of what the external force on the table acts on.
 const ON_ALL_F: &[u32] = &[shaft::PHI, shaft::W, shaft::A, V::table_F_ext as u32];
-/// ... and of `shaft.tau0`, `shaft.J_red`.
-const ON_PHI_W_F: &[u32] = &[shaft::PHI, shaft::W, V::table_F_ext as u32];
 
 crate::stages! {
     FLANK = Stage::new("flank", "Force solution for the loaded slot flank and its curvature radius (cam.rho)", Fidelity::ALL),
@@ -52,9 +50,6 @@ crate::stages! {
 
 crate::model_variables! {
     pub enum V (nominal_rpm = 100.0, torque_depends = ON_ALL_F, torque_needs = stage::FORCES) {
-        // ---- coupling to a main-shaft drive (MainShaft: load*.J_red, load*.tau0)
-        shaft_J_red = shaft::j_red_var(ON_PHI_W_F).needs(stage::FORCES),
-        shaft_tau0 = shaft::tau0_var(ON_PHI_W_F).needs(stage::FORCES),
         // ---- synthesis (paper 000)
         synth_l1 = Var::parameter("synth.l1", 1.0, "", "l1: rocking axis to the table top in the sewing position, relative (paper 000: 1.0)").min(0.0),
         synth_R = Var::parameter("synth.R", 11.0, "", "R: diagonal OA from the rocking axis to the top, relative (paper 000: 11.0)").min(0.0),
@@ -360,7 +355,7 @@ impl Model for SewingTable {
                 let ka = p.kinematics(st.phi, st.w, a);
                 ode.point_at(&ka, &y).f_c * ka.c.dx + p.cam_j * a
             });
-            shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
+            shaft::set_reduced(v, r);
             shaft::set_outputs(v, tau, st.w);
             return;
         }
@@ -421,7 +416,7 @@ impl Model for SewingTable {
                 p.rocking_tau(&p.rocking(st.phi, st.w, a), a, f_ext)
             }),
         };
-        shaft::set_reduced(v, V::shaft_J_red, V::shaft_tau0, r);
+        shaft::set_reduced(v, r);
         shaft::set_outputs(v, tau, st.w);
     }
 }
