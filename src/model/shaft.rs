@@ -1,5 +1,5 @@
-//! Which common variable is which: the shaft connector and the drive and fidelity parameters
-//! that [`crate::model_variables!`] puts first in every model (`interface.md`).
+//! Which common variable is which: the shaft connector (with its torque split) and the drive and
+//! fidelity parameters that [`crate::model_variables!`] puts first in every model (`interface.md`).
 
 use super::{EnumType, Values, Var, VarSet};
 use std::f64::consts::PI;
