@@ -168,24 +168,25 @@ pub fn page_files(page: &Page) -> Result<Vec<(String, Vec<u8>)>, String> {
 }
 
 /// A mechanism's documentation and icon: the page of `M`'s variables ([`page_files`]) with the
-/// introduction `what`, the `picture` next to it, the `questions` answered at the defaults, the
-/// `figures`, the `notes` and the table of the sweep `s`; the icon labelled `icon`.
+/// introduction `what`, the first of `figures` as the picture next to it and the others below,
+/// the `questions` answered at the defaults, the `notes` and the table of the sweep `s`; the
+/// icon labelled `icon`.
 pub fn model_page<M: Model>(
     what: &str,
-    picture: Option<&Figure>,
+    mut figures: Vec<Figure>,
     questions: &[Question],
-    figures: &[Figure],
     notes: &str,
     s: &Sweep,
     icon: &str,
 ) -> Result<Documentation, String> {
+    let picture = (!figures.is_empty()).then(|| figures.remove(0));
     let files = page_files(&Page {
         info: &ModelInfo::of::<M>(),
         vars: &variables_of::<M>(),
         what,
-        picture,
+        picture: picture.as_ref(),
         questions,
-        figures,
+        figures: &figures,
         notes,
         sweep: Some(s),
     })?;

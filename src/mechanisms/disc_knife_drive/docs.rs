@@ -531,7 +531,6 @@ pub fn documentation() -> Result<Documentation, String> {
     let mut figs = figures();
     let (elastic, k_d, jam_peak, rigid_peak) = elastic_figures(&p)?;
     figs.extend(elastic);
-    let picture = figs.remove(0);
     let (series_c, series_s) = series_error(&p);
     let numbers = Numbers {
         series_c,
@@ -550,15 +549,7 @@ pub fn documentation() -> Result<Documentation, String> {
         k_d,
     };
     let notes = notes(&numbers);
-    model_page::<DiscKnifeDrive>(
-        WHAT,
-        Some(&picture),
-        &questions(&s, &numbers),
-        &figs,
-        &notes,
-        &s,
-        "Disc",
-    )
+    model_page::<DiscKnifeDrive>(WHAT, figs, &questions(&s, &numbers), &notes, &s, "Disc")
 }
 
 #[cfg(test)]

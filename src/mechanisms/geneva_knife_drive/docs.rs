@@ -223,16 +223,8 @@ fn questions(s: &Sweep) -> Vec<Question> {
 pub fn documentation() -> Result<Documentation, String> {
     let s = sweep::<GenevaKnifeDrive>()?;
     let mut figs = figures();
-    let picture = figs.pop();
-    model_page::<GenevaKnifeDrive>(
-        WHAT,
-        picture.as_ref(),
-        &questions(&s),
-        &figs,
-        NOTES,
-        &s,
-        "Geneva",
-    )
+    figs.rotate_right(1);
+    model_page::<GenevaKnifeDrive>(WHAT, figs, &questions(&s), NOTES, &s, "Geneva")
 }
 
 #[cfg(test)]

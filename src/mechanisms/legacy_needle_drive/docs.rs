@@ -248,15 +248,5 @@ pub fn beta_ratio() -> f64 {
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
     let s = sweep::<LegacyNeedleDrive>()?;
-    let mut figs = figures();
-    let picture = figs.remove(0);
-    model_page::<LegacyNeedleDrive>(
-        WHAT,
-        Some(&picture),
-        &questions(&s),
-        &figs,
-        NOTES,
-        &s,
-        "Legacy needles",
-    )
+    model_page::<LegacyNeedleDrive>(WHAT, figures(), &questions(&s), NOTES, &s, "Legacy needles")
 }

@@ -130,15 +130,6 @@ fn questions(s: &Sweep, t95: f64) -> Vec<Question> {
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
     let s = defaults::<MainShaft>()?;
-    let (mut figs, t95) = figures();
-    let picture = figs.remove(0);
-    model_page::<MainShaft>(
-        WHAT,
-        Some(&picture),
-        &questions(&s, t95),
-        &figs,
-        NOTES,
-        &s,
-        "Main shaft",
-    )
+    let (figs, t95) = figures();
+    model_page::<MainShaft>(WHAT, figs, &questions(&s, t95), NOTES, &s, "Main shaft")
 }

@@ -307,15 +307,12 @@ fn questions(s: &Sweep, liftoff: f64) -> Vec<Question> {
 pub fn documentation() -> Result<Documentation, String> {
     let s = sweep::<Perforators>()?;
     let liftoff = liftoff_rpm();
-    let mut figs = figures(liftoff);
-    let picture = figs.remove(0);
-    let notes = notes(liftoff);
+    let figs = figures(liftoff);
     model_page::<Perforators>(
         WHAT,
-        Some(&picture),
+        figs,
         &questions(&s, liftoff),
-        &figs,
-        &notes,
+        &notes(liftoff),
         &s,
         "Perforators",
     )

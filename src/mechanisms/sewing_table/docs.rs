@@ -214,15 +214,5 @@ fn questions(s: &Sweep) -> Vec<Question> {
 /// `documentation/` files (index.html first) and the icon.
 pub fn documentation() -> Result<Documentation, String> {
     let s = sweep::<SewingTable>()?;
-    let mut figs = figures();
-    let picture = figs.remove(0);
-    model_page::<SewingTable>(
-        WHAT,
-        Some(&picture),
-        &questions(&s),
-        &figs,
-        NOTES,
-        &s,
-        "Sewing table",
-    )
+    model_page::<SewingTable>(WHAT, figures(), &questions(&s), NOTES, &s, "Sewing table")
 }
