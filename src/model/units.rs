@@ -10,102 +10,47 @@ pub struct UnitDef {
     pub display: &'static [(&'static str, f64)],
 }
 
+/// One row of [`UNITS`]: name, exponents of kg, m, s, rad, display units.
+const fn unit(
+    name: &'static str,
+    base: [i8; 4],
+    display: &'static [(&'static str, f64)],
+) -> UnitDef {
+    UnitDef {
+        name,
+        base,
+        display,
+    }
+}
+
 const DEG_PER_RAD: f64 = 180.0 / std::f64::consts::PI;
 const RPM_PER_RAD_S: f64 = 30.0 / std::f64::consts::PI;
 
 /// Every unit the models may use. A variable with a unit not listed here is a programming
 /// error caught by the tests of every model.
 pub const UNITS: &[UnitDef] = &[
-    UnitDef {
-        name: "m",
-        base: [0, 1, 0, 0],
-        display: &[("mm", 1000.0)],
-    },
-    UnitDef {
-        name: "m/s",
-        base: [0, 1, -1, 0],
-        display: &[("mm/s", 1000.0)],
-    },
-    UnitDef {
-        name: "m/s2",
-        base: [0, 1, -2, 0],
-        display: &[],
-    },
-    UnitDef {
-        name: "rad",
-        base: [0, 0, 0, 1],
-        display: &[("deg", DEG_PER_RAD)],
-    },
-    UnitDef {
-        name: "rad/s",
-        base: [0, 0, -1, 1],
-        display: &[("rpm", RPM_PER_RAD_S), ("deg/s", DEG_PER_RAD)],
-    },
-    UnitDef {
-        name: "rad/s2",
-        base: [0, 0, -2, 1],
-        display: &[("deg/s2", DEG_PER_RAD)],
-    },
-    UnitDef {
-        name: "s",
-        base: [0, 0, 1, 0],
-        display: &[],
-    },
-    UnitDef {
-        name: "kg",
-        base: [1, 0, 0, 0],
-        display: &[],
-    },
-    UnitDef {
-        name: "kg.m2",
-        base: [1, 2, 0, 0],
-        display: &[],
-    },
-    UnitDef {
-        name: "N",
-        base: [1, 1, -2, 0],
-        display: &[("kN", 1e-3)],
-    },
-    UnitDef {
-        name: "N/m",
-        base: [1, 0, -2, 0],
-        display: &[],
-    },
-    UnitDef {
-        name: "N.s/m",
-        base: [1, 0, -1, 0],
-        display: &[],
-    },
-    UnitDef {
-        name: "N.m",
-        base: [1, 2, -2, 0],
-        display: &[],
-    },
-    UnitDef {
-        name: "N.m/rad",
-        base: [1, 2, -2, -1],
-        display: &[],
-    },
-    UnitDef {
-        name: "N.m.s/rad",
-        base: [1, 2, -1, -1],
-        display: &[],
-    },
-    UnitDef {
-        name: "J",
-        base: [1, 2, -2, 0],
-        display: &[],
-    },
-    UnitDef {
-        name: "W",
-        base: [1, 2, -3, 0],
-        display: &[],
-    },
-    UnitDef {
-        name: "Pa",
-        base: [1, -1, -2, 0],
-        display: &[("MPa", 1e-6)],
-    },
+    unit("m", [0, 1, 0, 0], &[("mm", 1000.0)]),
+    unit("m/s", [0, 1, -1, 0], &[("mm/s", 1000.0)]),
+    unit("m/s2", [0, 1, -2, 0], &[]),
+    unit("rad", [0, 0, 0, 1], &[("deg", DEG_PER_RAD)]),
+    unit(
+        "rad/s",
+        [0, 0, -1, 1],
+        &[("rpm", RPM_PER_RAD_S), ("deg/s", DEG_PER_RAD)],
+    ),
+    unit("rad/s2", [0, 0, -2, 1], &[("deg/s2", DEG_PER_RAD)]),
+    unit("s", [0, 0, 1, 0], &[]),
+    unit("kg", [1, 0, 0, 0], &[]),
+    unit("kg.m2", [1, 2, 0, 0], &[]),
+    unit("N", [1, 1, -2, 0], &[("kN", 1e-3)]),
+    unit("N/m", [1, 0, -2, 0], &[]),
+    unit("N.s/m", [1, 0, -1, 0], &[]),
+    unit("N.m", [1, 2, -2, 0], &[]),
+    unit("N.m/rad", [1, 2, -2, -1], &[]),
+    unit("N.m.s/rad", [1, 2, -1, -1], &[]),
+    unit("J", [1, 2, -2, 0], &[]),
+    unit("W", [1, 2, -3, 0], &[]),
+    unit("Pa", [1, -1, -2, 0], &[("MPa", 1e-6)]),
 ];
 
 pub fn unit_def(name: &str) -> Option<&'static UnitDef> {

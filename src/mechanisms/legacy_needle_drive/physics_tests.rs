@@ -295,59 +295,21 @@ fn raising_beta_lowers_the_contact_stress() {
 
 #[test]
 fn refusals_name_the_loop_the_parameter_or_the_shaft_angle() {
-    let refused = |p: Params| p.drive().unwrap_err();
-    let e = refused(Params {
-        l_rod: 0.02,
-        ..Params::default()
-    });
-    assert!(
-        e.param == "kpm.l" && e.condition.contains("rocker-slider"),
-        "{e}"
-    );
-    let e = refused(Params {
-        c: 0.05,
-        ..Params::default()
-    });
-    assert!(e.param == "fb.c" && e.condition.contains("four-bar"), "{e}");
-    let e = refused(Params {
-        roller_r: 0.03,
-        ..Params::default()
-    });
-    assert!(
-        e.param == "roller.r" && e.condition.contains("shaft angle"),
-        "{e}"
-    );
-    for (p, name) in [
-        (
-            Params {
-                beta: 0.0,
-                ..Params::default()
-            },
-            "kmk.beta",
-        ),
-        (
-            Params {
-                n: 0.0,
-                ..Params::default()
-            },
-            "legacy.branches",
-        ),
-        (
-            Params {
-                fb_branch: 0.0,
-                ..Params::default()
-            },
-            "fb.branch",
-        ),
-        (
-            Params {
-                kpm_branch: 0.0,
-                ..Params::default()
-            },
-            "kpm.branch",
-        ),
-    ] {
-        assert_eq!(refused(p).param, name);
+    // what is changed, the parameter named, a word of the reason
+    let refusals: [(fn(&mut Params), &str, &str); 7] = [
+        (|p| p.l_rod = 0.02, "kpm.l", "rocker-slider"),
+        (|p| p.c = 0.05, "fb.c", "four-bar"),
+        (|p| p.roller_r = 0.03, "roller.r", "shaft angle"),
+        (|p| p.beta = 0.0, "kmk.beta", ""),
+        (|p| p.n = 0.0, "legacy.branches", ""),
+        (|p| p.fb_branch = 0.0, "fb.branch", ""),
+        (|p| p.kpm_branch = 0.0, "kpm.branch", ""),
+    ];
+    for (edit, name, why) in refusals {
+        let mut p = Params::default();
+        edit(&mut p);
+        let e = p.drive().unwrap_err();
+        assert!(e.param == name && e.condition.contains(why), "{e}");
     }
 }
 
