@@ -47,10 +47,19 @@ fn common_variables_come_first_and_vrs_follow_the_enum() {
     assert_eq!(shaft::fidelity(&v), shaft::Fidelity::Kinetostatic);
 }
 
+/// The start values with the shaft inputs `phi`, `w`, `a` set at time `at`.
+fn shaft_at(phi: f64, w: f64, a: f64, at: f64) -> Values<T> {
+    let mut v = Values::<T>::start();
+    v[T::shaft_phi] = phi;
+    v[T::shaft_w] = w;
+    v[T::shaft_a] = a;
+    v.inputs_at = at;
+    v
+}
+
 #[test]
 fn constant_speed_drive_ignores_inputs() {
-    let mut v = Values::<T>::start();
-    v[T::shaft_phi] = 5.0;
+    let mut v = shaft_at(5.0, 0.0, 0.0, 0.0);
     v[T::drive_mode] = 2.0;
     v[T::drive_phi0] = 1.0;
     let s = shaft::state(&v, 0.5);
@@ -60,11 +69,7 @@ fn constant_speed_drive_ignores_inputs() {
 
 #[test]
 fn shaft_path_takes_the_input_derivatives_a_host_set() {
-    let mut v = Values::<T>::start();
-    v[T::shaft_phi] = 1.0;
-    v[T::shaft_w] = 2.0;
-    v[T::shaft_a] = 3.0;
-    v.inputs_at = 10.0; // set at the step's start
+    let mut v = shaft_at(1.0, 2.0, 3.0, 10.0); // set at the step's start
     let at = |v: &Values<T>| {
         let p = shaft::path(v, 10.0);
         (p.w, p.a, p.absolute_phi(10.5))
@@ -101,12 +106,8 @@ fn shaft_path_takes_the_input_derivatives_a_host_set() {
 fn a_step_ends_with_the_inputs_at_its_end() {
     empty_model!(Algebraic, T);
     const { assert!(Algebraic::CAN_INTERPOLATE_INPUTS) };
-    let mut v = Values::<T>::start();
-    v[T::shaft_phi] = 1.0;
-    v[T::shaft_w] = 2.0;
-    v[T::shaft_a] = 3.0;
+    let mut v = shaft_at(1.0, 2.0, 3.0, 10.0);
     v[T::drive_phi0] = 0.25; // the mechanism's phase stays out of the input
-    v.inputs_at = 10.0;
     let mut m = Algebraic;
     m.step(&mut v, 10.0, 0.5, &mut NoLog).unwrap();
     let (phi, w, a) = (v[T::shaft_phi], v[T::shaft_w], v[T::shaft_a]);
@@ -139,11 +140,8 @@ fn a_step_ends_with_the_inputs_at_its_end() {
 
 #[test]
 fn phi0_phases_the_mechanism_on_its_shaft_in_input_mode() {
-    let mut v = Values::<T>::start();
-    v[T::shaft_phi] = 2.0;
-    v[T::shaft_w] = 3.0;
+    let mut v = shaft_at(2.0, 3.0, 0.0, 7.0);
     v[T::drive_phi0] = 0.5;
-    v.inputs_at = 7.0;
     let s = shaft::state(&v, 7.0);
     assert_eq!((s.phi, s.w), (2.5, 3.0));
 }
