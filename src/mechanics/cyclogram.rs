@@ -75,38 +75,32 @@ impl Cyclogram {
     /// Checks the phases (`sewing-table.md`: the loading dwell is refused if ≤ 0). Parameter names
     /// are the FMI ones.
     pub fn validate(&self) -> Result<(), ParamError> {
-        if !(self.forward > 0.0) {
-            return Err(ParamError::new(
-                "cycle.forward",
-                self.forward,
-                "the forward travel needs a positive shaft angle",
-            ));
-        }
-        if !(self.ret > 0.0) {
-            return Err(ParamError::new(
-                "cycle.return",
-                self.ret,
-                "the return travel needs a positive shaft angle",
-            ));
-        }
-        if !(self.dwell_far >= 0.0) {
-            return Err(ParamError::new(
-                "cycle.dwell_sew",
-                self.dwell_far,
-                "must not be negative",
-            ));
-        }
-        if !(self.dwell_near() > 0.0) {
-            return Err(ParamError::new(
-                "cycle.dwell_sew",
-                self.dwell_far,
-                format!(
-                    "cycle.forward + cycle.dwell_sew + cycle.return = {:.4} deg leaves no loading dwell (cycle.dwell_load = {:.4} deg must be > 0)",
-                    (self.forward + self.dwell_far + self.ret).to_degrees(),
-                    self.dwell_near().to_degrees()
-                ),
-            ));
-        }
+        crate::require!(
+            self.forward > 0.0,
+            "cycle.forward",
+            self.forward,
+            "the forward travel needs a positive shaft angle"
+        );
+        crate::require!(
+            self.ret > 0.0,
+            "cycle.return",
+            self.ret,
+            "the return travel needs a positive shaft angle"
+        );
+        crate::require!(
+            self.dwell_far >= 0.0,
+            "cycle.dwell_sew",
+            self.dwell_far,
+            "must not be negative"
+        );
+        crate::require!(
+            self.dwell_near() > 0.0,
+            "cycle.dwell_sew",
+            self.dwell_far,
+            "cycle.forward + cycle.dwell_sew + cycle.return = {:.4} deg leaves no loading dwell (cycle.dwell_load = {:.4} deg must be > 0)",
+            (self.forward + self.dwell_far + self.ret).to_degrees(),
+            self.dwell_near().to_degrees()
+        );
         Ok(())
     }
 

@@ -98,6 +98,18 @@ impl ParamError {
     }
 }
 
+/// `require!(ok, "param", value, "condition {}", args..)`: returns the [`ParamError`] for
+/// `param = value` violating the condition unless `ok` holds (the message is formatted only
+/// then). Write `ok` so that a NaN fails it (`x > 0.0`, not `!(x <= 0.0)`).
+#[macro_export]
+macro_rules! require {
+    ($ok:expr, $param:expr, $value:expr, $($condition:tt)+) => {
+        if !($ok) {
+            return Err($crate::mechanics::ParamError::new($param, $value, format!($($condition)+)));
+        }
+    };
+}
+
 /// Refuses the first of `params` (name, value) that is not a finite value ≥ 0: masses, moments
 /// of inertia, friction coefficients, forces.
 pub fn check_non_negative(params: &[(&'static str, f64)]) -> Result<(), ParamError> {

@@ -286,21 +286,19 @@ impl Params {
             ("fb.branch", self.fb_branch),
             ("kpm.branch", self.kpm_branch),
         ] {
-            if x.abs() != 1.0 {
-                return Err(ParamError::new(
-                    name,
-                    x,
-                    "an assembly branch is +1 or -1 (the side of the loop's second joint)",
-                ));
-            }
+            crate::require!(
+                x.abs() == 1.0,
+                name,
+                x,
+                "an assembly branch is +1 or -1 (the side of the loop's second joint)"
+            );
         }
-        if !(self.n >= 1.0) {
-            return Err(ParamError::new(
-                "legacy.branches",
-                self.n,
-                "at least one branch must carry the needle bar",
-            ));
-        }
+        crate::require!(
+            self.n >= 1.0,
+            "legacy.branches",
+            self.n,
+            "at least one branch must carry the needle bar"
+        );
         check_non_negative(&[("load.Kd", self.k_d), ("cam.J", self.cam_j)])?;
         check_finite(&[
             ("kmk.theta", self.theta12),
@@ -321,13 +319,12 @@ impl Params {
             ] {
                 check_positive(name, x, "a needle rise or fall needs a phase angle > 0")?;
             }
-            if !(self.phi_top >= 0.0 && self.phi_rise + self.phi_top + self.phi_fall < TAU) {
-                return Err(ParamError::new(
-                    "needle.Phi_top",
-                    self.phi_top,
-                    "rise, top dwell and fall must fit in one turn",
-                ));
-            }
+            crate::require!(
+                self.phi_top >= 0.0 && self.phi_rise + self.phi_top + self.phi_fall < TAU,
+                "needle.Phi_top",
+                self.phi_top,
+                "rise, top dwell and fall must fit in one turn"
+            );
         }
         let curve = self.needles.drive()?;
         let stroke = curve.stroke;
@@ -652,32 +649,26 @@ impl Drive {
         for i in 0..SAMPLES {
             let phi = TAU * i as f64 / SAMPLES as f64;
             let k = self.kinematics(phi, 1.0, 0.0);
-            if !(k.psi1.sin().abs() > 1e-6) {
-                return Err(ParamError::new(
-                    "kmk.kappa",
-                    self.p.kappa,
-                    format!(
-                        "the rocker reaches psi1 = {:.2} deg at shaft angle {:.2} deg, in line with O1O2: the pressure angle is singular there",
-                        k.psi1.to_degrees(),
-                        phi.to_degrees()
-                    ),
-                ));
-            }
+            crate::require!(
+                k.psi1.sin().abs() > 1e-6,
+                "kmk.kappa",
+                self.p.kappa,
+                "the rocker reaches psi1 = {:.2} deg at shaft angle {:.2} deg, in line with O1O2: the pressure angle is singular there",
+                k.psi1.to_degrees(),
+                phi.to_degrees()
+            );
             let undercut = match self.p.closure {
                 Closure::Groove => !(k.rho_p.abs() > r),
                 Closure::Spring => k.rho_p > 0.0 && !(k.rho_p > r),
             };
-            if undercut {
-                return Err(ParamError::new(
-                    "roller.r",
-                    r,
-                    format!(
-                        "the cam is undercut at shaft angle {:.2} deg: the pitch curve's curvature radius {:.4} m is within the roller radius",
-                        phi.to_degrees(),
-                        k.rho_p
-                    ),
-                ));
-            }
+            crate::require!(
+                !undercut,
+                "roller.r",
+                r,
+                "the cam is undercut at shaft angle {:.2} deg: the pitch curve's curvature radius {:.4} m is within the roller radius",
+                phi.to_degrees(),
+                k.rho_p
+            );
         }
         Ok(())
     }

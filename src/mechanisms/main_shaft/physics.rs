@@ -89,23 +89,19 @@ impl Motor {
     pub fn validate(&self) -> Result<(), ParamError> {
         check_positive("motor.P_rated", self.p_rated, "must be positive")?;
         check_positive("motor.n_rated", self.w_rated, "must be positive")?;
-        if !(self.s_rated > 0.0 && self.s_rated < 1.0) {
-            return Err(ParamError::new(
-                "motor.s_rated",
-                self.s_rated,
-                "the rated slip must lie in (0, 1)",
-            ));
-        }
-        if !(self.lambda > 1.0 && self.lambda.is_finite()) {
-            return Err(ParamError::new(
-                "motor.lambda",
-                self.lambda,
-                "the breakdown torque must exceed the rated torque (lambda > 1)",
-            ));
-        }
-        if self.j.is_nan() || self.j < 0.0 {
-            return Err(ParamError::new("motor.J", self.j, "must not be negative"));
-        }
+        crate::require!(
+            self.s_rated > 0.0 && self.s_rated < 1.0,
+            "motor.s_rated",
+            self.s_rated,
+            "the rated slip must lie in (0, 1)"
+        );
+        crate::require!(
+            self.lambda > 1.0 && self.lambda.is_finite(),
+            "motor.lambda",
+            self.lambda,
+            "the breakdown torque must exceed the rated torque (lambda > 1)"
+        );
+        crate::require!(self.j >= 0.0, "motor.J", self.j, "must not be negative");
         Ok(())
     }
 }
@@ -182,24 +178,20 @@ impl Params {
             ("bearing.tau_c", self.bearing_tau_c),
             ("bearing.c", self.bearing_c),
         ] {
-            if !(x >= 0.0 && x.is_finite()) {
-                return Err(ParamError::new(name, x, "must not be negative"));
-            }
+            crate::require!(x >= 0.0 && x.is_finite(), name, x, "must not be negative");
         }
-        if self.bearing_w_s.is_nan() || self.bearing_w_s <= 0.0 {
-            return Err(ParamError::new(
-                "bearing.w_s",
-                self.bearing_w_s,
-                "must be positive",
-            ));
-        }
-        if self.j_drive().is_nan() || self.j_drive() <= 0.0 {
-            return Err(ParamError::new(
-                "fly.J",
-                self.fly_j,
-                "fly.J + gear.i^2*motor.J must be positive: the shaft needs some inertia",
-            ));
-        }
+        crate::require!(
+            self.bearing_w_s > 0.0,
+            "bearing.w_s",
+            self.bearing_w_s,
+            "must be positive"
+        );
+        crate::require!(
+            self.j_drive() > 0.0,
+            "fly.J",
+            self.fly_j,
+            "fly.J + gear.i^2*motor.J must be positive: the shaft needs some inertia"
+        );
         Ok(())
     }
 

@@ -267,37 +267,32 @@ impl Params {
     pub fn drive(&self) -> Result<Drive, ParamError> {
         self.table.validate()?;
         let arg2 = (self.lambda2 - self.lambda3 * (self.alpha + self.gamma0).cos()) / self.lambda1;
-        if !(arg2.abs() <= 1.0) {
-            return Err(ParamError::new(
-                "synth.lambda1",
-                self.lambda1,
-                format!(
-                    "eq. (2): (lambda2 - lambda3*cos(alpha + gamma0))/lambda1 = {arg2:.4} is outside [-1, 1]"
-                ),
-            ));
-        }
+        crate::require!(
+            arg2.abs() <= 1.0,
+            "synth.lambda1",
+            self.lambda1,
+            "eq. (2): (lambda2 - lambda3*cos(alpha + gamma0))/lambda1 = {arg2:.4} is outside [-1, 1]"
+        );
         let syn = self.synthesis();
-        if !syn.gamma_sum.is_finite() {
-            return Err(ParamError::new(
-                "synth.lambda_S",
-                self.lambda_s,
-                "eq. (3): the arcsine argument is outside [-1, 1]: the lever cannot swing far enough for this stroke",
-            ));
-        }
-        if !(self.rise_fraction > 0.0 && self.rise_fraction < 1.0) {
-            return Err(ParamError::new(
-                "travel.rise_fraction",
-                self.rise_fraction,
-                "must lie strictly between 0 and 1",
-            ));
-        }
-        if !(self.pierce_s_in < self.pierce_s_out && self.pierce_s_out <= 1.0) {
-            return Err(ParamError::new(
-                "pierce.s_out",
-                self.pierce_s_out,
-                format!("must lie in (pierce.s_in = {}, 1]", self.pierce_s_in),
-            ));
-        }
+        crate::require!(
+            syn.gamma_sum.is_finite(),
+            "synth.lambda_S",
+            self.lambda_s,
+            "eq. (3): the arcsine argument is outside [-1, 1]: the lever cannot swing far enough for this stroke"
+        );
+        crate::require!(
+            self.rise_fraction > 0.0 && self.rise_fraction < 1.0,
+            "travel.rise_fraction",
+            self.rise_fraction,
+            "must lie strictly between 0 and 1"
+        );
+        crate::require!(
+            self.pierce_s_in < self.pierce_s_out && self.pierce_s_out <= 1.0,
+            "pierce.s_out",
+            self.pierce_s_out,
+            "must lie in (pierce.s_in = {}, 1]",
+            self.pierce_s_in
+        );
         let line = self.slider_line();
         let (a0, _, _) = self.joint_a(0.0);
         let s0 = self.carriage(0.0).s;
@@ -341,16 +336,13 @@ impl Params {
         };
         let mut g = 0.0;
         while g < gamma_sw {
-            if !(self.carriage(g).ds > 0.0) {
-                return Err(ParamError::new(
-                    "synth.gamma0",
-                    self.gamma0,
-                    format!(
-                        "the perforators do not rise monotonically over the swing (at lever angle {:.2} deg)",
-                        g.to_degrees()
-                    ),
-                ));
-            }
+            crate::require!(
+                self.carriage(g).ds > 0.0,
+                "synth.gamma0",
+                self.gamma0,
+                "the perforators do not rise monotonically over the swing (at lever angle {:.2} deg)",
+                g.to_degrees()
+            );
             g += 1e-3;
         }
         let stroke = self.carriage(gamma_sw).s - s0;
@@ -452,28 +444,22 @@ impl Drive {
         for k in 0..=SAMPLES {
             let x = self.cyc.h * k as f64 / SAMPLES as f64;
             let (_, c1, _) = self.ramp(x);
-            if !(c1.0 < 0.0) {
-                return Err(ParamError::new(
-                    "synth.lambda4",
-                    self.p.lambda4,
-                    format!(
-                        "the ramp folds back at table position {:.2} mm: the roller cannot follow it",
-                        1000.0 * x
-                    ),
-                ));
-            }
+            crate::require!(
+                c1.0 < 0.0,
+                "synth.lambda4",
+                self.p.lambda4,
+                "the ramp folds back at table position {:.2} mm: the roller cannot follow it",
+                1000.0 * x
+            );
             let (_, rho, convex) = self.ramp_geometry(x);
-            if convex && !(rho > 0.0) {
-                return Err(ParamError::new(
-                    "roller.r",
-                    self.p.roller_r,
-                    format!(
-                        "the ramp profile is undercut at table position {:.2} mm (pitch curvature radius {:.4} m <= roller.r)",
-                        1000.0 * x,
-                        rho + self.p.roller_r
-                    ),
-                ));
-            }
+            crate::require!(
+                !convex || rho > 0.0,
+                "roller.r",
+                self.p.roller_r,
+                "the ramp profile is undercut at table position {:.2} mm (pitch curvature radius {:.4} m <= roller.r)",
+                1000.0 * x,
+                rho + self.p.roller_r
+            );
         }
         Ok(())
     }

@@ -227,13 +227,13 @@ impl Params {
 
     /// Checks what the mechanism cannot work with; named by FMI variable.
     pub fn validate(&self) -> Result<(), ParamError> {
-        if !(self.l1 > 0.0 && self.l1 < self.r) {
-            return Err(ParamError::new(
-                "synth.l1",
-                self.l1,
-                format!("must lie in (0, synth.R = {}) for arcsin(l1/R)", self.r),
-            ));
-        }
+        crate::require!(
+            self.l1 > 0.0 && self.l1 < self.r,
+            "synth.l1",
+            self.l1,
+            "must lie in (0, synth.R = {}) for arcsin(l1/R)",
+            self.r
+        );
         let s = self.synthesis();
         // synth.alpha2 must leave an angle alpha3 > 0 and then a real l2
         let alpha2_refused = if !(s.alpha3 > 0.0) {
@@ -254,13 +254,13 @@ impl Params {
             return Err(ParamError::new("synth.alpha2", self.alpha2, condition));
         }
         self.cyclogram().validate()?;
-        if !(self.cam_e.abs() < self.cam_r0) {
-            return Err(ParamError::new(
-                "cam.e",
-                self.cam_e,
-                format!("the offset must be smaller than cam.R0 = {}", self.cam_r0),
-            ));
-        }
+        crate::require!(
+            self.cam_e.abs() < self.cam_r0,
+            "cam.e",
+            self.cam_e,
+            "the offset must be smaller than cam.R0 = {}",
+            self.cam_r0
+        );
         if self.kind == Kind::Translating {
             if let Some((phi, _)) = self.undercut(self.cam_r0) {
                 let r0_min = self.smallest_r0();
@@ -277,17 +277,14 @@ impl Params {
                 ));
             }
             let worst = self.max_tan_pressure_angle();
-            if self.guide_f * worst.0 >= 1.0 {
-                return Err(ParamError::new(
-                    "guide.f",
-                    self.guide_f,
-                    format!(
-                        "the table jams: guide.f*|tan(theta_p)| = {:.3} >= 1 at shaft angle {:.2} deg",
-                        self.guide_f * worst.0,
-                        worst.1.to_degrees()
-                    ),
-                ));
-            }
+            crate::require!(
+                !(self.guide_f * worst.0 >= 1.0),
+                "guide.f",
+                self.guide_f,
+                "the table jams: guide.f*|tan(theta_p)| = {:.3} >= 1 at shaft angle {:.2} deg",
+                self.guide_f * worst.0,
+                worst.1.to_degrees()
+            );
         }
         Ok(())
     }
