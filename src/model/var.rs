@@ -77,7 +77,7 @@ macro_rules! fmi_enum {
         $( #[$meta] )*
         #[derive(Clone, Copy, Debug, PartialEq, Eq)]
         $vis enum $name {
-            $( $( #[$vmeta] )* $variant = $item ),+
+            $( $( #[$vmeta] )* #[doc = $item_description] $variant = $item ),+
         }
 
         impl $name {

@@ -31,10 +31,7 @@ use std::f64::consts::{FRAC_PI_2, PI, TAU};
 crate::fmi_enum! {
     /// Which needle law the cam is made for (`needle.timing`).
     pub enum Timing ("NeedleTiming", "Which needle law the legacy cam is synthesized for") {
-        /// The Perforators' needle curve over the table's forward travel, 0 for the rest of
-        /// the turn (equal needle motion with the new drive).
         Perforators = 1 ("perforators", "the Perforators FMU's needle curve over the table's forward travel, at rest for the rest of the turn"),
-        /// Paper 002's own law: a cycloidal rise ("Co"), a dwell, a harmonic fall ("K").
         Own = 2 ("own", "cycloidal rise, top dwell and harmonic fall at the needle.* angles (paper 002's 'Co' work and 'K' idle)"),
     }
 }
@@ -42,9 +39,7 @@ crate::fmi_enum! {
 crate::fmi_enum! {
     /// How the roller is held on the cam (`cam.closure`).
     pub enum Closure ("CamClosure", "How the roller is held on the cam") {
-        /// A groove: either flank can push.
         Groove = 1 ("groove", "a groove cam: either flank pushes, the roller never leaves it"),
-        /// A spring holds the roller on one flank, which can only push.
         Spring = 2 ("spring", "a spring holds the roller on the flank that raises the needles: it can only push, a pull lifts the roller off"),
     }
 }

@@ -47,9 +47,7 @@ use std::f64::consts::TAU;
 crate::fmi_enum! {
     /// `contact.law`.
     pub enum ContactLaw ("ContactLaw", "Force law of the unilateral ramp contact") {
-        /// Hertz line contact, `F = K·δ^(10/9)`.
         Hertz = 1 ("hertz", "Hertz line contact K*pen^(10/9), K from roller.b and the moduli (Palmgren)"),
-        /// Linear spring `contact.k·δ`.
         Linear = 2 ("linear", "linear spring contact.k*pen"),
     }
 }

@@ -32,9 +32,7 @@ use std::f64::consts::{FRAC_PI_2, TAU};
 crate::fmi_enum! {
     /// Which lever swing the ramp is built for (`synth.mode`).
     pub enum Mode ("SynthMode", "Which lever swing the ramp is built for") {
-        /// The paper's γΣ of eq. (3).
         Paper = 1 ("paper", "paper 000's gamma_sum of eq. (3); the carriage then travels 2.3 % more than lambda_S"),
-        /// The swing that gives exactly the stroke λS.
         Exact = 2 ("exact", "the swing that gives exactly lambda_S"),
     }
 }

@@ -22,9 +22,7 @@ use std::f64::consts::PI;
 crate::fmi_enum! {
     /// Which table (`table.kind`).
     pub enum Kind ("TableKind", "Which sewing table") {
-        /// The paper's translating table on a slot cam (default).
         Translating = 1 ("translating", "paper 000's translating table on a slot cam"),
-        /// The existing rocking table of the BNSh-6A, for comparison.
         Rocking = 2 ("rocking", "the BNSh-6A's rocking table, same cyclogram, for comparison"),
     }
 }
