@@ -108,12 +108,7 @@ impl Integrator {
             sys, t, y, f0: k1, ..
         } = at;
         let n = y.len();
-        let mut k2 = [0.0; MAX_DIM];
-        let mut k3 = [0.0; MAX_DIM];
-        let mut k4 = [0.0; MAX_DIM];
-        let mut k5 = [0.0; MAX_DIM];
-        let mut k6 = [0.0; MAX_DIM];
-        let mut ys = [0.0; MAX_DIM];
+        let [mut k2, mut k3, mut k4, mut k5, mut k6, mut ys] = [[0.0; MAX_DIM]; 6];
         let (k2, k3, k4, k5, k6, ys) = (
             &mut k2[..n],
             &mut k3[..n],

@@ -796,10 +796,7 @@ fn rk4(at: Start, h: f64, y1: &mut [f64], st: &mut Stats) {
         sys, t, y, f0: k1, ..
     } = at;
     let n = y.len();
-    let mut k2 = [0.0; MAX_DIM];
-    let mut k3 = [0.0; MAX_DIM];
-    let mut k4 = [0.0; MAX_DIM];
-    let mut ys = [0.0; MAX_DIM];
+    let [mut k2, mut k3, mut k4, mut ys] = [[0.0; MAX_DIM]; 4];
     for i in 0..n {
         ys[i] = y[i] + 0.5 * h * k1[i];
     }

@@ -684,60 +684,52 @@ impl Params {
     /// Checks every parameter and that the drive assembles and runs on the whole turn; the first
     /// violation found.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let err = |p: &'static str, v: f64, c: String| Err(ParamError::new(p, v, c));
         check_positive(
             "crank.l1",
             self.crank_l1,
             "the crank length must be positive",
         )?;
         check_finite(&[("crank.e", self.crank_e)])?;
-        if !(self.slider_crank().can_turn() && self.rod_lambda2.is_finite()) {
-            return err(
-                "rod.lambda2",
-                self.rod_lambda2,
-                format!(
-                    "the rod l2 = lambda2*l1 must be longer than crank.l1 + |crank.e| = {} m for the crank to turn",
-                    self.crank_l1 + self.crank_e.abs()
-                ),
-            );
-        }
-        if self.series && self.crank_e != 0.0 {
-            return err(
-                "crank.e",
-                self.crank_e,
-                "the series form (1) of paper 004 holds for e = 0 only: set crank.e = 0 or kinematics.series = false".into(),
-            );
-        }
+        crate::require!(
+            self.slider_crank().can_turn() && self.rod_lambda2.is_finite(),
+            "rod.lambda2",
+            self.rod_lambda2,
+            "the rod l2 = lambda2*l1 must be longer than crank.l1 + |crank.e| = {} m for the crank to turn",
+            self.crank_l1 + self.crank_e.abs()
+        );
+        crate::require!(
+            !self.series || self.crank_e == 0.0,
+            "crank.e",
+            self.crank_e,
+            "the series form (1) of paper 004 holds for e = 0 only: set crank.e = 0 or kinematics.series = false"
+        );
         check_positive(
             "holder.l4",
             self.holder_l4,
             "the holder length must be positive",
         )?;
-        if !(self.holder_ls.is_finite() && (0.0..=1.0).contains(&self.holder_ls)) {
-            return err(
-                "holder.lS",
-                self.holder_ls,
-                "S lies between C and D: must be in [0, 1]".into(),
-            );
-        }
-        if !(self.support_alpha.is_finite() && self.support_alpha.abs() <= 0.5 * PI) {
-            return err(
-                "support.alpha",
-                self.support_alpha,
-                "the angle of EQ from the vertical must be in [-pi/2, pi/2]".into(),
-            );
-        }
+        crate::require!(
+            self.holder_ls.is_finite() && (0.0..=1.0).contains(&self.holder_ls),
+            "holder.lS",
+            self.holder_ls,
+            "S lies between C and D: must be in [0, 1]"
+        );
+        crate::require!(
+            self.support_alpha.is_finite() && self.support_alpha.abs() <= 0.5 * PI,
+            "support.alpha",
+            self.support_alpha,
+            "the angle of EQ from the vertical must be in [-pi/2, pi/2]"
+        );
         check_finite(&[
             ("support.xQ", self.support_xq),
             ("support.yQ", self.support_yq),
         ])?;
-        if self.branch != 1 && self.branch != -1 {
-            return err(
-                "assembly.branch",
-                f64::from(self.branch),
-                "must be +1 or -1 (the two positions of the holder)".into(),
-            );
-        }
+        crate::require!(
+            self.branch == 1 || self.branch == -1,
+            "assembly.branch",
+            f64::from(self.branch),
+            "must be +1 or -1 (the two positions of the holder)"
+        );
         check_non_negative(&[
             ("holder.m", self.holder_m),
             ("holder.J", self.holder_j),
@@ -755,7 +747,7 @@ impl Params {
             ("drive.n", self.drive_n),
         ])?;
         if let Some(f) = self.assembly_failure() {
-            return err(
+            return Err(ParamError::new(
                 "holder.l4",
                 self.holder_l4,
                 format!(
@@ -768,7 +760,7 @@ impl Params {
                     f.worst,
                     f.worst_at.to_degrees()
                 ),
-            );
+            ));
         }
         Ok(())
     }

@@ -222,51 +222,40 @@ impl Params {
 
     /// Checks that the drive can be assembled and run; the first violation found.
     pub fn validate(&self) -> Result<(), ParamError> {
-        let err = |p: &'static str, v: f64, c: String| Err(ParamError::new(p, v, c));
         let z = self.geneva_z;
-        if z < 3 {
-            return err("geneva.Z", f64::from(z), "needs at least 3 slots".into());
-        }
+        crate::require!(z >= 3, "geneva.Z", f64::from(z), "needs at least 3 slots");
         check_positive(
             "geneva.r1",
             self.geneva_r1,
             "the driver radius must be positive",
         )?;
         let i = self.gear_i;
-        if i == 0 {
-            return err(
-                "gear.i",
-                0.0,
-                format!("must be a positive whole multiple of geneva.Z = {z}"),
-            );
-        }
-        if !i.is_multiple_of(z) {
-            return err(
-                "gear.i",
-                f64::from(i),
-                format!(
-                    "must be a whole multiple of geneva.Z = {z} so the crank makes whole turns per index"
-                ),
-            );
-        }
-        if !(self.gear_eta > 0.0 && self.gear_eta <= 1.0) {
-            return err(
-                "gear.eta",
-                self.gear_eta,
-                "the mesh efficiency must be in (0, 1]".into(),
-            );
-        }
+        crate::require!(
+            i != 0,
+            "gear.i",
+            0.0,
+            "must be a positive whole multiple of geneva.Z = {z}"
+        );
+        crate::require!(
+            i.is_multiple_of(z),
+            "gear.i",
+            f64::from(i),
+            "must be a whole multiple of geneva.Z = {z} so the crank makes whole turns per index"
+        );
+        crate::require!(
+            self.gear_eta > 0.0 && self.gear_eta <= 1.0,
+            "gear.eta",
+            self.gear_eta,
+            "the mesh efficiency must be in (0, 1]"
+        );
         check_positive("crank.r", self.crank_r, "the crank radius must be positive")?;
-        if !(self.rod_l > self.crank_r && self.rod_l.is_finite()) {
-            return err(
-                "rod.l",
-                self.rod_l,
-                format!(
-                    "the rod must be longer than crank.r = {} for the crank to turn",
-                    self.crank_r
-                ),
-            );
-        }
+        crate::require!(
+            self.rod_l > self.crank_r && self.rod_l.is_finite(),
+            "rod.l",
+            self.rod_l,
+            "the rod must be longer than crank.r = {} for the crank to turn",
+            self.crank_r
+        );
         check_non_negative(&[
             ("knife.m", self.knife_m),
             ("rod.m", self.rod_m),
@@ -274,33 +263,28 @@ impl Params {
             ("cross.J", self.cross_j),
             ("driver.J", self.driver_j),
         ])?;
-        if !(self.guide_mu >= 0.0 && self.guide_mu.is_finite()) {
-            return err(
-                "guide.mu",
-                self.guide_mu,
-                "the friction coefficient must be >= 0".into(),
-            );
-        }
+        crate::require!(
+            self.guide_mu >= 0.0 && self.guide_mu.is_finite(),
+            "guide.mu",
+            self.guide_mu,
+            "the friction coefficient must be >= 0"
+        );
         // Largest rod angle: tan ν_max = r2/√(l² − r2²). With μ·tan ν ≥ 1 the guide friction would
         // wedge the slider (the slider equation has no solution while it is pushed).
         let tan_nu_max =
             self.crank_r / (self.rod_l * self.rod_l - self.crank_r * self.crank_r).sqrt();
-        if self.guide_mu * tan_nu_max >= 1.0 {
-            return err(
-                "guide.mu",
-                self.guide_mu,
-                format!(
-                    "the slider would jam in its guides: needs guide.mu * tan(nu_max) < 1, tan(nu_max) = {tan_nu_max}"
-                ),
-            );
-        }
-        if !(self.cut_f_max >= 0.0 && self.cut_f_max.is_finite()) {
-            return err(
-                "cut.F_max",
-                self.cut_f_max,
-                "the cutting force must be a finite value >= 0".into(),
-            );
-        }
+        crate::require!(
+            !(self.guide_mu * tan_nu_max >= 1.0),
+            "guide.mu",
+            self.guide_mu,
+            "the slider would jam in its guides: needs guide.mu * tan(nu_max) < 1, tan(nu_max) = {tan_nu_max}"
+        );
+        crate::require!(
+            self.cut_f_max >= 0.0 && self.cut_f_max.is_finite(),
+            "cut.F_max",
+            self.cut_f_max,
+            "the cutting force must be a finite value >= 0"
+        );
         let stroke = self.stroke();
         // the cut's window in order: 0 <= cut.s_start <= cut.s_full <= cut.s_end <= the stroke
         let mut below: Option<(&str, f64)> = None;
@@ -314,17 +298,16 @@ impl Params {
                     None => format!("must lie within the knife stroke [0, {stroke}]"),
                     Some((b, sb)) => format!("must lie between {b} = {sb} and the stroke {stroke}"),
                 };
-                return err(param, s, condition);
+                return Err(ParamError::new(param, s, condition));
             }
             below = Some((param, s));
         }
-        if !self.drive_n.is_finite() {
-            return err(
-                "drive.n",
-                self.drive_n,
-                "the nominal speed must be finite".into(),
-            );
-        }
+        crate::require!(
+            self.drive_n.is_finite(),
+            "drive.n",
+            self.drive_n,
+            "the nominal speed must be finite"
+        );
         Ok(())
     }
 
