@@ -622,7 +622,11 @@ mod tests {
         assert_eq!((r.y, r.memory), (c.y, c.memory));
         assert_eq!(
             r.restore(&saved[..3]),
-            Err("elastodynamic state has 3 numbers, expected 16 or 17".into())
+            Err(format!(
+                "elastodynamic state has 3 numbers, expected {} or {}",
+                Chain::<Toy>::STATE_LEN,
+                Chain::<Toy>::STATE_LEN + 1
+            ))
         );
         // a snapshot a host altered: a non-finite state is refused, the chain kept
         let mut bad = saved.clone();
@@ -636,20 +640,24 @@ mod tests {
         // negative step size, a flag that is no flag
         for (i, x, why) in [
             (
-                5 + 4,
+                5 + Memory::LEN - 7,
                 1e300,
                 "integrator's steps = 1e300 refused: a whole number from 0 to 9007199254740992 expected",
             ),
             (
-                5 + 5,
+                5 + Memory::LEN - 6,
                 2.5,
                 "integrator's rejected steps = 2.5 refused: a whole number from 0 to 9007199254740992 expected",
             ),
-            (5, -1.0, "integrator's next step size = -1.0 refused"),
+            (
+                5,
+                -1.0,
+                "integrator's next step size = -1.0 refused: a finite number >= 0 expected",
+            ),
             (
                 5 + 1,
                 0.5,
-                "integrator's stiff mode = 0.5 refused: a whole number from 0 to 1 expected",
+                "integrator's stiff mode = 0.5 refused: 0 or 1 expected",
             ),
             (
                 0,

@@ -165,6 +165,7 @@ impl Integrator {
         Attempt {
             err: if err.is_finite() { err } else { f64::INFINITY },
             hlamb,
+            radau: None,
         }
     }
 }

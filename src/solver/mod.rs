@@ -3,17 +3,23 @@
 //! analytic Jacobian, event functions) and the integrator advances it over one communication
 //! step.
 //!
-//! Methods ([`Method`], the FMU parameter `solver.method`):
-//! - `dopri5`: explicit Dormand–Prince 5(4), adaptive, with Hairer's stiffness detection;
-//! - `radau5`: implicit Radau IIA of order 5 (3 stages, L-stable, stiffly accurate) with the
-//!   analytic Jacobian and a simplified Newton iteration on the full 3n×3n system (the systems
-//!   are 2–6 states, so a dense LU of at most 18×18 is cheaper than the complex transformation),
-//!   and Hairer's embedded error estimate (`radau5.f`, ESTRAD);
+//! Methods ([`Method`], the FMU parameter `solver.method`), to the standard of Hairer's codes:
+//! - `dopri5`: explicit Dormand–Prince 5(4) (DOPRI5): the PI step controller, no growth right
+//!   after a rejection, Hairer's stiffness detection;
+//! - `radau5`: implicit Radau IIA of order 5 (3 stages, L-stable, stiffly accurate) as RADAU5:
+//!   the simplified Newton iteration on the transformed system (a real and a complex `n×n`
+//!   matrix, factorized on the stack, `lu.rs`), started from the last step's collocation
+//!   polynomial, stopped early when its contraction says it cannot converge (the step shrinks;
+//!   the method never changes behind the user's choice); the Jacobian and the factorizations
+//!   kept while the iteration converges fast; the embedded error estimate (ESTRAD), the step
+//!   controller with Gustafsson's prediction and the tolerance transformation
+//!   (`rtol' = 0.1·rtol^(2/3)`);
 //! - `rk4`: classical fixed-step Runge–Kutta, step `solver.max_step`, for comparison;
-//! - `auto` (default): Dormand–Prince while the step the accuracy asks for is within its
-//!   stability region, Radau IIA when the spectral radius of the Jacobian times that step would
-//!   leave it (and when Hairer's stiffness test fires), switching back when the stiffness goes:
-//!   the LSODA idea.
+//! - `auto` (default): whichever of the two costs less work per simulated second, measured over
+//!   windows of steps; with the explicit method's stiffness test and the held Jacobian's
+//!   stability check as in LSODA. No Jacobian is evaluated while the explicit method runs.
+//!
+//! Everything carried between steps is one [`Memory`], saved and restored as a unit.
 //!
 //! Events: every step is checked for sign changes of the system's event functions; the earliest
 //! is located (a root of the Hermite interpolant, then confirmed with real steps to a bracket of
@@ -33,7 +39,11 @@ use nalgebra::DMatrix;
 
 pub mod chain;
 mod dopri;
+mod lu;
+mod memory;
 mod radau;
+
+pub use memory::{Memory, RadauMemory, Stats};
 
 /// The shaft's path in a step (the shaft connector's, [`crate::model::shaft`]).
 pub use crate::model::shaft::ShaftPath;
@@ -250,28 +260,6 @@ impl Default for Settings {
     }
 }
 
-/// Counters of one or more `integrate` calls.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Stats {
-    pub steps: usize,
-    pub rejected: usize,
-    pub rhs_evals: usize,
-    pub jac_evals: usize,
-    pub events: usize,
-    pub switches: usize,
-}
-
-impl Stats {
-    fn add(&mut self, o: &Stats) {
-        self.steps += o.steps;
-        self.rejected += o.rejected;
-        self.rhs_evals += o.rhs_evals;
-        self.jac_evals += o.jac_evals;
-        self.events += o.events;
-        self.switches += o.switches;
-    }
-}
-
 /// Which stepper a step uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 enum Stepper {
@@ -280,131 +268,40 @@ enum Stepper {
     Rk4,
 }
 
-/// Everything an integrator carries from one `integrate` call to the next: the step size to
-/// try, `auto`'s mode and the counters that decide its switches, the statistics. One value,
-/// saved and restored as a unit (`fmi2GetFMUstate`, a refused step), so a restored integrator
-/// replays every step bit for bit under every method.
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Memory {
-    /// Step size to try next (0: choose one).
-    pub h_next: f64,
-    /// `auto` is in its stiff (implicit) mode.
-    pub stiff: bool,
-    /// Consecutive Dormand–Prince steps with h·|λ| > 3.25 (Hairer's stiffness test).
-    pub stiff_count: u32,
-    /// Consecutive checks in the stiff mode that found the explicit method stable.
-    pub nonstiff_count: u32,
-    /// Counters since creation.
-    pub stats: Stats,
-}
-
-impl Memory {
-    /// Numbers of [`Memory::to_numbers`].
-    pub const LEN: usize = 10;
-
-    /// The memory as numbers (counters exact up to 2^53).
-    pub fn to_numbers(&self) -> [f64; Memory::LEN] {
-        let s = &self.stats;
-        [
-            self.h_next,
-            f64::from(u8::from(self.stiff)),
-            f64::from(self.stiff_count),
-            f64::from(self.nonstiff_count),
-            s.steps as f64,
-            s.rejected as f64,
-            s.rhs_evals as f64,
-            s.jac_evals as f64,
-            s.events as f64,
-            s.switches as f64,
-        ]
-    }
-
-    /// The memory [`Memory::to_numbers`] wrote, checked: a step size finite and not negative,
-    /// a flag 0 or 1, counters whole numbers from 0 to 2^53 (a host may alter a serialized
-    /// state).
-    pub fn from_numbers(x: &[f64]) -> Result<Memory, String> {
-        const NAMES: [&str; Memory::LEN] = [
-            "next step size",
-            "stiff mode",
-            "stiffness count",
-            "non-stiffness count",
-            "steps",
-            "rejected steps",
-            "right-hand side evaluations",
-            "Jacobian evaluations",
-            "events",
-            "method switches",
-        ];
-        if x.len() != Memory::LEN {
-            return Err(format!(
-                "integrator memory has {} numbers, expected {}",
-                x.len(),
-                Memory::LEN
-            ));
-        }
-        if !(x[0].is_finite() && x[0] >= 0.0) {
-            return Err(format!("integrator's {} = {:?} refused", NAMES[0], x[0]));
-        }
-        let limit = |i: usize| {
-            if i == 1 {
-                1.0
-            } else if i < 4 {
-                u32::MAX as f64
-            } else {
-                9007199254740992.0
-            }
-        };
-        if let Some(i) =
-            (1..Memory::LEN).find(|&i| !(x[i] >= 0.0 && x[i] <= limit(i) && x[i].fract() == 0.0))
-        {
-            return Err(format!(
-                "integrator's {} = {:?} refused: a whole number from 0 to {} expected",
-                NAMES[i],
-                x[i],
-                limit(i)
-            ));
-        }
-        Ok(Memory {
-            h_next: x[0],
-            stiff: x[1] == 1.0,
-            stiff_count: x[2] as u32,
-            nonstiff_count: x[3] as u32,
-            stats: Stats {
-                steps: x[4] as usize,
-                rejected: x[5] as usize,
-                rhs_evals: x[6] as usize,
-                jac_evals: x[7] as usize,
-                events: x[8] as usize,
-                switches: x[9] as usize,
-            },
-        })
-    }
-}
-
-/// An integrator: its settings (from the model's parameters) and its [`Memory`].
+/// An integrator: its settings (from the model's parameters), its [`Memory`], and what is made
+/// from the memory and kept at hand (Radau IIA's factorized Newton matrices).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Integrator {
     pub settings: Settings,
     pub mem: Memory,
+    factors: radau::Factors,
 }
 
-/// Where a step attempt starts: the system, time, state, its derivative and (for Radau IIA) the
-/// Jacobian there.
+/// Where a step attempt starts: the system, time, state and its derivative.
 #[derive(Clone, Copy)]
 struct Start<'a> {
     sys: &'a dyn OdeSystem,
     t: f64,
     y: &'a [f64],
     f0: &'a [f64],
-    jac: &'a [f64],
 }
 
-/// Outcome of one step attempt.
+/// Outcome of one step attempt that produced a state.
 struct Attempt {
     err: f64,
     /// Hairer's stiffness estimate h·|λ| (Dormand–Prince only), else 0.
     hlamb: f64,
+    /// Radau IIA: its stages and Newton iterations.
+    radau: Option<radau::RadauStep>,
 }
+
+/// Dormand–Prince's step controller (Hairer's DOPRI5): PI with `β = 0.04`, `h_new/h` within
+/// `[0.2, 10]`, safety factor 0.9.
+const DOPRI_BETA: f64 = 0.04;
+const DOPRI_EXPO1: f64 = 0.2 - DOPRI_BETA * 0.75;
+const DOPRI_SAFE: f64 = 0.9;
+const DOPRI_FAC_MIN: f64 = 0.2;
+const DOPRI_FAC_MAX: f64 = 10.0;
 
 impl Integrator {
     /// A fresh integrator.
@@ -413,8 +310,10 @@ impl Integrator {
             settings,
             mem: Memory {
                 stiff: settings.method == Method::Radau5,
+                err_old: 1e-4,
                 ..Memory::default()
             },
+            factors: radau::Factors::default(),
         }
     }
 
@@ -460,6 +359,162 @@ impl Integrator {
         r.map(|_| st)
     }
 
+    /// The stepper of the next attempt over `hs`. `auto` leaves the implicit method when the
+    /// Jacobian it holds says the step fits the explicit stability region three checks in a
+    /// row (a check every 20 steps); the explicit method decides the other way by Hairer's
+    /// stiffness test and needs no Jacobian.
+    fn stepper(&mut self, n: usize, hs: f64, steps: usize, st: &mut Stats) -> Stepper {
+        match self.settings.method {
+            Method::Rk4 => return Stepper::Rk4,
+            Method::Dopri5 => return Stepper::Dopri,
+            Method::Radau5 => return Stepper::Radau,
+            Method::Auto => {}
+        }
+        let m = &mut self.mem;
+        if m.stiff && m.radau.has_jac && steps.is_multiple_of(20) && !m.rejected {
+            let h_stab = 3.3 / spectral_radius(n, &m.radau.jac).max(1e-300);
+            if hs < 0.5 * h_stab {
+                m.nonstiff_count += 1;
+                if m.nonstiff_count > 2 {
+                    self.switch_method(st);
+                }
+            } else {
+                m.nonstiff_count = 0;
+            }
+        }
+        if self.mem.stiff {
+            Stepper::Radau
+        } else {
+            Stepper::Dopri
+        }
+    }
+
+    /// `auto` weighs the two methods by what they cost: over a window of accepted steps (50
+    /// explicit, 20 implicit) the work (right-hand sides, Jacobians, factorizations) per
+    /// simulated second. An explicit stretch that costs twice what the implicit method did when
+    /// last measured hands over to it; one that has no such measure and does not run at the
+    /// largest step tries the implicit method for a window, which keeps it if it is cheaper.
+    /// (The explicit method's stiffness test and the Jacobian's stability check decide besides,
+    /// as in LSODA: a chain resolved by the explicit method at steps far below its stability
+    /// limit, ringing at a tolerance that resolves the ringing, is not stiff by either, yet the
+    /// implicit method, which filters the ringing out, is cheaper.)
+    fn weigh_methods(&mut self, t: f64, hs: f64, max_step: f64, st: &mut Stats) {
+        if self.settings.method != Method::Auto {
+            return;
+        }
+        let s = &self.mem.stats;
+        let work =
+            (s.rhs_evals + st.rhs_evals + s.jac_evals + st.jac_evals + s.decomps + st.decomps)
+                as f64;
+        let m = &mut self.mem;
+        m.window_steps += 1;
+        if m.window_steps < if m.stiff { 20 } else { 50 } {
+            return;
+        }
+        let rate = (work - m.window_work0) / (t - m.window_t0).max(f64::MIN_POSITIVE);
+        let switch = if m.stiff {
+            m.rate_implicit = rate;
+            std::mem::take(&mut m.trial) && rate > m.rate_explicit
+        } else {
+            m.rate_explicit = rate;
+            if m.rate_implicit > 0.0 {
+                rate > 2.0 * m.rate_implicit
+            } else {
+                m.trial = hs < 0.5 * max_step;
+                m.trial
+            }
+        };
+        if switch {
+            self.switch_method(st);
+        }
+        let m = &mut self.mem;
+        m.window_t0 = t;
+        m.window_work0 = work;
+        m.window_steps = 0;
+    }
+
+    /// `auto` changes method: counters and the implicit method's history start afresh.
+    fn switch_method(&mut self, st: &mut Stats) {
+        let m = &mut self.mem;
+        m.stiff = !m.stiff;
+        m.stiff_count = 0;
+        m.nonstiff_count = 0;
+        m.window_steps = 0;
+        m.radau.h_old = 0.0;
+        m.radau.h_acc = 0.0;
+        st.switches += 1;
+    }
+
+    /// Hairer's stiffness test on an accepted Dormand–Prince step: 15 steps with h·|λ| > 3.25
+    /// (not interrupted by six without) make `auto` take the implicit method.
+    fn stiffness_test(&mut self, hlamb: f64, st: &mut Stats) {
+        let m = &mut self.mem;
+        if hlamb > 3.25 {
+            m.nonstiff_count = 0;
+            m.stiff_count += 1;
+            if m.stiff_count >= 15 {
+                m.stiff_count = 0;
+                if self.settings.method == Method::Auto {
+                    self.switch_method(st);
+                }
+            }
+        } else {
+            m.nonstiff_count = m.nonstiff_count.saturating_add(1);
+            if m.nonstiff_count >= 6 {
+                m.stiff_count = 0;
+            }
+        }
+    }
+
+    /// The next step size after an accepted attempt of `hs` with error `err` (Dormand–Prince's
+    /// PI controller; Radau IIA's controller with Gustafsson's prediction, which keeps `hs` and
+    /// its factorization where the change would be small), as a factor of `hs`.
+    fn accepted_factor(&mut self, stepper: Stepper, n: usize, hs: f64, att: &Attempt) -> f64 {
+        let h_new = match (stepper, &att.radau) {
+            (Stepper::Rk4, _) => hs,
+            (Stepper::Radau, Some(r)) => self.radau_accepted(n, hs, r),
+            _ => {
+                let fac11 = att.err.powf(DOPRI_EXPO1);
+                let fac = (fac11 / self.mem.err_old.powf(DOPRI_BETA) / DOPRI_SAFE)
+                    .clamp(1.0 / DOPRI_FAC_MAX, 1.0 / DOPRI_FAC_MIN);
+                self.mem.err_old = att.err.max(1e-4);
+                let h_new = hs / fac;
+                if self.mem.rejected {
+                    h_new.min(hs)
+                } else {
+                    h_new
+                }
+            }
+        };
+        self.mem.rejected = false;
+        h_new / hs
+    }
+
+    /// The step size after a rejected attempt of `hs`: by the error estimate (Hairer's
+    /// controllers; Radau IIA's first step one tenth), or by a failed Newton iteration (its
+    /// factor). A Radau IIA failure with a Jacobian of an earlier step asks for a new one.
+    fn rejected_step(
+        &mut self,
+        stepper: Stepper,
+        hs: f64,
+        att: &Result<Attempt, radau::NewtonFailure>,
+        first: bool,
+    ) -> f64 {
+        self.mem.rejected = true;
+        if stepper == Stepper::Radau && !self.mem.radau.jac_fresh {
+            self.mem.radau.need_jac = true;
+        }
+        match att {
+            Err(f) => hs * f.factor,
+            Ok(a) if !a.err.is_finite() => hs * 0.25,
+            Ok(_) if stepper == Stepper::Radau && first => hs * 0.1,
+            Ok(a) => match &a.radau {
+                Some(r) => Integrator::radau_h_new(hs, a.err, r.newt).0,
+                None => hs / (1.0 / DOPRI_FAC_MIN).min(a.err.powf(DOPRI_EXPO1) / DOPRI_SAFE),
+            },
+        }
+    }
+
     fn run(
         &mut self,
         sys: &dyn OdeSystem,
@@ -493,7 +548,6 @@ impl Integrator {
         let mut yt = vec![0.0; n];
         let mut ft = vec![0.0; n];
         let mut gt = vec![0.0; ne];
-        let mut jac = vec![0.0; n * n];
         let max_step = if set.max_step > 0.0 {
             set.max_step
         } else {
@@ -518,26 +572,11 @@ impl Integrator {
             if last {
                 hs = rest;
             }
-            // choose the stepper
-            let stepper = match set.method {
-                Method::Rk4 => Stepper::Rk4,
-                Method::Dopri5 => Stepper::Dopri,
-                Method::Radau5 => Stepper::Radau,
-                Method::Auto => {
-                    if self.mem.stiff {
-                        Stepper::Radau
-                    } else {
-                        Stepper::Dopri
-                    }
-                }
-            };
-            if matches!(stepper, Stepper::Radau | Stepper::Rk4) || set.method == Method::Auto {
-                sys.jacobian(t, y, &mut jac);
+            let stepper = self.stepper(n, hs, st.steps, st);
+            if stepper == Stepper::Rk4 && st.steps.is_multiple_of(20) {
+                let mut jac = [0.0; MAX_DIM * MAX_DIM];
+                sys.jacobian(t, y, &mut jac[..n * n]);
                 st.jac_evals += 1;
-            }
-            // the spectral radius (an eigenvalue problem) only where it decides something
-            let check_rho = st.steps.is_multiple_of(20);
-            if stepper == Stepper::Rk4 && check_rho {
                 let rho = spectral_radius(n, &jac);
                 if hs * rho > 2.78 {
                     return Err(format!(
@@ -547,42 +586,7 @@ impl Integrator {
                     ));
                 }
             }
-            if set.method == Method::Auto && check_rho {
-                // LSODA-like: compare the accuracy step with the explicit stability limit.
-                let rho = spectral_radius(n, &jac);
-                let h_stab = 3.3 / rho.max(1e-300);
-                if !self.mem.stiff && hs > 1.5 * h_stab {
-                    self.mem.stiff = true;
-                    st.switches += 1;
-                } else if self.mem.stiff {
-                    if hs < 0.5 * h_stab {
-                        self.mem.nonstiff_count += 1;
-                        if self.mem.nonstiff_count > 2 {
-                            self.mem.stiff = false;
-                            self.mem.nonstiff_count = 0;
-                            st.switches += 1;
-                        }
-                    } else {
-                        self.mem.nonstiff_count = 0;
-                    }
-                }
-            }
-            let stepper = if set.method == Method::Auto {
-                if self.mem.stiff {
-                    Stepper::Radau
-                } else {
-                    Stepper::Dopri
-                }
-            } else {
-                stepper
-            };
-            let at = Start {
-                sys,
-                t,
-                y,
-                f0: &f0,
-                jac: &jac,
-            };
+            let at = Start { sys, t, y, f0: &f0 };
             let att = self.attempt(stepper, at, hs, &mut y1, &mut f1, st);
             let accepted = match &att {
                 Ok(a) => a.err <= 1.0 && y1.iter().all(|x| x.is_finite()),
@@ -591,19 +595,13 @@ impl Integrator {
             if !accepted {
                 if fixed {
                     return Err(match att {
-                        Err(e) => e,
+                        Err(e) => e.reason,
                         Ok(_) => format!("rk4 produced a non-finite state at t = {t}"),
                     });
                 }
                 st.rejected += 1;
-                let fac = match &att {
-                    Ok(a) if a.err.is_finite() => {
-                        let p = if stepper == Stepper::Radau { 0.25 } else { 0.2 };
-                        (0.9 * a.err.powf(-p)).clamp(0.1, 0.9)
-                    }
-                    _ => 0.25,
-                };
-                h = hs * fac;
+                let first = self.mem.stats.steps + st.steps == 0;
+                h = self.rejected_step(stepper, hs, &att, first);
                 if h < hmin {
                     return Err(format!(
                         "step-size collapse at t = {t}: step {h:.3e} s below {hmin:.3e} s ({}{})",
@@ -613,35 +611,24 @@ impl Integrator {
                             "dopri5"
                         },
                         match att {
-                            Err(e) => format!(": {e}"),
+                            Err(e) => format!(": {}", e.reason),
                             Ok(a) => format!(", error estimate {:.3e}", a.err),
                         }
                     ));
                 }
                 continue;
             }
-            let att = att.expect("accepted");
-            // stiffness detection inside Dormand-Prince (Hairer): h*|lambda| > 3.25 repeatedly
+            let att = att.unwrap_or_else(|_| unreachable!("accepted"));
             if stepper == Stepper::Dopri {
-                if att.hlamb > 3.25 {
-                    self.mem.stiff_count += 1;
-                    if self.mem.stiff_count >= 15 {
-                        if set.method == Method::Auto {
-                            self.mem.stiff = true;
-                            st.switches += 1;
-                        }
-                        self.mem.stiff_count = 0;
-                    }
-                } else {
-                    self.mem.stiff_count = 0;
-                }
+                self.stiffness_test(att.hlamb, st);
             }
             // events
             let mut hacc = hs;
             sys.events_held(t + hs, &y1, &g0, &mut g1);
             let crossed =
                 |ga: &[f64], gb: &[f64]| ga.iter().zip(gb).any(|(a, b)| event_between(*a, *b));
-            if ne > 0 && crossed(&g0, &g1) {
+            let event = ne > 0 && crossed(&g0, &g1);
+            if event {
                 // earliest root on the interpolant
                 let mut s_star = hs;
                 for i in 0..ne {
@@ -714,14 +701,25 @@ impl Integrator {
                 st.events += 1;
             }
             // accept
-            t = if last && hacc == hs { t1 } else { t + hacc };
+            let ratio = self.accepted_factor(stepper, n, hs, &att);
+            if event {
+                // the right-hand side changes at the event: no polynomial reaches across it
+                self.mem.radau.h_old = 0.0;
+                self.mem.radau.h_acc = 0.0;
+            }
+            let t_end = t + hacc;
+            t = if last && hacc == hs { t1 } else { t_end };
             y.copy_from_slice(&y1);
-            // after an event the right-hand side changes: evaluate it afresh
-            sys.rhs(t, y, &mut f0);
-            st.rhs_evals += 1;
+            if event || t != t_end {
+                sys.rhs(t, y, &mut f0);
+                st.rhs_evals += 1;
+            } else {
+                f0.copy_from_slice(&f1);
+            }
             std::mem::swap(&mut g0, &mut g1);
             sys.on_step(t, y);
             st.steps += 1;
+            self.weigh_methods(t, hs, max_step, st);
             if st.steps > set.max_steps {
                 return Err(format!(
                     "step budget of {} steps exhausted at t = {t} of [{t0}, {t1}] (last step {hacc:.3e} s{})",
@@ -734,15 +732,9 @@ impl Integrator {
                 ));
             }
             if !fixed {
-                let p = if stepper == Stepper::Radau { 0.25 } else { 0.2 };
-                let fac = if att.err > 0.0 {
-                    (0.9 * att.err.powf(-p)).clamp(0.2, 5.0)
-                } else {
-                    5.0
-                };
                 // do not let the last (shortened) step or an event shrink the memory
                 let base = if (last || hacc < hs) && h > hs { h } else { hs };
-                h = (base * fac).min(max_step);
+                h = (base * ratio).min(max_step);
                 if hacc == hs {
                     self.mem.h_next = h;
                 }
@@ -754,17 +746,19 @@ impl Integrator {
         Ok(())
     }
 
-    /// One attempt of `stepper` from `at` over `h`: the state `y1` and its derivative `f1`.
+    /// One attempt of `stepper` from `at` over `h`: the state `y1` and its derivative `f1`, or
+    /// the reason Radau IIA's Newton iteration failed (the caller shrinks the step; it never
+    /// changes the method behind a user's choice).
     fn attempt(
-        &self,
+        &mut self,
         stepper: Stepper,
         at: Start,
         h: f64,
         y1: &mut [f64],
         f1: &mut [f64],
         st: &mut Stats,
-    ) -> Result<Attempt, String> {
-        let Start { sys, t, .. } = at;
+    ) -> Result<Attempt, radau::NewtonFailure> {
+        let Start { sys, t, y, .. } = at;
         match stepper {
             Stepper::Dopri => Ok(self.dopri(at, h, y1, f1, st)),
             Stepper::Rk4 => {
@@ -774,19 +768,18 @@ impl Integrator {
                 Ok(Attempt {
                     err: 0.0,
                     hlamb: 0.0,
+                    radau: None,
                 })
             }
-            Stepper::Radau => match self.radau(at, h, y1, f1, st) {
-                // The Newton iteration cannot converge on a step whose stages straddle a
-                // discontinuity of the right-hand side (an event surface): the step that crosses
-                // it is taken explicitly; its error estimate still decides, and at the short
-                // steps near an event the explicit method is well inside its stability region.
-                Err(e) => {
-                    let a = self.dopri(at, h, y1, f1, st);
-                    if a.err <= 1.0 { Ok(a) } else { Err(e) }
-                }
-                ok => ok,
-            },
+            Stepper::Radau => {
+                self.radau_prepare(sys, t, y, h, st);
+                let r = self.radau(at, h, y1, f1, st)?;
+                Ok(Attempt {
+                    err: r.err,
+                    hlamb: 0.0,
+                    radau: Some(r),
+                })
+            }
         }
     }
 }

@@ -1,40 +1,94 @@
-//! Radau IIA of order 5 (Hairer, Wanner, *Solving ODEs II*, RADAU5): the tableau, the step with
-//! its simplified Newton iteration and error estimate (ESTRAD), the spectral radius `auto`
-//! compares with the explicit stability limit.
+//! Radau IIA of order 5 as Hairer's RADAU5 takes it (Hairer, Wanner, *Solving ODEs II*, IV.8,
+//! and `radau5.f`): the simplified Newton iteration on the transformed system (one real and one
+//! complex `n×n` matrix), started from the last step's collocation polynomial, with the
+//! convergence-rate prediction that stops a hopeless iteration early; the Jacobian and the
+//! factorizations kept while the iteration converges fast; the embedded error estimate
+//! (`ESTRAD`), the step controller with Gustafsson's prediction, and the tolerance
+//! transformation. Also the spectral radius `auto` compares with the explicit stability limit.
 
+use super::lu::Lu;
 use super::*;
+use nalgebra::Complex;
 
-/// Radau IIA (order 5) tableau.
-struct RadauTab {
-    c: [f64; 3],
-    a: [[f64; 3]; 3],
+/// Newton iterations at most (Hairer's `NIT`).
+const NIT: usize = 7;
+/// A Newton contraction below this keeps the Jacobian for the next step (Hairer's `THET`; his
+/// 0.001 for small systems re-evaluated it on 40 % of the steps of the stiff chains here, and
+/// each new Jacobian costs a factorization; 0.1, his value for costly Jacobians, keeps it on
+/// all but 1–20 % for at most 4 % more right-hand sides, `examples/solver_counts.rs`).
+const THET: f64 = 0.1;
+/// Step controller: safety factor, and `h_new/h` within `[1/FACL, 1/FACR]`.
+const SAFE: f64 = 0.9;
+const FACL: f64 = 5.0;
+const FACR: f64 = 0.125;
+/// A new step size within `[QUOT1, QUOT2]·h` keeps `h` and the factorizations.
+const QUOT1: f64 = 1.0;
+const QUOT2: f64 = 1.2;
+/// A step size this close (relative) to the factorized one keeps the factorization.
+const LU_SLACK: f64 = 1e-3;
+
+/// The method's constants (`radau5.f`): nodes, error-estimate weights, the eigenvalues of the
+/// inverse of the coefficient matrix (`u1` real, `alph ± i·beta`) and the transformation `T`,
+/// `T⁻¹` that decouples the stage system.
+struct Tab {
+    c1: f64,
+    c2: f64,
     dd: [f64; 3],
     u1: f64,
+    alph: f64,
+    beta: f64,
+    t: [[f64; 3]; 3],
+    ti: [[f64; 3]; 3],
 }
 
-fn radau_tab() -> RadauTab {
-    let s6 = 6f64.sqrt();
-    RadauTab {
-        c: [(4.0 - s6) / 10.0, (4.0 + s6) / 10.0, 1.0],
-        a: [
-            [
-                (88.0 - 7.0 * s6) / 360.0,
-                (296.0 - 169.0 * s6) / 1800.0,
-                (-2.0 + 3.0 * s6) / 225.0,
-            ],
-            [
-                (296.0 + 169.0 * s6) / 1800.0,
-                (88.0 + 7.0 * s6) / 360.0,
-                (-2.0 - 3.0 * s6) / 225.0,
-            ],
-            [(16.0 - s6) / 36.0, (16.0 + s6) / 36.0, 1.0 / 9.0],
-        ],
+fn tab() -> Tab {
+    let sq6 = 6f64.sqrt();
+    let (c81, c9) = (81f64.cbrt(), 9f64.cbrt());
+    let u1 = (6.0 + c81 - c9) / 30.0;
+    let alph = (12.0 - c81 + c9) / 60.0;
+    let beta = (c81 + c9) * 3f64.sqrt() / 60.0;
+    let cno = alph * alph + beta * beta;
+    Tab {
+        c1: (4.0 - sq6) / 10.0,
+        c2: (4.0 + sq6) / 10.0,
         dd: [
-            -(13.0 + 7.0 * s6) / 3.0,
-            (-13.0 + 7.0 * s6) / 3.0,
+            -(13.0 + 7.0 * sq6) / 3.0,
+            (-13.0 + 7.0 * sq6) / 3.0,
             -1.0 / 3.0,
         ],
-        u1: 1.0 / ((6.0 + 81f64.powf(1.0 / 3.0) - 9f64.powf(1.0 / 3.0)) / 30.0),
+        u1: 1.0 / u1,
+        alph: alph / cno,
+        beta: beta / cno,
+        t: [
+            [
+                9.1232394870892942792e-02,
+                -0.14125529502095420843,
+                -3.0029194105147424492e-02,
+            ],
+            [
+                0.24171793270710701896,
+                0.20412935229379993199,
+                0.38294211275726193779,
+            ],
+            [0.96604818261509293619, 1.0, 0.0],
+        ],
+        ti: [
+            [
+                4.3255798900631553510,
+                0.33919925181580986954,
+                0.54177053993587487119,
+            ],
+            [
+                -4.1787185915519047273,
+                -0.32768282076106238708,
+                0.47662355450055045196,
+            ],
+            [
+                -0.50287263494578687595,
+                2.5719269498556054292,
+                -0.59603920482822492497,
+            ],
+        ],
     }
 }
 
@@ -50,157 +104,393 @@ pub fn spectral_radius(n: usize, jac: &[f64]) -> f64 {
         .fold(0.0, f64::max)
 }
 
+/// The factorized Newton matrices `u1/h·I − J` and `(alph + i·beta)/h·I − J` for one Jacobian
+/// and step size: a function of [`RadauMemory::jac`] and [`RadauMemory::lu_h`], kept beside the
+/// memory (not in it) and made again, bit for bit, when they do not match it.
+#[derive(Clone, Debug, Default)]
+pub(super) struct Factors(Option<Box<FactorsOf>>);
+
+#[derive(Clone, Debug)]
+pub(super) struct FactorsOf {
+    jac: [f64; MAX_DIM * MAX_DIM],
+    h: f64,
+    e1: Lu<f64>,
+    e2: Lu<Complex<f64>>,
+}
+
+/// Derived data: two integrators with equal memories are equal whatever they have at hand.
+impl PartialEq for Factors {
+    fn eq(&self, _: &Factors) -> bool {
+        true
+    }
+}
+
+impl Factors {
+    /// The factors for `jac` and `h` (n×n), made if those at hand are for others; `None` if a
+    /// matrix is singular.
+    fn of(&mut self, n: usize, jac: &[f64; MAX_DIM * MAX_DIM], h: f64) -> Option<&FactorsOf> {
+        let current = self
+            .0
+            .as_ref()
+            .is_some_and(|f| f.h.to_bits() == h.to_bits() && f.jac == *jac);
+        if !current {
+            let tb = tab();
+            let (fac1, alphn, betan) = (tb.u1 / h, tb.alph / h, tb.beta / h);
+            let mut e1 = [0.0; MAX_DIM * MAX_DIM];
+            let mut e2 = [Complex::default(); MAX_DIM * MAX_DIM];
+            for i in 0..n {
+                for j in 0..n {
+                    e1[i * n + j] = -jac[i * n + j];
+                    e2[i * n + j] = Complex::new(-jac[i * n + j], 0.0);
+                }
+                e1[i * n + i] += fac1;
+                e2[i * n + i] += Complex::new(alphn, betan);
+            }
+            self.0 = Some(Box::new(FactorsOf {
+                jac: *jac,
+                h,
+                e1: Lu::new(n, e1)?,
+                e2: Lu::new(n, e2)?,
+            }));
+        }
+        self.0.as_deref()
+    }
+}
+
+/// A Radau IIA attempt that converged: its error estimate and Newton iterations, and the stage
+/// increments `Z` (3 × n) from which the collocation polynomial is made.
+pub(super) struct RadauStep {
+    pub err: f64,
+    pub newt: usize,
+    pub z: [f64; 3 * MAX_DIM],
+}
+
+/// Why a Radau IIA attempt did not converge, and by how much to shrink the step for the next
+/// (Hairer's label 78: one half; or the convergence-rate prediction's factor).
+#[derive(Debug)]
+pub(super) struct NewtonFailure {
+    pub factor: f64,
+    pub reason: String,
+}
+
+impl NewtonFailure {
+    fn halve(reason: impl Into<String>) -> NewtonFailure {
+        NewtonFailure {
+            factor: 0.5,
+            reason: reason.into(),
+        }
+    }
+}
+
 impl Integrator {
+    /// Hairer's tolerance transformation for Radau IIA: `rtol' = 0.1·rtol^(2/3)` and `atol'` in
+    /// the same ratio to it, so that the error the estimate controls matches the tolerance.
+    fn radau_tolerances(&self) -> (f64, f64) {
+        let s = self.settings;
+        let rtol = 0.1 * s.rtol.powf(2.0 / 3.0);
+        (rtol, rtol * (s.atol / s.rtol))
+    }
+
+    /// The weighted RMS norm of `e` with the transformed tolerances, scaled at `y` (Hairer's
+    /// `SCAL`); components of weight 0 left out.
+    pub(super) fn radau_norm(&self, sys: &dyn OdeSystem, e: &[f64], y: &[f64]) -> f64 {
+        let (rtol, atol) = self.radau_tolerances();
+        let (mut s, mut m) = (0.0, 0.0);
+        for i in 0..e.len() {
+            let w = sys.error_weight(i);
+            if w != 0.0 {
+                let r = e[i] / (atol + rtol * y[i].abs());
+                s += w * r * r;
+                m += w;
+            }
+        }
+        if m == 0.0 { 0.0 } else { (s / m).sqrt() }
+    }
+
+    /// Before a Radau IIA attempt over `h` from `(t, y)`: a new Jacobian where the memory asks
+    /// for one, and the factorization for `h` (counted where the method decides it; made at
+    /// hand by [`Factors::of`]).
+    pub(super) fn radau_prepare(
+        &mut self,
+        sys: &dyn OdeSystem,
+        t: f64,
+        y: &[f64],
+        h: f64,
+        st: &mut Stats,
+    ) {
+        let r = &mut self.mem.radau;
+        if !r.has_jac || r.need_jac {
+            sys.jacobian(t, y, &mut r.jac[..y.len() * y.len()]);
+            st.jac_evals += 1;
+            r.has_jac = true;
+            r.jac_fresh = true;
+            r.need_jac = false;
+            r.lu_h = 0.0;
+        }
+        // a step within a thousandth of the factorized one (the last step of a communication
+        // step, shortened to its end) iterates with the factors at hand: a simplified Newton
+        // iteration with a matrix that close converges as fast
+        if (h - r.lu_h).abs() > LU_SLACK * r.lu_h {
+            r.lu_h = h;
+            st.decomps += 1;
+        }
+    }
+
+    /// One Radau IIA attempt from `at` over `h` ([`Integrator::radau_prepare`] first): the
+    /// state `y1` and its derivative `f1`. `refine`: Hairer's second error estimate where the
+    /// first fails (the first step, or after a rejection).
     pub(super) fn radau(
-        &self,
+        &mut self,
         at: Start,
         h: f64,
         y1: &mut [f64],
         f1: &mut [f64],
         st: &mut Stats,
-    ) -> Result<Attempt, String> {
-        let Start { sys, t, y, f0, jac } = at;
+    ) -> Result<RadauStep, NewtonFailure> {
+        let Start { sys, t, y, f0 } = at;
         let n = y.len();
-        let tab = radau_tab();
-        let m = 3 * n;
-        // Newton matrix I - h (A ⊗ J)
-        let mut mat = DMatrix::<f64>::identity(m, m);
-        for bi in 0..3 {
-            for bj in 0..3 {
-                let a = h * tab.a[bi][bj];
-                for i in 0..n {
-                    for j in 0..n {
-                        mat[(bi * n + i, bj * n + j)] -= a * jac[i * n + j];
-                    }
+        let tb = tab();
+        let (rtol, _) = self.radau_tolerances();
+        let fnewt = (10.0 * f64::EPSILON / rtol).max(0.03f64.min(rtol.sqrt()));
+        let mut factors = std::mem::take(&mut self.factors);
+        let Some(fa) = factors.of(n, &self.mem.radau.jac, self.mem.radau.lu_h) else {
+            self.factors = factors;
+            return Err(NewtonFailure::halve("singular Newton matrix in radau5"));
+        };
+        let (fac1, alphn, betan) = (tb.u1 / h, tb.alph / h, tb.beta / h);
+        let r = self.mem.radau;
+        // starting values: the last step's collocation polynomial, else zero
+        let mut z = [0.0; 3 * MAX_DIM];
+        let mut w = [0.0; 3 * MAX_DIM];
+        if r.h_old > 0.0 {
+            let c3q = h / r.h_old;
+            let cq = [tb.c1 * c3q, tb.c2 * c3q, c3q];
+            let (c1m1, c2m1) = (tb.c1 - 1.0, tb.c2 - 1.0);
+            for i in 0..n {
+                let (ak1, ak2, ak3) = (r.cont[i], r.cont[n + i], r.cont[2 * n + i]);
+                for s in 0..3 {
+                    z[s * n + i] = cq[s] * (ak1 + (cq[s] - c2m1) * (ak2 + (cq[s] - c1m1) * ak3));
+                }
+                for s in 0..3 {
+                    w[s * n + i] = (0..3).map(|q| tb.ti[s][q] * z[q * n + i]).sum();
                 }
             }
         }
-        let lu = mat.lu();
-        let rtol = self.settings.rtol;
-        let fnewt = (10.0 * f64::EPSILON / rtol).max(0.03f64.min(rtol.sqrt()));
-        let mut z = vec![0.0; m];
-        let mut fz = vec![0.0; m];
+        let mut faccon = r.faccon.max(f64::EPSILON).powf(0.8);
+        let mut theta = THET;
+        let (mut dyno_old, mut thq_old) = (0.0, 0.0);
         let mut yi = [0.0; MAX_DIM];
-        let mut prev = f64::NAN;
-        let mut converged = false;
-        let zero = vec![0.0; n];
-        for it in 0..10 {
+        let mut fz = [0.0; 3 * MAX_DIM];
+        let mut newt = 0;
+        let outcome = loop {
+            if newt >= NIT {
+                break Err(NewtonFailure::halve(format!(
+                    "Newton iteration of radau5 did not converge in {NIT} iterations"
+                )));
+            }
             for s in 0..3 {
                 for i in 0..n {
                     yi[i] = y[i] + z[s * n + i];
                 }
-                sys.rhs(t + tab.c[s] * h, &yi[..n], &mut fz[s * n..(s + 1) * n]);
+                let c = [tb.c1, tb.c2, 1.0][s];
+                sys.rhs(t + c * h, &yi[..n], &mut fz[s * n..(s + 1) * n]);
             }
             st.rhs_evals += 3;
-            let mut r = nalgebra::DVector::<f64>::zeros(m);
+            // the transformed right-hand sides, less the stages' own part (Hairer's SLVRAD)
+            let mut d1 = [0.0; MAX_DIM];
+            let mut d2 = [Complex::default(); MAX_DIM];
+            for i in 0..n {
+                let a: [f64; 3] = std::array::from_fn(|s| {
+                    (0..3).map(|q| tb.ti[s][q] * fz[q * n + i]).sum::<f64>()
+                });
+                let (s2, s3) = (-w[n + i], -w[2 * n + i]);
+                d1[i] = a[0] - w[i] * fac1;
+                d2[i] = Complex::new(
+                    a[1] + s2 * alphn - s3 * betan,
+                    a[2] + s3 * alphn + s2 * betan,
+                );
+            }
+            fa.e1.solve(&mut d1);
+            fa.e2.solve(&mut d2);
+            newt += 1;
+            let mut dw = [0.0; 3 * MAX_DIM];
+            for i in 0..n {
+                dw[i] = d1[i];
+                dw[n + i] = d2[i].re;
+                dw[2 * n + i] = d2[i].im;
+            }
+            let mut sq = 0.0;
             for s in 0..3 {
-                for i in 0..n {
-                    let mut acc = 0.0;
-                    for q in 0..3 {
-                        acc += tab.a[s][q] * fz[q * n + i];
+                sq += self.radau_norm(sys, &dw[s * n..(s + 1) * n], y).powi(2);
+            }
+            let dyno = (sq / 3.0).sqrt();
+            if !dyno.is_finite() {
+                break Err(NewtonFailure::halve("non-finite Newton iterate in radau5"));
+            }
+            if newt > 1 && newt < NIT {
+                let thq = dyno / dyno_old;
+                theta = if newt == 2 {
+                    thq
+                } else {
+                    (thq * thq_old).sqrt()
+                };
+                thq_old = thq;
+                if theta < 0.99 {
+                    faccon = theta / (1.0 - theta);
+                    let left = (NIT - 1 - newt) as i32;
+                    let dyth = faccon * dyno * theta.powi(left) / fnewt;
+                    if dyth >= 1.0 {
+                        // it would not converge in the iterations left: a smaller step now
+                        let qnewt = dyth.clamp(1e-4, 20.0);
+                        break Err(NewtonFailure {
+                            factor: 0.8 * qnewt.powf(-1.0 / (4.0 + f64::from(left))),
+                            reason: format!(
+                                "Newton iteration of radau5 too slow (contraction {theta:.2})"
+                            ),
+                        });
                     }
-                    r[s * n + i] = -z[s * n + i] + h * acc;
-                }
-            }
-            let Some(dz) = lu.solve(&r) else {
-                return Err("singular Newton matrix in radau5".into());
-            };
-            let mut nrm = 0.0;
-            for s in 0..3 {
-                nrm += self
-                    .norm(sys, &dz.as_slice()[s * n..(s + 1) * n], y, &zero)
-                    .powi(2);
-            }
-            let nrm = (nrm / 3.0).sqrt();
-            for k in 0..m {
-                z[k] += dz[k];
-            }
-            if !nrm.is_finite() {
-                return Err("non-finite Newton iterate in radau5".into());
-            }
-
-            if nrm <= 1e-3 * fnewt {
-                converged = true;
-                break;
-            }
-            if it > 0 {
-                let theta = nrm / prev;
-                if theta >= 0.99 {
-                    return Err(format!(
+                } else {
+                    break Err(NewtonFailure::halve(format!(
                         "Newton iteration of radau5 diverges (contraction {theta:.2})"
-                    ));
+                    )));
                 }
-                let eta = theta / (1.0 - theta);
-                if eta * nrm <= fnewt {
-                    converged = true;
-                    break;
-                }
-            } else if nrm <= 1e-2 * fnewt {
-                converged = true;
-                break;
             }
-            prev = nrm;
+            dyno_old = dyno.max(f64::EPSILON);
+            for i in 0..n {
+                let f: [f64; 3] = std::array::from_fn(|s| w[s * n + i] + dw[s * n + i]);
+                for s in 0..3 {
+                    w[s * n + i] = f[s];
+                    z[s * n + i] = (0..3).map(|q| tb.t[s][q] * f[q]).sum();
+                }
+            }
+            if faccon * dyno <= fnewt {
+                break Ok(());
+            }
+        };
+        self.mem.radau.theta = theta;
+        self.mem.radau.faccon = faccon;
+        if let Err(e) = outcome {
+            self.factors = factors;
+            return Err(e);
         }
-        if !converged {
-            return Err("Newton iteration of radau5 did not converge in 10 iterations".into());
-        }
-        // Components left out of the norms (work integrals): their stage values are fixed
-        // point updates one iteration behind; settle them on the converged stages.
+        // Components left out of the norms (work integrals): their stage values are one
+        // iteration behind; settle them on the converged stages.
         if (0..n).any(|i| sys.error_weight(i) == 0.0) {
             for s in 0..3 {
                 for i in 0..n {
                     yi[i] = y[i] + z[s * n + i];
                 }
-                sys.rhs(t + tab.c[s] * h, &yi[..n], &mut fz[s * n..(s + 1) * n]);
+                let c = [tb.c1, tb.c2, 1.0][s];
+                sys.rhs(t + c * h, &yi[..n], &mut fz[s * n..(s + 1) * n]);
             }
             st.rhs_evals += 3;
+            let a = radau_a();
             for s in 0..3 {
                 for i in (0..n).filter(|&i| sys.error_weight(i) == 0.0) {
-                    z[s * n + i] = h * (0..3).map(|q| tab.a[s][q] * fz[q * n + i]).sum::<f64>();
+                    z[s * n + i] = h * (0..3).map(|q| a[s][q] * fz[q * n + i]).sum::<f64>();
                 }
             }
         }
         for i in 0..n {
             y1[i] = y[i] + z[2 * n + i];
         }
-        // error estimate (Hairer, radau5.f ESTRAD)
-        let fac1 = tab.u1 / h;
-        let mut e1 = DMatrix::<f64>::zeros(n, n);
+        // error estimate (ESTRAD)
+        let mut f2 = [0.0; MAX_DIM];
+        let mut e = [0.0; MAX_DIM];
         for i in 0..n {
-            for j in 0..n {
-                e1[(i, j)] = -jac[i * n + j];
-            }
-            e1[(i, i)] += fac1;
+            f2[i] = (tb.dd[0] * z[i] + tb.dd[1] * z[n + i] + tb.dd[2] * z[2 * n + i]) / h;
+            e[i] = f2[i] + f0[i];
         }
-        let lu1 = e1.lu();
-        let mut f2 = vec![0.0; n];
-        let mut cont = nalgebra::DVector::<f64>::zeros(n);
-        for i in 0..n {
-            f2[i] = (tab.dd[0] * z[i] + tab.dd[1] * z[n + i] + tab.dd[2] * z[2 * n + i]) / h;
-            cont[i] = f2[i] + f0[i];
-        }
-        let mut errv = lu1.solve(&cont).ok_or("singular error matrix in radau5")?;
-        let mut err = self.norm(sys, errv.as_slice(), y, y1);
-        if err >= 1.0 {
-            // Hairer's refinement for stiff components
+        fa.e1.solve(&mut e);
+        let mut err = self.radau_norm(sys, &e[..n], y).max(1e-10);
+        if err >= 1.0 && (self.mem.rejected || self.mem.stats.steps + st.steps == 0) {
             let mut yp = [0.0; MAX_DIM];
             for i in 0..n {
-                yp[i] = y[i] + errv[i];
+                yp[i] = y[i] + e[i];
             }
             let mut fp = [0.0; MAX_DIM];
             sys.rhs(t, &yp[..n], &mut fp[..n]);
             st.rhs_evals += 1;
             for i in 0..n {
-                cont[i] = fp[i] + f2[i];
+                e[i] = fp[i] + f2[i];
             }
-            errv = lu1.solve(&cont).ok_or("singular error matrix in radau5")?;
-            err = self.norm(sys, errv.as_slice(), y, y1);
+            fa.e1.solve(&mut e);
+            err = self.radau_norm(sys, &e[..n], y).max(1e-10);
         }
+        self.factors = factors;
         sys.rhs(t + h, y1, f1);
         st.rhs_evals += 1;
-        Ok(Attempt {
+        Ok(RadauStep {
             err: if err.is_finite() { err } else { f64::INFINITY },
-            hlamb: 0.0,
+            newt,
+            z,
         })
     }
+
+    /// After an accepted attempt of `h`: the collocation polynomial the next step starts its
+    /// Newton iteration from, Gustafsson's predictive controller, and whether the next step keeps
+    /// the Jacobian (the iteration converged fast) and `h` with its factorization (the new step
+    /// would differ by less than 20 %). The next step size.
+    pub(super) fn radau_accepted(&mut self, n: usize, h: f64, step: &RadauStep) -> f64 {
+        let tb = tab();
+        let (mut h_new, mut quot) = Integrator::radau_h_new(h, step.err, step.newt);
+        let r = &mut self.mem.radau;
+        if r.h_acc > 0.0 {
+            let facgus = (r.h_acc / h) * (step.err * step.err / r.err_acc).powf(0.25) / SAFE;
+            quot = quot.max(facgus.clamp(FACR, FACL));
+            h_new = h / quot;
+        }
+        r.h_acc = h;
+        r.err_acc = step.err.max(1e-2);
+        let (c1m1, c2m1, c1mc2) = (tb.c1 - 1.0, tb.c2 - 1.0, tb.c1 - tb.c2);
+        let z = &step.z;
+        for i in 0..n {
+            let (z1, z2, z3) = (z[i], z[n + i], z[2 * n + i]);
+            r.cont[i] = (z2 - z3) / c2m1;
+            let ak = (z1 - z2) / c1mc2;
+            let acont3 = (ak - z1 / tb.c1) / tb.c2;
+            r.cont[n + i] = (ak - r.cont[i]) / c1m1;
+            r.cont[2 * n + i] = r.cont[n + i] - acont3;
+        }
+        r.h_old = h;
+        r.jac_fresh = false;
+        if self.mem.rejected {
+            h_new = h_new.min(h);
+        }
+        if r.theta <= THET {
+            if (QUOT1..=QUOT2).contains(&(h_new / h)) {
+                h_new = h;
+            }
+        } else {
+            r.need_jac = true;
+        }
+        h_new
+    }
+
+    /// Hairer's new step size after a Radau IIA attempt of `h` with error `err` in `newt`
+    /// iterations (not yet the predictive part).
+    pub(super) fn radau_h_new(h: f64, err: f64, newt: usize) -> (f64, f64) {
+        let cfac = SAFE * (1 + 2 * NIT) as f64;
+        let fac = SAFE.min(cfac / (newt + 2 * NIT) as f64);
+        let quot = FACR.max(FACL.min(err.powf(0.25) / fac));
+        (h / quot, quot)
+    }
+}
+
+/// The coefficient matrix of Radau IIA (order 5).
+fn radau_a() -> [[f64; 3]; 3] {
+    let s6 = 6f64.sqrt();
+    [
+        [
+            (88.0 - 7.0 * s6) / 360.0,
+            (296.0 - 169.0 * s6) / 1800.0,
+            (-2.0 + 3.0 * s6) / 225.0,
+        ],
+        [
+            (296.0 + 169.0 * s6) / 1800.0,
+            (88.0 + 7.0 * s6) / 360.0,
+            (-2.0 - 3.0 * s6) / 225.0,
+        ],
+        [(16.0 - s6) / 36.0, (16.0 + s6) / 36.0, 1.0 / 9.0],
+    ]
 }
