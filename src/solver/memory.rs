@@ -1,7 +1,7 @@
 //! Everything an integrator carries from one step to the next, as one value ([`Memory`]) and as
 //! the numbers of the FMU state, checked when a host hands them back.
 
-use super::MAX_DIM;
+use super::{MAX_DIM, MAX_EVENTS};
 
 /// Counters of one or more `integrate` calls (they do not depend on the machine or its load).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
@@ -108,6 +108,9 @@ pub struct Memory {
     pub rate_explicit: f64,
     pub rate_implicit: f64,
     pub trial: bool,
+    /// The sign of each event function where the last call ended (0: none yet), so that one
+    /// resting at zero at the start of the next call holds it ([`super::hold_signs`]).
+    pub event_signs: [f64; MAX_EVENTS],
     pub radau: RadauMemory,
     /// Counters since creation.
     pub stats: Stats,
@@ -124,10 +127,12 @@ enum Kind {
     Flag,
     /// A whole number from 0 to the limit.
     Count(f64),
+    /// −1, 0 or 1.
+    Sign,
 }
 
 /// The numbers of [`Memory`] in order: name, how many, kind.
-const LAYOUT: [(&str, usize, Kind); 31] = [
+const LAYOUT: [(&str, usize, Kind); 32] = [
     ("next step size", 1, Kind::Size),
     ("stiff mode", 1, Kind::Flag),
     ("stiffness count", 1, Kind::Count(u32::MAX as f64)),
@@ -140,6 +145,7 @@ const LAYOUT: [(&str, usize, Kind); 31] = [
     ("explicit method's cost", 1, Kind::Size),
     ("implicit method's cost", 1, Kind::Size),
     ("trial flag", 1, Kind::Flag),
+    ("event signs", MAX_EVENTS, Kind::Sign),
     ("Jacobian", MAX_DIM * MAX_DIM, Kind::Finite),
     ("Jacobian flag", 1, Kind::Flag),
     ("fresh-Jacobian flag", 1, Kind::Flag),
@@ -202,6 +208,7 @@ impl Memory {
             self.rate_implicit,
             flag(self.trial),
         ]);
+        put(&self.event_signs);
         put(&r.jac);
         put(&[flag(r.has_jac), flag(r.jac_fresh), flag(r.need_jac), r.lu_h]);
         put(&r.cont);
@@ -238,6 +245,7 @@ impl Memory {
                     Kind::Size => v.is_finite() && v >= 0.0,
                     Kind::Flag => v == 0.0 || v == 1.0,
                     Kind::Count(limit) => v >= 0.0 && v <= limit && v.fract() == 0.0,
+                    Kind::Sign => v == -1.0 || v == 0.0 || v == 1.0,
                 };
                 if !ok {
                     let which = if len > 1 {
@@ -250,6 +258,7 @@ impl Memory {
                         Kind::Size => "a finite number >= 0".to_string(),
                         Kind::Flag => "0 or 1".to_string(),
                         Kind::Count(limit) => format!("a whole number from 0 to {limit}"),
+                        Kind::Sign => "-1, 0 or 1".to_string(),
                     };
                     return Err(format!(
                         "integrator's {which} = {v:?} refused: {expected} expected"
@@ -274,6 +283,8 @@ impl Memory {
         );
         let (window_t0, window_work0, window_steps) = (head[6], head[7], head[8] as u32);
         let (rate_explicit, rate_implicit, trial) = (head[9], head[10], head[11] == 1.0);
+        let mut event_signs = [0.0; MAX_EVENTS];
+        event_signs.copy_from_slice(take(MAX_EVENTS));
         let mut jac = [0.0; MAX_DIM * MAX_DIM];
         jac.copy_from_slice(take(MAX_DIM * MAX_DIM));
         let f = take(4);
@@ -295,6 +306,7 @@ impl Memory {
             rate_explicit,
             rate_implicit,
             trial,
+            event_signs,
             radau: RadauMemory {
                 jac,
                 has_jac,
@@ -341,7 +353,7 @@ mod tests {
         let x = m.to_numbers();
         assert_eq!(Memory::from_numbers(&x), Ok(m));
         let mut bad = x;
-        bad[12 + 4] = f64::NAN;
+        bad[12 + MAX_EVENTS + 4] = f64::NAN;
         let e = Memory::from_numbers(&bad).unwrap_err();
         assert!(e.contains("Jacobian[4]"), "{e}");
         let mut bad = x;

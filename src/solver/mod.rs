@@ -52,6 +52,8 @@ pub use radau::spectral_radius;
 
 /// The largest system the integrators take.
 pub const MAX_DIM: usize = 8;
+/// The most event functions a system may have.
+pub const MAX_EVENTS: usize = 16;
 
 /// An ODE `y' = f(t, y)` with event functions.
 pub trait OdeSystem {
@@ -148,13 +150,13 @@ pub fn hold_signs(g: &mut [f64], last: &[f64]) {
 }
 
 /// The integrators' event test between the (held) event function `a` at the start of a step
-/// and `b` later in it, as it has always been on the functions themselves: from a value off zero,
-/// a change of sign or reaching zero (`b` held). Reaching a rest ends a step where a rigid
-/// velocity comes to a dwell, a kink of the right-hand side; leaving a rest is no event here (a
-/// Model Exchange host sees one where the sign changes): the dwells of these mechanisms end at
-/// their phase events.
+/// and `b` later in it: a change of sign, the held sign of a function resting at zero counting
+/// as its sign (so a step that starts on a zero does not hide the next change, and leaving a
+/// rest to the other side is an event, as a Model Exchange host's root finder sees it); or
+/// reaching a rest from a value off zero (`b` held), which ends a step where a rigid velocity
+/// comes to a dwell, a kink of the right-hand side.
 fn event_between(a: f64, b: f64) -> bool {
-    a.abs() != HELD && ((a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0) || b.abs() == HELD)
+    (a < 0.0 && b > 0.0) || (a > 0.0 && b < 0.0) || (a.abs() != HELD && b.abs() == HELD)
 }
 
 crate::fmi_enum! {
@@ -538,16 +540,17 @@ impl Integrator {
         let mut f0 = vec![0.0; n];
         sys.rhs(t, y, &mut f0);
         st.rhs_evals += 1;
+        assert!(ne <= MAX_EVENTS, "event functions");
         let mut g0 = vec![0.0; ne];
         let mut g1 = vec![0.0; ne];
-        // (the held signs do not change the integrators' test, [`event_between`]: no memory
-        // of them is carried from the last call)
-        sys.events_held(t, y, &[], &mut g0);
+        // one resting at zero holds the sign it had where the last call ended
+        sys.events_held(t, y, &self.mem.event_signs[..ne], &mut g0);
         let mut y1 = vec![0.0; n];
         let mut f1 = vec![0.0; n];
         let mut yt = vec![0.0; n];
-        let mut ft = vec![0.0; n];
         let mut gt = vec![0.0; ne];
+        // each event function's rate over the last accepted step (NaN: none yet, or an event)
+        let mut rate = vec![f64::NAN; ne];
         let max_step = if set.max_step > 0.0 {
             set.max_step
         } else {
@@ -568,9 +571,20 @@ impl Integrator {
                 break;
             }
             let mut hs = h.min(max_step);
-            let last = hs >= rest * (1.0 - 1e-12);
+            let mut last = hs >= rest * (1.0 - 1e-12);
             if last {
                 hs = rest;
+            }
+            // an event function heading for zero may not cross it and come back within one
+            // step: the step ends within twice the time its rate over the last step takes it
+            // there (never below a twentieth of the step the error allows)
+            let reach = (0..ne)
+                .filter(|&i| g0[i].abs() != HELD && g0[i] * rate[i] < 0.0)
+                .map(|i| 2.0 * (g0[i] / rate[i]).abs())
+                .fold(f64::INFINITY, f64::min);
+            if reach < hs {
+                hs = reach.max(0.05 * hs);
+                last = false;
             }
             let stepper = self.stepper(n, hs, st.steps, st);
             if stepper == Stepper::Rk4 && st.steps.is_multiple_of(20) {
@@ -622,83 +636,56 @@ impl Integrator {
             if stepper == Stepper::Dopri {
                 self.stiffness_test(att.hlamb, st);
             }
-            // events
-            let mut hacc = hs;
+            // events: a change at the step's end, or a pair of them inside it seen on the
+            // interpolant at its middle
             sys.events_held(t + hs, &y1, &g0, &mut g1);
             let crossed =
                 |ga: &[f64], gb: &[f64]| ga.iter().zip(gb).any(|(a, b)| event_between(*a, *b));
-            let event = ne > 0 && crossed(&g0, &g1);
-            if event {
-                // earliest root on the interpolant
-                let mut s_star = hs;
-                for i in 0..ne {
-                    if !event_between(g0[i], g1[i]) {
-                        continue;
-                    }
-                    let (mut lo, mut hi) = (0.0, hs);
-                    let (mut glo, mut ghi) = (g0[i], g1[i]);
-                    for _ in 0..60 {
-                        let mid = if ghi != glo {
-                            (lo - glo * (hi - lo) / (ghi - glo))
-                                .clamp(lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo))
-                        } else {
-                            0.5 * (lo + hi)
-                        };
-                        hermite(y, &f0, &y1, &f1, hs, mid, &mut yt);
-                        sys.events_held(t + mid, &yt, &g0, &mut gt);
-                        if !event_between(g0[i], gt[i]) {
-                            lo = mid;
-                            glo = gt[i];
-                        } else {
-                            hi = mid;
-                            ghi = gt[i];
-                        }
-                        if hi - lo < 1e-12 * hs {
-                            break;
-                        }
-                    }
-                    s_star = s_star.min(hi);
-                }
-                // confirm with real steps: bracket [lo, hi] with the crossing inside
-                let tol = (1e-10 * hs).max(4.0 * f64::EPSILON * t.abs().max(1.0));
-                let (mut lo, mut hi) = (0.0f64, hs);
-                let mut yhi = y1.clone();
-                let mut fhi = f1.clone();
-                let mut guess = Some((s_star + tol).min(hs));
-                let mut second = Some((s_star - tol).max(0.0));
-                let mut iter = 0;
-                while hi - lo > 2.0 * tol && iter < 80 {
-                    iter += 1;
-                    let s = if let Some(g) = guess.take() {
-                        g
-                    } else if let Some(g) = second.take() {
-                        g
-                    } else {
-                        0.5 * (lo + hi)
-                    };
-                    if s <= lo || s >= hi {
-                        continue;
-                    }
-                    if self.attempt(stepper, at, s, &mut yt, &mut ft, st).is_err() {
-                        lo = s; // treat as not yet crossed; bisection continues
-                        continue;
-                    }
-                    sys.events_held(t + s, &yt, &g0, &mut gt);
+            let mut seen = None;
+            if ne > 0 {
+                if crossed(&g0, &g1) {
+                    seen = Some(hs);
+                } else {
+                    hermite(y, &f0, &y1, &f1, hs, 0.5 * hs, &mut yt);
+                    sys.events_held(t + 0.5 * hs, &yt, &g0, &mut gt);
                     if crossed(&g0, &gt) {
-                        hi = s;
-                        yhi.copy_from_slice(&yt);
-                        fhi.copy_from_slice(&ft);
-                    } else {
-                        lo = s;
+                        seen = Some(0.5 * hs);
                     }
                 }
-                hacc = hi;
-                y1.copy_from_slice(&yhi);
-                f1.copy_from_slice(&fhi);
-                sys.events_held(t + hacc, &y1, &g0, &mut g1);
-                sys.on_event_held(t + hacc, &y1, &g0, &g1);
-                sys.events_held(t + hacc, &y1, &g0, &mut g1);
-                st.events += 1;
+            }
+            let mut hacc = hs;
+            let event = match seen {
+                Some(s_seen) => {
+                    let at_seen = if s_seen == hs { g1.clone() } else { gt.clone() };
+                    match self.locate_event(
+                        stepper,
+                        at,
+                        hs,
+                        s_seen,
+                        &at_seen,
+                        (&mut y1, &mut f1),
+                        &g0,
+                        st,
+                    ) {
+                        Some(s) => {
+                            hacc = s;
+                            sys.events_held(t + hacc, &y1, &g0, &mut g1);
+                            sys.on_event_held(t + hacc, &y1, &g0, &g1);
+                            sys.events_held(t + hacc, &y1, &g0, &mut g1);
+                            st.events += 1;
+                            true
+                        }
+                        None => false,
+                    }
+                }
+                None => false,
+            };
+            for i in 0..ne {
+                rate[i] = if event {
+                    f64::NAN
+                } else {
+                    (g1[i] - g0[i]) / hacc
+                };
             }
             // accept
             let ratio = self.accepted_factor(stepper, n, hs, &att);
@@ -743,7 +730,121 @@ impl Integrator {
         if !fixed {
             self.mem.h_next = h;
         }
+        for (s, g) in self.mem.event_signs.iter_mut().zip(&g0) {
+            *s = if *g > 0.0 {
+                1.0
+            } else if *g < 0.0 {
+                -1.0
+            } else {
+                0.0
+            };
+        }
         Ok(())
+    }
+
+    /// Locates the earliest event of the accepted attempt over `hs` from `at` (its end state and
+    /// derivative in `end`), seen at `s_seen` (the step's end, or its middle on the interpolant)
+    /// with the event functions `g_seen` there (`g0` at the start): the earliest root on the
+    /// interpolant, then real steps that bracket it to `1e-10` of the step, the step ending just
+    /// after it. `end` becomes that step's state and derivative; its length is returned. `None`:
+    /// a change seen only on the interpolant that real steps do not show (no event).
+    #[allow(clippy::too_many_arguments)]
+    fn locate_event(
+        &mut self,
+        stepper: Stepper,
+        at: Start,
+        hs: f64,
+        s_seen: f64,
+        g_seen: &[f64],
+        end: (&mut [f64], &mut [f64]),
+        g0: &[f64],
+        st: &mut Stats,
+    ) -> Option<f64> {
+        let Start { sys, t, y, f0 } = at;
+        let (y1, f1) = end;
+        let (n, ne) = (y.len(), g0.len());
+        let (mut yt, mut ft, mut gt) = (vec![0.0; n], vec![0.0; n], vec![0.0; ne]);
+        let crossed =
+            |ga: &[f64], gb: &[f64]| ga.iter().zip(gb).any(|(a, b)| event_between(*a, *b));
+        // earliest root on the interpolant
+        let mut s_star = s_seen;
+        for i in 0..ne {
+            if !event_between(g0[i], g_seen[i]) {
+                continue;
+            }
+            let (mut lo, mut hi) = (0.0, s_seen);
+            let (mut glo, mut ghi) = (g0[i], g_seen[i]);
+            for _ in 0..60 {
+                let mid = if ghi != glo {
+                    (lo - glo * (hi - lo) / (ghi - glo))
+                        .clamp(lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo))
+                } else {
+                    0.5 * (lo + hi)
+                };
+                hermite(y, f0, y1, f1, hs, mid, &mut yt);
+                sys.events_held(t + mid, &yt, g0, &mut gt);
+                if !event_between(g0[i], gt[i]) {
+                    lo = mid;
+                    glo = gt[i];
+                } else {
+                    hi = mid;
+                    ghi = gt[i];
+                }
+                if hi - lo < 1e-12 * hs {
+                    break;
+                }
+            }
+            s_star = s_star.min(hi);
+        }
+        // the bracket's upper end: the step's end, or a real step to where the interpolant saw
+        // the pair
+        let (mut yhi, mut fhi) = (y1.to_vec(), f1.to_vec());
+        if s_seen < hs {
+            if self
+                .attempt(stepper, at, s_seen, &mut yhi, &mut fhi, st)
+                .is_err()
+            {
+                return None;
+            }
+            sys.events_held(t + s_seen, &yhi, g0, &mut gt);
+            if !crossed(g0, &gt) {
+                return None;
+            }
+        }
+        // confirm with real steps: bracket [lo, hi] with the crossing inside
+        let tol = (1e-10 * hs).max(4.0 * f64::EPSILON * t.abs().max(1.0));
+        let (mut lo, mut hi) = (0.0f64, s_seen);
+        let mut guess = Some((s_star + tol).min(s_seen));
+        let mut second = Some((s_star - tol).max(0.0));
+        let mut iter = 0;
+        while hi - lo > 2.0 * tol && iter < 80 {
+            iter += 1;
+            let s = if let Some(g) = guess.take() {
+                g
+            } else if let Some(g) = second.take() {
+                g
+            } else {
+                0.5 * (lo + hi)
+            };
+            if s <= lo || s >= hi {
+                continue;
+            }
+            if self.attempt(stepper, at, s, &mut yt, &mut ft, st).is_err() {
+                lo = s; // treat as not yet crossed; bisection continues
+                continue;
+            }
+            sys.events_held(t + s, &yt, g0, &mut gt);
+            if crossed(g0, &gt) {
+                hi = s;
+                yhi.copy_from_slice(&yt);
+                fhi.copy_from_slice(&ft);
+            } else {
+                lo = s;
+            }
+        }
+        y1.copy_from_slice(&yhi);
+        f1.copy_from_slice(&fhi);
+        Some(hi)
     }
 
     /// One attempt of `stepper` from `at` over `h`: the state `y1` and its derivative `f1`, or

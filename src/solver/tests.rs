@@ -275,8 +275,9 @@ fn an_event_function_resting_at_zero_holds_its_sign() {
     assert_eq!(g, [-HELD, -HELD, 2.0, HELD, HELD]);
     const { assert!(HELD * HELD > 0.0 && HELD * HELD < f64::MIN_POSITIVE * 1.0001) };
     // through the integrator, in communication steps: an event where a lobe comes to rest
-    // (t = 0.5, 1.5, ..., held at the lobe's sign), none where the next one leaves it (the
-    // integrator's test, as before holding) and none at the start
+    // (t = 0.5, 1.5, ..., held at the lobe's sign) and where the next lobe leaves the rest to the
+    // other side (t = 1, 2, ...: a change of sign from the held one, as a Model Exchange host
+    // sees it), the held sign carried from one communication step to the next; none at the start
     let sys = Dwells {
         seen: Default::default(),
     };
@@ -288,14 +289,20 @@ fn an_event_function_resting_at_zero_holds_its_sign() {
         it.integrate(&sys, t, t + h, &mut y).unwrap();
     }
     let seen = sys.seen.borrow();
-    assert_eq!(seen.len(), 5, "{seen:?}");
-    for (k, &(t, before, after)) in seen.iter().enumerate() {
-        assert!((t - (k as f64 + 0.5)).abs() < 1e-9, "{seen:?}");
+    assert_eq!(seen.len(), 9, "{seen:?}");
+    for (j, &(t, before, after)) in seen.iter().enumerate() {
         // the system sees its own values (a held zero is zero again)
+        let k = j / 2;
         let lobe = if k % 2 == 0 { 1.0 } else { -1.0 };
-        assert!(before * lobe > 0.0 && after == 0.0, "{seen:?}");
+        if j % 2 == 0 {
+            assert!((t - (k as f64 + 0.5)).abs() < 1e-9, "{seen:?}");
+            assert!(before * lobe > 0.0 && after == 0.0, "{seen:?}");
+        } else {
+            assert!((t - (k as f64 + 1.0)).abs() < 1e-9, "{seen:?}");
+            assert!(before == 0.0 && after * lobe < 0.0, "{seen:?}");
+        }
     }
-    assert_eq!(it.mem.stats.events, 5);
+    assert_eq!(it.mem.stats.events, 9);
 }
 
 /// Van der Pol's oscillator, y1'' = μ((1 − y1²)y1' − y1): stiff on its slow branches, not in
@@ -413,6 +420,66 @@ fn a_restored_integrator_replays_every_step_bit_for_bit() {
             assert!(
                 partial_diverged > 0,
                 "the switch counters matter under auto"
+            );
+        }
+    }
+}
+
+/// y' = 1 from 0 with the event function (y − 0.5)² − 0.05²: two crossings, at t = 0.45 and
+/// 0.55, inside any step longer than 0.1 that spans them. The events it records.
+struct Pair {
+    seen: std::cell::RefCell<Vec<f64>>,
+}
+
+impl OdeSystem for Pair {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn rhs(&self, _t: f64, _y: &[f64], dy: &mut [f64]) {
+        dy[0] = 1.0;
+    }
+    fn jacobian(&self, _t: f64, _y: &[f64], j: &mut [f64]) {
+        j[0] = 0.0;
+    }
+    fn n_events(&self) -> usize {
+        1
+    }
+    fn events(&self, _t: f64, y: &[f64], g: &mut [f64]) {
+        g[0] = (y[0] - 0.5).powi(2) - 0.05f64.powi(2);
+    }
+    fn on_event(&self, t: f64, _y: &[f64], _before: &[f64], _after: &[f64]) {
+        self.seen.borrow_mut().push(t);
+    }
+}
+
+/// Both crossings of a pair inside one step are found, by every method: approaching one, the
+/// step is limited by the function's rate (from the step before); a first step of a call that
+/// spans the pair (no rate yet: a step of 1 from the start) sees it on the interpolant at its
+/// middle.
+#[test]
+fn a_pair_of_crossings_inside_one_step_is_found() {
+    for method in [Method::Auto, Method::Dopri5, Method::Radau5, Method::Rk4] {
+        for first_step in [0.0, 1.0] {
+            let sys = Pair {
+                seen: Default::default(),
+            };
+            let mut it = Integrator::new(Settings {
+                method,
+                max_step: 1.0,
+                ..Settings::default()
+            });
+            it.mem.h_next = first_step;
+            let mut y = [0.0];
+            it.integrate(&sys, 0.0, 1.0, &mut y).unwrap();
+            let seen = sys.seen.borrow();
+            assert_eq!(
+                seen.len(),
+                2,
+                "{method:?}, first step {first_step}: {seen:?}"
+            );
+            assert!(
+                (seen[0] - 0.45).abs() < 1e-9 && (seen[1] - 0.55).abs() < 1e-9,
+                "{seen:?}"
             );
         }
     }
