@@ -640,12 +640,12 @@ mod tests {
         // negative step size, a flag that is no flag
         for (i, x, why) in [
             (
-                5 + Memory::LEN - 7,
+                5 + Memory::LEN - 8,
                 1e300,
                 "integrator's steps = 1e300 refused: a whole number from 0 to 9007199254740992 expected",
             ),
             (
-                5 + Memory::LEN - 6,
+                5 + Memory::LEN - 7,
                 2.5,
                 "integrator's rejected steps = 2.5 refused: a whole number from 0 to 9007199254740992 expected",
             ),

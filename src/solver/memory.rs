@@ -17,6 +17,9 @@ pub struct Stats {
     pub events: usize,
     /// Changes of `auto` between the explicit and the implicit method.
     pub switches: usize,
+    /// Explicit attempts Radau IIA made where its Newton iteration failed twice in a row (the
+    /// step halved between): a state-dependent jump of the right-hand side that no event marks.
+    pub fallbacks: usize,
 }
 
 impl Stats {
@@ -28,6 +31,7 @@ impl Stats {
         self.decomps += o.decomps;
         self.events += o.events;
         self.switches += o.switches;
+        self.fallbacks += o.fallbacks;
     }
 }
 
@@ -132,7 +136,7 @@ enum Kind {
 }
 
 /// The numbers of [`Memory`] in order: name, how many, kind.
-const LAYOUT: [(&str, usize, Kind); 32] = [
+const LAYOUT: [(&str, usize, Kind); 33] = [
     ("next step size", 1, Kind::Size),
     ("stiff mode", 1, Kind::Flag),
     ("stiffness count", 1, Kind::Count(u32::MAX as f64)),
@@ -164,6 +168,7 @@ const LAYOUT: [(&str, usize, Kind); 32] = [
     ("LU factorizations", 1, Kind::Count(COUNT_LIMIT)),
     ("events", 1, Kind::Count(COUNT_LIMIT)),
     ("method switches", 1, Kind::Count(COUNT_LIMIT)),
+    ("explicit fallbacks", 1, Kind::Count(COUNT_LIMIT)),
     ("(end)", 0, Kind::Finite),
 ];
 
@@ -221,6 +226,7 @@ impl Memory {
             s.decomps,
             s.events,
             s.switches,
+            s.fallbacks,
         ]
         .map(|c| c as f64));
         out
@@ -292,7 +298,7 @@ impl Memory {
         let mut cont = [0.0; 3 * MAX_DIM];
         cont.copy_from_slice(take(3 * MAX_DIM));
         let r = take(5);
-        let c = take(7);
+        let c = take(8);
         Ok(Memory {
             h_next,
             stiff,
@@ -328,6 +334,7 @@ impl Memory {
                 decomps: c[4] as usize,
                 events: c[5] as usize,
                 switches: c[6] as usize,
+                fallbacks: c[7] as usize,
             },
         })
     }
@@ -357,7 +364,7 @@ mod tests {
         let e = Memory::from_numbers(&bad).unwrap_err();
         assert!(e.contains("Jacobian[4]"), "{e}");
         let mut bad = x;
-        bad[Memory::LEN - 3] = 2.5;
+        bad[Memory::LEN - 4] = 2.5;
         let e = Memory::from_numbers(&bad).unwrap_err();
         assert!(e.contains("LU factorizations"), "{e}");
         assert!(Memory::from_numbers(&x[1..]).is_err());

@@ -297,6 +297,10 @@ struct Attempt {
     radau: Option<radau::RadauStep>,
 }
 
+/// Radau IIA's Newton iterations that fail in a row (each shrinking the step) before one
+/// explicit attempt is made instead ([`Stats::fallbacks`]).
+const EXPLICIT_AFTER: usize = 2;
+
 /// Dormand–Prince's step controller (Hairer's DOPRI5): PI with `β = 0.04`, `h_new/h` within
 /// `[0.2, 10]`, safety factor 0.9.
 const DOPRI_BETA: f64 = 0.04;
@@ -549,6 +553,8 @@ impl Integrator {
         let mut f1 = vec![0.0; n];
         let mut yt = vec![0.0; n];
         let mut gt = vec![0.0; ne];
+        // Radau IIA's Newton iterations that failed since the last accepted step
+        let mut newton_failures = 0;
         // each event function's rate over the last accepted step (NaN: none yet, or an event)
         let mut rate = vec![f64::NAN; ne];
         let max_step = if set.max_step > 0.0 {
@@ -586,7 +592,15 @@ impl Integrator {
                 hs = reach.max(0.05 * hs);
                 last = false;
             }
-            let stepper = self.stepper(n, hs, st.steps, st);
+            let mut stepper = self.stepper(n, hs, st.steps, st);
+            if stepper == Stepper::Radau && newton_failures >= EXPLICIT_AFTER {
+                // the Newton iteration failed at this step and at half of it: a right-hand side
+                // discontinuous in the state (a stick band) that no event function marks, which
+                // no step across it lets converge. One explicit attempt of the reduced size, its
+                // error estimate deciding, counted; then Radau IIA again
+                stepper = Stepper::Dopri;
+                st.fallbacks += 1;
+            }
             if stepper == Stepper::Rk4 && st.steps.is_multiple_of(20) {
                 let mut jac = [0.0; MAX_DIM * MAX_DIM];
                 sys.jacobian(t, y, &mut jac[..n * n]);
@@ -614,6 +628,11 @@ impl Integrator {
                     });
                 }
                 st.rejected += 1;
+                newton_failures = if stepper == Stepper::Radau && att.is_err() {
+                    newton_failures + 1
+                } else {
+                    0
+                };
                 let first = self.mem.stats.steps + st.steps == 0;
                 h = self.rejected_step(stepper, hs, &att, first);
                 if h < hmin {
@@ -633,6 +652,7 @@ impl Integrator {
                 continue;
             }
             let att = att.unwrap_or_else(|_| unreachable!("accepted"));
+            newton_failures = 0;
             if stepper == Stepper::Dopri {
                 self.stiffness_test(att.hlamb, st);
             }
