@@ -11,6 +11,8 @@
 //! The checkout is the folder at or above the current one holding `Cargo.toml` and
 //! `modelDescription/` (or `--root`); relative `--out` paths are relative to the current folder.
 
+#[path = "bindery/anchors.rs"]
+mod anchors;
 #[path = "bindery/liftoff.rs"]
 mod liftoff;
 #[path = "bindery/machines.rs"]

@@ -319,6 +319,37 @@ fn me_chain<'c, C: ChainModel>(
     Some(d)
 }
 
+/// A model whose elastodynamic level is a [`Chain`], for tools that integrate the chain's ODE
+/// with other integrators (the report's library anchors): written by [`crate::chain_access!`].
+pub trait ChainAccess {
+    /// The variables of the model.
+    type Var: VarSet;
+    /// Hands `f` the chain's ODE on the shaft's path from `time` and its state there (the
+    /// chain started from the inputs at `time` if new); `false` below the elastodynamic level.
+    fn with_chain_ode(
+        &mut self,
+        v: &Values<Self::Var>,
+        time: f64,
+        f: &mut dyn FnMut(&dyn OdeSystem, [f64; 3]),
+    ) -> bool;
+}
+
+/// [`ChainAccess::with_chain_ode`] of the chain `chain` with the physics `p`.
+pub fn with_chain_ode<C: ChainModel>(
+    chain: Option<&mut Chain<C>>,
+    p: &C::Physics,
+    v: &Values<C::Var>,
+    time: f64,
+    f: &mut dyn FnMut(&dyn OdeSystem, [f64; 3]),
+) -> bool {
+    let Some(d) = me_chain(chain, p, v, time) else {
+        return false;
+    };
+    let ode = d.ode(p, shaft::path(v, time), v);
+    f(&ode, d.y);
+    true
+}
+
 /// [`crate::model::Dynamics::do_step`]: integrates the chain over `[time, time + h]`, the shaft on
 /// [`shaft::path`] from the inputs at `time` (after the step [`crate::model::Model::step`] moves
 /// the inputs to `time + h` along that path, as at every level). A refused step leaves the chain

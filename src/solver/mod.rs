@@ -541,22 +541,20 @@ impl Integrator {
         }
         let ne = sys.n_events();
         let mut t = t0;
-        let mut f0 = vec![0.0; n];
-        sys.rhs(t, y, &mut f0);
+        // (on the stack: a call is a communication step, thousands per simulated second)
+        let [mut f0, mut y1, mut f1, mut yt] = [[0.0; MAX_DIM]; 4];
+        let (f0, y1, f1, yt) = (&mut f0[..n], &mut y1[..n], &mut f1[..n], &mut yt[..n]);
+        sys.rhs(t, y, f0);
         st.rhs_evals += 1;
         assert!(ne <= MAX_EVENTS, "event functions");
-        let mut g0 = vec![0.0; ne];
-        let mut g1 = vec![0.0; ne];
+        let [mut g0, mut g1, mut gt] = [[0.0; MAX_EVENTS]; 3];
+        let (mut g0, mut g1, gt) = (&mut g0[..ne], &mut g1[..ne], &mut gt[..ne]);
         // one resting at zero holds the sign it had where the last call ended
-        sys.events_held(t, y, &self.mem.event_signs[..ne], &mut g0);
-        let mut y1 = vec![0.0; n];
-        let mut f1 = vec![0.0; n];
-        let mut yt = vec![0.0; n];
-        let mut gt = vec![0.0; ne];
+        sys.events_held(t, y, &self.mem.event_signs[..ne], g0);
         // Radau IIA's Newton iterations that failed since the last accepted step
         let mut newton_failures = 0;
         // each event function's rate over the last accepted step (NaN: none yet, or an event)
-        let mut rate = vec![f64::NAN; ne];
+        let mut rate = [f64::NAN; MAX_EVENTS];
         let max_step = if set.max_step > 0.0 {
             set.max_step
         } else {
@@ -615,7 +613,7 @@ impl Integrator {
                 }
             }
             let at = Start { sys, t, y, f0: &f0 };
-            let att = self.attempt(stepper, at, hs, &mut y1, &mut f1, st);
+            let att = self.attempt(stepper, at, hs, y1, f1, st);
             let accepted = match &att {
                 Ok(a) => a.err <= 1.0 && y1.iter().all(|x| x.is_finite()),
                 Err(_) => false,
@@ -658,17 +656,18 @@ impl Integrator {
             }
             // events: a change at the step's end, or a pair of them inside it seen on the
             // interpolant at its middle
-            sys.events_held(t + hs, &y1, &g0, &mut g1);
+            sys.events_held(t + hs, &y1, &g0, g1);
             let crossed =
                 |ga: &[f64], gb: &[f64]| ga.iter().zip(gb).any(|(a, b)| event_between(*a, *b));
             let mut seen = None;
             if ne > 0 {
                 if crossed(&g0, &g1) {
                     seen = Some(hs);
-                } else {
-                    hermite(y, &f0, &y1, &f1, hs, 0.5 * hs, &mut yt);
-                    sys.events_held(t + 0.5 * hs, &yt, &g0, &mut gt);
-                    if crossed(&g0, &gt) {
+                } else if rate[0].is_nan() {
+                    // a first step, without the rates that limit it: the interpolant's middle
+                    hermite(y, f0, y1, f1, hs, 0.5 * hs, yt);
+                    sys.events_held(t + 0.5 * hs, yt, g0, gt);
+                    if crossed(g0, gt) {
                         seen = Some(0.5 * hs);
                     }
                 }
@@ -676,22 +675,26 @@ impl Integrator {
             let mut hacc = hs;
             let event = match seen {
                 Some(s_seen) => {
-                    let at_seen = if s_seen == hs { g1.clone() } else { gt.clone() };
+                    let at_seen = if s_seen == hs {
+                        g1.to_vec()
+                    } else {
+                        gt.to_vec()
+                    };
                     match self.locate_event(
                         stepper,
                         at,
                         hs,
                         s_seen,
                         &at_seen,
-                        (&mut y1, &mut f1),
+                        (&mut *y1, &mut *f1),
                         &g0,
                         st,
                     ) {
                         Some(s) => {
                             hacc = s;
-                            sys.events_held(t + hacc, &y1, &g0, &mut g1);
+                            sys.events_held(t + hacc, &y1, &g0, g1);
                             sys.on_event_held(t + hacc, &y1, &g0, &g1);
-                            sys.events_held(t + hacc, &y1, &g0, &mut g1);
+                            sys.events_held(t + hacc, &y1, &g0, g1);
                             st.events += 1;
                             true
                         }
@@ -718,7 +721,7 @@ impl Integrator {
             t = if last && hacc == hs { t1 } else { t_end };
             y.copy_from_slice(&y1);
             if event || t != t_end {
-                sys.rhs(t, y, &mut f0);
+                sys.rhs(t, y, f0);
                 st.rhs_evals += 1;
             } else {
                 f0.copy_from_slice(&f1);
@@ -750,7 +753,7 @@ impl Integrator {
         if !fixed {
             self.mem.h_next = h;
         }
-        for (s, g) in self.mem.event_signs.iter_mut().zip(&g0) {
+        for (s, g) in self.mem.event_signs.iter_mut().zip(g0.iter()) {
             *s = if *g > 0.0 {
                 1.0
             } else if *g < 0.0 {

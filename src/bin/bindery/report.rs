@@ -23,19 +23,19 @@ use std::time::Instant;
 /// One mechanism at one chain stiffness, described by its variables' names, so a mechanism
 /// joins the report with one entry here and one arm in [`simulate`].
 #[derive(Clone, Copy)]
-struct Case {
+pub(crate) struct Case {
     /// modelIdentifier.
-    mech: &'static str,
-    label: &'static str,
+    pub(crate) mech: &'static str,
+    pub(crate) label: &'static str,
     /// The stiffness parameter and its value, N/m.
     k_name: &'static str,
-    k: f64,
+    pub(crate) k: f64,
     /// The main outputs: a position (m) and the dynamic force (N).
     x: &'static str,
     f: &'static str,
     /// Shaft speed, rpm; simulated time, s.
     rpm: f64,
-    stop: f64,
+    pub(crate) stop: f64,
     /// Other parameters of the case (name, value).
     extra: &'static [(&'static str, f64)],
 }
@@ -117,13 +117,13 @@ fn vr<M: Model>(name: &str) -> Result<usize, String> {
         .ok_or_else(|| format!("{} has no variable {name}", M::IDENTIFIER))
 }
 
-/// The elastodynamic level of `M` at a constant speed, sampled on a 1 ms grid.
-fn run<M: Model>(c: &Case, method: i32, tol: f64, dt: f64) -> Result<Trace, String> {
-    let grid = 1e-3;
-    let per = (grid / dt).round().max(1.0) as usize;
-    let dt = grid / per as f64;
-    let n = (c.stop / grid).round() as usize;
-    let (mut xs, mut fs) = (Vec::with_capacity(n), Vec::with_capacity(n));
+/// The variables of `M` for case `c` at its elastodynamic level, at a constant speed, with the
+/// solver `method` at tolerance `tol` (rk4: its step).
+pub(crate) fn case_values<M: Model>(
+    c: &Case,
+    method: i32,
+    tol: f64,
+) -> Result<Values<M::Var>, String> {
     let mut v = Values::<M::Var>::start();
     let mut set = |name: &str, x: f64| -> Result<(), String> {
         v.raw_mut()[vr::<M>(name)?] = x;
@@ -143,6 +143,17 @@ fn run<M: Model>(c: &Case, method: i32, tol: f64, dt: f64) -> Result<Trace, Stri
         set("solver.rtol", tol)?;
         set("solver.atol", (tol * 1e-3).min(3.0 / c.k))?;
     }
+    Ok(v)
+}
+
+/// The elastodynamic level of `M` at a constant speed, sampled on a 1 ms grid.
+fn run<M: Model>(c: &Case, method: i32, tol: f64, dt: f64) -> Result<Trace, String> {
+    let grid = 1e-3;
+    let per = (grid / dt).round().max(1.0) as usize;
+    let dt = grid / per as f64;
+    let n = (c.stop / grid).round() as usize;
+    let (mut xs, mut fs) = (Vec::with_capacity(n), Vec::with_capacity(n));
+    let mut v = case_values::<M>(c, method, tol)?;
     let (ix, iff) = (vr::<M>(c.x)?, vr::<M>(c.f)?);
     let mut m = M::prepare(&v).map_err(|e| e.to_string())?;
     let mut t = 0.0;
@@ -360,7 +371,7 @@ fn time_at(run: &[(f64, f64)], target: f64) -> Option<f64> {
 /// fixed internal method.
 fn summary_table(summary: &[(Case, MethodTimes)]) -> String {
     let mut md = format!(
-        "\n## At equal error ({TARGET:e} in position: m, rad for the Perforators' lever)\n\nWall time at which each method's error reaches {TARGET:e} m (log–log interpolation on its ladder; – where none does).\n\n| case | auto | dopri5 | radau5 | rk4 | best fixed ÷ auto | FMPy: CS auto | FMPy: CVode on ME | CVode ÷ our CS (FMPy loop) |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
+        "\n## At equal error ({TARGET:e} in position: m, rad for the Perforators' lever)\n\nWall time at which each method's error reaches {TARGET:e} m (log–log interpolation on its ladder; – where none does).\n\n| case | auto | dopri5 | radau5 | rk4 | library radau5 | library dopri5 | best fixed ÷ auto | auto, same ODE | faster library ÷ auto (same ODE) | FMPy: CS auto | FMPy: CVode on ME | CVode ÷ our CS (FMPy loop) |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
     );
     let fmt = |t: Option<f64>| t.map_or("–".to_string(), |t| format!("{t:.4} s"));
     for (c, times) in summary {
@@ -374,17 +385,25 @@ fn summary_table(summary: &[(Case, MethodTimes)]) -> String {
             (Some(a), Some(b)) => format!("{:.2}", a / b),
             _ => "–".into(),
         };
+        let best_library = ["library radau5", "library dopri5"]
+            .iter()
+            .filter_map(|n| get(n))
+            .min_by(f64::total_cmp);
         let (fa, fc) = (get("FMPy: CS auto"), get("FMPy: CVode on ME"));
         let _ = writeln!(
             md,
-            "| {} {} | {} | {} | {} | {} | {} | {} | {} | {} |",
+            "| {} {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             c.mech,
             c.label,
             fmt(auto),
             fmt(get("dopri5")),
             fmt(get("radau5")),
             fmt(get("rk4")),
+            fmt(get("library radau5")),
+            fmt(get("library dopri5")),
             ratio(best_fixed, auto),
+            fmt(get("auto, same ODE")),
+            ratio(best_library, get("auto, same ODE")),
             fmt(fa),
             fmt(fc),
             ratio(fc, fa)
@@ -401,7 +420,7 @@ pub fn report(out: &Option<PathBuf>, with_fmpy: bool, only: &[String]) -> Result
     let tols = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8];
     let rk4_steps = [1e-4, 3e-5, 1e-5, 3e-6];
     let dts = [1e-4, 1e-3, 1e-2];
-    let per_case = 3 * tols.len() + rk4_steps.len() + dts.len() + 1;
+    let per_case = 3 * tols.len() + rk4_steps.len() + dts.len() + 2;
     let bar = Progress::new(
         (cases.len() * per_case) as u64,
         "{msg:40} [{bar:30}] {pos}/{len} {elapsed}",
@@ -484,6 +503,40 @@ pub fn report(out: &Option<PathBuf>, with_fmpy: bool, only: &[String]) -> Result
             ));
             pts.extend(fmpy_baseline(root, &c, &bar));
         }
+        // the anchors: the same chain ODE, ours and the library's, with their counts
+        bar.doing(format!("{} {}: anchors", c.mech, c.label));
+        let anchors = crate::anchors::anchors(&c, &tols, &mut |a| {
+            bar.line(format!(
+                "{} {}: same ODE, {} rtol {:e}: {} in {:.4} s",
+                c.mech,
+                c.label,
+                a.method,
+                a.rtol,
+                a.err.map_or(a.note.clone(), |e| format!("error {e:.2e}")),
+                a.secs
+            ))
+        })
+        .unwrap_or_else(|e| {
+            bar.line(format!("{} {}: no anchors: {e}", c.mech, c.label));
+            vec![]
+        });
+        bar.inc();
+        for a in anchors
+            .iter()
+            .filter(|a| a.method.starts_with("library") || a.method == "auto")
+        {
+            pts.push(Point {
+                method: if a.method == "auto" {
+                    "auto, same ODE".into()
+                } else {
+                    a.method.to_string()
+                },
+                setting: format!("rtol {:e}", a.rtol),
+                err: a.err.map(|e| (e, f64::NAN)),
+                secs: a.secs,
+                note: a.note.clone(),
+            });
+        }
         // table
         let _ = write!(
             md,
@@ -552,6 +605,7 @@ pub fn report(out: &Option<PathBuf>, with_fmpy: bool, only: &[String]) -> Result
             bar.line(format!("wrote {}", path.display()));
         }
         let _ = writeln!(md, "\n![{}]({file}) ([SVG]({stem}.svg))", fig.title);
+        md.push_str(&crate::anchors::counts_table(&anchors));
         summary.push((c, equal_error_times(&pts, TARGET)));
         // written after every case, so a long run leaves what it has
         let partial = md.clone() + &summary_table(&summary);

@@ -305,6 +305,8 @@ impl Model for DiscKnifeDrive {
     }
 }
 
+crate::chain_access!(DiscKnifeDrive, dynamic, params);
+
 impl Dynamics<V> for DiscKnifeDrive {
     const STATES: usize = 3;
     const EVENT_INDICATORS: usize = 5;

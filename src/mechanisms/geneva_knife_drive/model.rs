@@ -286,6 +286,8 @@ impl Model for GenevaKnifeDrive {
     }
 }
 
+crate::chain_access!(GenevaKnifeDrive, dynamic, params);
+
 impl Dynamics<V> for GenevaKnifeDrive {
     const STATES: usize = 3;
     const EVENT_INDICATORS: usize = 8;

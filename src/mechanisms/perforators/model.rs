@@ -462,6 +462,8 @@ impl Model for Perforators {
     }
 }
 
+crate::chain_access!(Perforators, dynamic, drive);
+
 impl Dynamics<V> for Perforators {
     fn do_step(&mut self, v: &mut Values<V>, time: f64, h: f64, log: &mut dyn Log) -> Outcome {
         if self.dynamic.is_some() {

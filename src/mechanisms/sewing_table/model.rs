@@ -421,6 +421,8 @@ impl Model for SewingTable {
     }
 }
 
+crate::chain_access!(SewingTable, dynamic, params);
+
 impl Dynamics<V> for SewingTable {
     const STATES: usize = 3;
     /// The cyclogram's phase boundaries, both slot flanks (with clearance) and the rigid

@@ -101,3 +101,28 @@ macro_rules! chain_hooks {
         }
     };
 }
+
+/// [`crate::solver::chain::ChainAccess`] for the model `$model` whose chain is the
+/// `Option<Chain<_>>` in field `$chain`, its ODE's physics in field `$physics`.
+#[macro_export]
+macro_rules! chain_access {
+    ($model:ty, $chain:ident, $physics:ident) => {
+        impl $crate::solver::chain::ChainAccess for $model {
+            type Var = <$model as $crate::model::Model>::Var;
+            fn with_chain_ode(
+                &mut self,
+                v: &$crate::model::Values<Self::Var>,
+                time: f64,
+                f: &mut dyn FnMut(&dyn $crate::solver::OdeSystem, [f64; 3]),
+            ) -> bool {
+                $crate::solver::chain::with_chain_ode(
+                    self.$chain.as_mut(),
+                    &self.$physics,
+                    v,
+                    time,
+                    f,
+                )
+            }
+        }
+    };
+}
