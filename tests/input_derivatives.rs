@@ -117,6 +117,13 @@ fn max_rel_diff(e: &Entry, a: &[Vec<f64>], b: &[Vec<f64>]) -> (f64, &'static str
     let names: Vec<&'static str> = real_output_names_of(e);
     let mut worst = (0.0, "", 0);
     for (j, name) in names.iter().enumerate() {
+        // the energy-balance residual is the integration's own error, not a quantity of the
+        // motion: two runs whose inputs differ by rounding take other steps (and `auto` may
+        // change method at another step), so its value differs on its own tiny range; the
+        // motion's outputs still say whether a shaft angle is off
+        if *name == "elastic.E_residual" {
+            continue;
+        }
         let scale = b.iter().fold(0.0f64, |m, r| m.max(r[j].abs())).max(1e-9);
         let mut off = 0.0f64;
         for (ra, rb) in a.iter().zip(b) {
@@ -313,8 +320,8 @@ fn the_extrapolated_shaft_phi_leaves_drive_phi0_out() {
             // the same run: the angle differs by rounding (phi0 + w*t less phi0 in the one, w*t in
             // the other), which the adaptive solver may answer with other steps, so the compliant
             // chain's outputs agree to its tolerance (DiscKnifeDrive's stiff rod: 2e-4 of the force's
-            // range, 5e-3 of the energy residual's); a phase error of drive.phi0 = 0.7 rad puts them
-            // off by tens of per cent
+            // range; the energy residual, the integration's own error, is left out); a phase error
+            // of drive.phi0 = 0.7 rad puts them off by tens of per cent
             let (worst, name, _) = max_rel_diff(&e, &once, &every);
             assert!(
                 worst <= 1e-2,

@@ -297,6 +297,10 @@ struct Attempt {
     radau: Option<radau::RadauStep>,
 }
 
+/// `auto`: the implicit method's cost measure is multiplied by this at every window of the
+/// explicit one.
+const IMPLICIT_MEASURE_AGING: f64 = 0.85;
+
 /// Radau IIA's Newton iterations that fail in a row (each shrinking the step) before one
 /// explicit attempt is made instead ([`Stats::fallbacks`]).
 const EXPLICIT_AFTER: usize = 2;
@@ -419,12 +423,22 @@ impl Integrator {
         }
         let rate = (work - m.window_work0) / (t - m.window_t0).max(f64::MIN_POSITIVE);
         let switch = if m.stiff {
-            m.rate_implicit = rate;
+            // a window of events and small steps (a cluster of cut and contact events) costs
+            // more than the method does elsewhere: the measure rises at most twofold a window
+            m.rate_implicit = if m.rate_implicit > 0.0 {
+                rate.min(2.0 * m.rate_implicit)
+            } else {
+                rate
+            };
             std::mem::take(&mut m.trial) && rate > m.rate_explicit
         } else {
             m.rate_explicit = rate;
             if m.rate_implicit > 0.0 {
-                rate > 2.0 * m.rate_implicit
+                // the implicit method's measure ages (its window may have been a cluster of
+                // events): what costs twice an aged measure is tried against it
+                m.rate_implicit *= IMPLICIT_MEASURE_AGING;
+                m.trial = rate > 2.0 * m.rate_implicit;
+                m.trial
             } else {
                 m.trial = hs < 0.5 * max_step;
                 m.trial
@@ -590,7 +604,7 @@ impl Integrator {
                 hs = reach.max(0.05 * hs);
                 last = false;
             }
-            let mut stepper = self.stepper(n, hs, st.steps, st);
+            let mut stepper = self.stepper(n, h.min(max_step), st.steps, st);
             if stepper == Stepper::Radau && newton_failures >= EXPLICIT_AFTER {
                 // the Newton iteration failed at this step and at half of it: a right-hand side
                 // discontinuous in the state (a stick band) that no event function marks, which
@@ -789,8 +803,9 @@ impl Integrator {
         let (mut yt, mut ft, mut gt) = (vec![0.0; n], vec![0.0; n], vec![0.0; ne]);
         let crossed =
             |ga: &[f64], gb: &[f64]| ga.iter().zip(gb).any(|(a, b)| event_between(*a, *b));
-        // earliest root on the interpolant
+        // earliest root on the interpolant, and whose it is
         let mut s_star = s_seen;
+        let mut first = None;
         for i in 0..ne {
             if !event_between(g0[i], g_seen[i]) {
                 continue;
@@ -817,6 +832,9 @@ impl Integrator {
                     break;
                 }
             }
+            if hi < s_star || first.is_none() {
+                first = Some(i);
+            }
             s_star = s_star.min(hi);
         }
         // the bracket's upper end: the step's end, or a real step to where the interpolant saw
@@ -834,9 +852,15 @@ impl Integrator {
                 return None;
             }
         }
-        // confirm with real steps: bracket [lo, hi] with the crossing inside
+        // confirm with real steps: bracket [lo, hi] with the crossing inside, first just after
+        // and just before the interpolant's root, then regula falsi on the real values of the
+        // function that crosses first (Illinois: the end that stays put has its value halved),
+        // bisection where that cannot help
         let tol = (1e-10 * hs).max(4.0 * f64::EPSILON * t.abs().max(1.0));
         let (mut lo, mut hi) = (0.0f64, s_seen);
+        let k = first.unwrap_or(0);
+        let (mut g_lo, mut g_hi) = (g0[k], if s_seen < hs { gt[k] } else { g_seen[k] });
+        let mut moved = 0i8; // +1: hi moved last, -1: lo moved last
         let mut guess = Some((s_star + tol).min(s_seen));
         let mut second = Some((s_star - tol).max(0.0));
         let mut iter = 0;
@@ -846,6 +870,8 @@ impl Integrator {
                 g
             } else if let Some(g) = second.take() {
                 g
+            } else if iter < 40 && g_lo != g_hi && g_lo.is_finite() && g_hi.is_finite() {
+                (lo - g_lo * (hi - lo) / (g_hi - g_lo)).clamp(lo + tol, hi - tol)
             } else {
                 0.5 * (lo + hi)
             };
@@ -853,16 +879,27 @@ impl Integrator {
                 continue;
             }
             if self.attempt(stepper, at, s, &mut yt, &mut ft, st).is_err() {
-                lo = s; // treat as not yet crossed; bisection continues
+                lo = s; // treat as not yet crossed
+                moved = 0;
                 continue;
             }
             sys.events_held(t + s, &yt, g0, &mut gt);
             if crossed(g0, &gt) {
                 hi = s;
+                g_hi = gt[k];
+                if moved == 1 {
+                    g_lo *= 0.5;
+                }
+                moved = 1;
                 yhi.copy_from_slice(&yt);
                 fhi.copy_from_slice(&ft);
             } else {
                 lo = s;
+                g_lo = gt[k];
+                if moved == -1 {
+                    g_hi *= 0.5;
+                }
+                moved = -1;
             }
         }
         y1.copy_from_slice(&yhi);
