@@ -37,8 +37,10 @@
 use crate::model::Var;
 use nalgebra::DMatrix;
 
+mod auto;
 pub mod chain;
 mod dopri;
+mod events;
 mod lu;
 mod memory;
 mod radau;
@@ -297,10 +299,6 @@ struct Attempt {
     radau: Option<radau::RadauStep>,
 }
 
-/// `auto`: the implicit method's cost measure is multiplied by this at every window of the
-/// explicit one.
-const IMPLICIT_MEASURE_AGING: f64 = 0.85;
-
 /// Radau IIA's Newton iterations that fail in a row (each shrinking the step) before one
 /// explicit attempt is made instead ([`Stats::fallbacks`]).
 const EXPLICIT_AFTER: usize = 2;
@@ -367,123 +365,6 @@ impl Integrator {
         let r = self.run(sys, t0, t1, y, &mut st);
         self.mem.stats.add(&st);
         r.map(|_| st)
-    }
-
-    /// The stepper of the next attempt over `hs`. `auto` leaves the implicit method when the
-    /// Jacobian it holds says the step fits the explicit stability region three checks in a
-    /// row (a check every 20 steps); the explicit method decides the other way by Hairer's
-    /// stiffness test and needs no Jacobian.
-    fn stepper(&mut self, n: usize, hs: f64, steps: usize, st: &mut Stats) -> Stepper {
-        match self.settings.method {
-            Method::Rk4 => return Stepper::Rk4,
-            Method::Dopri5 => return Stepper::Dopri,
-            Method::Radau5 => return Stepper::Radau,
-            Method::Auto => {}
-        }
-        let m = &mut self.mem;
-        if m.stiff && m.radau.has_jac && steps.is_multiple_of(20) && !m.rejected {
-            let h_stab = 3.3 / spectral_radius(n, &m.radau.jac).max(1e-300);
-            if hs < 0.5 * h_stab {
-                m.nonstiff_count += 1;
-                if m.nonstiff_count > 2 {
-                    self.switch_method(st);
-                }
-            } else {
-                m.nonstiff_count = 0;
-            }
-        }
-        if self.mem.stiff {
-            Stepper::Radau
-        } else {
-            Stepper::Dopri
-        }
-    }
-
-    /// `auto` weighs the two methods by what they cost: over a window of accepted steps (50
-    /// explicit, 20 implicit) the work (right-hand sides, Jacobians, factorizations) per
-    /// simulated second. An explicit stretch that costs twice what the implicit method did when
-    /// last measured hands over to it; one that has no such measure and does not run at the
-    /// largest step tries the implicit method for a window, which keeps it if it is cheaper.
-    /// (The explicit method's stiffness test and the Jacobian's stability check decide besides,
-    /// as in LSODA: a chain resolved by the explicit method at steps far below its stability
-    /// limit, ringing at a tolerance that resolves the ringing, is not stiff by either, yet the
-    /// implicit method, which filters the ringing out, is cheaper.)
-    fn weigh_methods(&mut self, t: f64, hs: f64, max_step: f64, st: &mut Stats) {
-        if self.settings.method != Method::Auto {
-            return;
-        }
-        let s = &self.mem.stats;
-        let work =
-            (s.rhs_evals + st.rhs_evals + s.jac_evals + st.jac_evals + s.decomps + st.decomps)
-                as f64;
-        let m = &mut self.mem;
-        m.window_steps += 1;
-        if m.window_steps < if m.stiff { 20 } else { 50 } {
-            return;
-        }
-        let rate = (work - m.window_work0) / (t - m.window_t0).max(f64::MIN_POSITIVE);
-        let switch = if m.stiff {
-            // a window of events and small steps (a cluster of cut and contact events) costs
-            // more than the method does elsewhere: the measure rises at most twofold a window
-            m.rate_implicit = if m.rate_implicit > 0.0 {
-                rate.min(2.0 * m.rate_implicit)
-            } else {
-                rate
-            };
-            std::mem::take(&mut m.trial) && rate > m.rate_explicit
-        } else {
-            m.rate_explicit = rate;
-            if m.rate_implicit > 0.0 {
-                // the implicit method's measure ages (its window may have been a cluster of
-                // events): what costs twice an aged measure is tried against it
-                m.rate_implicit *= IMPLICIT_MEASURE_AGING;
-                m.trial = rate > 2.0 * m.rate_implicit;
-                m.trial
-            } else {
-                m.trial = hs < 0.5 * max_step;
-                m.trial
-            }
-        };
-        if switch {
-            self.switch_method(st);
-        }
-        let m = &mut self.mem;
-        m.window_t0 = t;
-        m.window_work0 = work;
-        m.window_steps = 0;
-    }
-
-    /// `auto` changes method: counters and the implicit method's history start afresh.
-    fn switch_method(&mut self, st: &mut Stats) {
-        let m = &mut self.mem;
-        m.stiff = !m.stiff;
-        m.stiff_count = 0;
-        m.nonstiff_count = 0;
-        m.window_steps = 0;
-        m.radau.h_old = 0.0;
-        m.radau.h_acc = 0.0;
-        st.switches += 1;
-    }
-
-    /// Hairer's stiffness test on an accepted Dormand–Prince step: 15 steps with h·|λ| > 3.25
-    /// (not interrupted by six without) make `auto` take the implicit method.
-    fn stiffness_test(&mut self, hlamb: f64, st: &mut Stats) {
-        let m = &mut self.mem;
-        if hlamb > 3.25 {
-            m.nonstiff_count = 0;
-            m.stiff_count += 1;
-            if m.stiff_count >= 15 {
-                m.stiff_count = 0;
-                if self.settings.method == Method::Auto {
-                    self.switch_method(st);
-                }
-            }
-        } else {
-            m.nonstiff_count = m.nonstiff_count.saturating_add(1);
-            if m.nonstiff_count >= 6 {
-                m.stiff_count = 0;
-            }
-        }
     }
 
     /// The next step size after an accepted attempt of `hs` with error `err` (Dormand–Prince's
@@ -777,134 +658,6 @@ impl Integrator {
             };
         }
         Ok(())
-    }
-
-    /// Locates the earliest event of the accepted attempt over `hs` from `at` (its end state and
-    /// derivative in `end`), seen at `s_seen` (the step's end, or its middle on the interpolant)
-    /// with the event functions `g_seen` there (`g0` at the start): the earliest root on the
-    /// interpolant, then real steps that bracket it to `1e-10` of the step, the step ending just
-    /// after it. `end` becomes that step's state and derivative; its length is returned. `None`:
-    /// a change seen only on the interpolant that real steps do not show (no event).
-    #[allow(clippy::too_many_arguments)]
-    fn locate_event(
-        &mut self,
-        stepper: Stepper,
-        at: Start,
-        hs: f64,
-        s_seen: f64,
-        g_seen: &[f64],
-        end: (&mut [f64], &mut [f64]),
-        g0: &[f64],
-        st: &mut Stats,
-    ) -> Option<f64> {
-        let Start { sys, t, y, f0 } = at;
-        let (y1, f1) = end;
-        let (n, ne) = (y.len(), g0.len());
-        let (mut yt, mut ft, mut gt) = (vec![0.0; n], vec![0.0; n], vec![0.0; ne]);
-        let crossed =
-            |ga: &[f64], gb: &[f64]| ga.iter().zip(gb).any(|(a, b)| event_between(*a, *b));
-        // earliest root on the interpolant, and whose it is
-        let mut s_star = s_seen;
-        let mut first = None;
-        for i in 0..ne {
-            if !event_between(g0[i], g_seen[i]) {
-                continue;
-            }
-            let (mut lo, mut hi) = (0.0, s_seen);
-            let (mut glo, mut ghi) = (g0[i], g_seen[i]);
-            for _ in 0..60 {
-                let mid = if ghi != glo {
-                    (lo - glo * (hi - lo) / (ghi - glo))
-                        .clamp(lo + 0.01 * (hi - lo), hi - 0.01 * (hi - lo))
-                } else {
-                    0.5 * (lo + hi)
-                };
-                hermite(y, f0, y1, f1, hs, mid, &mut yt);
-                sys.events_held(t + mid, &yt, g0, &mut gt);
-                if !event_between(g0[i], gt[i]) {
-                    lo = mid;
-                    glo = gt[i];
-                } else {
-                    hi = mid;
-                    ghi = gt[i];
-                }
-                if hi - lo < 1e-12 * hs {
-                    break;
-                }
-            }
-            if hi < s_star || first.is_none() {
-                first = Some(i);
-            }
-            s_star = s_star.min(hi);
-        }
-        // the bracket's upper end: the step's end, or a real step to where the interpolant saw
-        // the pair
-        let (mut yhi, mut fhi) = (y1.to_vec(), f1.to_vec());
-        if s_seen < hs {
-            if self
-                .attempt(stepper, at, s_seen, &mut yhi, &mut fhi, st)
-                .is_err()
-            {
-                return None;
-            }
-            sys.events_held(t + s_seen, &yhi, g0, &mut gt);
-            if !crossed(g0, &gt) {
-                return None;
-            }
-        }
-        // confirm with real steps: bracket [lo, hi] with the crossing inside, first just after
-        // and just before the interpolant's root, then regula falsi on the real values of the
-        // function that crosses first (Illinois: the end that stays put has its value halved),
-        // bisection where that cannot help
-        let tol = (1e-10 * hs).max(4.0 * f64::EPSILON * t.abs().max(1.0));
-        let (mut lo, mut hi) = (0.0f64, s_seen);
-        let k = first.unwrap_or(0);
-        let (mut g_lo, mut g_hi) = (g0[k], if s_seen < hs { gt[k] } else { g_seen[k] });
-        let mut moved = 0i8; // +1: hi moved last, -1: lo moved last
-        let mut guess = Some((s_star + tol).min(s_seen));
-        let mut second = Some((s_star - tol).max(0.0));
-        let mut iter = 0;
-        while hi - lo > 2.0 * tol && iter < 80 {
-            iter += 1;
-            let s = if let Some(g) = guess.take() {
-                g
-            } else if let Some(g) = second.take() {
-                g
-            } else if iter < 40 && g_lo != g_hi && g_lo.is_finite() && g_hi.is_finite() {
-                (lo - g_lo * (hi - lo) / (g_hi - g_lo)).clamp(lo + tol, hi - tol)
-            } else {
-                0.5 * (lo + hi)
-            };
-            if s <= lo || s >= hi {
-                continue;
-            }
-            if self.attempt(stepper, at, s, &mut yt, &mut ft, st).is_err() {
-                lo = s; // treat as not yet crossed
-                moved = 0;
-                continue;
-            }
-            sys.events_held(t + s, &yt, g0, &mut gt);
-            if crossed(g0, &gt) {
-                hi = s;
-                g_hi = gt[k];
-                if moved == 1 {
-                    g_lo *= 0.5;
-                }
-                moved = 1;
-                yhi.copy_from_slice(&yt);
-                fhi.copy_from_slice(&ft);
-            } else {
-                lo = s;
-                g_lo = gt[k];
-                if moved == -1 {
-                    g_hi *= 0.5;
-                }
-                moved = -1;
-            }
-        }
-        y1.copy_from_slice(&yhi);
-        f1.copy_from_slice(&fhi);
-        Some(hi)
     }
 
     /// One attempt of `stepper` from `at` over `h`: the state `y1` and its derivative `f1`, or

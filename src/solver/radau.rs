@@ -15,7 +15,7 @@ const NIT: usize = 7;
 /// A Newton contraction below this keeps the Jacobian for the next step (Hairer's `THET`; his
 /// 0.001 for small systems re-evaluated it on 40 % of the steps of the stiff chains here, and
 /// each new Jacobian costs a factorization; 0.1, his value for costly Jacobians, keeps it on
-/// all but 1–20 % for at most 4 % more right-hand sides, `examples/solver_counts.rs`).
+/// all but 1–20 % for at most 4 % more right-hand sides, as `bindery report` counts them).
 const THET: f64 = 0.1;
 /// Step controller: safety factor, and `h_new/h` within `[1/FACL, 1/FACR]`.
 const SAFE: f64 = 0.9;
