@@ -475,13 +475,13 @@ impl Integrator {
                 hs = rest;
             }
             // an event function heading for zero may not cross it and come back within one
-            // step: the step ends within twice the time its rate over the last step takes it
-            // there (never below a twentieth of the step the error allows)
+            // step: an adaptive step ends within twice the time its rate over the last step
+            // takes it there (never below a twentieth of the step the error allows)
             let reach = (0..ne)
                 .filter(|&i| g0[i].abs() != HELD && g0[i] * rate[i] < 0.0)
                 .map(|i| 2.0 * (g0[i] / rate[i]).abs())
                 .fold(f64::INFINITY, f64::min);
-            if reach < hs {
+            if reach < hs && !fixed {
                 hs = reach.max(0.05 * hs);
                 last = false;
             }
@@ -559,7 +559,8 @@ impl Integrator {
                 if crossed(&g0, &g1) {
                     seen = Some(hs);
                 } else if rate[0].is_nan() {
-                    // a first step, without the rates that limit it: the interpolant's middle
+                    // a first step, without the rates that limit it (or a fixed step, which they
+                    // do not limit): the interpolant's middle
                     hermite(y, f0, y1, f1, hs, 0.5 * hs, yt);
                     sys.events_held(t + 0.5 * hs, yt, g0, gt);
                     if crossed(g0, gt) {
