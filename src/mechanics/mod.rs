@@ -104,6 +104,7 @@ impl ParamError {
 #[macro_export]
 macro_rules! require {
     ($ok:expr, $param:expr, $value:expr, $($condition:tt)+) => {
+        #[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(x > 0.0)` on purpose: NaN fails
         if !($ok) {
             return Err($crate::mechanics::ParamError::new($param, $value, format!($($condition)+)));
         }

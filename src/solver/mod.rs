@@ -461,7 +461,7 @@ impl Integrator {
         } else if self.mem.h_next > 0.0 {
             self.mem.h_next
         } else {
-            self.initial_step(sys, t, y, &f0, max_step, st)
+            self.initial_step(sys, t, y, f0, max_step, st)
         };
         let hmin = 1e-14 * (t0.abs() + span).max(1e-3);
         loop {
@@ -507,7 +507,7 @@ impl Integrator {
                     ));
                 }
             }
-            let at = Start { sys, t, y, f0: &f0 };
+            let at = Start { sys, t, y, f0 };
             let att = self.attempt(stepper, at, hs, y1, f1, st);
             let accepted = match &att {
                 Ok(a) => a.err <= 1.0 && y1.iter().all(|x| x.is_finite()),
@@ -551,12 +551,12 @@ impl Integrator {
             }
             // events: a change at the step's end, or a pair of them inside it seen on the
             // interpolant at its middle
-            sys.events_held(t + hs, &y1, &g0, g1);
+            sys.events_held(t + hs, y1, g0, g1);
             let crossed =
                 |ga: &[f64], gb: &[f64]| ga.iter().zip(gb).any(|(a, b)| event_between(*a, *b));
             let mut seen = None;
             if ne > 0 {
-                if crossed(&g0, &g1) {
+                if crossed(g0, g1) {
                     seen = Some(hs);
                 } else if rate[0].is_nan() {
                     // a first step, without the rates that limit it (or a fixed step, which they
@@ -583,14 +583,14 @@ impl Integrator {
                         s_seen,
                         &at_seen,
                         (&mut *y1, &mut *f1),
-                        &g0,
+                        g0,
                         st,
                     ) {
                         Some(s) => {
                             hacc = s;
-                            sys.events_held(t + hacc, &y1, &g0, g1);
-                            sys.on_event_held(t + hacc, &y1, &g0, &g1);
-                            sys.events_held(t + hacc, &y1, &g0, g1);
+                            sys.events_held(t + hacc, y1, g0, g1);
+                            sys.on_event_held(t + hacc, y1, g0, g1);
+                            sys.events_held(t + hacc, y1, g0, g1);
                             st.events += 1;
                             true
                         }
@@ -615,12 +615,12 @@ impl Integrator {
             }
             let t_end = t + hacc;
             t = if last && hacc == hs { t1 } else { t_end };
-            y.copy_from_slice(&y1);
+            y.copy_from_slice(y1);
             if event || t != t_end {
                 sys.rhs(t, y, f0);
                 st.rhs_evals += 1;
             } else {
-                f0.copy_from_slice(&f1);
+                f0.copy_from_slice(f1);
             }
             std::mem::swap(&mut g0, &mut g1);
             sys.on_step(t, y);

@@ -41,6 +41,7 @@ struct Tab {
     ti: [[f64; 3]; 3],
 }
 
+#[allow(clippy::excessive_precision)] // `radau5.f`'s digits, as printed there
 fn tab() -> Tab {
     let sq6 = 6f64.sqrt();
     let (c81, c9) = (81f64.cbrt(), 9f64.cbrt());
