@@ -132,7 +132,8 @@ fn perforators_radau5_and_auto_agree_with_differential_equations_on_stiff_contac
             let scale = 100.0 / k / 0.04;
             // the library's dense output is of low order between its long stiff steps: it
             // integrates each millisecond on its own, from where the last one ended
-            let lib = Library(lever(&d, k, zeta));
+            let lever_ode = lever(&d, k, zeta);
+            let lib = Library(&lever_ode);
             let mut yl = y0;
             let mut lib_q = vec![];
             for i in 0..n {

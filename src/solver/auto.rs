@@ -23,7 +23,7 @@ impl Integrator {
         if m.stiff && m.radau.has_jac && steps.is_multiple_of(20) && !m.rejected {
             let h_stab = 3.3 / spectral_radius(n, &m.radau.jac).max(1e-300);
             if hs < 0.5 * h_stab {
-                m.nonstiff_count += 1;
+                m.nonstiff_count = m.nonstiff_count.saturating_add(1);
                 if m.nonstiff_count > 2 {
                     self.switch_method(st);
                 }
@@ -56,7 +56,7 @@ impl Integrator {
             (s.rhs_evals + st.rhs_evals + s.jac_evals + st.jac_evals + s.decomps + st.decomps)
                 as f64;
         let m = &mut self.mem;
-        m.window_steps += 1;
+        m.window_steps = m.window_steps.saturating_add(1);
         if m.window_steps < if m.stiff { 20 } else { 50 } {
             return;
         }
@@ -110,7 +110,7 @@ impl Integrator {
         let m = &mut self.mem;
         if hlamb > 3.25 {
             m.nonstiff_count = 0;
-            m.stiff_count += 1;
+            m.stiff_count = m.stiff_count.saturating_add(1);
             if m.stiff_count >= 15 {
                 m.stiff_count = 0;
                 if self.settings.method == Method::Auto {

@@ -41,6 +41,8 @@ mod auto;
 pub mod chain;
 mod dopri;
 mod events;
+#[cfg(feature = "tools")]
+pub mod library;
 mod lu;
 mod memory;
 mod radau;

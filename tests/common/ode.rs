@@ -2,33 +2,15 @@
 //! `differential-equations`: one of our 3-state ODE systems handed to the library, the
 //! library's Radau5 and ours sampled on the same grid, and the largest difference of the two.
 
+pub use bindery_fmu::solver::library::Library;
 use bindery_fmu::solver::{Integrator, Method, OdeSystem, Settings};
 use differential_equations::prelude::*;
-
-/// One of our 3-state [`OdeSystem`]s as a `differential-equations` ODE, with our analytic
-/// Jacobian (row-major, as [`OdeSystem::jacobian`] gives it).
-pub struct Library<S>(pub S);
-
-impl<S: OdeSystem> ODE<f64, [f64; 3]> for Library<S> {
-    fn diff(&self, t: f64, y: &[f64; 3], dydt: &mut [f64; 3]) {
-        self.0.rhs(t, y, dydt);
-    }
-    fn jacobian(&self, t: f64, y: &[f64; 3], j: &mut Matrix<f64>) {
-        let mut a = [0.0; 9];
-        self.0.jacobian(t, y, &mut a);
-        for r in 0..3 {
-            for c in 0..3 {
-                j[(r, c)] = a[r * 3 + c];
-            }
-        }
-    }
-}
 
 /// The library's Radau5 (rtol 1e-10, the given `atol`) on `lib` from `y0` at t = 0 to `stop`,
 /// output at the points `i * dt` of the grid: (i, first state). `what` names the case if the
 /// library fails; a missing grid point (but the last) fails too.
-pub fn library_on_grid<S: OdeSystem>(
-    lib: &Library<S>,
+pub fn library_on_grid(
+    lib: &Library,
     y0: [f64; 3],
     stop: f64,
     dt: f64,
@@ -96,7 +78,8 @@ pub fn assert_agrees_with_library<S: OdeSystem>(
     for k in [1e8, 1e10, 1e12] {
         for zeta in [0.0, 0.01, 1.0] {
             let y0 = initial_state(&system(k, zeta));
-            let lib = Library(system(k, zeta));
+            let sys = system(k, zeta);
+            let lib = Library(&sys);
             let what = format!("k = {k}, zeta = {zeta}");
             let lib_x = library_on_grid(&lib, y0, stop, dt, lib_atol, &what);
             for method in [Method::Radau5, Method::Auto] {

@@ -12,6 +12,7 @@ use bindery_fmu::mechanisms::perforators::Perforators;
 use bindery_fmu::mechanisms::sewing_table::SewingTable;
 use bindery_fmu::model::Model;
 use bindery_fmu::solver::chain::ChainAccess;
+use bindery_fmu::solver::library::Library;
 use bindery_fmu::solver::{Integrator, Method, OdeSystem, Settings, Stats};
 use differential_equations::prelude::*;
 use std::time::Instant;
@@ -46,24 +47,6 @@ pub const METHODS: [&str; 5] = [
     "library radau5",
     "library dopri5",
 ];
-
-/// One of our ODEs for the library (3 states: every chain's `[x, ẋ, W]`).
-struct Lib<'a>(&'a dyn OdeSystem);
-
-impl ODE<f64, [f64; 3]> for Lib<'_> {
-    fn diff(&self, t: f64, y: &[f64; 3], dydt: &mut [f64; 3]) {
-        self.0.rhs(t, y, dydt);
-    }
-    fn jacobian(&self, t: f64, y: &[f64; 3], j: &mut Matrix<f64>) {
-        let mut a = [0.0; 9];
-        self.0.jacobian(t, y, &mut a);
-        for r in 0..3 {
-            for c in 0..3 {
-                j[(r, c)] = a[r * 3 + c];
-            }
-        }
-    }
-}
 
 /// The absolute tolerance of a case at `rtol`, as the report's runs set it.
 fn atol(c: &Case, rtol: f64) -> f64 {
@@ -115,7 +98,7 @@ fn library(
     rtol: f64,
     atol: f64,
 ) -> Result<(Vec<f64>, Counts), String> {
-    let lib = Lib(o);
+    let lib = Library(o);
     let mut y = y0;
     let mut xs = vec![y[0]];
     let mut counts = Counts::default();
