@@ -81,13 +81,7 @@ impl<const N: usize> TurnDigest<N> {
 
     /// From [`TurnDigest::save`]'s numbers.
     pub fn restore(s: &[f64]) -> Result<Self, String> {
-        if s.len() != Self::LEN {
-            return Err(format!(
-                "a warning digest of {} numbers, not {}",
-                s.len(),
-                Self::LEN
-            ));
-        }
+        crate::model::saved::expect_len("a warning digest", s, &[Self::LEN])?;
         let count = s[1];
         if !(count >= 0.0 && count.fract() == 0.0 && count < 1e15) {
             return Err(format!("a warning digest counting {count} occurrences"));

@@ -15,6 +15,7 @@
 //!
 //! Nothing here knows FFI: a model is plain Rust and is tested as such.
 
+pub mod saved;
 pub mod shaft;
 pub mod units;
 mod values;

@@ -259,22 +259,12 @@ impl<C: ChainModel> Chain<C> {
     pub fn restore(&mut self, s: &[f64]) -> Result<(), String> {
         let n = Self::STATE_LEN;
         let n_ind = C::SAVED_INDICATORS;
-        if n_ind > 0 {
-            if s.len() != n && s.len() != n + n_ind {
-                return Err(format!(
-                    "{} has {} numbers, expected {n} or {}",
-                    C::STATE_NAME,
-                    s.len(),
-                    n + n_ind
-                ));
-            }
-        } else if s.len() != n {
-            return Err(format!(
-                "{} has {} numbers, expected {n}",
-                C::STATE_NAME,
-                s.len()
-            ));
-        }
+        let with_signs = [n, n + n_ind];
+        crate::model::saved::expect_len(
+            C::STATE_NAME,
+            s,
+            &with_signs[..1 + usize::from(n_ind > 0)],
+        )?;
         // a snapshot is data a host may have altered: no model runs on non-finite states
         let names = crate::model::state_names::<C::Var>();
         if let Some(i) = (0..3).find(|&i| !s[1 + i].is_finite()) {
@@ -305,18 +295,85 @@ impl<C: ChainModel> Chain<C> {
     }
 }
 
-/// The chain for Model Exchange, started from the inputs at `time` if new.
-fn me_chain<'c, C: ChainModel>(
-    chain: Option<&'c mut Chain<C>>,
-    p: &C::Physics,
-    v: &Values<C::Var>,
+/// A chain at a call at `time` outside a Co-Simulation step (the Model Exchange hooks, the
+/// report's access to its ODE): started from the inputs at `time` if new, its ODE on the
+/// shaft's path from there. The hooks of [`crate::chain_hooks!`] are its methods; below the
+/// elastodynamic level (no chain) they do what the macro says instead.
+pub struct MeCall<'c, C: ChainModel> {
+    d: &'c mut Chain<C>,
+    p: &'c C::Physics,
+    v: &'c Values<C::Var>,
     time: f64,
-) -> Option<&'c mut Chain<C>> {
-    let d = chain?;
-    if !d.started {
-        d.start(p, shaft::path(v, time), v);
+}
+
+impl<'c, C: ChainModel> MeCall<'c, C> {
+    /// The call on `chain` (`None` below the elastodynamic level).
+    pub fn of(
+        chain: Option<&'c mut Chain<C>>,
+        p: &'c C::Physics,
+        v: &'c Values<C::Var>,
+        time: f64,
+    ) -> Option<Self> {
+        let d = chain?;
+        if !d.started {
+            d.start(p, shaft::path(v, time), v);
+        }
+        Some(MeCall { d, p, v, time })
     }
-    Some(d)
+
+    fn ode(&self) -> C::Ode<'c> {
+        self.d.ode(self.p, shaft::path(self.v, self.time), self.v)
+    }
+
+    /// [`crate::model::Dynamics::me_states`].
+    pub fn me_states(self, x: &mut [f64]) {
+        x.copy_from_slice(&self.d.y);
+    }
+
+    /// [`crate::model::Dynamics::me_set_states`].
+    pub fn me_set_states(self, x: &[f64]) {
+        self.d.y.copy_from_slice(x);
+    }
+
+    /// [`crate::model::Dynamics::me_derivatives`]: the ODE's right-hand side.
+    pub fn me_derivatives(self, dx: &mut [f64]) {
+        self.ode().rhs(self.time, &self.d.y, dx);
+    }
+
+    /// [`crate::model::Dynamics::me_event_indicators`]: the ODE's event functions, those
+    /// resting at zero holding the sign they had at the last event or completed step
+    /// ([`OdeSystem::events_held`]).
+    pub fn me_event_indicators(self, z: &mut [f64]) {
+        let d = &*self.d;
+        self.ode().events_held(self.time, &d.y, &d.g_prev, z);
+    }
+
+    /// [`crate::model::Dynamics::me_event`]: [`ChainModel::me_event`], then the memory read
+    /// back.
+    pub fn me_event(self, log: &mut dyn Log) {
+        let ode = self.ode();
+        let d = self.d;
+        d.model
+            .me_event(&ode, self.time, &d.y, &mut d.g_prev, &d.memory, log);
+        C::absorb(&ode, &mut d.memory);
+    }
+
+    /// [`crate::model::Dynamics::me_completed_step`]: [`ChainModel::me_completed_step`], then
+    /// the memory read back. The host's step is counted with the integrator's accepted steps
+    /// (`solver.steps`: the FMU's own steps in Co-Simulation, the host's in Model Exchange).
+    pub fn me_completed_step(self, _log: &mut dyn Log) {
+        let ode = self.ode();
+        let d = self.d;
+        d.model
+            .me_completed_step(&ode, self.time, &d.y, &mut d.g_prev);
+        C::absorb(&ode, &mut d.memory);
+        d.integ.mem.stats.steps += 1;
+    }
+
+    /// [`ChainAccess::with_chain_ode`].
+    pub fn with_chain_ode(self, f: &mut dyn FnMut(&dyn OdeSystem, [f64; 3])) {
+        f(&self.ode(), self.d.y);
+    }
 }
 
 /// A model whose elastodynamic level is a [`Chain`], for tools that integrate the chain's ODE
@@ -332,22 +389,6 @@ pub trait ChainAccess {
         time: f64,
         f: &mut dyn FnMut(&dyn OdeSystem, [f64; 3]),
     ) -> bool;
-}
-
-/// [`ChainAccess::with_chain_ode`] of the chain `chain` with the physics `p`.
-pub fn with_chain_ode<C: ChainModel>(
-    chain: Option<&mut Chain<C>>,
-    p: &C::Physics,
-    v: &Values<C::Var>,
-    time: f64,
-    f: &mut dyn FnMut(&dyn OdeSystem, [f64; 3]),
-) -> bool {
-    let Some(d) = me_chain(chain, p, v, time) else {
-        return false;
-    };
-    let ode = d.ode(p, shaft::path(v, time), v);
-    f(&ode, d.y);
-    true
 }
 
 /// [`crate::model::Dynamics::do_step`]: integrates the chain over `[time, time + h]`, the shaft on
@@ -387,99 +428,6 @@ pub fn do_step<C: ChainModel>(
             d.integ = before; // the state before the step stays intact
             Err(d.model.step_failed(&ode, &y, why))
         }
-    }
-}
-
-/// [`crate::model::Dynamics::me_states`].
-pub fn me_states<C: ChainModel>(
-    chain: Option<&mut Chain<C>>,
-    p: &C::Physics,
-    v: &Values<C::Var>,
-    time: f64,
-    x: &mut [f64],
-) {
-    match me_chain(chain, p, v, time) {
-        Some(d) => x.copy_from_slice(&d.y),
-        None => x.fill(0.0),
-    }
-}
-
-/// [`crate::model::Dynamics::me_set_states`].
-pub fn me_set_states<C: ChainModel>(
-    chain: Option<&mut Chain<C>>,
-    p: &C::Physics,
-    v: &Values<C::Var>,
-    time: f64,
-    x: &[f64],
-) {
-    if let Some(d) = me_chain(chain, p, v, time) {
-        d.y.copy_from_slice(x);
-    }
-}
-
-/// [`crate::model::Dynamics::me_derivatives`]: the ODE's right-hand side.
-pub fn me_derivatives<C: ChainModel>(
-    chain: Option<&mut Chain<C>>,
-    p: &C::Physics,
-    v: &Values<C::Var>,
-    time: f64,
-    dx: &mut [f64],
-) {
-    match me_chain(chain, p, v, time) {
-        Some(d) => d.ode(p, shaft::path(v, time), v).rhs(time, &d.y, dx),
-        None => dx.fill(0.0),
-    }
-}
-
-/// [`crate::model::Dynamics::me_event_indicators`]: the ODE's event functions, those resting at
-/// zero holding the sign they had at the last event or completed step
-/// ([`OdeSystem::events_held`]); 1 below the elastodynamic level.
-pub fn me_event_indicators<C: ChainModel>(
-    chain: Option<&mut Chain<C>>,
-    p: &C::Physics,
-    v: &Values<C::Var>,
-    time: f64,
-    z: &mut [f64],
-) {
-    match me_chain(chain, p, v, time) {
-        Some(d) => d
-            .ode(p, shaft::path(v, time), v)
-            .events_held(time, &d.y, &d.g_prev, z),
-        None => z.fill(1.0),
-    }
-}
-
-/// [`crate::model::Dynamics::me_event`]: [`ChainModel::me_event`], then the memory read back.
-pub fn me_event<C: ChainModel>(
-    chain: Option<&mut Chain<C>>,
-    p: &C::Physics,
-    v: &Values<C::Var>,
-    time: f64,
-    log: &mut dyn Log,
-) {
-    if let Some(d) = me_chain(chain, p, v, time) {
-        let ode = d.ode(p, shaft::path(v, time), v);
-        d.model
-            .me_event(&ode, time, &d.y, &mut d.g_prev, &d.memory, log);
-        C::absorb(&ode, &mut d.memory);
-    }
-}
-
-/// [`crate::model::Dynamics::me_completed_step`]: [`ChainModel::me_completed_step`], then the
-/// memory read back. The host's step is counted with the integrator's accepted steps
-/// (`solver.steps`: the FMU's own steps in Co-Simulation, the host's in Model Exchange).
-pub fn me_completed_step<C: ChainModel>(
-    chain: Option<&mut Chain<C>>,
-    p: &C::Physics,
-    v: &Values<C::Var>,
-    time: f64,
-    _log: &mut dyn Log,
-) {
-    if let Some(d) = me_chain(chain, p, v, time) {
-        let ode = d.ode(p, shaft::path(v, time), v);
-        d.model.me_completed_step(&ode, time, &d.y, &mut d.g_prev);
-        C::absorb(&ode, &mut d.memory);
-        d.integ.mem.stats.steps += 1;
     }
 }
 
@@ -728,19 +676,22 @@ mod tests {
     fn model_exchange_hooks() {
         let v = Values::<TV>::start();
         let mut c = toy(&v, 400.0);
+        fn call<'c>(c: &'c mut Chain<Toy>, v: &'c Values<TV>) -> MeCall<'c, Toy> {
+            MeCall::of(Some(c), &(), v, 0.0).unwrap()
+        }
         let mut x = [0.0; 3];
-        me_states(Some(&mut c), &(), &v, 0.0, &mut x);
+        call(&mut c, &v).me_states(&mut x);
         assert!(c.started && x == c.y);
-        me_set_states(Some(&mut c), &(), &v, 0.0, &[0.5, 0.0, 0.0]);
+        call(&mut c, &v).me_set_states(&[0.5, 0.0, 0.0]);
         let mut dx = [0.0; 3];
-        me_derivatives(Some(&mut c), &(), &v, 0.0, &mut dx);
+        call(&mut c, &v).me_derivatives(&mut dx);
         assert_eq!(dx[1], -400.0 * 0.5);
-        me_event(Some(&mut c), &(), &v, 0.0, &mut NoLog);
+        call(&mut c, &v).me_event(&mut NoLog);
         assert_eq!(c.g_prev, vec![0.5]);
         // the mass crosses zero: the completed step counts it, and the indicators travel with
         // the FMU state
-        me_set_states(Some(&mut c), &(), &v, 0.0, &[-0.5, 0.0, 0.0]);
-        me_completed_step(Some(&mut c), &(), &v, 0.0, &mut NoLog);
+        call(&mut c, &v).me_set_states(&[-0.5, 0.0, 0.0]);
+        call(&mut c, &v).me_completed_step(&mut NoLog);
         assert_eq!(c.memory, 1.0);
         assert_eq!(c.integ.mem.stats.steps, 1, "the host's step is counted");
         let saved = save_state(Some(&c));
@@ -749,9 +700,7 @@ mod tests {
         restore_state(Some(&mut r), &saved).unwrap();
         assert_eq!(r.g_prev, vec![-0.5]);
         // below the elastodynamic level
-        let mut z = [0.0; 1];
-        me_event_indicators::<Toy>(None, &(), &v, 0.0, &mut z);
-        assert_eq!(z, [1.0]);
+        assert!(MeCall::<Toy>::of(None, &(), &v, 0.0).is_none());
         assert_eq!(save_state::<Toy>(None), Vec::<f64>::new());
         assert!(restore_state::<Toy>(None, &[]).is_ok());
         assert!(restore_state::<Toy>(None, &saved).is_err());

@@ -236,13 +236,7 @@ impl Memory {
     /// serialized state): sizes finite and not negative, flags 0 or 1, counters whole numbers
     /// from 0 to their limit, the Jacobian and polynomial finite.
     pub fn from_numbers(x: &[f64]) -> Result<Memory, String> {
-        if x.len() != Memory::LEN {
-            return Err(format!(
-                "integrator memory has {} numbers, expected {}",
-                x.len(),
-                Memory::LEN
-            ));
-        }
+        crate::model::saved::expect_len("integrator memory", x, &[Memory::LEN])?;
         let mut at = 0;
         for (name, len, kind) in LAYOUT {
             for (i, &v) in x[at..at + len].iter().enumerate() {

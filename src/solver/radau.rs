@@ -280,7 +280,6 @@ impl Integrator {
         let mut faccon = r.faccon.max(f64::EPSILON).powf(0.8);
         let mut theta = THET;
         let (mut dyno_old, mut thq_old) = (0.0, 0.0);
-        let mut yi = [0.0; MAX_DIM];
         let mut fz = [0.0; 3 * MAX_DIM];
         let mut newt = 0;
         let outcome = loop {
@@ -289,13 +288,7 @@ impl Integrator {
                     "Newton iteration of radau5 did not converge in {NIT} iterations"
                 )));
             }
-            for s in 0..3 {
-                for i in 0..n {
-                    yi[i] = y[i] + z[s * n + i];
-                }
-                let c = [tb.c1, tb.c2, 1.0][s];
-                sys.rhs(t + c * h, &yi[..n], &mut fz[s * n..(s + 1) * n]);
-            }
+            stage_rhs(sys, t, h, [tb.c1, tb.c2, 1.0], y, &z, &mut fz);
             st.rhs_evals += 3;
             // the transformed right-hand sides, less the stages' own part (Hairer's SLVRAD)
             let mut d1 = [0.0; MAX_DIM];
@@ -377,13 +370,7 @@ impl Integrator {
         // Components left out of the norms (work integrals): their stage values are one
         // iteration behind; settle them on the converged stages.
         if (0..n).any(|i| sys.error_weight(i) == 0.0) {
-            for s in 0..3 {
-                for i in 0..n {
-                    yi[i] = y[i] + z[s * n + i];
-                }
-                let c = [tb.c1, tb.c2, 1.0][s];
-                sys.rhs(t + c * h, &yi[..n], &mut fz[s * n..(s + 1) * n]);
-            }
+            stage_rhs(sys, t, h, [tb.c1, tb.c2, 1.0], y, &z, &mut fz);
             st.rhs_evals += 3;
             let a = radau_a();
             for s in 0..3 {
@@ -479,6 +466,27 @@ impl Integrator {
 }
 
 /// The coefficient matrix of Radau IIA (order 5).
+/// The right-hand side at the three collocation points `t + c_s*h`, states `y + z_s`, into
+/// `fz` (stage after stage, `n` numbers each).
+fn stage_rhs(
+    sys: &dyn OdeSystem,
+    t: f64,
+    h: f64,
+    c: [f64; 3],
+    y: &[f64],
+    z: &[f64],
+    fz: &mut [f64],
+) {
+    let n = y.len();
+    let mut yi = [0.0; MAX_DIM];
+    for (s, c) in c.into_iter().enumerate() {
+        for i in 0..n {
+            yi[i] = y[i] + z[s * n + i];
+        }
+        sys.rhs(t + c * h, &yi[..n], &mut fz[s * n..(s + 1) * n]);
+    }
+}
+
 fn radau_a() -> [[f64; 3]; 3] {
     let s6 = 6f64.sqrt();
     [

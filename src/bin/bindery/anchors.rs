@@ -39,13 +39,20 @@ pub struct Anchor {
     pub note: String,
 }
 
+/// A method of the anchors: ours, or the library's Radau5 (`radau`) or DOPRI5.
+#[derive(Clone, Copy)]
+enum Runner {
+    Ours(Method),
+    Library { radau: bool },
+}
+
 /// The methods of the anchors, ours first.
-pub const METHODS: [&str; 5] = [
-    "auto",
-    "dopri5",
-    "radau5",
-    "library radau5",
-    "library dopri5",
+const RUNNERS: [(&str, Runner); 5] = [
+    ("auto", Runner::Ours(Method::Auto)),
+    ("dopri5", Runner::Ours(Method::Dopri5)),
+    ("radau5", Runner::Ours(Method::Radau5)),
+    ("library radau5", Runner::Library { radau: true }),
+    ("library dopri5", Runner::Library { radau: false }),
 ];
 
 /// The absolute tolerance of a case at `rtol`, as the report's runs set it.
@@ -53,15 +60,21 @@ fn atol(c: &Case, rtol: f64) -> f64 {
     (rtol * 1e-3).min(3.0 / c.k)
 }
 
-/// Our method over `n` calls of 1 ms from `y0`: the first state on the grid and the counts.
-fn ours(
+/// `runner` over `n` calls of 1 ms from `y0`: the first state on the grid and the counts. The
+/// library runs as it would inside `fmi2DoStep`: a new problem each call, started where the
+/// last ended.
+fn run(
     o: &dyn OdeSystem,
     y0: [f64; 3],
     n: usize,
-    method: Method,
+    runner: Runner,
     rtol: f64,
     atol: f64,
 ) -> Result<(Vec<f64>, Counts), String> {
+    let method = match runner {
+        Runner::Ours(m) => m,
+        Runner::Library { .. } => Method::Dopri5,
+    };
     let mut it = Integrator::new(Settings {
         method,
         rtol,
@@ -71,72 +84,73 @@ fn ours(
     });
     let mut y = y0;
     let mut xs = vec![y[0]];
+    let mut counts = Counts::default();
     for i in 0..n {
-        it.integrate(o, i as f64 * 1e-3, (i + 1) as f64 * 1e-3, &mut y)?;
+        let (a, b) = (i as f64 * 1e-3, (i + 1) as f64 * 1e-3);
+        match runner {
+            Runner::Ours(_) => {
+                it.integrate(o, a, b, &mut y)?;
+            }
+            Runner::Library { radau } => {
+                library_call(o, (a, b), &mut y, radau, (rtol, atol), &mut counts)?
+            }
+        }
         xs.push(y[0]);
     }
-    let s: Stats = it.mem.stats;
-    Ok((
-        xs,
-        Counts {
+    if let Runner::Ours(_) = runner {
+        let s: Stats = it.mem.stats;
+        counts = Counts {
             steps: s.steps,
             rejected: s.rejected,
             rhs: s.rhs_evals,
             jac: s.jac_evals,
             lu: s.decomps,
-        },
-    ))
-}
-
-/// The library's method from `y0` in calls of 1 ms, as it would run inside `fmi2DoStep` (a new
-/// problem each call, started where the last ended): the first state on the grid, the counts.
-fn library(
-    o: &dyn OdeSystem,
-    y0: [f64; 3],
-    n: usize,
-    radau: bool,
-    rtol: f64,
-    atol: f64,
-) -> Result<(Vec<f64>, Counts), String> {
-    let lib = Library(o);
-    let mut y = y0;
-    let mut xs = vec![y[0]];
-    let mut counts = Counts::default();
-    for i in 0..n {
-        let (a, b) = (i as f64 * 1e-3, (i + 1) as f64 * 1e-3);
-        let ivp = IVP::ode(&lib, a, b, y);
-        let sol = if radau {
-            ivp.method(
-                ImplicitRungeKutta::radau5()
-                    .rtol(rtol)
-                    .atol(atol)
-                    .max_steps(5_000_000),
-            )
-            .solve()
-        } else {
-            ivp.method(
-                ExplicitRungeKutta::dopri5()
-                    .rtol(rtol)
-                    .atol(atol)
-                    .max_steps(5_000_000),
-            )
-            .solve()
-        }
-        .map_err(|e| {
-            format!("at t = {a}: {e:?}")
-                .chars()
-                .take(90)
-                .collect::<String>()
-        })?;
-        y = *sol.y.last().ok_or("no solution")?;
-        xs.push(y[0]);
-        counts.steps += sol.steps.accepted;
-        counts.rejected += sol.steps.rejected;
-        counts.rhs += sol.evals.function;
-        counts.jac += sol.evals.jacobian;
-        counts.lu += sol.evals.decompositions;
+        };
     }
     Ok((xs, counts))
+}
+
+/// One call of the library's method over `span`, its work added to `counts`.
+fn library_call(
+    o: &dyn OdeSystem,
+    (a, b): (f64, f64),
+    y: &mut [f64; 3],
+    radau: bool,
+    (rtol, atol): (f64, f64),
+    counts: &mut Counts,
+) -> Result<(), String> {
+    let lib = Library(o);
+    let ivp = IVP::ode(&lib, a, b, *y);
+    let sol = if radau {
+        ivp.method(
+            ImplicitRungeKutta::radau5()
+                .rtol(rtol)
+                .atol(atol)
+                .max_steps(5_000_000),
+        )
+        .solve()
+    } else {
+        ivp.method(
+            ExplicitRungeKutta::dopri5()
+                .rtol(rtol)
+                .atol(atol)
+                .max_steps(5_000_000),
+        )
+        .solve()
+    }
+    .map_err(|e| {
+        format!("at t = {a}: {e:?}")
+            .chars()
+            .take(90)
+            .collect::<String>()
+    })?;
+    *y = *sol.y.last().ok_or("no solution")?;
+    counts.steps += sol.steps.accepted;
+    counts.rejected += sol.steps.rejected;
+    counts.rhs += sol.evals.function;
+    counts.jac += sol.evals.jacobian;
+    counts.lu += sol.evals.decompositions;
+    Ok(())
 }
 
 /// The anchors of case `c` over the tolerances `tols`; `each` is told of every finished run.
@@ -180,24 +194,17 @@ fn on_ode(
     tols: &[f64],
     each: &mut dyn FnMut(&Anchor),
 ) -> Result<Vec<Anchor>, String> {
-    let reference = ours(o, y0, n, Method::Dopri5, 1e-11, atol(c, 1e-11))
-        .or_else(|_| ours(o, y0, n, Method::Radau5, 1e-11, atol(c, 1e-11)))?
-        .0;
+    let tight = |m| run(o, y0, n, Runner::Ours(m), 1e-11, atol(c, 1e-11));
+    let reference = tight(Method::Dopri5).or_else(|_| tight(Method::Radau5))?.0;
     let mut all = vec![];
     for &rtol in tols {
-        for method in METHODS {
-            let run = || match method {
-                "auto" => ours(o, y0, n, Method::Auto, rtol, atol(c, rtol)),
-                "dopri5" => ours(o, y0, n, Method::Dopri5, rtol, atol(c, rtol)),
-                "radau5" => ours(o, y0, n, Method::Radau5, rtol, atol(c, rtol)),
-                "library radau5" => library(o, y0, n, true, rtol, atol(c, rtol)),
-                _ => library(o, y0, n, false, rtol, atol(c, rtol)),
-            };
+        for (method, runner) in RUNNERS {
+            let once = || run(o, y0, n, runner, rtol, atol(c, rtol));
             let mut times = vec![];
             let mut last = Err(String::new());
             for _ in 0..3 {
                 let t0 = Instant::now();
-                last = run();
+                last = once();
                 times.push(t0.elapsed().as_secs_f64());
                 if last.is_err() {
                     break;

@@ -88,49 +88,24 @@ pub fn needles(rpm: f64, set: &[String], out: &Option<PathBuf>) -> Result<(), St
          unless set) against the Perforators (paper 000: ramp, lever, rod, carriage), both with the \
          needle curve of the Perforators over the table's forward travel, kinetostatic level, {with}.\n"
     );
+    // a row: what, unit, its scale, and the measure of a trace over the turn, legacy and new
+    type Measure = fn(&[(f64, f64)]) -> f64;
+    let row = |what, unit, scale, of: Measure, trace: fn(&Turn) -> &[(f64, f64)]| {
+        (what, unit, scale, of(trace(&a)), of(trace(&b)))
+    };
     let rows = [
-        (
-            "needle stroke",
-            "mm",
-            1e3,
-            Turn::peak(&a.s),
-            Turn::peak(&b.s),
-        ),
-        (
+        row("needle stroke", "mm", 1e3, Turn::peak, |t| &t.s),
+        row(
             "peak roller force (one cam / the ramp)",
             "N",
             1.0,
-            Turn::peak(&a.roller_f),
-            Turn::peak(&b.roller_f),
+            Turn::peak,
+            |t| &t.roller_f,
         ),
-        (
-            "peak Hertz stress",
-            "MPa",
-            1e-6,
-            Turn::peak(&a.sigma_h),
-            Turn::peak(&b.sigma_h),
-        ),
-        (
-            "peak shaft torque",
-            "N.m",
-            1.0,
-            Turn::peak(&a.tau),
-            Turn::peak(&b.tau),
-        ),
-        (
-            "RMS shaft torque",
-            "N.m",
-            1.0,
-            Turn::rms(&a.tau),
-            Turn::rms(&b.tau),
-        ),
-        (
-            "mean shaft power",
-            "W",
-            w,
-            Turn::mean(&a.tau),
-            Turn::mean(&b.tau),
-        ),
+        row("peak Hertz stress", "MPa", 1e-6, Turn::peak, |t| &t.sigma_h),
+        row("peak shaft torque", "N.m", 1.0, Turn::peak, |t| &t.tau),
+        row("RMS shaft torque", "N.m", 1.0, Turn::rms, |t| &t.tau),
+        row("mean shaft power", "W", w, Turn::mean, |t| &t.tau),
     ];
     let _ = writeln!(md, "| over a turn | unit | legacy | new | legacy / new |");
     let _ = writeln!(md, "| --- | --- | --- | --- | --- |");
@@ -165,39 +140,42 @@ pub fn needles(rpm: f64, set: &[String], out: &Option<PathBuf>) -> Result<(), St
          {}-fold (the paper: 1.83 with its unknown sizes).\n",
         number(ratio, 3)
     );
-    let deg = "shaft angle phi, deg";
-    let figures = [
+    // the two drives over one turn, legacy first
+    let compare = |file: &str, what: &str, axis: &str, names: [&str; 2], traces, caption: &str| {
+        let [ta, tb]: [Vec<(f64, f64)>; 2] = traces;
         Figure::lines(
+            file,
+            format!("{what} at {} rpm", number(rpm, 4)),
+            "shaft angle phi, deg",
+            axis,
+            vec![Series::new(names[0], ta), Series::new(names[1], tb)],
+            caption,
+        )
+    };
+    let both = ["LegacyNeedleDrive", "Perforators"];
+    let figures = [
+        compare(
             "torque.png",
-            format!("Shaft torque at {} rpm", number(rpm, 4)),
-            deg,
+            "Shaft torque",
             "shaft.tau, N.m",
-            vec![
-                Series::new("LegacyNeedleDrive", a.tau.clone()),
-                Series::new("Perforators", b.tau.clone()),
-            ],
+            both,
+            [a.tau.clone(), b.tau.clone()],
             "The needle drives' share of the main-shaft torque over one turn.",
         ),
-        Figure::lines(
+        compare(
             "roller_force.png",
-            format!("Roller force at {} rpm", number(rpm, 4)),
-            deg,
+            "Roller force",
             "roller.F, N",
-            vec![
-                Series::new("LegacyNeedleDrive (one cam)", a.roller_f.clone()),
-                Series::new("Perforators (ramp)", b.roller_f.clone()),
-            ],
+            ["LegacyNeedleDrive (one cam)", "Perforators (ramp)"],
+            [a.roller_f.clone(), b.roller_f.clone()],
             "The force on the roller of one legacy cam and on the Perforators' ramp roller.",
         ),
-        Figure::lines(
+        compare(
             "sigma_H.png",
-            format!("Hertz stress at {} rpm", number(rpm, 4)),
-            deg,
+            "Hertz stress",
             "roller.sigma_H, MPa",
-            vec![
-                Series::new("LegacyNeedleDrive", scaled(&a.sigma_h, 1e-6)),
-                Series::new("Perforators", scaled(&b.sigma_h, 1e-6)),
-            ],
+            both,
+            [scaled(&a.sigma_h, 1e-6), scaled(&b.sigma_h, 1e-6)],
             "Hertz stress at the cam and at the ramp.",
         ),
         Figure::lines(

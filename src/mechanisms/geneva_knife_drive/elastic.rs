@@ -172,15 +172,7 @@ impl ChainOde for KnifeOde<'_> {
 }
 
 impl OdeSystem for KnifeOde<'_> {
-    fn dim(&self) -> usize {
-        3
-    }
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        let pt = self.point(t, y);
-        dy[0] = y[1];
-        dy[1] = pt.xdd;
-        dy[2] = pt.power;
-    }
+    crate::chain_rhs!(pt => pt.xdd, pt.power);
     fn jacobian(&self, t: f64, y: &[f64], j: &mut [f64]) {
         let pt = self.point(t, y);
         let m = self.p.slider_mass();

@@ -235,13 +235,7 @@ impl Dynamics<V> for MainShaft {
     }
 
     fn restore_state(&mut self, s: &[f64]) -> Result<(), String> {
-        let n = 2 + Memory::LEN;
-        if s.len() != n {
-            return Err(format!(
-                "MainShaft state has {} numbers, expected {n}",
-                s.len()
-            ));
-        }
+        crate::model::saved::expect_len("MainShaft state", s, &[2 + Memory::LEN])?;
         if let Some(i) = (0..2).find(|&i| !s[i].is_finite()) {
             return Err(format!(
                 "MainShaft state refused: {} = {} is not finite",

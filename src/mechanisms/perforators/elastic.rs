@@ -410,15 +410,7 @@ impl ChainOde for LeverOde<'_> {
 }
 
 impl OdeSystem for LeverOde<'_> {
-    fn dim(&self) -> usize {
-        3
-    }
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        let pt = self.point(t, y);
-        dy[0] = y[1];
-        dy[1] = pt.rigid.gamma_a - pt.kin.gamma_a;
-        dy[2] = pt.power;
-    }
+    crate::chain_rhs!(pt => pt.rigid.gamma_a - pt.kin.gamma_a, pt.power);
     fn jacobian(&self, t: f64, y: &[f64], j: &mut [f64]) {
         // the contact (the stiff part) through the balance's own ∂Δγ̈/∂F_c; spring 13 and the
         // arm's turning; the linkage's slow terms left out

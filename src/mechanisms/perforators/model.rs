@@ -489,7 +489,9 @@ impl Dynamics<V> for Perforators {
     fn me_event(&mut self, v: &Values<V>, time: f64, log: &mut dyn Log) {
         if let Some(d) = self.dynamic.as_mut() {
             let before = d.started.then_some(d.memory.track.liftoffs);
-            chain::me_event(Some(&mut *d), &self.drive, v, time, log);
+            if let Some(call) = chain::MeCall::of(Some(&mut *d), &self.drive, v, time) {
+                call.me_event(log);
+            }
             let lifted = before.is_some_and(|n| d.memory.track.liftoffs > n);
             d.memory.lost.event(lifted);
             // the turn's lift-offs, reported once the turn is over
@@ -514,7 +516,9 @@ impl Dynamics<V> for Perforators {
     /// last completed step. Kinetostatic: that span watched as a Co-Simulation step over it.
     fn me_completed_step(&mut self, v: &Values<V>, time: f64, log: &mut dyn Log) {
         if let Some(d) = self.dynamic.as_mut() {
-            chain::me_completed_step(Some(&mut *d), &self.drive, v, time, log);
+            if let Some(call) = chain::MeCall::of(Some(&mut *d), &self.drive, v, time) {
+                call.me_completed_step(log);
+            }
             d.memory.lost.completed();
         } else if self.watching(v) {
             self.state

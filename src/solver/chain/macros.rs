@@ -67,27 +67,31 @@ macro_rules! chain_hooks {
         }
     };
     (@me_states $chain:ident $physics:ident) => {
-        $crate::chain_hooks!(@forward $chain $physics me_states(x: &mut [f64]));
+        $crate::chain_hooks!(@forward $chain $physics me_states(x: &mut [f64]) else x.fill(0.0));
     };
     (@me_set_states $chain:ident $physics:ident) => {
-        $crate::chain_hooks!(@forward $chain $physics me_set_states(x: &[f64]));
+        $crate::chain_hooks!(@forward $chain $physics me_set_states(x: &[f64]) else ());
     };
     (@me_derivatives $chain:ident $physics:ident) => {
-        $crate::chain_hooks!(@forward $chain $physics me_derivatives(dx: &mut [f64]));
+        $crate::chain_hooks!(@forward $chain $physics me_derivatives(dx: &mut [f64]) else dx.fill(0.0));
     };
     (@me_event_indicators $chain:ident $physics:ident) => {
-        $crate::chain_hooks!(@forward $chain $physics me_event_indicators(z: &mut [f64]));
+        $crate::chain_hooks!(@forward $chain $physics me_event_indicators(z: &mut [f64]) else z.fill(1.0));
     };
     (@me_event $chain:ident $physics:ident) => {
-        $crate::chain_hooks!(@forward $chain $physics me_event(log: &mut dyn $crate::model::Log));
+        $crate::chain_hooks!(@forward $chain $physics me_event(log: &mut dyn $crate::model::Log) else ());
     };
     (@me_completed_step $chain:ident $physics:ident) => {
-        $crate::chain_hooks!(@forward $chain $physics me_completed_step(log: &mut dyn $crate::model::Log));
+        $crate::chain_hooks!(@forward $chain $physics me_completed_step(log: &mut dyn $crate::model::Log) else ());
     };
-    // a Model Exchange hook `name(v, time, arg)` calls `solver::chain::name` of the same arguments
-    (@forward $chain:ident $physics:ident $name:ident($arg:ident: $ty:ty)) => {
+    // a Model Exchange hook `name(v, time, arg)` is `MeCall::name(arg)` on the chain; without
+    // one (below the elastodynamic level) the expression after `else`
+    (@forward $chain:ident $physics:ident $name:ident($arg:ident: $ty:ty) else $absent:expr) => {
         fn $name(&mut self, v: &$crate::model::Values<<Self as $crate::model::Model>::Var>, time: f64, $arg: $ty) {
-            $crate::solver::chain::$name(self.$chain.as_mut(), &self.$physics, v, time, $arg);
+            match $crate::solver::chain::MeCall::of(self.$chain.as_mut(), &self.$physics, v, time) {
+                Some(call) => call.$name($arg),
+                None => $absent,
+            }
         }
     };
     (@save_state $chain:ident $physics:ident) => {
@@ -115,14 +119,32 @@ macro_rules! chain_access {
                 time: f64,
                 f: &mut dyn FnMut(&dyn $crate::solver::OdeSystem, [f64; 3]),
             ) -> bool {
-                $crate::solver::chain::with_chain_ode(
+                let call = $crate::solver::chain::MeCall::of(
                     self.$chain.as_mut(),
                     &self.$physics,
                     v,
                     time,
-                    f,
-                )
+                );
+                call.map(|c| c.with_chain_ode(f)).is_some()
             }
+        }
+    };
+}
+
+/// Inside `impl OdeSystem for` a chain's ODE: its dimension (3) and the right-hand side of
+/// `y = [x, ẋ, W]` ([`crate::solver::chain::ChainOde`]): `ẋ`, then the acceleration and the
+/// power the expressions after `=>` read off the chain's point `pt` at `(t, y)`.
+#[macro_export]
+macro_rules! chain_rhs {
+    ($pt:ident => $xdd:expr, $power:expr) => {
+        fn dim(&self) -> usize {
+            3
+        }
+        fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+            let $pt = $crate::solver::chain::ChainOde::point(self, t, y);
+            dy[0] = y[1];
+            dy[1] = $xdd;
+            dy[2] = $power;
         }
     };
 }
