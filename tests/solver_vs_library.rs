@@ -25,8 +25,7 @@ fn ode(p: &Params, k: f64, zeta: f64) -> KnifeOde<'_> {
     KnifeOde {
         p,
         geneva: p.geneva(),
-        k,
-        c: KnifeOde::damping(p, k, zeta),
+        spring: KnifeOde::spring(p, k, zeta),
         path: ShaftPath::new(0.0, 0.0, std::f64::consts::PI, 0.0),
         peaks: Cell::new(bindery_fmu::solver::chain::Peaks::new(0.0)),
         cut_done: Cell::new(false),
@@ -67,8 +66,7 @@ use bindery_fmu::mechanisms::disc_knife_drive::physics::Params as DiscParams;
 fn disc_ode(p: &DiscParams, k: f64, zeta: f64) -> RodOde<'_> {
     RodOde {
         p,
-        k,
-        c: RodOde::damping(p, k, zeta),
+        spring: RodOde::spring(p, k, zeta),
         path: ShaftPath::new(0.0, 170f64.to_radians(), p.drive_n, 0.0),
         c_dead: dead_point_threshold(p),
         peaks: Cell::new(bindery_fmu::solver::chain::Peaks::new(0.0)),

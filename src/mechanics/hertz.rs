@@ -100,6 +100,44 @@ pub fn line_contact_stress(
     Ok(HERTZ_FACTOR * (q * reduced_modulus(e1, e2) * inv_rho).sqrt())
 }
 
+/// A roller on a cam or a ramp: what the Hertz formulas of its line contact take.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Roller {
+    /// `roller.r`: radius, m.
+    pub r: f64,
+    /// `roller.b`: width, the length of the line contact, m.
+    pub b: f64,
+    /// Young's modulus of the surface the roller runs on (`cam.E`, `ramp.E`), Pa.
+    pub e_track: f64,
+    /// `roller.E`: Young's modulus of the roller, Pa.
+    pub e: f64,
+}
+
+impl Roller {
+    /// Radius `r`, width `b`, the moduli of the track and of the roller.
+    pub const fn new(r: f64, b: f64, e_track: f64, e: f64) -> Roller {
+        Roller { r, b, e_track, e }
+    }
+
+    /// A steel roller of radius `r` and width `b` on steel (2.1e11 Pa both).
+    pub const fn steel(r: f64, b: f64) -> Roller {
+        Roller::new(r, b, 2.1e11, 2.1e11)
+    }
+
+    /// [`line_contact_stress`] under `force` on a surface of curvature radius `rho` (m, its
+    /// magnitude) and shape `surface`; NaN where the formula has no answer (a reduced
+    /// curvature not above 0, an input out of range).
+    pub fn stress(&self, force: f64, rho: f64, surface: Surface) -> f64 {
+        line_contact_stress(force, self.b, self.e_track, self.e, self.r, rho, surface)
+            .unwrap_or(f64::NAN)
+    }
+
+    /// [`line_contact_stiffness`] of the roller's contact.
+    pub fn stiffness(&self) -> f64 {
+        line_contact_stiffness(self.b, self.e_track, self.e)
+    }
+}
+
 /// Palmgren's line-contact approach of a steel roller, `δ = 3.84e-5·Q^0.9/l^0.8` (δ in mm, Q in
 /// N, l the contact length in mm; A. Palmgren, *Ball and Roller Bearing Engineering*), in SI
 /// units: `δ = PALMGREN_SI·Q^0.9·l^-0.8`.

@@ -49,6 +49,38 @@ pub fn viscous_damping(k: f64, m: f64, zeta: f64) -> f64 {
     2.0 * zeta * (k * m).sqrt()
 }
 
+/// A linear spring with viscous damping: the compliant element of a chain at the
+/// elastodynamic level (`dynamics.md`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SpringDamper {
+    /// Stiffness k, N/m.
+    pub k: f64,
+    /// Damping c, N·s/m.
+    pub c: f64,
+}
+
+impl SpringDamper {
+    /// Stiffness `k` carrying the mass `m` at the damping ratio `zeta` ([`viscous_damping`]).
+    pub fn with_ratio(k: f64, m: f64, zeta: f64) -> SpringDamper {
+        SpringDamper {
+            k,
+            c: viscous_damping(k, m, zeta),
+        }
+    }
+
+    /// Force `k·δ + c·δ̇` at the deflection `delta` and its rate.
+    #[inline]
+    pub fn force(&self, delta: f64, rate: f64) -> f64 {
+        self.k * delta + self.c * rate
+    }
+
+    /// Energy `½·k·δ²` of the spring at the deflection `delta`.
+    #[inline]
+    pub fn energy(&self, delta: f64) -> f64 {
+        0.5 * self.k * delta * delta
+    }
+}
+
 /// The dot product of two plane vectors.
 #[inline]
 pub fn dot(a: (f64, f64), b: (f64, f64)) -> f64 {

@@ -320,8 +320,7 @@ fn rod_force_window(
     let w = p.drive_n;
     let o = RodOde {
         p,
-        k: 2e8,
-        c: RodOde::damping(p, 2e8, 0.05),
+        spring: RodOde::spring(p, 2e8, 0.05),
         path: ShaftPath::new(0.0, 0.0, w, 0.0),
         c_dead: dead_point_threshold(p),
         peaks: std::cell::Cell::new(crate::solver::chain::Peaks::new(0.0)),

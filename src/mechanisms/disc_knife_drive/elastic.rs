@@ -78,7 +78,7 @@
 //! near the point, between events).
 
 use super::physics::{Kinematics, Params, Vec2};
-use crate::mechanics::sgn;
+use crate::mechanics::{SpringDamper, sgn};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
@@ -203,10 +203,8 @@ fn solve7<T: DualNum<Primitive = f64> + Copy>(mut a: [[T; 7]; 7], mut b: [T; 7])
 /// The ODE of one communication step.
 pub struct RodOde<'a> {
     pub p: &'a Params,
-    /// Rod stiffness k, N/m.
-    pub k: f64,
-    /// Rod damping c, N.s/m.
-    pub c: f64,
+    /// The rod's stiffness and damping.
+    pub spring: SpringDamper,
     pub path: ShaftPath,
     /// |c| at which the slider counts as at the holder's dead point ([`dead_point_threshold`]).
     pub c_dead: f64,
@@ -227,11 +225,11 @@ pub struct Point {
 }
 
 impl RodOde<'_> {
-    /// Damping from the damping ratio (reference mass: [`reduced_mass`] at the outer dead
-    /// centre).
-    pub fn damping(p: &Params, k: f64, zeta: f64) -> f64 {
+    /// The rod's spring `k` at the damping ratio `zeta` (reference mass: [`reduced_mass`] at
+    /// the outer dead centre).
+    pub fn spring(p: &Params, k: f64, zeta: f64) -> SpringDamper {
         let x0 = p.slider_x(0.0).0;
-        crate::mechanics::viscous_damping(k, reduced_mass(p, x0), zeta)
+        SpringDamper::with_ratio(k, reduced_mass(p, x0), zeta)
     }
 
     /// The rigid drive at time t.
@@ -314,7 +312,7 @@ impl RodOde<'_> {
         let l_d = cd[0] * (xd - r.v_b.x) - cd[1] * r.v_b.y;
         let delta = -l + r.l_kin;
         let delta_d = -l_d + r.l_kin_d;
-        let force = delta * self.k + delta_d * self.c;
+        let force = delta * self.spring.k + delta_d * self.spring.c;
         // the downstream chain and its transmission ratios d/dx
         let (beta, d, s) = p.holder(Dual2::new(x, T::one(), T::zero()));
         let xd2 = xd * xd;
@@ -380,8 +378,8 @@ impl RodOde<'_> {
         let v_d = [d[0].v1 * xd, d[1].v1 * xd];
         let v_s = [s[0].v1 * xd, s[1].v1 * xd];
         let g = p.gravity_g;
-        let power = delta * self.k * (cd[0] * r.v_b.x + cd[1] * r.v_b.y + r.l_kin_d)
-            + delta_d * cd[0] * xd * self.c
+        let power = delta * self.spring.k * (cd[0] * r.v_b.x + cd[1] * r.v_b.y + r.l_kin_d)
+            + delta_d * cd[0] * xd * self.spring.c
             + v_s[0] * r.load.x
             + v_s[1] * r.load.y
             - z[5] * k5 * xd
@@ -434,7 +432,7 @@ impl ChainOde for RodOde<'_> {
             + p.slider7_m * k.v_d.norm_squared()
             + p.holder_m * k.v_s.norm_squared()
             + p.holder_j * k.beta_w * k.beta_w)
-            + 0.5 * self.k * pt.eval.delta * pt.eval.delta
+            + self.spring.energy(pt.eval.delta)
     }
     /// The state in equilibrium on the rigid motion at time t: the rod shortened by the
     /// kinetostatic rod force over k (none where that is over 5 % of the rod's length: a
@@ -443,7 +441,7 @@ impl ChainOde for RodOde<'_> {
         let r = self.rigid(t);
         let p = self.p;
         let f = p.kinetostatics(&r.kin).rod_f;
-        let d0 = f / self.k;
+        let d0 = f / self.spring.k;
         let d0 = if d0.is_finite() && d0.abs() < 0.05 * r.l_kin {
             d0
         } else {

@@ -7,8 +7,7 @@ use std::f64::consts::{PI, TAU};
 fn ode(p: &Params, k: f64, zeta: f64, w: f64) -> RodOde<'_> {
     RodOde {
         p,
-        k,
-        c: RodOde::damping(p, k, zeta),
+        spring: RodOde::spring(p, k, zeta),
         path: ShaftPath::new(0.0, 0.0, w, 0.0),
         c_dead: dead_point_threshold(p),
         peaks: Cell::new(crate::solver::chain::Peaks::new(0.0)),

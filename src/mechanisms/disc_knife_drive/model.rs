@@ -3,6 +3,7 @@
 
 use super::elastic::{Point, RodOde, dead_point_threshold};
 use super::physics::{Forces, Kinematics, Params};
+use crate::mechanics::SpringDamper;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Severity, Stage, Values};
 use crate::solver::chain::ChainOde;
@@ -89,8 +90,7 @@ crate::model_variables! {
 /// The compliant rod 4 of the elastodynamic level: its constants.
 #[derive(Clone, Debug, PartialEq)]
 struct RodChain {
-    k: f64,
-    c: f64,
+    spring: SpringDamper,
     /// [`dead_point_threshold`].
     c_dead: f64,
 }
@@ -114,8 +114,7 @@ impl ChainModel for RodChain {
         let peaks = std::cell::Cell::new(*m);
         RodOde {
             p,
-            k: self.k,
-            c: self.c,
+            spring: self.spring,
             path,
             c_dead: self.c_dead,
             peaks,
@@ -138,7 +137,7 @@ impl ChainModel for RodChain {
                 "slider 5 reached x = {:.6} m, the dead point of the holder (|cos(beta + alpha)| = {:.7} -> 1, eq. 5: the holder's reduced mass is unbounded there): the rod (elastic.k = {} N/m) is too soft for this motion; {why}",
                 y[0],
                 c.abs(),
-                self.k
+                self.spring.k
             )
         } else {
             why
@@ -239,10 +238,8 @@ impl Model for DiscKnifeDrive {
         let params = Self::params(v);
         params.validate()?;
         let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
-            let k = v[V::elastic_k];
             let model = RodChain {
-                k,
-                c: RodOde::damping(&params, k, v[V::elastic_zeta]),
+                spring: RodOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]),
                 c_dead: dead_point_threshold(&params),
             };
             Chain::new(model, Integrator::new(solver_settings(v)), Peaks::new(0.0))

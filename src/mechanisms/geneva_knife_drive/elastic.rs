@@ -21,7 +21,7 @@
 
 use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
-use crate::mechanics::{STANDARD_GRAVITY, sgn};
+use crate::mechanics::{STANDARD_GRAVITY, SpringDamper, sgn};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
@@ -37,10 +37,8 @@ pub struct KnifeOde<'a> {
     /// `p`'s Geneva pair, built once per ODE ([`Params::geneva`] costs a sine; the
     /// right-hand side is evaluated many times per step).
     pub geneva: Geneva,
-    /// Chain stiffness k, N/m.
-    pub k: f64,
-    /// Chain damping c, N.s/m.
-    pub c: f64,
+    /// The chain's stiffness and damping.
+    pub spring: SpringDamper,
     pub path: ShaftPath,
     /// Peak tracking over accepted steps and the dynamic factor of the last complete turn.
     pub peaks: Cell<Peaks>,
@@ -69,9 +67,9 @@ pub struct Point {
 }
 
 impl KnifeOde<'_> {
-    /// Damping from the damping ratio.
-    pub fn damping(p: &Params, k: f64, zeta: f64) -> f64 {
-        crate::mechanics::viscous_damping(k, p.slider_mass(), zeta)
+    /// The chain's spring `k` at the damping ratio `zeta` on the knife's mass.
+    pub fn spring(p: &Params, k: f64, zeta: f64) -> SpringDamper {
+        SpringDamper::with_ratio(k, p.slider_mass(), zeta)
     }
 
     /// As [`KnifeOde::point`], for given kinematics.
@@ -80,14 +78,14 @@ impl KnifeOde<'_> {
         let (x, xd) = (y[0], y[1]);
         let delta = kin.s - x;
         let deltad = kin.v - xd;
-        let f_el = self.k * delta + self.c * deltad;
+        let f_el = self.spring.force(delta, deltad);
         let tan_nu = kin.sin_nu / kin.cos_nu;
         let f_fr = self.p.guide_mu * (f_el * tan_nu).abs() * sgn(kin.v);
         let f_drive = f_el + m * STANDARD_GRAVITY - f_fr;
         let f_cut = self.cut(x, xd, f_drive);
         let xdd = (f_drive - f_cut) / m;
-        let power = self.k * delta * kin.v
-            + self.c * deltad * xd
+        let power = self.spring.k * delta * kin.v
+            + self.spring.c * deltad * xd
             + (m * STANDARD_GRAVITY - f_cut - f_fr) * xd;
         // rigid chain force along s: m_s·a − m_s·g + F_cut + friction (kinetostatic level)
         let f_rigid = {
@@ -155,15 +153,15 @@ impl ChainOde for KnifeOde<'_> {
     }
     /// Energy of knife and chain spring, J.
     fn energy(&self, pt: &Point) -> f64 {
-        0.5 * self.p.slider_mass() * pt.xd * pt.xd + 0.5 * self.k * pt.delta * pt.delta
+        0.5 * self.p.slider_mass() * pt.xd * pt.xd + self.spring.energy(pt.delta)
     }
     /// The state in static equilibrium on the rigid motion at time t: at rest relative to the
     /// chain, the spring holding the weight.
     fn initial_state(&self, t: f64) -> [f64; 3] {
         let (phi, w, a) = self.path.at(t);
         let kin = self.p.kinematics_of(&self.geneva, phi, w, a);
-        let x = if self.k > 0.0 {
-            kin.s + self.p.slider_mass() * STANDARD_GRAVITY / self.k
+        let x = if self.spring.k > 0.0 {
+            kin.s + self.p.slider_mass() * STANDARD_GRAVITY / self.spring.k
         } else {
             kin.s
         };
@@ -185,13 +183,13 @@ impl OdeSystem for KnifeOde<'_> {
         } else {
             0.0
         };
-        let dfel_dx = -self.k;
-        let dfel_dv = -self.c;
+        let dfel_dx = -self.spring.k;
+        let dfel_dv = -self.spring.c;
         let a_x = (dfel_dx * (1.0 - dfr) - dcut_dx) / m;
         let a_v = dfel_dv * (1.0 - dfr) / m;
         let gfc = m * STANDARD_GRAVITY - pt.f_cut - pt.f_fr;
-        let p_x = -self.k * pt.kin.v + (-dcut_dx - dfr * dfel_dx) * pt.xd;
-        let p_v = self.c * (pt.kin.v - 2.0 * pt.xd) + gfc - dfr * dfel_dv * pt.xd;
+        let p_x = -self.spring.k * pt.kin.v + (-dcut_dx - dfr * dfel_dx) * pt.xd;
+        let p_v = self.spring.c * (pt.kin.v - 2.0 * pt.xd) + gfc - dfr * dfel_dv * pt.xd;
         j.copy_from_slice(&[0.0, 1.0, 0.0, a_x, a_v, 0.0, p_x, p_v, 0.0]);
     }
     fn n_events(&self) -> usize {

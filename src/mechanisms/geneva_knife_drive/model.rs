@@ -3,6 +3,7 @@
 
 use super::elastic::{KnifeOde, Point};
 use super::physics::{Kinematics, Params};
+use crate::mechanics::SpringDamper;
 use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
@@ -90,8 +91,7 @@ pub struct GenevaKnifeDrive {
 /// The compliant drive chain of the elastodynamic level: its constants.
 #[derive(Clone, Debug, PartialEq)]
 struct KnifeChain {
-    k: f64,
-    c: f64,
+    spring: SpringDamper,
 }
 
 crate::chain_memory! {
@@ -128,8 +128,7 @@ impl ChainModel for KnifeChain {
         KnifeOde {
             p,
             geneva: p.geneva(),
-            k: self.k,
-            c: self.c,
+            spring: self.spring,
             path,
             peaks,
             cut_done: Cell::new(m.cut_done),
@@ -151,8 +150,8 @@ impl ChainModel for KnifeChain {
             format!(
                 "the drive chain deflects by {:.4} m at t = {t:.6} s, more than the knife's stroke {stroke:.4} m: elastic.k = {} N/m is too soft to drive the knife (the cut force alone needs about cut.F_max/elastic.k = {:.3} m)",
                 delta.abs(),
-                self.k,
-                ode.p.cut_f_max / self.k
+                self.spring.k,
+                ode.p.cut_f_max / self.spring.k
             )
         })
     }
@@ -208,14 +207,13 @@ impl Model for GenevaKnifeDrive {
         let params = Self::params(v);
         params.validate()?;
         let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
-            let k = v[V::elastic_k];
-            let c = KnifeOde::damping(&params, k, v[V::elastic_zeta]);
+            let spring = KnifeOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]);
             let memory = KnifeMemory {
                 peaks: Peaks::new(0.0),
                 cut_done: false,
             };
             Chain::new(
-                KnifeChain { k, c },
+                KnifeChain { spring },
                 Integrator::new(chain::solver_settings(v)),
                 memory,
             )

@@ -9,6 +9,7 @@
 
 use super::physics::{Closure, Drive, Kinematics, Params, Timing};
 use crate::digest::TurnDigest;
+use crate::mechanics::hertz::Roller;
 use crate::mechanics::wrap_angle;
 use crate::mechanisms::contact_watch::{ContactWatch, WatchedContact, times};
 use crate::mechanisms::perforators::needles;
@@ -200,10 +201,7 @@ impl LegacyNeedleDrive {
             load_f: v[V::load_F],
             p_spring: v[V::load_P_spring],
             closure: Closure::from_item(v.int(V::cam_closure)).unwrap_or(Closure::Groove),
-            roller_r: v[V::roller_r],
-            roller_b: v[V::roller_b],
-            cam_e_mod: v[V::cam_E],
-            roller_e_mod: v[V::roller_E],
+            roller: Roller::new(v[V::roller_r], v[V::roller_b], v[V::cam_E], v[V::roller_E]),
             cam_j: v[V::cam_J],
             timing: Timing::from_item(v.int(V::needle_timing)).unwrap_or(Timing::Perforators),
             phi_start: v[V::needle_phi_start],

@@ -19,7 +19,8 @@
 
 use crate::mechanics::circles::intersect;
 use crate::mechanics::cyclogram::{Cyclogram, Phase};
-use crate::mechanics::hertz::{Surface, line_contact_stress};
+use crate::mechanics::hertz::Roller;
+use crate::mechanics::hertz::Surface;
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::{
     ParamError, STANDARD_GRAVITY, check_finite, check_non_negative, check_positive, cross, dot, sgn,
@@ -80,12 +81,9 @@ pub struct Params {
     pub p_spring: f64,
     /// `cam.closure`.
     pub closure: Closure,
-    /// `roller.r` r_r (0.015), `roller.b` B (0.015), `cam.E`, `roller.E` (2.1e11 Pa), `cam.J`
-    /// (0 kg·m²).
-    pub roller_r: f64,
-    pub roller_b: f64,
-    pub cam_e_mod: f64,
-    pub roller_e_mod: f64,
+    /// `roller.r` r_r (0.015), `roller.b` B (0.015), `cam.E`, `roller.E` (2.1e11 Pa).
+    pub roller: Roller,
+    /// `cam.J` (0 kg·m²).
     pub cam_j: f64,
     /// `needle.timing`.
     pub timing: Timing,
@@ -127,10 +125,7 @@ impl Default for Params {
             load_f: 0.0,
             p_spring: 0.0,
             closure: Closure::Groove,
-            roller_r: 0.015,
-            roller_b: 0.015,
-            cam_e_mod: 2.1e11,
-            roller_e_mod: 2.1e11,
+            roller: Roller::steel(0.015, 0.015),
             cam_j: 0.0,
             timing: Timing::Perforators,
             phi_start: 61f64.to_radians(),
@@ -269,10 +264,10 @@ impl Params {
             ("fb.b", self.b),
             ("kpm.Rk", self.r_k),
             ("kpm.l", self.l_rod),
-            ("roller.r", self.roller_r),
-            ("roller.b", self.roller_b),
-            ("cam.E", self.cam_e_mod),
-            ("roller.E", self.roller_e_mod),
+            ("roller.r", self.roller.r),
+            ("roller.b", self.roller.b),
+            ("cam.E", self.roller.e_track),
+            ("roller.E", self.roller.e),
         ] {
             check_positive(name, x, "must be a finite length or modulus > 0")?;
         }
@@ -574,24 +569,15 @@ impl Drive {
         // eq. (8) on the loaded flank: the working one at ρ_p − r, the other at ρ_p + r
         let flank = if p_kr < 0.0 { -1.0 } else { 1.0 };
         let lost_contact = p.closure == Closure::Spring && p_kr < 0.0;
-        let rho_flank = (k.rho_p - flank * p.roller_r) * flank;
+        let rho_flank = (k.rho_p - flank * p.roller.r) * flank;
         let surface = if rho_flank > 0.0 {
             Surface::Convex
         } else {
             Surface::Concave
         };
-        let inv_rho = 1.0 / p.roller_r + 1.0 / rho_flank;
+        let inv_rho = 1.0 / p.roller.r + 1.0 / rho_flank;
         let sigma_h = if hertz && p_kr != 0.0 && !lost_contact {
-            line_contact_stress(
-                p_kr,
-                p.roller_b,
-                p.cam_e_mod,
-                p.roller_e_mod,
-                p.roller_r,
-                rho_flank.abs(),
-                surface,
-            )
-            .unwrap_or(f64::NAN)
+            p.roller.stress(p_kr, rho_flank.abs(), surface)
         } else {
             0.0
         };
@@ -640,7 +626,7 @@ impl Drive {
     /// Over a turn: the rocker stays away from 0 and π (the pressure angle is singular there)
     /// and the cam is not undercut.
     fn check_turn(&self) -> Result<(), ParamError> {
-        let r = self.p.roller_r;
+        let r = self.p.roller.r;
         for i in 0..SAMPLES {
             let phi = TAU * i as f64 / SAMPLES as f64;
             let k = self.kinematics(phi, 1.0, 0.0);

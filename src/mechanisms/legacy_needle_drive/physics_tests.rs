@@ -299,7 +299,7 @@ fn refusals_name_the_loop_the_parameter_or_the_shaft_angle() {
     let refusals: [(fn(&mut Params), &str, &str); 7] = [
         (|p| p.l_rod = 0.02, "kpm.l", "rocker-slider"),
         (|p| p.c = 0.05, "fb.c", "four-bar"),
-        (|p| p.roller_r = 0.03, "roller.r", "shaft angle"),
+        (|p| p.roller.r = 0.03, "roller.r", "shaft angle"),
         (|p| p.beta = 0.0, "kmk.beta", ""),
         (|p| p.n = 0.0, "legacy.branches", ""),
         (|p| p.fb_branch = 0.0, "fb.branch", ""),

@@ -93,7 +93,7 @@ pub fn figures(liftoff: f64) -> Vec<Figure> {
                 let x = dd.cyc.h * k as f64 / n as f64;
                 let (c, _, _) = dd.ramp(x);
                 let (nrm, _, _) = dd.ramp_geometry(x);
-                let r = dd.p.roller_r;
+                let r = dd.p.roller.r;
                 (1000.0 * (c.0 - r * nrm.0), 1000.0 * (c.1 - r * nrm.1))
             })
             .collect()

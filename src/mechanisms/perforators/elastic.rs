@@ -37,7 +37,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use super::physics::{Drive, Forces, Kinematics};
-use crate::mechanics::hertz::{line_contact_energy, line_contact_force, line_contact_stiffness};
+use crate::mechanics::hertz::{line_contact_energy, line_contact_force};
 use crate::mechanics::{STANDARD_GRAVITY, dot, sgn};
 use crate::solver::chain::ChainOde;
 use crate::solver::{OdeSystem, ShaftPath};
@@ -65,9 +65,7 @@ impl Contact {
     /// The contact of a drive: Hertz takes K from `roller.b`, `ramp.E`, `roller.E`.
     pub fn new(d: &Drive, law: ContactLaw, k_linear: f64, c: f64) -> Contact {
         let k = match law {
-            ContactLaw::Hertz => {
-                line_contact_stiffness(d.p.roller_b, d.p.ramp_e_mod, d.p.roller_e_mod)
-            }
+            ContactLaw::Hertz => d.p.roller.stiffness(),
             ContactLaw::Linear => k_linear,
         };
         Contact { law, k, c }

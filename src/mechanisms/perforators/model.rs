@@ -15,6 +15,7 @@ use super::needles;
 use super::physics::{Drive, Kinematics, Mode, Params};
 use crate::digest::TurnDigest;
 use crate::mechanics::cyclogram::Phase;
+use crate::mechanics::hertz::Roller;
 use crate::mechanisms::contact_watch::{ContactWatch, WatchedContact, times};
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
@@ -197,11 +198,11 @@ fn check_contact(d: &Drive, v: &Values<V>) -> Result<(), ParamError> {
     let c = contact_of(d, v);
     let f = d.forces(&d.kinematics(d.cyc.phi0 - 0.1, 0.0, 0.0)).roller_f;
     let pen = c.penetration_of(f);
-    let limit = 0.1 * d.p.roller_r;
+    let limit = 0.1 * d.p.roller.r;
     if pen > limit {
         let (param, value) = match c.law {
             ContactLaw::Linear => ("contact.k", v[V::contact_k]),
-            ContactLaw::Hertz => ("roller.b", d.p.roller_b),
+            ContactLaw::Hertz => ("roller.b", d.p.roller.b),
         };
         return Err(ParamError::new(
             param,
@@ -266,10 +267,7 @@ impl Perforators {
             spring_kt: v[V::spring_kt],
             joint_f: v[V::joint_f],
             joint_r: v[V::joint_r],
-            roller_r: v[V::roller_r],
-            roller_b: v[V::roller_b],
-            ramp_e_mod: v[V::ramp_E],
-            roller_e_mod: v[V::roller_E],
+            roller: Roller::new(v[V::roller_r], v[V::roller_b], v[V::ramp_E], v[V::roller_E]),
         }
     }
 

@@ -22,7 +22,8 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use crate::mechanics::cyclogram::{CyclePoint, Cyclogram, Phase};
-use crate::mechanics::hertz::{Surface, line_contact_stress};
+use crate::mechanics::hertz::Roller;
+use crate::mechanics::hertz::Surface;
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::slider_line::SliderLine;
 use crate::mechanics::{ParamError, STANDARD_GRAVITY, cross, dot, sgn};
@@ -81,10 +82,7 @@ pub struct Params {
     pub joint_f: f64,
     pub joint_r: f64,
     /// `roller.r`, `roller.b` m (0.010, assumption), `ramp.E`, `roller.E` Pa (2.1e11).
-    pub roller_r: f64,
-    pub roller_b: f64,
-    pub ramp_e_mod: f64,
-    pub roller_e_mod: f64,
+    pub roller: Roller,
 }
 
 impl Default for Params {
@@ -115,10 +113,7 @@ impl Default for Params {
             spring_kt: 20.0,
             joint_f: 0.05,
             joint_r: 0.006,
-            roller_r: 0.010,
-            roller_b: 0.010,
-            ramp_e_mod: 2.1e11,
-            roller_e_mod: 2.1e11,
+            roller: Roller::steel(0.010, 0.010),
         }
     }
 }
@@ -430,9 +425,9 @@ impl Drive {
         let rho_pitch = len * len * len / cross(c1, c2).abs();
         let valley = dot(c2, n) > 0.0;
         if valley {
-            (n, -(rho_pitch + self.p.roller_r), false, n_x)
+            (n, -(rho_pitch + self.p.roller.r), false, n_x)
         } else {
-            (n, rho_pitch - self.p.roller_r, true, n_x)
+            (n, rho_pitch - self.p.roller.r, true, n_x)
         }
     }
 
@@ -453,10 +448,10 @@ impl Drive {
             crate::require!(
                 !convex || rho > 0.0,
                 "roller.r",
-                self.p.roller_r,
+                self.p.roller.r,
                 "the ramp profile is undercut at table position {:.2} mm (pitch curvature radius {:.4} m <= roller.r)",
                 1000.0 * x,
-                rho + self.p.roller_r
+                rho + self.p.roller.r
             );
         }
         Ok(())
@@ -592,16 +587,7 @@ impl Drive {
             } else {
                 Surface::Concave
             };
-            line_contact_stress(
-                fc,
-                p.roller_b,
-                p.ramp_e_mod,
-                p.roller_e_mod,
-                p.roller_r,
-                k.rho.abs(),
-                surface,
-            )
-            .unwrap_or(f64::NAN)
+            p.roller.stress(fc, k.rho.abs(), surface)
         } else {
             0.0
         };

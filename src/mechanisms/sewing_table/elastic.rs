@@ -17,7 +17,7 @@
 //! last motion).
 
 use super::physics::{Kinematics, Params};
-use crate::mechanics::{STANDARD_GRAVITY, sgn};
+use crate::mechanics::{STANDARD_GRAVITY, SpringDamper, sgn};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
@@ -26,8 +26,8 @@ use std::cell::Cell;
 /// The ODE of one communication step.
 pub struct TableOde<'a> {
     pub p: &'a Params,
-    pub k: f64,
-    pub c: f64,
+    /// The follower chain's stiffness and damping.
+    pub spring: SpringDamper,
     /// Half the clearance, m.
     pub gap: f64,
     pub f_ext: f64,
@@ -58,9 +58,9 @@ pub struct Point {
 }
 
 impl TableOde<'_> {
-    /// Damping from the damping ratio.
-    pub fn damping(p: &Params, k: f64, zeta: f64) -> f64 {
-        crate::mechanics::viscous_damping(k, p.table_m, zeta)
+    /// The chain's spring `k` at the damping ratio `zeta` on the table's mass.
+    pub fn spring(p: &Params, k: f64, zeta: f64) -> SpringDamper {
+        SpringDamper::with_ratio(k, p.table_m, zeta)
     }
 
     pub fn point_at(&self, kin: &Kinematics, y: &[f64]) -> Point {
@@ -70,20 +70,22 @@ impl TableOde<'_> {
         let deltad = kin.v - xd;
         let (pen, f_c) = if self.gap <= 0.0 {
             // no play: the slot holds the roller between both flanks at once
-            (delta, self.k * delta + self.c * deltad)
+            (delta, self.spring.force(delta, deltad))
         } else if delta > self.gap {
             let pen = delta - self.gap;
-            (pen, (self.k * pen + self.c * deltad).max(0.0))
+            (pen, self.spring.force(pen, deltad).max(0.0))
         } else if delta < -self.gap {
             let pen = delta + self.gap;
-            (pen, (self.k * pen + self.c * deltad).min(0.0))
+            (pen, self.spring.force(pen, deltad).min(0.0))
         } else {
             (0.0, 0.0)
         };
         let f_fr =
             self.p.guide_f * (m * STANDARD_GRAVITY + (f_c * kin.theta.tan()).abs()) * sgn(kin.v);
         let xdd = (f_c - f_fr + self.f_ext) / m;
-        let power = self.k * pen * kin.v + (f_c - self.k * pen) * xd + (self.f_ext - f_fr) * xd;
+        let power = self.spring.k * pen * kin.v
+            + (f_c - self.spring.k * pen) * xd
+            + (self.f_ext - f_fr) * xd;
         let f_rigid = self.p.forces_with(kin, 0.0, self.f_ext, false).f_x;
         Point {
             kin: *kin,
@@ -120,7 +122,7 @@ impl ChainOde for TableOde<'_> {
     }
     /// Energy of table and follower spring, J.
     fn energy(&self, pt: &Point) -> f64 {
-        0.5 * self.p.table_m * pt.xd * pt.xd + 0.5 * self.k * pt.pen * pt.pen
+        0.5 * self.p.table_m * pt.xd * pt.xd + self.spring.energy(pt.pen)
     }
     /// The table in equilibrium on its rigid motion at time t (roller on the flank that holds
     /// the rigid force, the spring carrying it).
@@ -129,7 +131,7 @@ impl ChainOde for TableOde<'_> {
         let kin = self.p.kinematics(phi, w, a);
         let f = self.p.forces_with(&kin, a, self.f_ext, false).f_x;
         let side = if f >= 0.0 { 1.0 } else { -1.0 };
-        [kin.c.x - f / self.k - side * self.gap, kin.v, 0.0]
+        [kin.c.x - f / self.spring.k - side * self.gap, kin.v, 0.0]
     }
 }
 
@@ -143,7 +145,7 @@ impl OdeSystem for TableOde<'_> {
         // ∂F_fr/∂F_c
         let dfr = self.p.guide_f * tan.abs() * sgn(pt.f_c) * sgn(pt.kin.v);
         let (dfc_dx, dfc_dv) = if contact {
-            (-self.k, -self.c)
+            (-self.spring.k, -self.spring.c)
         } else {
             (0.0, 0.0)
         };

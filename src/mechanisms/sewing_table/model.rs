@@ -3,6 +3,8 @@
 
 use super::elastic::TableOde;
 use super::physics::{Kind, Params};
+use crate::mechanics::SpringDamper;
+use crate::mechanics::hertz::Roller;
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values};
@@ -126,8 +128,7 @@ crate::model_variables! {
 /// The cam-follower chain of the elastodynamic level: its constants.
 #[derive(Clone, Debug, PartialEq)]
 struct TableChain {
-    k: f64,
-    c: f64,
+    spring: SpringDamper,
     /// Half the slot's clearance, m.
     gap: f64,
 }
@@ -165,8 +166,7 @@ impl ChainModel for TableChain {
         let peaks = Cell::new(m.peaks);
         TableOde {
             p,
-            k: self.k,
-            c: self.c,
+            spring: self.spring,
             gap: self.gap,
             f_ext: v[V::table_F_ext],
             path,
@@ -193,7 +193,7 @@ impl ChainModel for TableChain {
             format!(
                 "the follower chain deflects by {:.4} m at t = {t:.6} s, more than the table's travel {stroke:.4} m: elastic.k = {} N/m is too soft to drive the table",
                 delta.abs(),
-                self.k
+                self.spring.k
             )
         })
     }
@@ -223,10 +223,7 @@ impl SewingTable {
             kind: Kind::from_item(v.int(V::table_kind)).unwrap_or(Kind::Translating),
             cam_r0: v[V::cam_R0],
             cam_e: v[V::cam_e],
-            roller_r: v[V::roller_r],
-            roller_b: v[V::roller_b],
-            cam_e_mod: v[V::cam_E],
-            roller_e_mod: v[V::roller_E],
+            roller: Roller::new(v[V::roller_r], v[V::roller_b], v[V::cam_E], v[V::roller_E]),
             table_m: v[V::table_m],
             guide_f: v[V::guide_f],
             cam_j: v[V::cam_J],
@@ -258,10 +255,8 @@ impl Model for SewingTable {
                     condition: "the elastodynamic level models the translating table only".into(),
                 });
             }
-            let k = v[V::elastic_k];
             let model = TableChain {
-                k,
-                c: TableOde::damping(&params, k, v[V::elastic_zeta]),
+                spring: TableOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]),
                 gap: 0.5 * v[V::cam_clearance],
             };
             let integ = Integrator::new(chain::solver_settings(v));

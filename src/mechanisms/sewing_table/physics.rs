@@ -14,7 +14,8 @@
 
 use crate::mechanics::cam::{offset_pitch_curvature_radius, pressure_angle};
 use crate::mechanics::cyclogram::{CyclePoint, Cyclogram, Phase};
-use crate::mechanics::hertz::{Surface, line_contact_stress};
+use crate::mechanics::hertz::Roller;
+use crate::mechanics::hertz::Surface;
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::{ParamError, STANDARD_GRAVITY, sgn};
 use std::f64::consts::PI;
@@ -56,14 +57,9 @@ pub struct Params {
     pub cam_r0: f64,
     /// `cam.e`: follower offset, m (0).
     pub cam_e: f64,
-    /// `roller.r`, m (0.015).
-    pub roller_r: f64,
-    /// `roller.b`: roller width, m (0.015).
-    pub roller_b: f64,
-    /// `cam.E`, Pa (2.1e11).
-    pub cam_e_mod: f64,
-    /// `roller.E`, Pa (2.1e11).
-    pub roller_e_mod: f64,
+    /// `roller.r`, `roller.b` (the roller's width), m (0.015 both); `cam.E`, `roller.E`, Pa
+    /// (2.1e11).
+    pub roller: Roller,
     /// `table.m`: table, saddle, signature and perforator assembly, kg (8, assumption).
     pub table_m: f64,
     /// `guide.f`: rolling friction coefficient of the guides (0.005).
@@ -91,10 +87,7 @@ impl Default for Params {
             kind: Kind::Translating,
             cam_r0: 0.10,
             cam_e: 0.0,
-            roller_r: 0.015,
-            roller_b: 0.015,
-            cam_e_mod: 2.1e11,
-            roller_e_mod: 2.1e11,
+            roller: Roller::steel(0.015, 0.015),
             table_m: 8.0,
             guide_f: 0.005,
             cam_j: 0.02,
@@ -267,8 +260,8 @@ impl Params {
                     self.cam_r0,
                     format!(
                         "undercut cam: a convex slot flank's curvature radius falls to {:.5} m <= roller.r = {} m at shaft angle {:.2} deg; the smallest cam.R0 that avoids it is {:.4} m",
-                        self.undercut(self.cam_r0).map(|u| u.1).unwrap_or(0.0) + self.roller_r,
-                        self.roller_r,
+                        self.undercut(self.cam_r0).map(|u| u.1).unwrap_or(0.0) + self.roller.r,
+                        self.roller.r,
                         phi.to_degrees(),
                         r0_min
                     ),
@@ -307,13 +300,13 @@ impl Params {
         for phi in self.travel_samples() {
             let p = c.at(phi);
             let rho = offset_pitch_curvature_radius(r0, self.cam_e, p.x, p.dx, p.ddx).abs();
-            let convex = rho - self.roller_r;
+            let convex = rho - self.roller.r;
             if convex < worst.1 {
                 worst = (phi, convex);
             }
         }
         // also the dwells: circles about the axis
-        let dwell = r0.min((r0 * r0 - self.cam_e * self.cam_e).sqrt()) - self.roller_r;
+        let dwell = r0.min((r0 * r0 - self.cam_e * self.cam_e).sqrt()) - self.roller.r;
         if dwell < worst.1 {
             worst = (self.phi0 - 1e-3, dwell);
         }
@@ -323,7 +316,7 @@ impl Params {
     /// The smallest base radius `cam.R0` without undercut (bisection to 1e-6 m, rounded up).
     pub fn smallest_r0(&self) -> f64 {
         let mut lo = self.cam_e.abs();
-        let mut hi = self.cam_r0.max(self.roller_r).max(1e-3);
+        let mut hi = self.cam_r0.max(self.roller.r).max(1e-3);
         for _ in 0..60 {
             if self.undercut(hi).is_none() {
                 break;
@@ -430,21 +423,12 @@ impl Params {
         let convex = inner_on_centre_side == loaded_inner;
         let rp = k.rho_pitch.abs();
         let (rho_flank, surface) = if convex {
-            (rp - self.roller_r, Surface::Convex)
+            (rp - self.roller.r, Surface::Convex)
         } else {
-            (-(rp + self.roller_r), Surface::Concave)
+            (-(rp + self.roller.r), Surface::Concave)
         };
         let sigma_h = if hertz {
-            line_contact_stress(
-                cam_f,
-                self.roller_b,
-                self.cam_e_mod,
-                self.roller_e_mod,
-                self.roller_r,
-                rho_flank.abs(),
-                surface,
-            )
-            .unwrap_or(f64::NAN)
+            self.roller.stress(cam_f, rho_flank.abs(), surface)
         } else {
             f64::NAN
         };

@@ -172,12 +172,12 @@ fn flank_and_hertz_stress() {
         let f = p.forces(&km, 0.0, 0.0);
         let rp = km.rho_pitch.abs();
         assert!(
-            (f.rho_flank.abs() - (rp - p.roller_r)).abs() < 1e-12
-                || (f.rho_flank.abs() - (rp + p.roller_r)).abs() < 1e-12
+            (f.rho_flank.abs() - (rp - p.roller.r)).abs() < 1e-12
+                || (f.rho_flank.abs() - (rp + p.roller.r)).abs() < 1e-12
         );
         // independent σH of eq. 8
-        let inv = 1.0 / p.roller_r + 1.0 / f.rho_flank;
-        let expected = 0.418 * ((f.cam_f.abs() / p.roller_b) * 2.1e11 * inv).sqrt();
+        let inv = 1.0 / p.roller.r + 1.0 / f.rho_flank;
+        let expected = 0.418 * ((f.cam_f.abs() / p.roller.b) * 2.1e11 * inv).sqrt();
         assert_abs_diff_eq!(f.sigma_h, expected, epsilon = 1e-9 * expected.max(1.0));
         // in the dwells: pitch circle R0 + x
         if matches!(km.c.phase, Phase::DwellFar | Phase::DwellNear) {

@@ -248,8 +248,8 @@ fn hertz_stress_at_the_ramp() {
         let k = d.kinematics(phi, W100, 0.0);
         let f = d.forces(&k);
         if f.roller_f > 0.0 {
-            let inv = 1.0 / d.p.roller_r + 1.0 / k.rho;
-            let expected = 0.418 * (f.roller_f / d.p.roller_b * 2.1e11 * inv).sqrt();
+            let inv = 1.0 / d.p.roller.r + 1.0 / k.rho;
+            let expected = 0.418 * (f.roller_f / d.p.roller.b * 2.1e11 * inv).sqrt();
             assert_abs_diff_eq!(f.sigma_h, expected, epsilon = 1e-9 * expected);
         }
     }
@@ -298,7 +298,14 @@ fn refusals_name_the_parameter() {
         .param,
         "travel.rise_fraction"
     );
-    assert_eq!(e(Params { roller_r: 0.2, ..p }).param, "roller.r");
+    assert_eq!(
+        e(Params {
+            roller: Roller { r: 0.2, ..p.roller },
+            ..p
+        })
+        .param,
+        "roller.r"
+    );
     let t = TableParams {
         dwell_sew: 3.5,
         ..p.table
