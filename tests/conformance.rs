@@ -782,6 +782,65 @@ fn model_exchange_bad_arguments_are_refused_with_a_reason() {
     }
 }
 
+/// Every variable of `e` through every setter of another type on `s`: refused naming the type,
+/// the value read back unchanged.
+fn wrong_type_setters_refused(f: &Fmu, s: &Slave, e: &catalog::Entry, when: &str) {
+    type Set<T> = unsafe extern "C" fn(Component, *const u32, usize, *const T) -> Status;
+    let set_boolean: Symbol<Set<Boolean>> = f.sym("fmi2SetBoolean");
+    let set_string: Symbol<Set<FmiString>> = f.sym("fmi2SetString");
+    let text = std::ffi::CString::new("x").unwrap();
+    let read = |vr: u32, ty: VarType| -> f64 {
+        let (st, x) = match ty {
+            VarType::Real => s.get_real(&[vr]),
+            VarType::Boolean => {
+                let (st, b) = s.get_boolean(&[vr]);
+                (st, vec![f64::from(u8::from(b[0]))])
+            }
+            _ => {
+                let (st, i) = s.get_integer(&[vr]);
+                (st, vec![f64::from(i[0])])
+            }
+        };
+        assert_eq!(st, Status::Ok, "{} vr {vr}: read back", e.identifier);
+        x[0]
+    };
+    for (vr, v) in vars(e) {
+        let before = read(vr, v.ty);
+        let what = format!("{} {} {when}", e.identifier, v.name);
+        for ty in ["Real", "Integer", "Boolean", "String"] {
+            let right = match ty {
+                "Real" => v.ty == VarType::Real,
+                "Integer" => v.ty.is_integer_like(),
+                "Boolean" => v.ty == VarType::Boolean,
+                _ => false,
+            };
+            if right {
+                continue;
+            }
+            // SAFETY: one value reference and one value
+            let st = unsafe {
+                match ty {
+                    "Real" => s.set_real(&[vr], &[1.0]),
+                    "Integer" => s.set_integer(&[vr], &[1]),
+                    "Boolean" => set_boolean(s.c, [vr].as_ptr(), 1, [TRUE].as_ptr()),
+                    _ => set_string(s.c, [vr].as_ptr(), 1, [text.as_ptr()].as_ptr()),
+                }
+            };
+            assert_eq!(st, Status::Error, "{what}: fmi2Set{ty}");
+            let err = s.last_error();
+            assert!(
+                err.contains(&format!("is not of type {ty}")),
+                "{what}: {err}"
+            );
+        }
+        assert_eq!(
+            read(vr, v.ty).to_bits(),
+            before.to_bits(),
+            "{what}: value kept"
+        );
+    }
+}
+
 /// NULL arrays with nvr > 0, unknown value references, wrong-type getters and setters, setting
 /// what cannot be set after initialization, NULL FMU-state pointers: `fmi2Error` with a named log
 /// line, and the instance goes on.
@@ -866,6 +925,17 @@ fn bad_arguments_are_refused_with_a_reason() {
                 );
                 let _ = (&mut r, &mut i);
             }
+            // wrong-type setters: every variable through every setter of another type, its
+            // value kept (fmi2SetString used to write 0 into any variable settable now)
+            wrong_type_setters_refused(&f, &s, &e, "after initialization");
+            // and where parameters are settable: drive.n through fmi2SetString was 0 after it
+            let init = f.slave("init");
+            init.ok(init.setup(0.0, None), "fmi2SetupExperiment");
+            init.ok(
+                init.call0("fmi2EnterInitializationMode"),
+                "fmi2EnterInitializationMode",
+            );
+            wrong_type_setters_refused(&f, &init, &e, "in initialization mode");
             // after initialization only inputs (and tunable parameters) may be set
             for (vr, v) in vars(&e) {
                 if v.causality == Causality::Input

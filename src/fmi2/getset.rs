@@ -22,8 +22,9 @@ impl Kind {
 pub(super) const REAL: Kind = Kind::new("Real", access::REAL, |t| t == VarType::Real);
 pub(super) const INTEGER: Kind = Kind::new("Integer", access::INTEGER, VarType::is_integer_like);
 pub(super) const BOOLEAN: Kind = Kind::new("Boolean", access::BOOLEAN, |t| t == VarType::Boolean);
-/// The models have no String variables: every String call is refused by the slow path.
-pub(super) const STRING: Kind = Kind::new("String", 0, |_| false);
+/// The models have no String variables: every String call is refused by the slow path (no
+/// variable has the bit).
+pub(super) const STRING: Kind = Kind::new("String", access::STRING, |_| false);
 
 /// One `fmi2Get*` call: the host's arrays, then [`Instance::read_values`] with `conv`.
 ///

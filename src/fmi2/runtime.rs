@@ -75,6 +75,9 @@ pub mod access {
     pub const PARAMETER: Bits = 128;
     /// Settable in Model Exchange's continuous-time mode (an input).
     pub const SET_CONTINUOUS_TIME: Bits = 256;
+    /// By the String calls: no variable has it (the models have no String variables), so
+    /// every String call takes the slow path, which refuses it naming the variable's type.
+    pub const STRING: Bits = 512;
 
     /// The bits of one declared variable.
     pub fn of(v: &Var) -> Bits {

@@ -243,3 +243,19 @@ fn settable_rules_follow_fmi2() {
     assert!(!y.settable(SetPhase::Running));
     assert!(phi.settable(SetPhase::Instantiated) && phi.settable(SetPhase::Running));
 }
+
+/// An enumeration value is any `i32` a host passes: the ends of the range are no items (at
+/// `i32::MIN`, `value - 1` overflowed: a panic with overflow checks, a wrap without).
+#[test]
+fn enumeration_items_of_any_host_integer() {
+    static E: EnumType = EnumType {
+        name: "E",
+        description: "",
+        items: &[("a", ""), ("b", "")],
+    };
+    assert_eq!(E.item(1), Some("a"));
+    assert_eq!(E.item(2), Some("b"));
+    for v in [i32::MIN, i32::MIN + 1, -1, 0, 3, i32::MAX] {
+        assert_eq!(E.item(v), None, "{v}");
+    }
+}

@@ -45,8 +45,10 @@ pub struct EnumType {
 impl EnumType {
     /// The item with this value, if any.
     pub fn item(&self, value: i32) -> Option<&'static str> {
-        usize::try_from(value - 1)
-            .ok()
+        // any i32 a host passes: `value - 1` overflows at i32::MIN
+        value
+            .checked_sub(1)
+            .and_then(|i| usize::try_from(i).ok())
             .and_then(|i| self.items.get(i))
             .map(|it| it.0)
     }

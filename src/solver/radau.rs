@@ -465,7 +465,6 @@ impl Integrator {
     }
 }
 
-/// The coefficient matrix of Radau IIA (order 5).
 /// The right-hand side at the three collocation points `t + c_s*h`, states `y + z_s`, into
 /// `fz` (stage after stage, `n` numbers each).
 fn stage_rhs(
@@ -487,6 +486,7 @@ fn stage_rhs(
     }
 }
 
+/// The coefficient matrix of Radau IIA (order 5).
 fn radau_a() -> [[f64; 3]; 3] {
     let s6 = 6f64.sqrt();
     [
