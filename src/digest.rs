@@ -3,6 +3,7 @@
 //! kind of warning; the numbers it holds are part of the FMU state, so a replayed run logs the
 //! same lines.
 
+use crate::model::saved::Rule;
 use crate::model::{Log, Severity};
 
 /// One kind of warning over the turns of the shaft: the occurrences in the turn being gathered,
@@ -82,17 +83,14 @@ impl<const N: usize> TurnDigest<N> {
     /// From [`TurnDigest::save`]'s numbers.
     pub fn restore(s: &[f64]) -> Result<Self, String> {
         crate::model::saved::expect_len("a warning digest", s, &[Self::LEN])?;
-        let count = s[1];
-        if !(count >= 0.0 && count.fract() == 0.0 && count < 1e15) {
-            return Err(format!("a warning digest counting {count} occurrences"));
-        }
+        let what = |e| format!("a warning digest: {e}");
+        let count = Rule::Count.check("count", s[1]).map_err(what)?;
+        let turn = Rule::WholeOrNan.check("turn", s[0]).map_err(what)?;
         let mut worst = [0.0; N];
-        worst.copy_from_slice(&s[2..]);
-        Ok(TurnDigest {
-            turn: s[0],
-            count,
-            worst,
-        })
+        for (w, &x) in worst.iter_mut().zip(&s[2..]) {
+            *w = Rule::OrNan.check("worst", x).map_err(what)?;
+        }
+        Ok(TurnDigest { turn, count, worst })
     }
 }
 
@@ -140,6 +138,35 @@ mod tests {
             "one line per turn that had any"
         );
         assert!(TurnDigest::<2>::restore(&[0.0, -1.0, 0.0, 0.0]).is_err());
+        // a fresh digest (NaN: no turn, no worst) restores; a tampered one names the number
+        let mut fresh = vec![];
+        TurnDigest::<2>::default().save(&mut fresh);
+        assert_eq!(TurnDigest::<2>::restore(&fresh).map(|d| d.count), Ok(0.0));
+        for (i, x, why) in [
+            (0, 0.5, "turn = 0.5, not a whole number or NaN (none yet)"),
+            (
+                0,
+                f64::INFINITY,
+                "turn = inf, not a whole number or NaN (none yet)",
+            ),
+            (
+                1,
+                1e300,
+                "count = 1e300, not a count (a whole number from 0)",
+            ),
+            (
+                3,
+                f64::NEG_INFINITY,
+                "worst = -inf, not a finite number or NaN (none yet)",
+            ),
+        ] {
+            let mut bad = saved.clone();
+            bad[i] = x;
+            assert_eq!(
+                TurnDigest::<2>::restore(&bad),
+                Err(format!("a warning digest: {why}"))
+            );
+        }
         assert!(TurnDigest::<2>::restore(&[0.0]).is_err());
     }
 }

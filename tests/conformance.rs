@@ -1290,6 +1290,72 @@ fn tampered_fmu_states_are_refused() {
     }
 }
 
+/// A restored state is validated in full: every number of the model's own part (what it
+/// integrates and tracks: chain states, integrator memory, peaks, counters, flags, warning
+/// digests), at every fidelity level, set to -inf (no number a model keeps may be that) is
+/// refused by `fmi2SetFMUstate`, and the instance keeps what it had.
+#[test]
+fn every_number_of_a_models_saved_state_is_checked() {
+    let _shared = shared();
+    let mut checked = 0;
+    for e in catalog::all() {
+        let f = Fmu::of(&e);
+        let mut starts = vec![Start::default()];
+        let fidelity = levels(&e)
+            .into_iter()
+            .map(|l| [(vr_of(&e, "model.fidelity"), l)])
+            .collect::<Vec<_>>();
+        starts.extend(fidelity.iter().map(|l| Start {
+            integers: l,
+            ..Start::default()
+        }));
+        for start in &starts {
+            let s = f.started("model state", start);
+            for k in 0..20 {
+                assert_eq!(s.do_step(k as f64 * 0.005, 0.005), Status::Ok);
+            }
+            let outs = real_outputs_of(&e);
+            let before = s.get_real(&outs).1;
+            let bytes = s.state_bytes();
+            // header (magic, GUID hash, state code, four times, stop flag), then the values
+            // and the model's numbers, each with its count first
+            let values = 8 + 16 + 2 + 32 + 1;
+            let n = vars(&e).len();
+            let model = values + 8 + 8 * n;
+            let count = u64::from_le_bytes(bytes[model..model + 8].try_into().unwrap()) as usize;
+            for i in 0..count {
+                let at = model + 8 + 8 * i;
+                let mut b = bytes.clone();
+                b[at..at + 8].copy_from_slice(&f64::NEG_INFINITY.to_bits().to_le_bytes());
+                let mut bad: FMUstate = std::ptr::null_mut();
+                assert_eq!(s.deserialize(&b, &mut bad), Status::Ok);
+                assert_eq!(
+                    s.set_state(bad),
+                    Status::Error,
+                    "{} {:?}: model number {i} of {count} = -inf accepted",
+                    e.identifier,
+                    start.integers
+                );
+                assert!(
+                    s.last_error().contains("refused")
+                        || s.last_error().contains("expected")
+                        || s.last_error().contains("not "),
+                    "{}",
+                    s.last_error()
+                );
+                assert_eq!(s.free_state(&mut bad), Status::Ok);
+                let now = s.get_real(&outs);
+                assert_eq!(now.0, Status::Ok);
+                assert_eq!(bits(&now.1), bits(&before), "{} kept", e.identifier);
+                checked += 1;
+            }
+            // the state as it was still restores
+            s.restore_bytes(&bytes);
+        }
+    }
+    assert!(checked > 500, "{checked} numbers checked");
+}
+
 /// `fmi2SetRealInputDerivatives`: refused where `canInterpolateInputs` is false ("not
 /// supported") and on a Model Exchange instance; where it is true, every bad argument (not a
 /// Real input, order 0 or above 2, a non-finite value, NULL arrays) is refused with a reason

@@ -10,6 +10,7 @@
 
 use crate::digest::TurnDigest;
 use crate::model::Log;
+use crate::model::saved::Rule;
 use crate::model::shaft::ShaftState;
 use std::f64::consts::TAU;
 
@@ -180,20 +181,33 @@ impl ContactWatch {
             [cycle, cur_min, last_min, lost, prev, ref me @ ..]
                 if me.is_empty() || me.len() == 4 || me.len() == 4 + TurnDigest::<4>::LEN =>
             {
+                // every number as the watch can hold it (a host may alter a state)
+                let refused = |e: String| format!("{model} state refused: {e}");
+                let flag = |what: &str, x: f64| match x {
+                    0.0 => Ok(false),
+                    1.0 => Ok(true),
+                    _ => Err(refused(format!("{what} = {x:?}, not 0 or 1"))),
+                };
+                let min = |what, x| Rule::OrInf.check(what, x).map_err(refused);
                 let mut s = ContactWatch {
-                    cycle,
-                    cur_min,
-                    last_min,
-                    lost_step: lost != 0.0,
-                    prev_negative: prev != 0.0,
+                    cycle: Rule::WholeOrNan.check("turn", cycle).map_err(refused)?,
+                    cur_min: min("turn minimum", cur_min)?,
+                    last_min: min("last turn minimum", last_min)?,
+                    lost_step: flag("lost contact", lost)?,
+                    prev_negative: flag("negative force", prev)?,
                     ..ContactWatch::default()
                 };
                 if let [t, phi, w, a, ..] = *me {
-                    s.me_t = t;
-                    s.me_shaft = ShaftState { phi, w, a };
+                    let or_nan = |what, x| Rule::OrNan.check(what, x).map_err(refused);
+                    s.me_t = or_nan("last completed step", t)?;
+                    s.me_shaft = ShaftState {
+                        phi: or_nan("shaft angle there", phi)?,
+                        w: or_nan("shaft speed there", w)?,
+                        a: or_nan("shaft acceleration there", a)?,
+                    };
                 }
                 if me.len() > 4 {
-                    s.liftoff = TurnDigest::restore(&me[4..])?;
+                    s.liftoff = TurnDigest::restore(&me[4..]).map_err(refused)?;
                 }
                 Ok(s)
             }

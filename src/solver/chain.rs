@@ -285,12 +285,20 @@ impl<C: ChainModel> Chain<C> {
         }
         let integ = Memory::from_numbers(&s[5..5 + Memory::LEN])
             .map_err(|e| format!("{} refused: {e}", C::STATE_NAME))?;
+        let memory = C::Memory::restore(&s[5 + Memory::LEN..n])
+            .map_err(|e| format!("{} refused: {e}", C::STATE_NAME))?;
+        if let Some(g) = s[n..].iter().find(|g| !g.is_finite()) {
+            return Err(format!(
+                "{} refused: an event indicator of {g}, not finite",
+                C::STATE_NAME
+            ));
+        }
         self.g_prev = s[n..].to_vec();
         self.started = s[0] != 0.0;
         self.y = [s[1], s[2], s[3]];
         self.e0 = s[4];
         self.integ.restore(integ);
-        self.memory = C::Memory::restore(&s[5 + Memory::LEN..n]);
+        self.memory = memory;
         Ok(())
     }
 }
@@ -643,6 +651,12 @@ mod tests {
                 2.0,
                 "started = 2, E0 = 0 (0 or 1, and a finite energy expected)",
             ),
+            // the model's own memory (the toy's crossing count, a finite number)
+            (
+                5 + Memory::LEN,
+                f64::NAN,
+                "value = NaN, not a finite number",
+            ),
         ] {
             let mut bad = saved.clone();
             bad[i] = x;
@@ -699,6 +713,12 @@ mod tests {
         let mut r = toy(&v, 400.0);
         restore_state(Some(&mut r), &saved).unwrap();
         assert_eq!(r.g_prev, vec![-0.5]);
+        let mut bad = saved.clone();
+        *bad.last_mut().unwrap() = f64::NEG_INFINITY;
+        assert_eq!(
+            r.restore(&bad),
+            Err("elastodynamic state refused: an event indicator of -inf, not finite".into())
+        );
         // below the elastodynamic level
         assert!(MeCall::<Toy>::of(None, &(), &v, 0.0).is_none());
         assert_eq!(save_state::<Toy>(None), Vec::<f64>::new());
@@ -718,7 +738,7 @@ mod tests {
         let mut saved = Vec::new();
         p.save(&mut saved);
         assert_eq!(saved.len(), <Peaks as Saved>::LEN);
-        assert_eq!(Peaks::restore(&saved), p);
+        assert_eq!(Peaks::restore(&saved), Ok(p));
         assert_eq!(Peaks::new(0.0).dyn_factor(), 1.0);
     }
 }

@@ -107,11 +107,11 @@ crate::chain_memory! {
     #[derive(Clone, Copy, Debug, PartialEq)]
     pub struct Peaks {
         /// Index of the shaft turn.
-        pub cycle: f64,
+        pub cycle: f64 [Whole],
         /// Peak dynamic contact force, peak |kinetostatic contact force|, smallest dynamic force.
         pub dyn_max: f64,
         pub rigid_max: f64,
-        pub dyn_min: f64,
+        pub dyn_min: f64 [OrInf],
     }
 }
 
@@ -132,12 +132,12 @@ crate::chain_memory! {
     pub struct Track {
         pub peaks: Peaks,
         /// K_d of the last complete turn (NaN: none yet).
-        pub k_d: f64,
+        pub k_d: f64 [OrNan],
         /// Smallest dynamic contact force of the last complete turn (+inf: none yet).
-        pub last_min: f64,
+        pub last_min: f64 [OrInf],
         /// Lift-offs so far, and the absolute shaft angle of the last.
-        pub liftoffs: f64,
-        pub lift_phi: f64,
+        pub liftoffs: f64 [Count],
+        pub lift_phi: f64 [OrNan],
         /// Largest contact force in the first compression after a landing, N.
         pub impact: f64,
         /// In the first compression after a landing.

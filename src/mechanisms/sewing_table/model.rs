@@ -138,7 +138,7 @@ crate::chain_memory! {
     #[derive(Clone, Debug, PartialEq)]
     struct TableMemory {
         peaks: Peaks,
-        liftoffs: f64,
+        liftoffs: f64 [Count],
         impact: f64,
         landed: bool,
     }

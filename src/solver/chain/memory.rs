@@ -2,6 +2,7 @@
 //! count of numbers, written once per type ([`crate::chain_memory!`] for a struct of them), and
 //! the dynamic factor's [`Peaks`].
 
+use crate::model::saved::Rule;
 use std::cell::Cell;
 
 /// A part of a chain's memory in the FMU state: [`Saved::LEN`] numbers.
@@ -10,17 +11,19 @@ pub trait Saved: Sized {
     const LEN: usize;
     /// Appends the [`Saved::LEN`] numbers.
     fn save(&self, out: &mut Vec<f64>);
-    /// From the [`Saved::LEN`] numbers [`Saved::save`] wrote.
-    fn restore(s: &[f64]) -> Self;
+    /// From the [`Saved::LEN`] numbers [`Saved::save`] wrote, each checked: a host may hand
+    /// back a state it altered, and nothing runs on a number the memory cannot hold.
+    fn restore(s: &[f64]) -> Result<Self, String>;
 }
 
+/// A finite number ([`Rule::Finite`]).
 impl Saved for f64 {
     const LEN: usize = 1;
     fn save(&self, out: &mut Vec<f64>) {
         out.push(*self);
     }
-    fn restore(s: &[f64]) -> f64 {
-        s[0]
+    fn restore(s: &[f64]) -> Result<f64, String> {
+        Rule::Finite.check("value", s[0])
     }
 }
 
@@ -30,27 +33,39 @@ impl Saved for bool {
     fn save(&self, out: &mut Vec<f64>) {
         out.push(f64::from(u8::from(*self)));
     }
-    fn restore(s: &[f64]) -> bool {
-        s[0] != 0.0
+    fn restore(s: &[f64]) -> Result<bool, String> {
+        match s[0] {
+            0.0 => Ok(false),
+            1.0 => Ok(true),
+            x => Err(format!("flag = {x}, not 0 or 1")),
+        }
     }
 }
 
 /// Declares a struct of a chain's memory whose fields are all [`Saved`], and its [`Saved`]
-/// implementation: the fields' numbers in the order declared.
+/// implementation: the fields' numbers in the order declared. An `f64` field may name its
+/// [`Rule`] in brackets after its type (else [`Rule::Finite`]); a restored number that breaks
+/// it refuses the FMU state, naming the field.
 ///
 /// ```ignore
 /// crate::chain_memory! {
 ///     /// What the ODE tracks between steps.
 ///     #[derive(Clone, Debug, PartialEq)]
-///     struct TableMemory { peaks: Peaks, liftoffs: f64, landed: bool }
+///     struct TableMemory { peaks: Peaks, liftoffs: f64 [Count], landed: bool }
 /// }
 /// ```
 #[macro_export]
 macro_rules! chain_memory {
+    (@restore $ty:ty, $s:expr, $name:expr) => {
+        <$ty as $crate::solver::chain::Saved>::restore($s).map_err(|e| format!("{}: {e}", $name))
+    };
+    (@restore $ty:ty, $s:expr, $name:expr, $rule:ident) => {
+        $crate::model::saved::Rule::$rule.check($name, $s[0])
+    };
     (
         $( #[$meta:meta] )*
         $vis:vis struct $name:ident {
-            $( $( #[$fmeta:meta] )* $fvis:vis $field:ident : $ty:ty ),+ $(,)?
+            $( $( #[$fmeta:meta] )* $fvis:vis $field:ident : $ty:ty $([$rule:ident])? ),+ $(,)?
         }
     ) => {
         $( #[$meta] )*
@@ -63,15 +78,17 @@ macro_rules! chain_memory {
             fn save(&self, out: &mut Vec<f64>) {
                 $( $crate::solver::chain::Saved::save(&self.$field, out); )+
             }
-            fn restore(s: &[f64]) -> Self {
+            fn restore(s: &[f64]) -> Result<Self, String> {
                 let mut at = 0;
                 $(
                     let n = <$ty as $crate::solver::chain::Saved>::LEN;
-                    let $field = <$ty as $crate::solver::chain::Saved>::restore(&s[at..at + n]);
+                    let $field: $ty = $crate::chain_memory!(
+                        @restore $ty, &s[at..at + n], stringify!($field) $(, $rule)?
+                    )?;
                     at += n;
                 )+
                 let _ = at;
-                $name { $( $field ),+ }
+                Ok($name { $( $field ),+ })
             }
         }
     };
@@ -135,10 +152,14 @@ impl Saved for Peaks {
         let (c, pd, pr) = self.turn;
         out.extend([c, pd, pr, self.k_d]);
     }
-    fn restore(s: &[f64]) -> Peaks {
-        Peaks {
-            turn: (s[0], s[1], s[2]),
-            k_d: s[3],
-        }
+    fn restore(s: &[f64]) -> Result<Peaks, String> {
+        Ok(Peaks {
+            turn: (
+                Rule::Whole.check("turn", s[0])?,
+                Rule::Finite.check("peak dynamic force", s[1])?,
+                Rule::Finite.check("peak rigid force", s[2])?,
+            ),
+            k_d: Rule::OrNan.check("K_d", s[3])?,
+        })
     }
 }

@@ -31,19 +31,24 @@ impl Saved for Lost {
     fn save(&self, out: &mut Vec<f64>) {
         out.push(Lost::save(self));
     }
-    fn restore(s: &[f64]) -> Lost {
-        Lost::restore(s[0])
+    fn restore(s: &[f64]) -> Result<Lost, String> {
+        match s[0] {
+            x if (0.0..16.0).contains(&x) && x.fract() == 0.0 => Ok(Lost::restore(x)),
+            x => Err(format!(
+                "lift-off flags = {x}, not a whole number from 0 to 15"
+            )),
+        }
     }
 }
 
-/// A digest that does not restore (a host's damage) restarts empty.
+/// A digest whose numbers do not restore (a host's damage) refuses the FMU state.
 impl<const N: usize> Saved for TurnDigest<N> {
     const LEN: usize = TurnDigest::<N>::LEN;
     fn save(&self, out: &mut Vec<f64>) {
         TurnDigest::save(self, out);
     }
-    fn restore(s: &[f64]) -> Self {
-        TurnDigest::restore(s).unwrap_or_default()
+    fn restore(s: &[f64]) -> Result<Self, String> {
+        TurnDigest::restore(s)
     }
 }
 
