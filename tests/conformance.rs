@@ -1193,7 +1193,7 @@ fn bad_values_keep_the_instance_going() {
         }
         assert_eq!(s.do_step(0.0, 1e-300), Status::Ok);
         if !is_mechanism(&e) {
-            // a drive integrates its states: a step of 1e300 s is beyond any step budget, it is
+            // a drive integrates its states: a step of 1e300 s is beyond any work budget, it is
             // discarded with the state kept
             assert_eq!(s.do_step(1e-300, 1e300), Status::Discard);
             assert!(s.get_real(&outs).1.iter().all(|x| x.is_finite()));

@@ -192,8 +192,8 @@ fn explicit_methods_on_a_stiff_chain_refuse_fast_instead_of_grinding() {
         e.contains("unstable") && e.contains("solver.max_step below"),
         "{e}"
     );
-    // dopri5 on a chain so stiff that its stability limit needs more than the step budget
-    // (2e5 steps) in one communication step of 1 s: a Discard naming the budget
+    // dopri5 on a chain so stiff that its stability limit needs more than the work budget of a
+    // communication step of 1 s (solver::work_budget): a Discard naming the budget
     let e = geneva(
         &Case {
             method: 2,

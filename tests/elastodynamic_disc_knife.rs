@@ -299,7 +299,7 @@ fn explicit_methods_on_a_stiff_rod_refuse_fast_or_switch() {
         e.contains("unstable") && e.contains("solver.max_step below"),
         "{e}"
     );
-    // dopri5 on a rod so stiff that its stability limit needs more than the step budget in one
+    // dopri5 on a rod so stiff that its stability limit needs more than the work budget of one
     // communication step of 1 s: a Discard naming the budget
     let stiff = Case {
         method: 2,

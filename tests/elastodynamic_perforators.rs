@@ -436,3 +436,34 @@ fn model_exchange_hooks_give_the_integrators_right_hand_side() {
     assert!(z.iter().all(|g| g.is_finite()));
     assert!(z[4] > 0.0, "pressed into the ramp");
 }
+
+/// A host asks for one long step of the lift-off run (130 rpm: the roller bounces, steps are
+/// short): the call's work is bounded by its budget, the step refused early with the reason and
+/// the longest step that fits, nothing advanced; the step that fits completes (fmi2DoStep of
+/// 100 s took 2.3 s before a Discard, of 10 s 1.4 s, before the work budget).
+#[test]
+fn a_long_step_of_the_liftoff_run_is_refused_early_and_what_fits_completes() {
+    let c = Case { rpm: 130.0, ..BASE };
+    let v0 = values(&c);
+    let mut v = v0.clone();
+    let mut m = Perforators::prepare(&v).unwrap();
+    let before = m.save_state();
+    let e = m.step(&mut v, 0.0, 100.0, &mut NoLog).unwrap_err();
+    assert!(
+        e.contains("work budget") && e.contains("communication steps of at most"),
+        "{e}"
+    );
+    eprintln!("{e}");
+    assert_eq!(bits(&m.save_state()), bits(&before), "nothing advanced");
+    assert_eq!(bits(v.raw()), bits(v0.raw()));
+    // the longest step the reason names completes
+    let at_most: f64 = e
+        .split("communication steps of at most ")
+        .nth(1)
+        .and_then(|s| s.split(' ').next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("{e}"));
+    assert!(at_most > 1e-3, "{at_most}");
+    m.step(&mut v, 0.0, 0.5 * at_most, &mut NoLog)
+        .unwrap_or_else(|e| panic!("a step of {} s: {e}", 0.5 * at_most));
+}

@@ -51,10 +51,7 @@ impl Integrator {
         if self.settings.method != Method::Auto {
             return;
         }
-        let s = &self.mem.stats;
-        let work =
-            (s.rhs_evals + st.rhs_evals + s.jac_evals + st.jac_evals + s.decomps + st.decomps)
-                as f64;
+        let work = self.mem.stats.work() + st.work();
         let m = &mut self.mem;
         m.window_steps = m.window_steps.saturating_add(1);
         if m.window_steps < if m.stiff { 20 } else { 50 } {

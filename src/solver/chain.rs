@@ -415,28 +415,32 @@ pub fn do_step<C: ChainModel>(
         return Ok(());
     };
     let path = shaft::path(v, time);
+    // a refused first step leaves the chain unstarted, as it was
+    let unstarted = (!d.started).then(|| d.clone());
     if !d.started {
         d.start(p, path, v);
     }
     let ode = d.ode(p, path, v);
     let mut y = d.y;
     let before = d.integ.clone();
-    match d.integ.integrate(&ode, time, time + h, &mut y) {
-        Ok(_) => {
-            if let Some(why) = d.model.non_physical(&ode, time + h, &y) {
-                d.integ = before; // the state before the step stays intact
-                return Err(why);
+    let refused = match d.integ.integrate(&ode, time, time + h, &mut y) {
+        Ok(_) => match d.model.non_physical(&ode, time + h, &y) {
+            Some(why) => why,
+            None => {
+                d.y = y;
+                d.model.after_step(&ode, &mut d.memory, time, h, log);
+                C::absorb(&ode, &mut d.memory);
+                return Ok(());
             }
-            d.y = y;
-            d.model.after_step(&ode, &mut d.memory, time, h, log);
-            C::absorb(&ode, &mut d.memory);
-            Ok(())
-        }
-        Err(why) => {
-            d.integ = before; // the state before the step stays intact
-            Err(d.model.step_failed(&ode, &y, why))
-        }
+        },
+        Err(why) => d.model.step_failed(&ode, &y, why),
+    };
+    // the state before the step stays intact
+    d.integ = before;
+    if let Some(u) = unstarted {
+        *d = u;
     }
+    Err(refused)
 }
 
 /// [`crate::model::Dynamics::save_state`] of a model whose only internal state is the chain.

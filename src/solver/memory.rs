@@ -23,6 +23,12 @@ pub struct Stats {
 }
 
 impl Stats {
+    /// The work counted against a call's budget ([`super::work_budget`]) and weighed by
+    /// `auto`: right-hand sides, Jacobians and LU factorizations alike.
+    pub fn work(&self) -> f64 {
+        (self.rhs_evals + self.jac_evals + self.decomps) as f64
+    }
+
     pub(super) fn add(&mut self, o: &Stats) {
         self.steps += o.steps;
         self.rejected += o.rejected;

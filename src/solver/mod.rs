@@ -30,7 +30,17 @@
 //! while it rests; the integrators here see the same functions with their own test
 //! ([`event_between`]).
 //!
-//! Failure is an `Err` with the reason (step-size collapse, step budget, non-finite state, an
+//! Work budget ([`work_budget`]): one call does at most [`WORK_BASE`] + [`WORK_RATE`]·(t1 − t0)
+//! units of work, and never more than [`WORK_MAX`] (right-hand sides, Jacobians and LU
+//! factorizations, as `auto` weighs them: about a microsecond each on the mechanisms' chains),
+//! so a call's cost is bounded and grows with the step a host requests, whatever the
+//! parameters. A request that cannot fit is refused before any work: the fewest steps
+//! `solver.max_step` allows, or `auto`'s measured work per simulated second, already exceed its
+//! budget. One that turns out not to fit is refused as soon as a tenth of the budget is spent
+//! and the work per simulated second so far, extrapolated to the whole step, exceeds twice the
+//! budget. The reasons name the longest communication step that fits.
+//!
+//! Failure is an `Err` with the reason (step-size collapse, work budget, non-finite state, an
 //! explicit method out of its stability region): the caller returns `fmi2Discard` and keeps the
 //! state before the step.
 
@@ -56,6 +66,34 @@ pub use radau::spectral_radius;
 
 /// The largest system the integrators take.
 pub const MAX_DIM: usize = 8;
+
+/// Work one call may do whatever its length: right-hand sides, Jacobians and LU
+/// factorizations counted alike. Enough for the stiffest stretch of the mechanisms (a located
+/// event costs some 30 attempts; the disc drive's jamming band a few thousand right-hand sides
+/// in a millisecond).
+pub const WORK_BASE: f64 = 1e5;
+
+/// Work per simulated second a call may add to [`WORK_BASE`]: some ten times what `auto` and
+/// `radau5` need on the stiffest chains (1e12 N/m: 2e5 per simulated second at rtol 1e-8), and
+/// what `dopri5` on such a chain exceeds (its steps are stability-bound: there the reason says
+/// to choose `auto` or `radau5`).
+pub const WORK_RATE: f64 = 2e6;
+
+/// The most work one call may do however long it is: a second or two of this machine.
+pub const WORK_MAX: f64 = 2e6;
+
+/// The work budget of a call over `span` seconds ([`WORK_BASE`], [`WORK_RATE`],
+/// [`WORK_MAX`]).
+pub fn work_budget(span: f64) -> f64 {
+    (WORK_BASE + WORK_RATE * span).min(WORK_MAX)
+}
+
+/// The longest span whose work `per_second`·span fits its budget.
+fn longest_fitting(per_second: f64) -> f64 {
+    // per_second·h <= WORK_BASE + WORK_RATE·h, and per_second·h <= WORK_MAX
+    let scaled = WORK_BASE / (per_second - WORK_RATE).max(f64::MIN_POSITIVE);
+    scaled.min(WORK_MAX / per_second)
+}
 /// The most event functions a system may have.
 pub const MAX_EVENTS: usize = 16;
 
@@ -250,7 +288,8 @@ pub struct Settings {
     pub rtol: f64,
     pub atol: f64,
     pub max_step: f64,
-    /// Step budget of one `integrate` call.
+    /// A cap on the accepted steps of one `integrate` call besides its work budget
+    /// ([`work_budget`]), for tools that compare methods; the FMUs set none.
     pub max_steps: usize,
 }
 
@@ -261,7 +300,7 @@ impl Default for Settings {
             rtol: 1e-6,
             atol: 1e-9,
             max_step: 1e-3,
-            max_steps: 200_000,
+            max_steps: usize::MAX,
         }
     }
 }
@@ -369,6 +408,52 @@ impl Integrator {
         r.map(|_| st)
     }
 
+    /// Refuses a call over `span` that cannot fit its work `budget` before any work: the fewest
+    /// steps `max_step` allows (right-hand sides per step: 4 for rk4 and Radau IIA's Newton
+    /// iteration at best, 6 for Dormand–Prince), or the work per simulated second `auto` last
+    /// measured for the method it runs.
+    fn fits(&self, span: f64, max_step: f64, budget: f64) -> Result<(), String> {
+        let per_step = if self.settings.method == Method::Dopri5 {
+            6.0
+        } else {
+            4.0
+        };
+        let fewest = (span / max_step).ceil() * per_step;
+        let m = &self.mem;
+        let rate = if self.settings.method != Method::Auto {
+            0.0
+        } else if m.stiff {
+            m.rate_implicit
+        } else {
+            m.rate_explicit
+        };
+        let (need, why, per_second) = if rate * span > fewest {
+            (
+                rate * span,
+                "at the work per simulated second measured so far",
+                rate,
+            )
+        } else {
+            (
+                fewest,
+                "in the fewest steps solver.max_step allows",
+                per_step / max_step,
+            )
+        };
+        if need <= budget {
+            return Ok(());
+        }
+        let longest = longest_fitting(per_second);
+        Err(format!(
+            "a step of {span} s needs about {need:.3e} right-hand sides, Jacobians and factorizations {why}, more than its work budget of {budget:.3e} ({WORK_BASE:e} + {WORK_RATE:e} per simulated second, at most {WORK_MAX:e}): take communication steps of at most {longest:.3e} s{}",
+            if per_second == per_step / max_step {
+                ", or a larger solver.max_step"
+            } else {
+                ""
+            }
+        ))
+    }
+
     /// The next step size after an accepted attempt of `hs` with error `err` (Dormand–Prince's
     /// PI controller; Radau IIA's controller with Gustafsson's prediction, which keeps `hs` and
     /// its factorization where the change would be small), as a factor of `hs`.
@@ -466,10 +551,37 @@ impl Integrator {
             self.initial_step(sys, t, y, f0, max_step, st)
         };
         let hmin = 1e-14 * (t0.abs() + span).max(1e-3);
+        let budget = work_budget(span);
+        self.fits(span, max_step, budget)?;
         loop {
             let rest = t1 - t;
             if rest <= 1e-13 * t1.abs().max(span) {
                 break;
+            }
+            // the budget, and what the work so far says the whole step would need
+            let work = st.work();
+            let need = work / (t - t0) * span;
+            if work > budget || work > 0.1 * budget && need > 2.0 * budget {
+                let what = if work > budget {
+                    format!(
+                        "exhausted its work budget of {budget:.3e} right-hand sides, Jacobians and factorizations at t = {t}"
+                    )
+                } else {
+                    format!(
+                        "does not fit its work budget of {budget:.3e} right-hand sides, Jacobians and factorizations: at t = {t} the work per simulated second so far says it needs about {need:.3e}; communication steps of at most {:.3e} s fit",
+                        longest_fitting(work / (t - t0))
+                    )
+                };
+                return Err(format!(
+                    "a step of {span} s {what} ({} accepted steps, {} rejected){}",
+                    st.steps,
+                    st.rejected,
+                    if set.method == Method::Dopri5 {
+                        "; the problem is probably stiff: choose solver.method = auto or radau5"
+                    } else {
+                        ""
+                    }
+                ));
             }
             let mut hs = h.min(max_step);
             let mut last = hs >= rest * (1.0 - 1e-12);

@@ -90,6 +90,60 @@ fn stiff_oscillator_implicit_and_auto_are_accurate_explicit_is_refused_fast() {
     assert!(e.contains("budget"), "{e}");
 }
 
+/// A call's work is bounded by its budget, which grows with the span: a request that cannot fit
+/// is refused before a step (the fewest steps `max_step` allows, or `auto`'s measured rate), one
+/// that turns out not to fit when a tenth of its budget is spent; the state is not advanced.
+#[test]
+fn a_call_does_at_most_its_work_budget_and_refuses_early_what_cannot_fit() {
+    assert_eq!(work_budget(1e-3), WORK_BASE + WORK_RATE * 1e-3);
+    assert_eq!(work_budget(1e3), WORK_MAX);
+    let o = Osc {
+        k: 1e12,
+        c: 2e6,
+        m: 1.0,
+    };
+    // rk4 with a step of 1e-9 s over 1 s: 4e9 right-hand sides at the least
+    let mut it = Integrator::new(Settings {
+        method: Method::Rk4,
+        max_step: 1e-9,
+        ..Settings::default()
+    });
+    let mut y = [1.0, 0.0];
+    let e = it.integrate(&o, 0.0, 1.0, &mut y).unwrap_err();
+    assert!(
+        e.contains("needs about 4.000e9") && e.contains("communication steps of at most"),
+        "{e}"
+    );
+    assert!(it.mem.stats.work() <= 1.0, "refused before a step");
+    assert_eq!(y, [1.0, 0.0]);
+    // dopri5 on the stiff oscillator over 5 s (a budget of WORK_MAX): its stability-bound steps
+    // would need some 9e6; refused once a tenth of the budget is spent, naming the method
+    let mut it = Integrator::new(Settings {
+        method: Method::Dopri5,
+        ..Settings::default()
+    });
+    let e = it.integrate(&o, 0.0, 5.0, &mut y).unwrap_err();
+    let budget = work_budget(5.0);
+    let work = it.mem.stats.work();
+    assert!(e.contains("does not fit") && e.contains("stiff"), "{e}");
+    assert!(
+        (0.1 * budget..0.1 * budget + 100.0).contains(&work),
+        "{work}"
+    );
+    // radau5 does the same call well inside it
+    let mut it = Integrator::new(Settings {
+        method: Method::Radau5,
+        ..Settings::default()
+    });
+    let mut y = [1.0, 0.0];
+    it.integrate(&o, 0.0, 5.0, &mut y).unwrap();
+    assert!(
+        it.mem.stats.work() < 0.05 * budget,
+        "{}",
+        it.mem.stats.work()
+    );
+}
+
 /// A ball on a unilateral spring (contact when x < 0): an event at each landing and lift-off.
 struct Bounce;
 impl OdeSystem for Bounce {

@@ -8,7 +8,7 @@ use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Severity, Stage, Values};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
-use crate::solver::{Integrator, Settings, ShaftPath};
+use crate::solver::{Integrator, ShaftPath};
 
 crate::stages! {
     FORCES = Stage::new("forces", "Kinetostatic force analysis: cutting force, inertia of holder and sliders, Coulomb friction in both guides (with the self-locking check), rod and hinge forces, shaft torque", Fidelity::WITH_FORCES),
@@ -69,8 +69,8 @@ crate::model_variables! {
         pinD_F = Var::output("pinD.F", "N", "Magnitude of the hinge force at D, slider 7 - holder (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         sliders_locked = Var::bool_output("sliders.locked", "True where Coulomb friction self-locks a slider (no unique force solution; slider 7: |tan(beta + alpha)| < support.mu); forces are then computed without friction (kinetostatic level)").depends(ON_PHI_W).needs(stage::FORCES),
         // ---- elastodynamic level (dynamics.md: rod compliance between crank pin and slider 5)
-        elastic_k = Var::parameter("elastic.k", 2e8, "N/m", "Axial stiffness of rod 4 between crank pin B and slider 5 with its pin bearings (elastodynamic level; assumption: steel shank of 60 mm2 over l2 = 38 mm, EA/l2 = 3.3e8 N/m, in series with two pin bearings of 1e9 N/m)").min(1.0).feeds(stage::ELASTIC),
-        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the rod, c = 2*zeta*sqrt(k*M_ref), M_ref the reduced mass of the chain behind the rod at the outer dead centre (elastodynamic level; assumption)").min(0.0).feeds(stage::ELASTIC),
+        elastic_k = Var::parameter("elastic.k", 2e8, "N/m", "Axial stiffness of rod 4 between crank pin B and slider 5 with its pin bearings (elastodynamic level; assumption: steel shank of 60 mm2 over l2 = 38 mm, EA/l2 = 3.3e8 N/m, in series with two pin bearings of 1e9 N/m)").min(1.0).max(1e16).feeds(stage::ELASTIC),
+        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the rod, c = 2*zeta*sqrt(k*M_ref), M_ref the reduced mass of the chain behind the rod at the outer dead centre (elastodynamic level; assumption)").min(0.0).max(10.0).feeds(stage::ELASTIC),
         @with crate::chain_variables { solver(stage::ELASTIC) },
         slider_x_kin = Var::output("slider.x_kin", "m", "Rigid reference position x_C(phi) of slider 5 (elastodynamic level; equals slider.x at the others)").depends(ON_PHI),
         elastic_deflection = Var::output("elastic.deflection", "m", "Shortening of rod 4, rigid rod length - |C - B| (elastodynamic level; 0 at the others)").depends(ON_PHI).needs(stage::ELASTIC),
@@ -142,19 +142,6 @@ impl ChainModel for RodChain {
         } else {
             why
         }
-    }
-}
-
-/// Internal steps one communication step may take: the 7×7 solves make an internal step of this
-/// model some 30 µs, so the budget bounds a call to about 1.5 s (an explicit method on a stiff
-/// rod refuses in that time instead of grinding); one shaft turn takes some 1500 steps.
-pub const STEP_BUDGET: usize = 50_000;
-
-/// The solver settings from the `solver.*` parameters, with [`STEP_BUDGET`].
-pub fn solver_settings(v: &Values<V>) -> Settings {
-    Settings {
-        max_steps: STEP_BUDGET,
-        ..chain::solver_settings(v)
     }
 }
 
@@ -242,7 +229,11 @@ impl Model for DiscKnifeDrive {
                 spring: RodOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]),
                 c_dead: dead_point_threshold(&params),
             };
-            Chain::new(model, Integrator::new(solver_settings(v)), Peaks::new(0.0))
+            Chain::new(
+                model,
+                Integrator::new(chain::solver_settings(v)),
+                Peaks::new(0.0),
+            )
         });
         Ok(DiscKnifeDrive {
             params,

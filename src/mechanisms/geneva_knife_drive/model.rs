@@ -63,8 +63,8 @@ crate::model_variables! {
         cross_tau = Var::output("cross.tau", "N.m", "Torque on the cross shaft (gear 3), with mesh losses and cross inertia (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         geneva_F = Var::output("geneva.F", "N", "Contact force between roller and slot flank, cross.tau/rho (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         // ---- elastodynamic level (dynamics.md)
-        elastic_k = Var::parameter("elastic.k", 5e7, "N/m", "Stiffness of the drive chain between the rigid knife position and the knife (elastodynamic level; assumption)").min(1.0).feeds(stage::ELASTIC),
-        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the drive chain, c = 2*zeta*sqrt(k*m_s) (elastodynamic level; assumption)").min(0.0).feeds(stage::ELASTIC),
+        elastic_k = Var::parameter("elastic.k", 5e7, "N/m", "Stiffness of the drive chain between the rigid knife position and the knife (elastodynamic level; assumption)").min(1.0).max(1e16).feeds(stage::ELASTIC),
+        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the drive chain, c = 2*zeta*sqrt(k*m_s) (elastodynamic level; assumption)").min(0.0).max(10.0).feeds(stage::ELASTIC),
         @with crate::chain_variables { solver(stage::ELASTIC) },
         knife_s_kin = Var::output("knife.s_kin", "m", "Rigid reference position of the knife s(phi) (elastodynamic level; equals knife.s at the others)").depends(ON_PHI),
         elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the drive chain knife.s_kin - knife.s (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),

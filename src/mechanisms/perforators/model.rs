@@ -115,8 +115,8 @@ crate::model_variables! {
         table_F = Var::output("table.F", "N", "Force of the perforator drive on the table along +x (towards sewing): wire into SewingTable.table.F_ext").depends(ON_ALL).needs(stage::FORCES),
         // ---- elastodynamic level (dynamics.md)
         contact_law = Var::enum_parameter("contact.law", &ContactLaw::FMI, "hertz", "Ramp contact force law of the elastodynamic level: hertz K*pen^(10/9) or linear contact.k*pen, both with damping contact.c and never pulling").feeds(stage::ELASTIC),
-        contact_k = Var::parameter("contact.k", 1e8, "N/m", "Stiffness of the linear contact law (elastodynamic level; assumption)").min(1.0).feeds(stage::ELASTIC),
-        contact_c = Var::parameter("contact.c", 3400.0, "N.s/m", "Damping of the ramp contact on the penetration rate, c*d(pen)/dt (elastodynamic level; assumption: 5 % of critical, 2*0.05*sqrt(k*m_red), with the Hertz law's stiffness 3.0e8 N/m at the spring's preload of 150 N and m_red = 3.83 kg)").min(0.0).feeds(stage::ELASTIC),
+        contact_k = Var::parameter("contact.k", 1e8, "N/m", "Stiffness of the linear contact law (elastodynamic level; assumption)").min(1.0).max(1e16).feeds(stage::ELASTIC),
+        contact_c = Var::parameter("contact.c", 3400.0, "N.s/m", "Damping of the ramp contact on the penetration rate, c*d(pen)/dt (elastodynamic level; assumption: 5 % of critical, 2*0.05*sqrt(k*m_red), with the Hertz law's stiffness 3.0e8 N/m at the spring's preload of 150 N and m_red = 3.83 kg)").min(0.0).max(1e10).feeds(stage::ELASTIC),
         @with crate::chain_variables { solver(stage::ELASTIC) },
         contact_K_hertz = Var::calculated("contact.K_hertz", "", "K of the Hertz law F = K*pen^(10/9), in N/m^(10/9) (no FMI unit: fractional exponent), from roller.b, ramp.E, roller.E (Palmgren's line contact)"),
         contact_m_red = Var::calculated("contact.m_red", "kg", "Effective mass of lever and carriage at the roller along the ramp normal, lowest position: contact.c = 2*zeta*sqrt(k*m_red) gives a damping ratio zeta"),

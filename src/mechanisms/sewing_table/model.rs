@@ -105,8 +105,8 @@ crate::model_variables! {
         rocking_y = Var::output("rocking.y", "m", "Rocking table's saddle: vertical displacement from loading, up positive").depends(ON_PHI).needs(stage::ROCKING),
         rocking_M_inertia = Var::output("rocking.M_inertia", "N.m", "Rocking table's inertia torque -J*beta'' about its axis").depends(ON_ALL).needs(stage::ROCKING.or(stage::FORCES)),
         // ---- elastodynamic level (dynamics.md; translating table)
-        elastic_k = Var::parameter("elastic.k", 1e7, "N/m", "Stiffness of the cam-follower chain between the rigid table position and the table (elastodynamic level; assumption)").min(1.0).feeds(stage::ELASTIC),
-        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the follower chain, c = 2*zeta*sqrt(k*m) (elastodynamic level; assumption)").min(0.0).feeds(stage::ELASTIC),
+        elastic_k = Var::parameter("elastic.k", 1e7, "N/m", "Stiffness of the cam-follower chain between the rigid table position and the table (elastodynamic level; assumption)").min(1.0).max(1e16).feeds(stage::ELASTIC),
+        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the follower chain, c = 2*zeta*sqrt(k*m) (elastodynamic level; assumption)").min(0.0).max(10.0).feeds(stage::ELASTIC),
         cam_clearance = Var::parameter("cam.clearance", 0.0, "m", "Play of the roller in the cam slot (total); with play the roller crosses it and impacts the other flank (elastodynamic level)").min(0.0).feeds(stage::ELASTIC),
         @with crate::chain_variables { solver(stage::ELASTIC) },
         table_x_kin = Var::output("table.x_kin", "m", "Rigid reference position of the table (elastodynamic level; equals table.x at the others)").depends(ON_PHI),
