@@ -1,42 +1,8 @@
-//! Call-sequence fuzzer for the FMU binaries, through the C ABI (issue 7).
-//!
-//! A seeded random host: it loads every FMU of the catalog with libloading, keeps a few live
-//! instances, and makes random FMI 2.0 calls with random and hostile arguments (NULL arrays,
-//! unknown value references, wrong types, NaN/Inf/huge values, invalid enum integers, mutated
-//! serialized states, FMU states of other instances, calls out of the state machine), Co-Simulation
-//! and, for the FMUs that provide it, Model Exchange instances (every ME function, wrong nx/nz,
-//! NULL result pointers), and `fmi2SetRealInputDerivatives`. It never passes dangling pointers:
-//! that is undefined behaviour of the host, not a bug of the FMU.
-//!
-//! A third of the instances of an FMU with an elastodynamic level start at that level. The
-//! values that set the work of one elastodynamic step are held to a budget ([`BUDGET`],
-//! [`ELASTIC_H`]): accepted values are drawn from safe ranges, refused ones are still sent. A run
-//! of 1e7 calls then takes ~10 min of one core (about 60 µs per call).
-//!
-//! After every call it checks:
-//! * the status is an `fmi2Status` (0..=4);
-//! * a call the state machine forbids (the shadow state, `fmi2::state::allowed`, or
-//!   `me_allowed` for a Model Exchange instance) is `fmi2Error`;
-//! * every `fmi2Error` of a live instance comes with an error log line;
-//! * no log line reports a panic caught at the FMI boundary (a caught panic is still a bug);
-//! * `fmi2Instantiate` succeeds exactly for valid arguments.
-//!
-//! A crash, a sanitizer report or any finding fails the run (exit status 1).
-//!
-//! ```sh
-//! cargo run --release --example fuzz_fmi -- --execs 200000 --seed 1
-//! # under AddressSanitizer (nightly-built FMU binaries, gcc's runtime preloaded):
-//! RUSTFLAGS=-Zsanitizer=address cargo +nightly build --release --target x86_64-unknown-linux-gnu \
-//!     --target-dir target/asan -p geneva-knife-drive-fmu ...
-//! LD_PRELOAD=$(gcc -print-file-name=libasan.so) target/release/examples/fuzz_fmi \
-//!     --lib-dir target/asan/x86_64-unknown-linux-gnu/release --execs 10000000
-//! # the leak check: a million instantiate/free cycles, then LeakSanitizer at exit (after the
-//! # binaries are unloaded: what they kept for their lifetime is freed by then, see
-//! # bindery_fmu::lifetime)
-//! LD_PRELOAD=$(gcc -print-file-name=libasan.so) target/release/examples/fuzz_fmi \
-//!     --lib-dir target/asan/x86_64-unknown-linux-gnu/release --cycles 1000000
-//! ```
-#![allow(clippy::type_complexity)]
+//! The fuzzer's host: the FMI functions of a binary ([`Api`]), a shadow of each instance's
+//! state, random and hostile calls ([`Fuzzer`]) and the invariants checked after each
+//! ([`Report`]); what chooses is an [`Rng`]. Used by the seeded smoke run (`main.rs`) and by the
+//! coverage-guided targets (`fuzz/`), which include this file.
+#![allow(clippy::type_complexity, dead_code)]
 
 use bindery_fmu::catalog;
 use bindery_fmu::fmi2::runtime::me::EventInfo;
@@ -46,13 +12,12 @@ use bindery_fmu::model::{Causality, VarType, shaft};
 use libloading::Library;
 use std::cell::RefCell;
 use std::ffi::{CStr, CString, c_char, c_int, c_void};
-use std::path::PathBuf;
 
-type Comp = *mut c_void;
+pub type Comp = *mut c_void;
 type St = *mut c_void;
 
 /// The FMI 2.0 functions of one binary, with C `int` for every enum a host passes in.
-struct Api {
+pub struct Api {
     _lib: Library,
     id: &'static str,
     guid: CString,
@@ -118,7 +83,7 @@ struct Api {
 }
 
 /// The Model Exchange functions of a binary that provides them.
-struct MeApi {
+pub struct MeApi {
     enter_event_mode: unsafe extern "C" fn(Comp) -> c_int,
     new_discrete_states: unsafe extern "C" fn(Comp, *mut EventInfo) -> c_int,
     enter_continuous_time_mode: unsafe extern "C" fn(Comp) -> c_int,
@@ -132,10 +97,11 @@ struct MeApi {
 }
 
 /// The fuzzer's budget: accepted values of these parameters are drawn from these ranges, so
-/// one elastodynamic `fmi2DoStep` stays in milliseconds (the solvers' step budget is 200 000
-/// steps: a max_step of 1e-9 s over a 0.37 s step, or rtol = 1e-14, spends it, ~0.7 s, which
-/// is legal and tested by tests/elastodynamic.rs, only slow). Refused values (NaN, out of the
-/// declared bounds) are still sent as drawn.
+/// one elastodynamic `fmi2DoStep` stays in milliseconds (a call's work budget,
+/// `solver::work_budget`, lets a max_step of 1e-9 s be refused at once but rtol = 1e-14 spend
+/// up to 2e6 right-hand sides, a second or two, which is legal and tested by
+/// tests/elastodynamic.rs, only slow). Refused values (NaN, out of the declared bounds) are
+/// still sent as drawn.
 const BUDGET: &[(&str, f64, f64)] = &[
     ("solver.max_step", 1e-4, 0.1),
     ("solver.rtol", 1e-8, 1.0),
@@ -153,7 +119,8 @@ const ELASTIC_A: f64 = 1e4;
 const ELASTIC_H: f64 = 0.05;
 
 impl Api {
-    fn load(dir: &std::path::Path, e: &catalog::Entry) -> Api {
+    /// The FMI functions of the binary `lib<id>.so` in `dir`.
+    pub fn load(dir: &std::path::Path, e: &catalog::Entry) -> Api {
         let path = dir.join(format!("lib{}.so", e.identifier));
         // SAFETY: our own FMU binary; it has no library constructors.
         let lib = unsafe { Library::new(&path) }.unwrap_or_else(|err| {
@@ -162,6 +129,12 @@ impl Api {
                 path.display()
             )
         });
+        Api::of(lib, e)
+    }
+
+    /// The FMI functions of `e` in `lib` (a loaded binary, or the program itself where it
+    /// exports them: the coverage-guided fuzz targets).
+    pub fn of(lib: Library, e: &catalog::Entry) -> Api {
         macro_rules! f {
             ($name:literal) => {
                 // SAFETY: the symbol is the FMI 2.0 function of that name, of the declared type.
@@ -246,20 +219,19 @@ impl Api {
 // ---- the logger: counts what each call logged -------------------------------------------------
 
 #[derive(Default)]
-struct LogTally {
+pub struct LogTally {
     errors: usize,
-    lines: usize,
+    pub lines: usize,
     panics: Vec<String>,
 }
 
 thread_local! {
-    static TALLY: RefCell<LogTally> = RefCell::new(LogTally::default());
+    pub static TALLY: RefCell<LogTally> = RefCell::new(LogTally::default());
 }
 
 /// The tests' variadic C logger (`tests/c_host/logger.c`), which formats the message as a host
 /// does.
-#[path = "../tests/common/c_logger.rs"]
-mod c_logger;
+use crate::c_logger;
 
 fn record(
     _: usize,
@@ -283,7 +255,7 @@ fn record(
     });
 }
 
-fn callbacks(logger: bool) -> CallbackFunctions {
+pub fn callbacks(logger: bool) -> CallbackFunctions {
     CallbackFunctions {
         logger: if logger {
             c_logger::logger(record)
@@ -299,17 +271,41 @@ fn callbacks(logger: bool) -> CallbackFunctions {
 
 // ---- randomness ------------------------------------------------------------------------------
 
-struct Rng(u64);
+/// Where the fuzzer's choices come from: a seeded generator (the smoke run), or the bytes of a
+/// coverage-guided fuzzer's input, eight a draw (zeros once they run out: [`Rng::exhausted`]).
+pub enum Rng {
+    Seeded(u64),
+    Bytes { data: Vec<u8>, at: usize },
+}
 
 impl Rng {
-    fn next(&mut self) -> u64 {
-        // xorshift64*
-        let mut x = self.0;
-        x ^= x >> 12;
-        x ^= x << 25;
-        x ^= x >> 27;
-        self.0 = x;
-        x.wrapping_mul(0x2545_f491_4f6c_dd1d)
+    /// The generator of `seed`.
+    pub fn seeded(seed: u64) -> Rng {
+        Rng::Seeded(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1)
+    }
+    /// Every byte of the input drawn.
+    pub fn exhausted(&self) -> bool {
+        matches!(self, Rng::Bytes { data, at } if *at >= data.len())
+    }
+    pub fn next(&mut self) -> u64 {
+        match self {
+            Rng::Seeded(x) => {
+                // xorshift64*
+                *x ^= *x >> 12;
+                *x ^= *x << 25;
+                *x ^= *x >> 27;
+                x.wrapping_mul(0x2545_f491_4f6c_dd1d)
+            }
+            Rng::Bytes { data, at } => {
+                let mut b = [0u8; 8];
+                let end = (*at + 8).min(data.len());
+                if *at < end {
+                    b[..end - *at].copy_from_slice(&data[*at..end]);
+                }
+                *at = (*at + 8).min(data.len().max(*at));
+                u64::from_le_bytes(b)
+            }
+        }
     }
     fn below(&mut self, n: usize) -> usize {
         (self.next() % n.max(1) as u64) as usize
@@ -358,9 +354,9 @@ impl Rng {
 
 // ---- the shadow host -------------------------------------------------------------------------
 
-struct Inst {
-    api: usize,
-    c: Comp,
+pub struct Inst {
+    pub api: usize,
+    pub c: Comp,
     state: State,
     /// Set to the elastodynamic level at instantiation.
     elastic: bool,
@@ -374,15 +370,15 @@ struct Inst {
 }
 
 #[derive(Default)]
-struct Report {
+pub struct Report {
     /// The slowest call (seconds, which).
-    slowest: (f64, String),
+    pub slowest: (f64, String),
     /// Completed `fmi2DoStep`s of instances set to the elastodynamic level, and their time.
-    elastic_steps: (u64, f64),
-    execs: u64,
-    instantiated: u64,
-    statuses: [u64; 6],
-    findings: Vec<String>,
+    pub elastic_steps: (u64, f64),
+    pub execs: u64,
+    pub instantiated: u64,
+    pub statuses: [u64; 6],
+    pub findings: Vec<String>,
 }
 
 impl Report {
@@ -423,14 +419,24 @@ fn state_of_bytes(b: &[u8]) -> Option<State> {
     State::from_code(code)
 }
 
-struct Fuzzer {
-    apis: Vec<Api>,
-    rng: Rng,
-    live: Vec<Inst>,
-    report: Report,
+pub struct Fuzzer {
+    pub apis: Vec<Api>,
+    pub rng: Rng,
+    pub live: Vec<Inst>,
+    pub report: Report,
+    /// The most instances alive at once.
+    pub max_live: usize,
 }
 
 impl Fuzzer {
+    /// Frees every live instance (the FMU states they hold go with them).
+    pub fn free_all(&mut self) {
+        for inst in self.live.drain(..) {
+            // SAFETY: a live instance of this binary.
+            unsafe { (self.apis[inst.api].free_instance)(inst.c) };
+        }
+    }
+
     fn vrs(&mut self, api: usize, want: fn(VarType) -> bool) -> Vec<u32> {
         let n = self.rng.below(6);
         let vars = &self.apis[api].vars;
@@ -448,7 +454,7 @@ impl Fuzzer {
     }
 
     /// Makes one call on instance `k` (or instantiates/frees) and checks the invariants.
-    fn step(&mut self) {
+    pub fn step(&mut self) {
         if self.live.is_empty() || self.rng.chance(2) {
             self.instantiate();
             return;
@@ -516,8 +522,8 @@ impl Fuzzer {
     }
 
     fn instantiate(&mut self) {
-        if self.live.len() >= 6 {
-            let inst = self.live.swap_remove(self.rng.below(6));
+        if self.live.len() >= self.max_live {
+            let inst = self.live.swap_remove(self.rng.below(self.max_live));
             // SAFETY: a live instance of this binary.
             unsafe { (self.apis[inst.api].free_instance)(inst.c) };
         }
@@ -965,7 +971,7 @@ impl Fuzzer {
                         self.rng.pick(&[1e-3, 0.01, 0.1, 0.37])
                     } else {
                         // hostile sizes; not 1e3..1e9 s, which an elastodynamic level integrates
-                        // up to its step budget (a second each): legal, only slow
+                        // up to its work budget (a second or two each): legal, only slow
                         self.rng.pick(&[
                             0.0,
                             -0.0,
@@ -1229,7 +1235,7 @@ impl Fuzzer {
 /// `--cycles N`: N instantiate, get FMU state, free cycles over the FMUs (every 100th also
 /// initializes and steps; the FMU state is left for fmi2FreeInstance to free), for a leak
 /// checker to look at.
-fn run_cycles(apis: &[Api], n: u64) {
+pub fn run_cycles(apis: &[Api], n: u64) {
     let cb = callbacks(true);
     for k in 0..n {
         let a = &apis[(k % apis.len() as u64) as usize];
@@ -1255,88 +1261,5 @@ fn run_cycles(apis: &[Api], n: u64) {
             assert_eq!((a.get_state)(c, &mut st), 0);
             (a.free_instance)(c);
         }
-    }
-}
-
-fn main() {
-    let mut execs: u64 = 100_000;
-    let mut seed: u64 = 1;
-    let mut cycles: u64 = 0;
-    let mut seconds = f64::INFINITY;
-    let mut only: Option<String> = None;
-    let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/release");
-    let mut args = std::env::args().skip(1);
-    while let Some(a) = args.next() {
-        let mut val = || args.next().unwrap_or_else(|| panic!("{a} needs a value"));
-        match a.as_str() {
-            "--execs" => execs = val().replace('_', "").parse::<f64>().expect("--execs N") as u64,
-            "--seed" => seed = val().parse().expect("--seed N"),
-            "--lib-dir" => dir = PathBuf::from(val()),
-            "--only" => only = Some(val()),
-            "--seconds" => seconds = val().parse().expect("--seconds S"),
-            "--cycles" => {
-                cycles = val().replace('_', "").parse::<f64>().expect("--cycles N") as u64
-            }
-            _ => panic!(
-                "usage: fuzz_fmi [--execs N] [--seed N] [--lib-dir DIR] [--only ID,ID] [--seconds S] [--cycles N]"
-            ),
-        }
-    }
-    let apis: Vec<Api> = catalog::all()
-        .iter()
-        .filter(|e| {
-            only.as_deref()
-                .is_none_or(|o| o.split(',').any(|id| id == e.identifier))
-        })
-        .map(|e| Api::load(&dir, e))
-        .collect();
-    assert!(!apis.is_empty(), "--only names no FMU of the catalog");
-    let mut f = Fuzzer {
-        apis,
-        rng: Rng(seed.wrapping_mul(0x9e37_79b9_7f4a_7c15) | 1),
-        live: Vec::new(),
-        report: Report::default(),
-    };
-    let t0 = std::time::Instant::now();
-    if cycles > 0 {
-        run_cycles(&f.apis, cycles);
-        println!(
-            "fuzz_fmi: {cycles} instantiate/initialize/get FMU state/free cycles in {:.1} s",
-            t0.elapsed().as_secs_f64()
-        );
-        return;
-    }
-    // stops after --execs calls or --seconds of wall time, whichever comes first (a step of an
-    // elastodynamic level with random solver parameters may take its whole step budget)
-    while f.report.execs < execs
-        && (!f.report.execs.is_multiple_of(256) || t0.elapsed().as_secs_f64() < seconds)
-    {
-        f.step();
-    }
-    for inst in f.live.drain(..) {
-        // SAFETY: a live instance of this binary.
-        unsafe { (f.apis[inst.api].free_instance)(inst.c) };
-    }
-    let r = &f.report;
-    let lines = TALLY.with(|t| t.borrow().lines);
-    let secs = t0.elapsed().as_secs_f64();
-    println!(
-        "fuzz_fmi: {} FMI calls on {} FMUs from {} (seed {seed}) in {secs:.1} s ({:.0} calls/s; \
-         slowest {:.3} s, {}; {} elastodynamic steps in {:.1} s): {} instances, \
-         statuses ok/warning/discard/error/fatal = {:?}, {lines} log lines, {} findings",
-        r.execs,
-        f.apis.len(),
-        dir.display(),
-        r.execs as f64 / secs,
-        r.slowest.0,
-        r.slowest.1,
-        r.elastic_steps.0,
-        r.elastic_steps.1,
-        r.instantiated,
-        &r.statuses[..5],
-        r.findings.len()
-    );
-    if !r.findings.is_empty() {
-        std::process::exit(1);
     }
 }

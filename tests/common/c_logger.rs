@@ -54,7 +54,12 @@ unsafe extern "C" fn forward(
 /// The shared object, built from the source if it is not there yet (named by the source's
 /// hash; written under a temporary name and renamed, so parallel test processes agree).
 fn build(out_dir: &Path) -> PathBuf {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    // the checkout: this crate's folder, or the one above it (the fuzz targets' crate)
+    let here = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = here
+        .ancestors()
+        .find(|d| d.join("tests/c_host/logger.c").exists())
+        .unwrap_or(here);
     let source = root.join("tests/c_host/logger.c");
     let text = std::fs::read(&source).expect("tests/c_host/logger.c");
     let hash = bindery_fmu::md::fnv1a_128(&text);
