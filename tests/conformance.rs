@@ -1290,6 +1290,84 @@ fn tampered_fmu_states_are_refused() {
     }
 }
 
+/// A synchronous slave after a refused step, as FMI 2.0 (section 4.2.3) has it: `fmi2DoStep`
+/// returns `fmi2Discard` with the reason; `fmi2GetRealStatus(fmi2LastSuccessfulTime)` is the end
+/// of the last completed step and `fmi2GetBooleanStatus(fmi2Terminated)` false (the slave does
+/// not end the run: the master may go back to a saved state and retry a shorter step);
+/// `fmi2GetStatus(fmi2DoStepStatus)`, `fmi2GetStringStatus(fmi2PendingStatus)` and
+/// `fmi2CancelStep` are refused, being for a step that returned `fmi2Pending`, which a slave
+/// with `canRunAsynchronuously = false` never does; `fmi2DoStep` in stepFailed is refused; the
+/// retry from the saved state completes.
+#[test]
+fn after_a_discard_the_status_calls_answer_as_a_synchronous_slave() {
+    let _shared = shared();
+    let e = catalog::all()
+        .into_iter()
+        .find(|e| e.identifier == "Perforators")
+        .unwrap();
+    let f = Fmu::of(&e);
+    // the lift-off run: elastodynamic, 130 rpm
+    let s = f.started(
+        "status",
+        &Start {
+            integers: &[
+                (vr_of(&e, "model.fidelity"), 3),
+                (vr_of(&e, "drive.mode"), 2),
+            ],
+            reals: &[(vr_of(&e, "drive.n"), 130.0 * std::f64::consts::PI / 30.0)],
+            ..Start::default()
+        },
+    );
+    assert_eq!(s.do_step(0.0, 0.01), Status::Ok);
+    let mut saved: FMUstate = std::ptr::null_mut();
+    assert_eq!(s.get_state(&mut saved), Status::Ok);
+    assert_eq!(s.do_step(0.01, 100.0), Status::Discard);
+    let discarded = s.logs();
+    assert!(
+        discarded.iter().any(|l| l.2.contains("work budget")),
+        "{discarded:?}"
+    );
+    // SAFETY: the FMI functions with one value each
+    unsafe {
+        let rs: Symbol<unsafe extern "C" fn(Component, c_int, *mut Real) -> Status> =
+            f.sym("fmi2GetRealStatus");
+        let mut t = f64::NAN;
+        assert_eq!(
+            rs(s.c, StatusKind::LastSuccessfulTime as c_int, &mut t),
+            Status::Ok
+        );
+        assert_eq!(t, 0.01);
+        let bs: Symbol<unsafe extern "C" fn(Component, c_int, *mut Boolean) -> Status> =
+            f.sym("fmi2GetBooleanStatus");
+        let mut b = TRUE;
+        assert_eq!(bs(s.c, StatusKind::Terminated as c_int, &mut b), Status::Ok);
+        assert_eq!(b, FALSE);
+        let gs: Symbol<unsafe extern "C" fn(Component, c_int, *mut Status) -> Status> =
+            f.sym("fmi2GetStatus");
+        let mut st = Status::Ok;
+        assert_eq!(
+            gs(s.c, StatusKind::DoStepStatus as c_int, &mut st),
+            Status::Error
+        );
+        let ss: Symbol<unsafe extern "C" fn(Component, c_int, *mut FmiString) -> Status> =
+            f.sym("fmi2GetStringStatus");
+        let mut text: FmiString = std::ptr::null();
+        assert_eq!(
+            ss(s.c, StatusKind::PendingStatus as c_int, &mut text),
+            Status::Error
+        );
+    }
+    assert_eq!(s.call0("fmi2CancelStep"), Status::Error);
+    assert_eq!(
+        s.do_step(0.01, 0.01),
+        Status::Error,
+        "no step in stepFailed"
+    );
+    assert_eq!(s.set_state(saved), Status::Ok);
+    assert_eq!(s.do_step(0.01, 0.01), Status::Ok);
+    assert_eq!(s.free_state(&mut saved), Status::Ok);
+}
+
 /// A restored state is validated in full: every number of the model's own part (what it
 /// integrates and tracks: chain states, integrator memory, peaks, counters, flags, warning
 /// digests), at every fidelity level, set to -inf (no number a model keeps may be that) is
@@ -1590,7 +1668,7 @@ fn rss_kib() -> usize {
 }
 
 /// Instantiate/free cycles (with an FMU state left for FreeInstance to free) do not grow the
-/// process. `examples/fuzz_fmi.rs` and the report run a million cycles under LeakSanitizer.
+/// process. `examples/fuzz_fmi` and the report run a million cycles under LeakSanitizer.
 #[test]
 fn instantiate_free_cycles_do_not_leak() {
     let _alone = ALONE.write().unwrap_or_else(|e| e.into_inner());

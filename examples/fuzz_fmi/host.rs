@@ -275,7 +275,13 @@ pub fn callbacks(logger: bool) -> CallbackFunctions {
 /// coverage-guided fuzzer's input, eight a draw (zeros once they run out: [`Rng::exhausted`]).
 pub enum Rng {
     Seeded(u64),
-    Bytes { data: Vec<u8>, at: usize },
+    /// A seeded generator that keeps what it drew as bytes: an input that [`Rng::Bytes`]
+    /// replays as the same choices (a seed of a fuzz target's corpus).
+    Recording(u64, Vec<u8>),
+    Bytes {
+        data: Vec<u8>,
+        at: usize,
+    },
 }
 
 impl Rng {
@@ -288,13 +294,19 @@ impl Rng {
         matches!(self, Rng::Bytes { data, at } if *at >= data.len())
     }
     pub fn next(&mut self) -> u64 {
+        let xorshift = |x: &mut u64| {
+            // xorshift64*
+            *x ^= *x >> 12;
+            *x ^= *x << 25;
+            *x ^= *x >> 27;
+            x.wrapping_mul(0x2545_f491_4f6c_dd1d)
+        };
         match self {
-            Rng::Seeded(x) => {
-                // xorshift64*
-                *x ^= *x >> 12;
-                *x ^= *x << 25;
-                *x ^= *x >> 27;
-                x.wrapping_mul(0x2545_f491_4f6c_dd1d)
+            Rng::Seeded(x) => xorshift(x),
+            Rng::Recording(x, out) => {
+                let v = xorshift(x);
+                out.extend_from_slice(&v.to_le_bytes());
+                v
             }
             Rng::Bytes { data, at } => {
                 let mut b = [0u8; 8];
@@ -1261,5 +1273,51 @@ pub fn run_cycles(apis: &[Api], n: u64) {
             assert_eq!((a.get_state)(c, &mut st), 0);
             (a.free_instance)(c);
         }
+    }
+}
+
+/// The most FMI calls one input of a coverage-guided target makes.
+pub const CALLS: u64 = 200;
+
+/// One input of a coverage-guided target on the FMU `api`: up to [`CALLS`] calls on at most
+/// three live instances, every choice drawn from `data`, then every instance freed; the report
+/// (its findings) of the run.
+pub fn run_input(api: Api, data: &[u8]) -> Report {
+    let mut f = Fuzzer {
+        apis: vec![api],
+        rng: Rng::Bytes {
+            data: data.to_vec(),
+            at: 0,
+        },
+        live: Vec::new(),
+        report: Report::default(),
+        max_live: 3,
+    };
+    while f.report.execs < CALLS && !f.rng.exhausted() {
+        f.step();
+    }
+    f.free_all();
+    f.report
+}
+
+/// The input [`run_input`] replays as the calls of the seeded generator `seed` on `api`.
+pub fn record_input(api: Api, seed: u64) -> Vec<u8> {
+    let Rng::Seeded(x) = Rng::seeded(seed) else {
+        unreachable!()
+    };
+    let mut f = Fuzzer {
+        apis: vec![api],
+        rng: Rng::Recording(x, Vec::new()),
+        live: Vec::new(),
+        report: Report::default(),
+        max_live: 3,
+    };
+    while f.report.execs < CALLS {
+        f.step();
+    }
+    f.free_all();
+    match f.rng {
+        Rng::Recording(_, out) => out,
+        _ => unreachable!(),
     }
 }

@@ -25,8 +25,12 @@
 //!
 //! ```sh
 //! cargo run --release --example fuzz_fmi -- --execs 200000 --seed 1
-//! # under AddressSanitizer (nightly-built FMU binaries, gcc's runtime preloaded):
-//! RUSTFLAGS=-Zsanitizer=address cargo +nightly build --release --target x86_64-unknown-linux-gnu \
+//! # the coverage-guided targets' seed corpora (fuzz/corpus: FUZZING.md), and their replay
+//! cargo run --release --example fuzz_fmi -- --record fuzz/corpus --seed 1 --execs 3
+//! cargo run --release --example fuzz_fmi -- --replay fuzz/corpus
+//! # under AddressSanitizer (FMU binaries built with it, gcc's runtime preloaded; on a stable
+//! # toolchain RUSTC_BOOTSTRAP=1 admits the -Z option):
+//! RUSTC_BOOTSTRAP=1 RUSTFLAGS=-Zsanitizer=address cargo build --release --target x86_64-unknown-linux-gnu \
 //!     --target-dir target/asan -p geneva-knife-drive-fmu ...
 //! LD_PRELOAD=$(gcc -print-file-name=libasan.so) target/release/examples/fuzz_fmi \
 //!     --lib-dir target/asan/x86_64-unknown-linux-gnu/release --execs 10000000
@@ -53,6 +57,8 @@ fn main() {
     let mut seconds = f64::INFINITY;
     let mut only: Option<String> = None;
     let mut dir = PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("target/release");
+    let mut record: Option<PathBuf> = None;
+    let mut replay: Option<PathBuf> = None;
     let mut args = std::env::args().skip(1);
     while let Some(a) = args.next() {
         let mut val = || args.next().unwrap_or_else(|| panic!("{a} needs a value"));
@@ -65,10 +71,20 @@ fn main() {
             "--cycles" => {
                 cycles = val().replace('_', "").parse::<f64>().expect("--cycles N") as u64
             }
+            "--record" => record = Some(PathBuf::from(val())),
+            "--replay" => replay = Some(PathBuf::from(val())),
             _ => panic!(
-                "usage: fuzz_fmi [--execs N] [--seed N] [--lib-dir DIR] [--only ID,ID] [--seconds S] [--cycles N]"
+                "usage: fuzz_fmi [--execs N] [--seed N] [--lib-dir DIR] [--only ID,ID] [--seconds S] [--cycles N] [--record DIR] [--replay DIR]"
             ),
         }
+    }
+    if let Some(corpus) = record {
+        record_corpus(&dir, &corpus, only.as_deref(), seed, execs);
+        return;
+    }
+    if let Some(corpus) = replay {
+        replay_corpus(&dir, &corpus);
+        return;
     }
     let apis: Vec<Api> = catalog::all()
         .iter()
@@ -123,6 +139,63 @@ fn main() {
         r.findings.len()
     );
     if !r.findings.is_empty() {
+        std::process::exit(1);
+    }
+}
+
+/// `--record DIR`: for each FMU (of `--only`), the inputs of the coverage-guided targets that
+/// replay the seeded generator's calls, seeds `seed..seed + n` (`--execs` is `n` here), as
+/// `DIR/<modelIdentifier>/seed-<k>`: the targets' seed corpora.
+fn record_corpus(
+    dir: &std::path::Path,
+    corpus: &std::path::Path,
+    only: Option<&str>,
+    seed: u64,
+    n: u64,
+) {
+    for e in catalog::all()
+        .iter()
+        .filter(|e| only.is_none_or(|o| o.split(',').any(|id| id == e.identifier)))
+    {
+        let out = corpus.join(e.identifier);
+        std::fs::create_dir_all(&out).unwrap();
+        for k in seed..seed + n {
+            let bytes = record_input(Api::load(dir, e), k);
+            std::fs::write(out.join(format!("seed-{k}")), &bytes).unwrap();
+        }
+        println!(
+            "fuzz_fmi: {n} seed inputs of {} in {}",
+            e.identifier,
+            out.display()
+        );
+    }
+}
+
+/// `--replay DIR`: every input in `DIR/<modelIdentifier>/` (a target's corpus, or a crash it
+/// saved) run as the coverage-guided target runs it, against the FMU binaries; a finding fails.
+fn replay_corpus(dir: &std::path::Path, corpus: &std::path::Path) {
+    let (mut inputs, mut findings) = (0, 0);
+    for e in catalog::all() {
+        let Ok(files) = std::fs::read_dir(corpus.join(e.identifier)) else {
+            continue;
+        };
+        for f in files {
+            let path = f.unwrap().path();
+            let data = std::fs::read(&path).unwrap();
+            let report = run_input(Api::load(dir, &e), &data);
+            for x in &report.findings {
+                eprintln!("{}: {x}", path.display());
+            }
+            findings += report.findings.len();
+            inputs += 1;
+        }
+    }
+    println!(
+        "fuzz_fmi: {inputs} corpus inputs from {} replayed, {findings} findings",
+        corpus.display()
+    );
+    assert!(inputs > 0, "no inputs in {}", corpus.display());
+    if findings > 0 {
         std::process::exit(1);
     }
 }
