@@ -34,6 +34,35 @@ const E4: f64 = 71.0 / 1920.0;
 const E5: f64 = -17253.0 / 339200.0;
 const E6: f64 = 22.0 / 525.0;
 const E7: f64 = -1.0 / 40.0;
+// the continuous extension of order 4 (Hairer's DOPRI5, `D1`..`D7`)
+const D1: f64 = -12715105075.0 / 11282082432.0;
+const D3: f64 = 87487479700.0 / 32700410799.0;
+const D4: f64 = -10690763975.0 / 1880347072.0;
+const D5: f64 = 701980252875.0 / 199316789632.0;
+const D6: f64 = -1453857185.0 / 822651844.0;
+const D7: f64 = 69997945.0 / 29380423.0;
+
+/// Dormand–Prince's continuous extension of order 4 at `θ ∈ [0, 1]` of a step of `h` from
+/// `(y, f0)` to `(y1, f1)`, its stages in `d5` (Hairer's `CONTD5`).
+#[allow(clippy::too_many_arguments)]
+pub(super) fn dense(
+    y: &[f64],
+    f0: &[f64],
+    y1: &[f64],
+    f1: &[f64],
+    d5: &[f64],
+    h: f64,
+    theta: f64,
+    out: &mut [f64],
+) {
+    let theta1 = 1.0 - theta;
+    for i in 0..y.len() {
+        let ydiff = y1[i] - y[i];
+        let bspl = h * f0[i] - ydiff;
+        let r4 = ydiff - h * f1[i] - bspl;
+        out[i] = y[i] + theta * (ydiff + theta1 * (bspl + theta * (r4 + theta1 * d5[i])));
+    }
+}
 
 /// Cubic Hermite interpolation of the state at `t0 + s`, `s ∈ [0, h]`.
 pub(super) fn hermite(
@@ -144,6 +173,11 @@ impl Integrator {
         }
         sys.rhs(t + h, y1, k7);
         st.rhs_evals += 6;
+        let mut d5 = [0.0; MAX_DIM];
+        for i in 0..n {
+            d5[i] =
+                h * (D1 * k1[i] + D3 * k3[i] + D4 * k4[i] + D5 * k5[i] + D6 * k6[i] + D7 * k7[i]);
+        }
         let mut e = [0.0; MAX_DIM];
         for i in 0..n {
             e[i] =
@@ -166,6 +200,7 @@ impl Integrator {
             err: if err.is_finite() { err } else { f64::INFINITY },
             hlamb,
             radau: None,
+            dopri_d5: Some(d5),
         }
     }
 }

@@ -15,6 +15,7 @@ impl Integrator {
         &mut self,
         stepper: Stepper,
         at: Start,
+        att: &Attempt,
         hs: f64,
         s_seen: f64,
         g_seen: &[f64],
@@ -43,7 +44,7 @@ impl Integrator {
                 } else {
                     0.5 * (lo + hi)
                 };
-                hermite(y, f0, y1, f1, hs, mid, &mut yt);
+                att.interpolate(y, f0, y1, f1, hs, mid, &mut yt);
                 sys.events_held(t + mid, &yt, g0, &mut gt);
                 if !event_between(g0[i], gt[i]) {
                     lo = mid;

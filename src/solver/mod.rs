@@ -5,7 +5,7 @@
 //!
 //! Methods ([`Method`], the FMU parameter `solver.method`), to the standard of Hairer's codes:
 //! - `dopri5`: explicit Dormand–Prince 5(4) (DOPRI5): the PI step controller, no growth right
-//!   after a rejection, Hairer's stiffness detection;
+//!   after a rejection, Hairer's stiffness detection, its continuous extension of order 4;
 //! - `radau5`: implicit Radau IIA of order 5 (3 stages, L-stable, stiffly accurate) as RADAU5:
 //!   the simplified Newton iteration on the transformed system (a real and a complex `n×n`
 //!   matrix, factorized on the stack, `lu.rs`), started from the last step's collocation
@@ -22,7 +22,7 @@
 //! Everything carried between steps is one [`Memory`], saved and restored as a unit.
 //!
 //! Events: every step is checked for sign changes of the system's event functions; the earliest
-//! is located (a root of the Hermite interpolant, then confirmed with real steps to a bracket of
+//! is located (a root of the method's dense output, then confirmed with real steps to a bracket of
 //! `1e-10` of the step) and the step ends just after it, so a discontinuity of the right-hand
 //! side is never stepped over. An event function that rests at exactly zero over an interval (a
 //! rigid velocity in a dwell) keeps the sign it had before ([`hold_signs`]), so that a Model
@@ -338,6 +338,31 @@ struct Attempt {
     hlamb: f64,
     /// Radau IIA: its stages and Newton iterations.
     radau: Option<radau::RadauStep>,
+    /// Dormand–Prince: the last coefficient of its continuous extension (Hairer's `RCONT5`).
+    dopri_d5: Option<[f64; MAX_DIM]>,
+}
+
+impl Attempt {
+    /// The state at `t + s`, `s ∈ [0, h]`, on the attempt's interpolant from `(y, f0)` to its
+    /// end `(y1, f1)`: Dormand–Prince's continuous extension of order 4 (Hairer's `CONTD5`),
+    /// Radau IIA's collocation polynomial (`CONTR5`), else (rk4) the cubic Hermite.
+    #[allow(clippy::too_many_arguments)]
+    fn interpolate(
+        &self,
+        y: &[f64],
+        f0: &[f64],
+        y1: &[f64],
+        f1: &[f64],
+        h: f64,
+        s: f64,
+        out: &mut [f64],
+    ) {
+        match (&self.dopri_d5, &self.radau) {
+            (Some(d5), _) => dopri::dense(y, f0, y1, f1, d5, h, s / h, out),
+            (None, Some(r)) => radau::dense(&r.z, y1, s / h, out),
+            (None, None) => hermite(y, f0, y1, f1, h, s, out),
+        }
+    }
 }
 
 /// Radau IIA's Newton iterations that fail in a row (each shrinking the step) before one
@@ -675,7 +700,7 @@ impl Integrator {
                 } else if rate[0].is_nan() {
                     // a first step, without the rates that limit it (or a fixed step, which they
                     // do not limit): the interpolant's middle
-                    hermite(y, f0, y1, f1, hs, 0.5 * hs, yt);
+                    att.interpolate(y, f0, y1, f1, hs, 0.5 * hs, yt);
                     sys.events_held(t + 0.5 * hs, yt, g0, gt);
                     if crossed(g0, gt) {
                         seen = Some(0.5 * hs);
@@ -693,6 +718,7 @@ impl Integrator {
                     match self.locate_event(
                         stepper,
                         at,
+                        &att,
                         hs,
                         s_seen,
                         &at_seen,
@@ -798,6 +824,7 @@ impl Integrator {
                     err: 0.0,
                     hlamb: 0.0,
                     radau: None,
+                    dopri_d5: None,
                 })
             }
             Stepper::Radau => {
@@ -807,6 +834,7 @@ impl Integrator {
                     err: r.err,
                     hlamb: 0.0,
                     radau: Some(r),
+                    dopri_d5: None,
                 })
             }
         }

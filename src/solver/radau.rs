@@ -465,6 +465,24 @@ impl Integrator {
     }
 }
 
+/// Radau IIA's collocation polynomial at `θ ∈ [0, 1]` of a step to `y1`, its stages `z`
+/// (relative to the step's start; Hairer's `CONTR5`, with `s = θ − 1`).
+pub(super) fn dense(z: &[f64], y1: &[f64], theta: f64, out: &mut [f64]) {
+    let tb = tab();
+    let n = y1.len();
+    let (c1m1, c2m1, c1mc2) = (tb.c1 - 1.0, tb.c2 - 1.0, tb.c1 - tb.c2);
+    let s = theta - 1.0;
+    for i in 0..n {
+        let (z1, z2, z3) = (z[i], z[n + i], z[2 * n + i]);
+        let c2 = (z2 - z3) / c2m1;
+        let ak = (z1 - z2) / c1mc2;
+        let acont3 = (ak - z1 / tb.c1) / tb.c2;
+        let c3 = (ak - c2) / c1m1;
+        let c4 = c3 - acont3;
+        out[i] = y1[i] + s * (c2 + (s - c2m1) * (c3 + (s - c1m1) * c4));
+    }
+}
+
 /// The right-hand side at the three collocation points `t + c_s*h`, states `y + z_s`, into
 /// `fz` (stage after stage, `n` numbers each).
 fn stage_rhs(

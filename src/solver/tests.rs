@@ -538,3 +538,59 @@ fn a_pair_of_crossings_inside_one_step_is_found() {
         }
     }
 }
+
+/// The interpolants events are located on, inside one step of the oscillator: Dormand–Prince's
+/// continuous extension (order 4) and Radau IIA's collocation polynomial, each against the
+/// exact solution and against the cubic Hermite of the step's ends, at a quarter, half and
+/// three quarters of the step; at the ends each is the step's own state.
+#[test]
+fn the_methods_dense_outputs_follow_the_solution_inside_a_step() {
+    let o = Osc {
+        k: 100.0,
+        c: 0.5,
+        m: 1.0,
+    };
+    let y = [1.0, 0.0];
+    let mut f0 = [0.0; 2];
+    o.rhs(0.0, &y, &mut f0);
+    for (stepper, h) in [(Stepper::Dopri, 0.05), (Stepper::Radau, 0.05)] {
+        let mut it = Integrator::new(Settings::default());
+        let (mut y1, mut f1) = ([0.0; 2], [0.0; 2]);
+        let at = Start {
+            sys: &o,
+            t: 0.0,
+            y: &y,
+            f0: &f0,
+        };
+        let att = it
+            .attempt(stepper, at, h, &mut y1, &mut f1, &mut Stats::default())
+            .unwrap();
+        let mut end = [0.0; 2];
+        att.interpolate(&y, &f0, &y1, &f1, h, h, &mut end);
+        assert!((end[0] - y1[0]).abs() < 1e-14, "{stepper:?} end");
+        att.interpolate(&y, &f0, &y1, &f1, h, 0.0, &mut end);
+        assert!((end[0] - y[0]).abs() < 1e-14, "{stepper:?} start");
+        for theta in [0.25, 0.5, 0.75] {
+            let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
+            att.interpolate(&y, &f0, &y1, &f1, h, theta * h, &mut a);
+            hermite(&y, &f0, &y1, &f1, h, theta * h, &mut b);
+            let x = exact(&o, theta * h);
+            let (dense, cubic, at_end) = (
+                (a[0] - x).abs(),
+                (b[0] - x).abs(),
+                (y1[0] - exact(&o, h)).abs(),
+            );
+            // measured: Dormand–Prince within 1.2 times the step's own error and 17 to 70
+            // times closer than the Hermite; Radau IIA's polynomial (order 3 inside the step)
+            // 1.8 to 4.5 times closer than the Hermite
+            let ok = match stepper {
+                Stepper::Dopri => dense < 2.0 * at_end && dense < cubic / 10.0,
+                _ => dense < cubic / 1.5,
+            };
+            assert!(
+                ok,
+                "{stepper:?} theta {theta}: dense {dense:.3e}, hermite {cubic:.3e}, end {at_end:.3e}"
+            );
+        }
+    }
+}
