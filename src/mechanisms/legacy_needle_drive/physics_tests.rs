@@ -296,7 +296,8 @@ fn raising_beta_lowers_the_contact_stress() {
 #[test]
 fn refusals_name_the_loop_the_parameter_or_the_shaft_angle() {
     // what is changed, the parameter named, a word of the reason
-    let refusals: [(fn(&mut Params), &str, &str); 7] = [
+    type Refusal = (fn(&mut Params), &'static str, &'static str);
+    let refusals: [Refusal; 7] = [
         (|p| p.l_rod = 0.02, "kpm.l", "rocker-slider"),
         (|p| p.c = 0.05, "fb.c", "four-bar"),
         (|p| p.roller.r = 0.03, "roller.r", "shaft angle"),
