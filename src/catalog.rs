@@ -27,6 +27,8 @@ pub struct Entry {
     pub tailor: fn(&Scene) -> Result<Tailored, SceneError>,
     /// The `documentation/` files of such an FMU (what it leaves out, and why).
     pub scene_documentation: fn(&Tailored) -> Result<Files, String>,
+    /// A sweep file of this model (with the text of the scene it starts from), checked.
+    pub sweep: fn(&str, Option<&str>) -> Result<crate::sweep::Plan, SceneError>,
 }
 
 impl Entry {
@@ -44,6 +46,7 @@ impl Entry {
             documentation,
             tailor: crate::scene::tailor::<M>,
             scene_documentation: crate::docs::scene::documentation::<M>,
+            sweep: crate::sweep::file::parse::<M>,
         }
     }
 }

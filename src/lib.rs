@@ -10,6 +10,7 @@
 //! - [`fmi2`]: the FMI 2.0 C ABI runtime; knows no mechanism.
 //! - `ssp` (feature `tools`): the machines as SSP 1.0 systems of these FMUs.
 //! - [`scene`]: scene files and the FMU tailored to one (`scenes.md`); knows no mechanism.
+//! - `sweep` (feature `tools`): design sweeps, every run native and in this process.
 //! - `docs` (feature `tools`): the FMU's `documentation/` page, figures and icon; knows no mechanism.
 // model_variables! reads a model's list one variable per expansion step (about 100 in a
 // mechanism); the default limit of 128 is too close.
@@ -37,3 +38,5 @@ pub mod scene;
 pub mod solver;
 #[cfg(feature = "tools")]
 pub mod ssp;
+#[cfg(feature = "tools")]
+pub mod sweep;

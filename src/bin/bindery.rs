@@ -7,12 +7,15 @@
 //! - `bindery ssp`: the two machines as SSP 1.0 files of the built FMUs, `out/ssp/<machine>.ssp`.
 //! - `bindery scene [FILE...]`: exports the FMU tailored to each scene (default: every
 //!   `scenes/*.toml`) into `out/scenes/`.
+//! - `bindery sweep FILE`: a design sweep, every run native, on every core or a Dask cluster.
 //!
 //! The checkout is the folder at or above the current one holding `Cargo.toml` and
 //! `modelDescription/` (or `--root`); relative `--out` paths are relative to the current folder.
 
 #[path = "bindery/anchors.rs"]
 mod anchors;
+#[path = "bindery/dask.rs"]
+mod dask;
 #[path = "bindery/liftoff.rs"]
 mod liftoff;
 #[path = "bindery/machines.rs"]
@@ -31,6 +34,8 @@ mod progress;
 mod report;
 #[path = "bindery/scene.rs"]
 mod scene;
+#[path = "bindery/sweep.rs"]
+mod sweep;
 
 use bindery_fmu::catalog::{self, Entry};
 use bindery_fmu::package::{self, Binaries, FmuContents};
@@ -167,6 +172,9 @@ enum Cmd {
         #[arg(long)]
         require_all: bool,
     },
+    /// Run a design sweep (sweeps/README.md): every run native, on every core (or a Dask
+    /// cluster), results as Parquet in a folder, plots of the metrics; resumes when interrupted
+    Sweep(sweep::Options),
     /// Write modelDescription/<id>.xml for every FMU
     Describe {
         /// Do not write; fail if a committed file differs from the generated one
@@ -383,6 +391,7 @@ fn main() -> ExitCode {
             require_all,
         } => scenes(&files, &out, require_all),
         Cmd::Describe { check } => check_descriptions(&catalog::all(), check),
+        Cmd::Sweep(o) => sweep::sweep(&o),
         Cmd::Liftoff {
             from,
             to,

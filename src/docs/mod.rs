@@ -9,11 +9,13 @@
 //! the same bytes.
 
 mod html;
+mod map;
 mod plot;
 pub mod scene;
 mod sweep;
 
 pub use html::{Page, Question, anchor, escape, page_html};
+pub use map::{Map, render_map_png};
 pub use plot::{FIGURE_SIZE, ICON_SIZE, icon_png, render_png, render_svg};
 pub use sweep::{Stat, Sweep, defaults, quantity, sweep};
 

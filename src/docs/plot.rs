@@ -41,7 +41,7 @@ const COLORS: [RGBColor; 10] = [
     RGBColor(23, 190, 207),
 ];
 
-fn fonts() -> Result<(), String> {
+pub(super) fn fonts() -> Result<(), String> {
     static DONE: OnceLock<Result<(), String>> = OnceLock::new();
     DONE.get_or_init(|| {
         register_font(FAMILY, FontStyle::Normal, dejavu::sans::regular())
@@ -52,17 +52,17 @@ fn fonts() -> Result<(), String> {
     .clone()
 }
 
-fn font(size: f64, style: FontStyle) -> TextStyle<'static> {
+pub(super) fn font(size: f64, style: FontStyle) -> TextStyle<'static> {
     TextStyle::from(FontDesc::new(FontFamily::Name(FAMILY), size, style))
         .color(&RGBColor(30, 30, 30))
 }
 
-fn err<E: std::fmt::Display>(e: E) -> String {
+pub(super) fn err<E: std::fmt::Display>(e: E) -> String {
     format!("drawing: {e}")
 }
 
 /// Largest font size from `max` down to `min` at which `text` is at most `width` pixels wide.
-fn fit<DB: DrawingBackend>(
+pub(super) fn fit<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     text: &str,
     width: u32,
@@ -86,7 +86,7 @@ fn fit<DB: DrawingBackend>(
 /// Tick labels at the `n` key points plotters puts on `[lo, hi]` (steps 1, 2 or 5 × 10^k):
 /// as many decimals as the step needs; scientific (`2.5e6`) from 1e6 up and for steps
 /// below 1e-4; never "-0".
-fn tick_format(lo: f64, hi: f64, n: usize) -> impl Fn(&f64) -> String {
+pub(super) fn tick_format(lo: f64, hi: f64, n: usize) -> impl Fn(&f64) -> String {
     let keys = RangedCoordf64::from(lo..hi).key_points(n);
     let step = match keys.as_slice() {
         [a, b, ..] => b - a,
@@ -221,7 +221,7 @@ fn free_corner(
 
 /// Supersampling of figures: drawn at this multiple of [`FIGURE_SIZE`] and averaged down,
 /// so lines are anti-aliased.
-const SS: u32 = 2;
+pub(super) const SS: u32 = 2;
 
 /// An 800×500 PNG line plot of `fig`: title, light grid, axis labels, one color per series
 /// and a legend when there is more than one (in a corner it leaves the lines visible, else
@@ -568,7 +568,7 @@ fn fit_title<DB: DrawingBackend>(
 }
 
 /// Averages `s`×`s` blocks of an RGB image `w*s` by `h*s` pixels into one pixel each.
-fn downsample(buf: &[u8], w: usize, h: usize, s: usize) -> Vec<u8> {
+pub(super) fn downsample(buf: &[u8], w: usize, h: usize, s: usize) -> Vec<u8> {
     let row = w * s * 3;
     let n = (s * s) as u32;
     let mut acc = vec![0u32; w * 3];
@@ -591,7 +591,7 @@ fn downsample(buf: &[u8], w: usize, h: usize, s: usize) -> Vec<u8> {
 
 /// The PNG file of a `w`×`h` image given as RGB rows top to bottom (8-bit RGB, the `png`
 /// crate's adaptive row filter and best compression: plots are mostly flat color).
-fn encode_png(w: u32, h: u32, rgb: &[u8]) -> Result<Vec<u8>, String> {
+pub(super) fn encode_png(w: u32, h: u32, rgb: &[u8]) -> Result<Vec<u8>, String> {
     let mut out = Vec::new();
     let mut enc = png::Encoder::new(&mut out, w, h);
     enc.set_color(png::ColorType::Rgb);

@@ -99,18 +99,18 @@ const DRIVE_KEYS: &[&str] = &["mode", "n", "phi0"];
 
 /// A TOML table of the file, read key by key (toml's parser, without serde: the FMU's binary
 /// parses the scene too, and serde's generated readers would add to its size what this does not).
-struct Table<'a, 'i> {
-    text: &'a str,
+pub(crate) struct Table<'a, 'i> {
+    pub(crate) text: &'a str,
     /// `""` for the file, `"experiment."` for `[experiment]`, ...
-    prefix: &'static str,
-    table: &'a DeTable<'i>,
+    pub(crate) prefix: &'static str,
+    pub(crate) table: &'a DeTable<'i>,
     /// Where the table is (for a missing key).
-    span: Range<usize>,
+    pub(crate) span: Range<usize>,
 }
 
-type Item<'a, 'i> = (&'a DeValue<'i>, Range<usize>);
+pub(crate) type Item<'a, 'i> = (&'a DeValue<'i>, Range<usize>);
 
-fn type_name(v: &DeValue) -> &'static str {
+pub(crate) fn type_name(v: &DeValue) -> &'static str {
     match v {
         DeValue::String(_) => "a string",
         DeValue::Integer(_) => "an integer",
@@ -123,7 +123,7 @@ fn type_name(v: &DeValue) -> &'static str {
 }
 
 impl<'a, 'i> Table<'a, 'i> {
-    fn error(&self, key: &str, span: Range<usize>, message: String) -> SceneError {
+    pub(crate) fn error(&self, key: &str, span: Range<usize>, message: String) -> SceneError {
         SceneError {
             key: format!("{}{key}", self.prefix),
             line: Some(line_of(self.text, span.start)),
@@ -132,7 +132,7 @@ impl<'a, 'i> Table<'a, 'i> {
     }
 
     /// Refuses a key not in `valid`, naming the valid ones.
-    fn only(&self, valid: &[&str]) -> Result<(), SceneError> {
+    pub(crate) fn only(&self, valid: &[&str]) -> Result<(), SceneError> {
         for (k, _) in self.table.iter() {
             if !valid.contains(&k.get_ref().as_ref()) {
                 return Err(self.error(
@@ -145,42 +145,42 @@ impl<'a, 'i> Table<'a, 'i> {
         Ok(())
     }
 
-    fn get(&self, key: &str) -> Option<Item<'a, 'i>> {
+    pub(crate) fn get(&self, key: &str) -> Option<Item<'a, 'i>> {
         self.table
             .iter()
             .find(|(k, _)| k.get_ref() == key)
             .map(|(_, v)| (v.get_ref(), v.span()))
     }
 
-    fn require(&self, key: &str, what: &str) -> Result<Item<'a, 'i>, SceneError> {
+    pub(crate) fn require(&self, key: &str, what: &str) -> Result<Item<'a, 'i>, SceneError> {
         self.get(key).ok_or_else(|| {
             self.error(
                 key,
                 self.span.clone(),
-                format!("missing: the scene needs `{key}` ({what})"),
+                format!("missing: the file needs `{key}` ({what})"),
             )
         })
     }
 
-    fn wrong(&self, key: &str, (v, span): Item, want: &str) -> SceneError {
+    pub(crate) fn wrong(&self, key: &str, (v, span): Item, want: &str) -> SceneError {
         self.error(key, span, format!("must be {want}, not {}", type_name(v)))
     }
 
-    fn string(&self, key: &str, item: Item<'a, 'i>) -> Result<(String, Range<usize>), SceneError> {
+    pub(crate) fn string(&self, key: &str, item: Item<'a, 'i>) -> Result<(String, Range<usize>), SceneError> {
         match item.0 {
             DeValue::String(s) => Ok((s.to_string(), item.1)),
             _ => Err(self.wrong(key, item, "a string")),
         }
     }
 
-    fn number(&self, key: &str, item: Item<'a, 'i>) -> Result<(f64, Range<usize>), SceneError> {
+    pub(crate) fn number(&self, key: &str, item: Item<'a, 'i>) -> Result<(f64, Range<usize>), SceneError> {
         match number(item.0) {
             Some(x) => Ok((x, item.1)),
             None => Err(self.wrong(key, item, "a number")),
         }
     }
 
-    fn table(&self, key: &str, prefix: &'static str) -> Result<Option<Table<'a, 'i>>, SceneError> {
+    pub(crate) fn table(&self, key: &str, prefix: &'static str) -> Result<Option<Table<'a, 'i>>, SceneError> {
         match self.get(key) {
             None => Ok(None),
             Some((DeValue::Table(t), span)) => Ok(Some(Table {
@@ -195,7 +195,7 @@ impl<'a, 'i> Table<'a, 'i> {
 }
 
 /// A TOML number as `f64` (an integer too).
-fn number(v: &DeValue) -> Option<f64> {
+pub(crate) fn number(v: &DeValue) -> Option<f64> {
     match v {
         DeValue::Float(f) => {
             let x: f64 = f.as_str().parse().ok()?;
@@ -209,7 +209,7 @@ fn number(v: &DeValue) -> Option<f64> {
 }
 
 /// A scene parameter's value.
-fn value(v: &DeValue) -> Option<Value> {
+pub(crate) fn value(v: &DeValue) -> Option<Value> {
     match v {
         DeValue::Boolean(b) => Some(Value::Bool(*b)),
         DeValue::Integer(i) => i64::from_str_radix(i.as_str(), i.radix())
@@ -259,7 +259,7 @@ struct Spans {
 }
 
 /// 1-based line of a byte offset.
-fn line_of(text: &str, at: usize) -> usize {
+pub(crate) fn line_of(text: &str, at: usize) -> usize {
     text.as_bytes()[..at.min(text.len())]
         .iter()
         .filter(|&&b| b == b'\n')

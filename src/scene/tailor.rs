@@ -87,7 +87,7 @@ fn structural(vr: u32) -> bool {
 }
 
 /// The scene's value for a parameter declaration, type-checked.
-fn value_of(v: &Var, x: &Value) -> Result<f64, String> {
+pub(crate) fn value_of(v: &Var, x: &Value) -> Result<f64, String> {
     match (v.ty, x) {
         (VarType::Real, Value::Float(f)) => Ok(*f),
         (VarType::Real, Value::Int(i)) => Ok(*i as f64),

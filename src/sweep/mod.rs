@@ -1,0 +1,29 @@
+//! Design sweeps (`bindery sweep`): one model run natively for every point of a design of its
+//! parameters (a grid, lists, Monte Carlo or a Latin hypercube), each run reduced to the
+//! metrics the sweep file asks for (max, min, peak-to-peak, RMS, ... of an output over the last
+//! shaft turn or the whole run; event counts; flags; the log's warnings).
+//!
+//! - [`file`]: the sweep file (TOML), refused with the key and its line when malformed;
+//! - [`sample`]: the design, which values run `k` takes, the same in every process;
+//! - [`plot`]: the figure a person wants of each metric (a map, a histogram, lines);
+//! - [`run`]: one run, in this process, on the plain Rust model (no FMI call, no Python);
+//! - [`store`]: the results as Parquet parts (and CSV), written as runs finish, and which runs
+//!   an interrupted sweep has finished;
+//! - [`row`]: a run's result as one line of text (the workers of a Dask cluster send them so),
+//!   exact to the bit.
+//!
+//! The runs are independent: the CLI spreads them over threads (or Dask workers), and any
+//! split gives the same rows bit for bit.
+
+pub mod file;
+pub mod row;
+pub mod plot;
+pub mod run;
+pub mod sample;
+pub mod store;
+
+pub use file::{Metric, Over, Plan, Stat, Swept};
+pub use row::Row;
+
+/// A model's runner: every catalog FMU has one (`catalog::Entry::sweep`).
+pub type Runner = fn(&Plan, usize) -> Row;
