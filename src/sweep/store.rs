@@ -1,8 +1,8 @@
 //! Where a sweep's results go: a folder with the sweep file as run (`sweep.toml`, and the scene
-//! it starts from), the rows as Parquet files `part-NNNNNN.parquet` written as runs finish (each
-//! a complete file, written under a temporary name and renamed, so an interruption never leaves
-//! a broken one), and on request `runs.csv`. Reading the folder as one Parquet dataset (pandas
-//! `read_parquet(folder)`, Dask, DuckDB, Polars) gives every row.
+//! it starts from), the rows as Parquet files `runs/part-NNNNNN.parquet` written as runs finish
+//! (each a complete file, written under a temporary name and renamed, so an interruption never
+//! leaves a broken one), on request `runs.csv`, and the plots. Reading `runs/` as one Parquet
+//! dataset (pandas `read_parquet("…/runs")`, pyarrow, Dask, DuckDB, Polars) gives every row.
 //!
 //! Columns: `run` (0-based, the run's number in the design), the swept parameters (SI, the
 //! speed in rpm), the metrics (null for a run without metrics), `warnings` (how many the model
@@ -47,10 +47,17 @@ fn err<E: std::fmt::Display>(what: &Path) -> impl Fn(E) -> String + '_ {
     move |e| format!("{}: {e}", what.display())
 }
 
-/// The part files of a folder, in order.
+/// The folder of the part files in a results folder.
+pub const RUNS: &str = "runs";
+
+/// The part files of a results folder, in order.
 fn parts(dir: &Path) -> Result<Vec<PathBuf>, String> {
-    let mut out: Vec<PathBuf> = fs::read_dir(dir)
-        .map_err(err(dir))?
+    let dir = dir.join(RUNS);
+    if !dir.exists() {
+        return Ok(Vec::new());
+    }
+    let mut out: Vec<PathBuf> = fs::read_dir(&dir)
+        .map_err(err(&dir))?
         .filter_map(|e| e.ok().map(|e| e.path()))
         .filter(|p| {
             p.file_name()
@@ -73,7 +80,8 @@ impl Store {
         fresh: bool,
         csv: bool,
     ) -> Result<(Store, BTreeSet<usize>), String> {
-        fs::create_dir_all(dir).map_err(err(dir))?;
+        let runs = dir.join(RUNS);
+        fs::create_dir_all(&runs).map_err(err(&runs))?;
         let file = dir.join("sweep.toml");
         let scene = dir.join("scene.toml");
         let same = fs::read_to_string(&file).ok().as_deref() == Some(plan.text.as_str())
@@ -156,8 +164,8 @@ impl Store {
             return Ok(());
         }
         let name = format!("part-{:06}.parquet", self.next_part);
-        let tmp = self.dir.join(format!(".{name}.tmp"));
-        let path = self.dir.join(&name);
+        let tmp = self.dir.join(RUNS).join(format!(".{name}.tmp"));
+        let path = self.dir.join(RUNS).join(&name);
         let bytes = to_parquet(&self.params, &self.metrics, &self.pending)?;
         fs::write(&tmp, bytes).map_err(err(&tmp))?;
         fs::rename(&tmp, &path).map_err(err(&path))?;
