@@ -21,6 +21,8 @@ pub mod plot;
 pub mod run;
 pub mod sample;
 pub mod store;
+#[cfg(test)]
+mod tests;
 
 pub use file::{Metric, Over, Plan, Stat, Swept};
 pub use row::Row;
