@@ -126,18 +126,20 @@ fn histogram(plan: &Plan, m_label: &str, values: &[f64]) -> Figure {
     pts.push((hi, 0.0));
     let mean = values.iter().sum::<f64>() / n as f64;
     let sd = (values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n.max(2) - 1) as f64).sqrt();
-    Figure::lines(
-        "histogram.png",
-        format!(
-            "{}: {} runs, mean {}, standard deviation {}",
-            plan.model,
-            n,
-            crate::docs::number(mean, 4),
-            crate::docs::number(sd, 3)
-        ),
-        m_label,
-        "runs",
-        vec![Series::new(m_label, pts)],
-        "",
-    )
+    let mut series = vec![Series::new(m_label, pts)];
+    let mut title = format!(
+        "{}: {} runs, mean {}, standard deviation {}",
+        plan.model,
+        n,
+        crate::docs::number(mean, 4),
+        crate::docs::number(sd, 3)
+    );
+    if lo < 0.0 && hi > 0.0 {
+        // a sign change matters (a force that must stay positive): the share below zero
+        let below = values.iter().filter(|&&x| x < 0.0).count();
+        title += &format!(", {} % below 0", crate::docs::number(100.0 * below as f64 / n as f64, 3));
+        let top = count.iter().copied().max().unwrap_or(0) as f64;
+        series.push(Series::new("0", vec![(0.0, 0.0), (0.0, top)]));
+    }
+    Figure::lines("histogram.png", title, m_label, "runs", series, "")
 }
