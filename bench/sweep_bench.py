@@ -109,10 +109,13 @@ class Cluster:
 
     def close(self):
         self.client.close()
-        for p in self.procs:
+        for p in reversed(self.procs):  # the workers, then the scheduler
             p.terminate()
-        for p in self.procs:
-            p.wait(timeout=30)
+            try:
+                p.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                p.kill()
+                p.wait()
 
 
 def main():

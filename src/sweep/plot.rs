@@ -11,7 +11,20 @@ use crate::docs::{Figure, Map, Series, render_map_png, render_png};
 /// the title).
 const MAX_LINES: usize = 10;
 
-fn label(name: &str, unit: &str) -> String {
+/// The unit a quantity is shown in (its display unit: mm for m, deg for rad, rpm for rad/s,
+/// MPa for Pa) and the factor from SI to it.
+fn shown(unit: &'static str) -> (&'static str, f64) {
+    match crate::model::default_display_unit(unit) {
+        Some(d) => match crate::model::units::display_factor(unit, d) {
+            Some(f) => (d, f),
+            None => (unit, 1.0),
+        },
+        None => (unit, 1.0),
+    }
+}
+
+fn label(name: &str, unit: &'static str) -> String {
+    let unit = shown(unit).0;
     if unit.is_empty() {
         name.to_string()
     } else {
@@ -37,12 +50,14 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
     for (k, m) in plan.metrics.iter().enumerate() {
         let file = format!("{}.png", m.name.replace(|c: char| !c.is_ascii_alphanumeric() && c != '_' && c != '-', "_"));
         let m_label = label(&m.name, m.unit);
+        let mf = shown(m.unit).1;
+        let metric = |r: Option<&Row>, k: usize| metric(r, k) * mf;
         if random {
             let values: Vec<f64> = by_run.iter().map(|r| metric(*r, k)).filter(|x| x.is_finite()).collect();
             if values.is_empty() {
                 continue;
             }
-            out.push((file, render_png(&histogram(plan, &m_label, &values))?));
+            out.push((file, render_png(&histogram(plan, &m_label, shown(m.unit).0, &values))?));
         } else if varied.len() == 2 {
             let (a, b) = (varied[0], varied[1]);
             let (Axis::Values(xs), Axis::Values(ys)) = (&plan.design.axes[a], &plan.design.axes[b]) else {
@@ -57,8 +72,8 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
                 x_label: label(&plan.swept[a].name, plan.swept[a].unit),
                 y_label: label(&plan.swept[b].name, plan.swept[b].unit),
                 z_label: m_label,
-                xs: xs.clone(),
-                ys: ys.clone(),
+                xs: xs.iter().map(|x| x * shown(plan.swept[a].unit).1).collect(),
+                ys: ys.iter().map(|y| y * shown(plan.swept[b].unit).1).collect(),
                 z,
             };
             if map.z.iter().flatten().any(|z: &f64| z.is_finite()) {
@@ -70,10 +85,13 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
             for run in 0..plan.runs() {
                 let p = plan.design.point(run);
                 let key: Vec<String> = (varied.iter().filter(|&&i| i != a))
-                    .map(|&i| format!("{} = {}", plan.swept[i].name, crate::docs::number(p[i], 4)))
+                    .map(|&i| {
+                        let (u, f) = shown(plan.swept[i].unit);
+                        format!("{} = {} {u}", plan.swept[i].name, crate::docs::number(p[i] * f, 4)).trim_end().to_string()
+                    })
                     .collect();
                 let key = key.join(", ");
-                let pt = (p[a], metric(by_run[run], k));
+                let pt = (p[a] * shown(plan.swept[a].unit).1, metric(by_run[run], k));
                 match series.iter_mut().find(|s| s.0 == key) {
                     Some(s) => s.1.push(pt),
                     None => series.push((key, vec![pt])),
@@ -103,10 +121,11 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
     Ok(out)
 }
 
-/// A histogram of `values` as a step line: about √n bins (10 to 50), counts per bin.
-fn histogram(plan: &Plan, m_label: &str, values: &[f64]) -> Figure {
+/// A histogram of `values` (in `unit`) as a step line: 2·∛n bins (Rice's rule; 10 to 50),
+/// counts per bin.
+fn histogram(plan: &Plan, m_label: &str, unit: &str, values: &[f64]) -> Figure {
     let n = values.len();
-    let bins = ((n as f64).sqrt().round() as usize).clamp(10, 50);
+    let bins = ((2.0 * (n as f64).cbrt()).round() as usize).clamp(10, 50);
     let lo = values.iter().copied().fold(f64::INFINITY, f64::min);
     let mut hi = values.iter().copied().fold(f64::NEG_INFINITY, f64::max);
     if hi <= lo {
@@ -128,12 +147,13 @@ fn histogram(plan: &Plan, m_label: &str, values: &[f64]) -> Figure {
     let sd = (values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n.max(2) - 1) as f64).sqrt();
     let mut series = vec![Series::new(m_label, pts)];
     let mut title = format!(
-        "{}: {} runs, mean {}, standard deviation {}",
+        "{}: {} runs, mean {} {unit}, standard deviation {} {unit}",
         plan.model,
         n,
-        crate::docs::number(mean, 4),
+        crate::docs::number(mean, 6),
         crate::docs::number(sd, 3)
-    );
+    )
+    .replace(" , ", ", ");
     if lo < 0.0 && hi > 0.0 {
         // a sign change matters (a force that must stay positive): the share below zero
         let below = values.iter().filter(|&&x| x < 0.0).count();

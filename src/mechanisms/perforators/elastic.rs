@@ -202,7 +202,7 @@ pub struct Point {
 impl LeverOde<'_> {
     /// Reduced inertia at lever angle Δγ.
     pub fn j_eff(d: &Drive, g: f64) -> f64 {
-        let ds = d.p.carriage(g).ds;
+        let ds = d.made.carriage(g).ds;
         d.p.lever_j + d.p.perf_m * ds * ds
     }
 
@@ -211,7 +211,7 @@ impl LeverOde<'_> {
     /// 0.02 rad.
     pub fn linkage_range(d: &Drive) -> (f64, f64) {
         let ok = |g: f64| {
-            let c = d.p.carriage(g);
+            let c = d.made.carriage(g);
             c.s.is_finite() && c.ds > 0.0
         };
         let step = 1e-3;
@@ -238,13 +238,13 @@ impl LeverOde<'_> {
     /// The kinematics of the elastic lever at Δγ, Δγ̇, Δγ̈ on the table of `rigid`.
     fn kin_at(&self, rigid: &Kinematics, g: f64, gw: f64, ga: f64) -> Kinematics {
         let p = &self.d.p;
-        let pose = p.carriage(g);
+        let pose = self.d.made.carriage(g);
         let (_, r1, _) = p.roller(g);
         let l4 = p.lambda4 * p.unit;
         let tr = (r1.0 / l4, r1.1 / l4);
         let n = rigid.normal;
         Kinematics {
-            s: pose.s - self.d.s0,
+            s: pose.s - self.d.made_s0,
             v: pose.ds * gw,
             a: pose.dds * gw * gw + pose.ds * ga,
             gamma: g,
@@ -318,7 +318,7 @@ impl LeverOde<'_> {
             kin.gamma_a = f64::NAN;
         }
         let (sa, _) = p.alpha.sin_cos();
-        let ds = p.carriage(g).ds;
+        let ds = d.made.carriage(g).ds;
         let q_fr = forces.joint_m - ds * (forces.pierce_q + p.guide_mu * forces.guide_n) * sv;
         let power = gw * (q_fr - p.perf_m * ds * rigid.a_t * sa)
             + (f_c - f_el) * arm * gw
@@ -464,7 +464,7 @@ impl OdeSystem for LeverOde<'_> {
         // the rigid lever velocity: the friction's and the piercing load's direction
         g[6] = rigid.gamma_w;
         // the piercing load's corners at the elastic needle position
-        let q = (p.carriage(g_el).s - self.d.s0) / self.d.stroke;
+        let q = (self.d.made.carriage(g_el).s - self.d.made_s0) / self.d.stroke;
         g[7] = q - p.pierce_s_in;
         g[8] = q - 0.5 * (p.pierce_s_in + p.pierce_s_out);
         g[9] = q - p.pierce_s_out;

@@ -12,7 +12,7 @@
 
 use super::elastic::{Contact, ContactLaw, LeverOde, N_EVENTS, Track};
 use super::needles;
-use super::physics::{Drive, Kinematics, Mode, Params};
+use super::physics::{Drive, Kinematics, Made, Mode, Params};
 use crate::digest::TurnDigest;
 use crate::mechanics::cyclogram::Phase;
 use crate::mechanics::hertz::Roller;
@@ -135,6 +135,10 @@ crate::model_variables! {
             elastic_qd = ("elastic.qd", "rad/s", "State: rate of the lever deflection (elastodynamic level)") => der_elastic_qd "rad/s2",
             elastic_W = ("elastic.W", "J", "State: work of friction, piercing, table inertia, contact damping and the moving ramp (for the energy balance)") => der_elastic_W "W",
         ) },
+        // ---- the linkage as made (tolerance studies): the ramp is cut for the design
+        made_d_rod = Var::parameter("made.d_rod", 0.0, "m", "Rod length as made minus its design length synth.lambda1*synth.unit (a manufacturing deviation: the ramp stays cut for the design, the needles' travel follows the made linkage)").min(-0.005).max(0.005),
+        made_d_arm = Var::parameter("made.d_arm", 0.0, "m", "Lever arm to the rod as made minus its design length synth.lambda3*synth.unit (a manufacturing deviation, as made.d_rod)").min(-0.005).max(0.005),
+        made_d_line = Var::parameter("made.d_line", 0.0, "m", "Distance of the carriage line from the lever pivot as made minus its design synth.lambda2*synth.unit (a manufacturing deviation, as made.d_rod)").min(-0.005).max(0.005),
     }
 }
 
@@ -268,6 +272,11 @@ impl Perforators {
             joint_f: v[V::joint_f],
             joint_r: v[V::joint_r],
             roller: Roller::new(v[V::roller_r], v[V::roller_b], v[V::ramp_E], v[V::roller_E]),
+            made: Made {
+                d_rod: v[V::made_d_rod],
+                d_arm: v[V::made_d_arm],
+                d_line: v[V::made_d_line],
+            },
         }
     }
 

@@ -83,6 +83,30 @@ pub struct Params {
     pub joint_r: f64,
     /// `roller.r`, `roller.b` m (0.010, assumption), `ramp.E`, `roller.E` Pa (2.1e11).
     pub roller: Roller,
+    /// The linkage as made: how far its links are from the design the ramp is built for.
+    pub made: Made,
+}
+
+/// Manufacturing deviations of the linkage from its design, m (`made.d_rod`, `made.d_arm`,
+/// `made.d_line`; all 0 by default): the ramp is cut for the design ([`Params::synthesis`], the
+/// needle law), the lever and the carriage move as made. The roller arm λ4 is as designed, so
+/// the ramp still sets the lever angle; the rod, the lever arm to the rod and the carriage
+/// line's distance from the pivot change the needles' travel for that angle.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Made {
+    /// Rod length minus λ1·unit.
+    pub d_rod: f64,
+    /// Lever arm to the rod minus λ3·unit.
+    pub d_arm: f64,
+    /// Distance of the carriage line from the pivot minus λ2·unit.
+    pub d_line: f64,
+}
+
+impl Made {
+    /// Is the linkage made exactly as designed?
+    pub fn exact(&self) -> bool {
+        *self == Made::default()
+    }
 }
 
 impl Default for Params {
@@ -114,6 +138,7 @@ impl Default for Params {
             joint_f: 0.05,
             joint_r: 0.006,
             roller: Roller::steel(0.010, 0.010),
+            made: Made::default(),
         }
     }
 }
@@ -147,6 +172,12 @@ pub struct Drive {
     pub stroke: f64,
     /// Table stroke h, m, and cyclogram.
     pub cyc: Cyclogram,
+    /// The linkage as made ([`Made`]): `p` with the made link lengths; equal to `p` when made
+    /// exactly. The needles' travel, the rod and the carriage's inertia follow it.
+    pub made: Params,
+    /// Its carriage line and `s(0)`.
+    pub made_line: SliderLine,
+    pub made_s0: f64,
 }
 
 /// Kinematics at one shaft state.
@@ -225,6 +256,18 @@ impl Params {
             nu,
             gamma_sum,
             s_sum,
+        }
+    }
+
+    /// The linkage as made: the design with the deviations of [`Params::made`] in λ1, λ2, λ3.
+    pub fn as_made(&self) -> Params {
+        let u = self.unit;
+        Params {
+            lambda1: self.lambda1 + self.made.d_rod / u,
+            lambda2: self.lambda2 + self.made.d_line / u,
+            lambda3: self.lambda3 + self.made.d_arm / u,
+            made: Made::default(),
+            ..*self
         }
     }
 
@@ -339,6 +382,30 @@ impl Params {
             g += 1e-3;
         }
         let stroke = self.carriage(gamma_sw).s - s0;
+        let made = if self.made.exact() { *self } else { self.as_made() };
+        // the linkage as made must follow the ramp's whole swing, the needles rising
+        let mut g = 0.0;
+        while g <= gamma_sw + 1e-3 {
+            let c = made.carriage(g.min(gamma_sw));
+            if !(c.s.is_finite() && c.ds > 0.0) {
+                let (name, value) = if self.made.d_rod != 0.0 {
+                    ("made.d_rod", self.made.d_rod)
+                } else if self.made.d_arm != 0.0 {
+                    ("made.d_arm", self.made.d_arm)
+                } else {
+                    ("made.d_line", self.made.d_line)
+                };
+                return Err(ParamError::new(
+                    name,
+                    value,
+                    format!(
+                        "the linkage as made cannot follow the ramp: at lever angle {:.2} deg the rod no longer moves the carriage up",
+                        g.to_degrees()
+                    ),
+                ));
+            }
+            g += 1e-3;
+        }
         let d = Drive {
             p: *self,
             line,
@@ -349,6 +416,9 @@ impl Params {
             gamma_sw,
             stroke,
             cyc: self.table.cyclogram(),
+            made,
+            made_line: made.slider_line(),
+            made_s0: made.carriage(0.0).s,
         };
         d.check_ramp()?;
         Ok(d)
@@ -464,9 +534,17 @@ impl Drive {
         let (g, gx, gxx, s, sx, sxx) = self.gamma_of_x(c.x);
         let g_d = gx * c.dx;
         let g_dd = gxx * c.dx * c.dx + gx * c.ddx;
-        let s_d = sx * c.dx;
-        let s_dd = sxx * c.dx * c.dx + sx * c.ddx;
-        let pose = self.p.carriage(g);
+        let pose = self.made.carriage(g);
+        // the needles follow their law exactly; as made, the linkage's travel for the lever angle
+        let (s, s_d, s_dd) = if self.p.made.exact() {
+            (s, sx * c.dx, sxx * c.dx * c.dx + sx * c.ddx)
+        } else {
+            (
+                pose.s - self.made_s0,
+                pose.ds * g_d,
+                pose.dds * g_d * g_d + pose.ds * g_dd,
+            )
+        };
         let (n, rho, _, n_x) = self.ramp_frame(c.x);
         let (_, r1, _) = self.p.roller(g);
         let l4 = self.p.lambda4 * self.p.unit;
@@ -541,7 +619,8 @@ impl Drive {
 
     /// [`Drive::forces_dir`] with the Hertz stress optional (`sigma_h` 0 without it).
     fn forces_full(&self, k: &Kinematics, sv: f64, sw: f64, hertz: bool) -> Forces {
-        let p = &self.p;
+        // the linkage as made (the design when made exactly; the roller arm is as designed)
+        let p = &self.made;
         let m = p.perf_m;
         let g = STANDARD_GRAVITY;
         let (sa, ca) = p.alpha.sin_cos();
@@ -549,8 +628,8 @@ impl Drive {
         // carriage along u
         let (a, a1, _) = p.joint_a(k.gamma);
         let pose = p.carriage(k.gamma);
-        let b = self.line.b(pose.s);
-        let l1 = self.line.l;
+        let b = self.made_line.b(pose.s);
+        let l1 = self.made_line.l;
         let e = ((b.0 - a.0) / l1, (b.1 - a.1) / l1);
         let (cu, cn) = (pose.cos_nu, pose.sin_nu);
         let kk = -m * g * sa + m * k.a_t * ca;
@@ -568,7 +647,7 @@ impl Drive {
         let spring_m = -(p.spring_m0 + p.spring_kt * k.gamma);
         let arm = cross(r, n);
         // rod angle rate per unit Δγ: e' = (B' − A')/l1, θ' = e × e'
-        let bu = self.line.u();
+        let bu = self.made_line.u();
         let e1 = ((pose.ds * bu.0 - a1.0) / l1, (pose.ds * bu.1 - a1.1) / l1);
         let th = cross(e, e1);
         let mut joint_m = 0.0;
