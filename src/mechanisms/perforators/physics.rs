@@ -467,6 +467,12 @@ impl Drive {
     /// with `C'`, `C''` in x_t.
     pub fn ramp(&self, x_t: f64) -> ((f64, f64), (f64, f64), (f64, f64)) {
         let (g, gx, gxx, ..) = self.gamma_of_x(x_t);
+        self.ramp_at(x_t, g, gx, gxx)
+    }
+
+    /// [`Drive::ramp`] at `x_t` from the lever angle there and its derivatives in `x_t`
+    /// ([`Drive::gamma_of_x`], which a caller that has them need not repeat).
+    fn ramp_at(&self, x_t: f64, g: f64, gx: f64, gxx: f64) -> ((f64, f64), (f64, f64), (f64, f64)) {
         let (r, r1, r2) = self.p.roller(g);
         (
             (r.0 - x_t, r.1),
@@ -486,6 +492,11 @@ impl Drive {
     /// `t = C'/|C'|`, `dt/dx = (C'' − t·(t·C''))/|C'|` and `n = (t_y, −t_x)`.
     pub fn ramp_frame(&self, x_t: f64) -> ((f64, f64), f64, bool, (f64, f64)) {
         let (_, c1, c2) = self.ramp(x_t);
+        self.frame_of(c1, c2)
+    }
+
+    /// [`Drive::ramp_frame`] from the pitch curve's first and second derivatives.
+    fn frame_of(&self, c1: (f64, f64), c2: (f64, f64)) -> ((f64, f64), f64, bool, (f64, f64)) {
         let len = dot(c1, c1).sqrt();
         let t = (c1.0 / len, c1.1 / len);
         let n = (t.1, -t.0);
@@ -506,7 +517,7 @@ impl Drive {
     fn check_ramp(&self) -> Result<(), ParamError> {
         for k in 0..=SAMPLES {
             let x = self.cyc.h * k as f64 / SAMPLES as f64;
-            let (_, c1, _) = self.ramp(x);
+            let (_, c1, c2) = self.ramp(x);
             crate::require!(
                 c1.0 < 0.0,
                 "synth.lambda4",
@@ -514,7 +525,7 @@ impl Drive {
                 "the ramp folds back at table position {:.2} mm: the roller cannot follow it",
                 1000.0 * x
             );
-            let (_, rho, convex) = self.ramp_geometry(x);
+            let (_, rho, convex, _) = self.frame_of(c1, c2);
             crate::require!(
                 !convex || rho > 0.0,
                 "roller.r",
@@ -545,7 +556,8 @@ impl Drive {
                 pose.dds * g_d * g_d + pose.ds * g_dd,
             )
         };
-        let (n, rho, _, n_x) = self.ramp_frame(c.x);
+        let (_, c1, c2) = self.ramp_at(c.x, g, gx, gxx);
+        let (n, rho, _, n_x) = self.frame_of(c1, c2);
         let (_, r1, _) = self.p.roller(g);
         let l4 = self.p.lambda4 * self.p.unit;
         let tr = (r1.0 / l4, r1.1 / l4);
