@@ -1,6 +1,7 @@
 """The sweep benchmark (bench/sweep, BENCHMARKS.md "Sweeps"), in one run.
 
-The same sweeps of the Perforators (kinematic, kinetostatic, elastodynamic) run
+The same sweeps of the Perforators (kinematic, kinetostatic, elastodynamic) and the Geneva knife
+drive (kinematic, kinetostatic) run
   - embedded: `bindery sweep --threads 1` and `--threads 2`;
   - on Dask: a scheduler and 1, then 2 single-threaded workers on loopback, `bindery sweep --dask`;
   - the peer: FMPy's own loop (`simulate_fmu` on the extracted FMU, the metric computed in
@@ -24,28 +25,38 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
 BINDERY = ROOT / "target" / "release" / "bindery"
-FMU = ROOT / "out" / "fmus" / "Perforators.fmu"
 VENV_BIN = Path(sys.executable).parent
 STEPS_PER_TURN = 720
 
-# (name, fidelity, swept block, runs, turns, FMPy runs)
+# (name, model, fidelity, swept block, runs, turns, FMPy runs): the Perforators, whose own work
+# per run is large (the ramp's synthesis and checks, an inverse of the linkage per step), and the
+# Geneva knife drive, whose closed form is cheap
 CASES = [
-    ("kinematic", "kinematic", '"speed" = { from = 60.0, to = 200.0, points = 4000 }', 4000, 1, 60),
-    ("kinetostatic", "kinetostatic",
+    ("Perforators kinematic", "Perforators", "kinematic",
+     '"speed" = { from = 60.0, to = 200.0, points = 4000 }', 4000, 1, 60),
+    ("Perforators kinetostatic", "Perforators", "kinetostatic",
      '"spring.M0" = { from = 0.0, to = 12.0, points = 50 }\n'
      '"spring.kt" = { from = 0.0, to = 40.0, points = 40 }', 2000, 1, 60),
-    ("elastodynamic", "elastodynamic",
+    ("Perforators elastodynamic", "Perforators", "elastodynamic",
      '"spring.M0" = { from = 4.0, to = 10.0, points = 12 }\n'
      '"spring.kt" = { values = [10.0, 20.0, 30.0, 40.0] }', 48, 2, 12),
+    ("GenevaKnifeDrive kinematic", "GenevaKnifeDrive", "kinematic",
+     '"speed" = { from = 20.0, to = 60.0, points = 100000 }', 100000, 1, 60),
+    ("GenevaKnifeDrive kinetostatic", "GenevaKnifeDrive", "kinetostatic",
+     '"speed" = { from = 20.0, to = 60.0, points = 200 }\n'
+     '"cut.F_max" = { from = 1000.0, to = 5000.0, points = 250 }', 50000, 1, 60),
 ]
-METRIC = {"kinematic": ("perforators.s", "max"), "kinetostatic": ("roller.F", "min"),
-          "elastodynamic": ("elastic.F", "max")}
+METRIC = {("Perforators", "kinematic"): ("perforators.s", "max"),
+          ("Perforators", "kinetostatic"): ("roller.F", "min"),
+          ("Perforators", "elastodynamic"): ("elastic.F", "max"),
+          ("GenevaKnifeDrive", "kinematic"): ("knife.s", "max"),
+          ("GenevaKnifeDrive", "kinetostatic"): ("rod.F", "max")}
 
 
-def sweep_text(fidelity, swept, turns):
+def sweep_text(model, fidelity, swept, turns):
     speed = "" if "speed" in swept else "speed = 130\n"
-    out, stat = METRIC[fidelity]
-    return (f'model = "Perforators"\nfidelity = "{fidelity}"\n[swept]\n{swept}\n'
+    out, stat = METRIC[(model, fidelity)]
+    return (f'model = "{model}"\nfidelity = "{fidelity}"\n[swept]\n{swept}\n'
             f"[experiment]\n{speed}turns = {turns}\nsteps_per_turn = {STEPS_PER_TURN}\n"
             f'[metrics]\nm = {{ output = "{out}", stat = "{stat}" }}\n')
 
@@ -59,7 +70,7 @@ def timed(cmd, env=None):
     return dt
 
 
-def fmpy_run(fmu_dir, fidelity, params, turns):
+def fmpy_run(fmu_dir, model, fidelity, params, turns):
     """One run in FMPy's loop: the FMU at constant speed, the metric from the result."""
     from fmpy import simulate_fmu
     import numpy as np
@@ -68,7 +79,7 @@ def fmpy_run(fmu_dir, fidelity, params, turns):
     turn = 60.0 / rpm
     start = {"model.fidelity": {"kinematic": 1, "kinetostatic": 2, "elastodynamic": 3}[fidelity],
              "drive.mode": 2, "drive.n": rpm * math.pi / 30.0, **params}
-    out, stat = METRIC[fidelity]
+    out, stat = METRIC[(model, fidelity)]
     res = simulate_fmu(fmu_dir, start_values=start, stop_time=turns * turn,
                        output_interval=turn / STEPS_PER_TURN, output=[out])
     x = res[out][res["time"] >= (turns - 1) * turn - 1e-12]
@@ -76,12 +87,17 @@ def fmpy_run(fmu_dir, fidelity, params, turns):
 
 
 def fmpy_params(case, k):
+    """Run k of the case's design (the grid's last parameter fastest), as FMPy start values."""
     name = case[0]
-    if name == "kinematic":
+    if name == "Perforators kinematic":
         return {"speed": 60.0 + 140.0 * k / 3999}
-    if name == "kinetostatic":
+    if name == "Perforators kinetostatic":
         return {"spring.M0": 12.0 * (k // 40) / 49, "spring.kt": 40.0 * (k % 40) / 39}
-    return {"spring.M0": 4.0 + 6.0 * (k // 4) / 11, "spring.kt": [10.0, 20.0, 30.0, 40.0][k % 4]}
+    if name == "Perforators elastodynamic":
+        return {"spring.M0": 4.0 + 6.0 * (k // 4) / 11, "spring.kt": [10.0, 20.0, 30.0, 40.0][k % 4]}
+    if name == "GenevaKnifeDrive kinematic":
+        return {"speed": 20.0 + 40.0 * k / 99999}
+    return {"speed": 20.0 + 40.0 * (k // 250) / 199, "cut.F_max": 1000.0 + 4000.0 * (k % 250) / 249}
 
 
 def free_port():
@@ -124,16 +140,16 @@ def main():
     args = ap.parse_args()
     tmp = tempfile.mkdtemp(prefix="bindery-sweep-bench-")
     from fmpy import extract
-    fmu_dir = extract(str(FMU))
+    fmu_dirs = {m: extract(str(ROOT / "out" / "fmus" / f"{m}.fmu")) for m in {c[1] for c in CASES}}
     rows = []  # (case, host, runs, seconds, steps)
     files = {}
     for case in CASES:
-        name, fidelity, swept, runs, turns, _ = case
-        f = Path(tmp) / f"{name}.toml"
-        f.write_text(sweep_text(fidelity, swept, turns))
+        name, model, fidelity, swept, runs, turns, _ = case
+        f = Path(tmp) / f"{name.replace(' ', '-')}.toml"
+        f.write_text(sweep_text(model, fidelity, swept, turns))
         files[name] = f
         for threads in (1, 2):
-            dt = timed([BINDERY, "sweep", f, "--out", Path(tmp) / f"{name}-e{threads}", "--fresh",
+            dt = timed([BINDERY, "sweep", f, "--out", Path(tmp) / f"{name.replace(' ', '-')}-e{threads}", "--fresh",
                         "--no-plot", "--threads", str(threads)])
             rows.append((name, f"embedded, {threads} thread{'s' if threads > 1 else ''}", runs, dt,
                          runs * turns * STEPS_PER_TURN))
@@ -143,8 +159,8 @@ def main():
         c = Cluster(workers, tmp)
         try:
             for case in CASES:
-                name, fidelity, swept, runs, turns, fmpy_runs = case
-                dt = timed([BINDERY, "sweep", files[name], "--out", Path(tmp) / f"{name}-d{workers}",
+                name, model, fidelity, swept, runs, turns, fmpy_runs = case
+                dt = timed([BINDERY, "sweep", files[name], "--out", Path(tmp) / f"{name.replace(' ', '-')}-d{workers}",
                             "--fresh", "--no-plot", "--dask", c.address], env=env)
                 label = f"{workers} worker{'s' if workers > 1 else ''}"
                 rows.append((name, f"Dask, {label}", runs, dt, runs * turns * STEPS_PER_TURN))
@@ -152,7 +168,8 @@ def main():
                 # the peer: FMPy's loop as Dask tasks, one run each
                 c.client.run(lambda: __import__("fmpy"))  # imported before the clock starts
                 t = time.perf_counter()
-                futs = [c.client.submit(fmpy_run, fmu_dir, fidelity, fmpy_params(case, k * (runs // fmpy_runs)),
+                futs = [c.client.submit(fmpy_run, fmu_dirs[model], model, fidelity,
+                                        fmpy_params(case, k * (runs // fmpy_runs)),
                                         turns, pure=False) for k in range(fmpy_runs)]
                 c.client.gather(futs)
                 dt = time.perf_counter() - t

@@ -104,6 +104,7 @@ impl Store {
             for p in &old {
                 fs::remove_file(p).map_err(err(p))?;
             }
+            let _ = fs::remove_file(dir.join("runs.csv"));
         }
         fs::write(&file, &plan.text).map_err(err(&file))?;
         match &plan.scene {

@@ -110,3 +110,40 @@ fn the_runner_reproduces_the_model_on_its_own() {
         );
     }
 }
+
+#[test]
+fn a_sweep_from_a_scene_takes_its_level_parameters_and_speed() {
+    let scene = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/scenes/perforators-liftoff-dynamics.toml"
+    ))
+    .expect("the example scene");
+    let text = r#"
+scene = "../scenes/perforators-liftoff-dynamics.toml"
+[fixed]
+"spring.kt" = 25.0
+[swept]
+"spring.M0" = { values = [6.0, 9.0] }
+[experiment]
+turns = 1
+[metrics]
+bounces = { output = "contact.liftoffs", stat = "increase" }
+"#;
+    assert_eq!(
+        super::file::model_of(text).expect("names its scene"),
+        (None, Some("../scenes/perforators-liftoff-dynamics.toml".to_string()))
+    );
+    let p = parse::<Perforators>(text, Some(&scene)).expect("parses");
+    assert_eq!(p.fidelity, Some(crate::model::shaft::Fidelity::Elastodynamic));
+    assert_eq!(p.speed, Some(130.0), "the scene's constant speed");
+    assert_eq!(p.step, StepSize::PerTurn(720));
+    assert_eq!(p.runs(), 2);
+    // the scene names its file: without its text the sweep is refused
+    let e = parse::<Perforators>(text, None).expect_err("refused").to_string();
+    assert!(e.contains("scene"), "{e}");
+    // both a model and a scene: refused
+    let e = super::file::model_of(&format!("model = \"Perforators\"\n{text}"))
+        .expect_err("refused")
+        .to_string();
+    assert!(e.contains("not both"), "{e}");
+}
