@@ -41,10 +41,10 @@ CASES = [
      '"spring.M0" = { from = 4.0, to = 10.0, points = 12 }\n'
      '"spring.kt" = { values = [10.0, 20.0, 30.0, 40.0] }', 48, 2, 12),
     ("GenevaKnifeDrive kinematic", "GenevaKnifeDrive", "kinematic",
-     '"speed" = { from = 20.0, to = 60.0, points = 100000 }', 100000, 1, 60),
+     '"speed" = { from = 20.0, to = 60.0, points = 200000 }', 200000, 1, 60),
     ("GenevaKnifeDrive kinetostatic", "GenevaKnifeDrive", "kinetostatic",
-     '"speed" = { from = 20.0, to = 60.0, points = 200 }\n'
-     '"cut.F_max" = { from = 1000.0, to = 5000.0, points = 250 }', 50000, 1, 60),
+     '"speed" = { from = 20.0, to = 60.0, points = 800 }\n'
+     '"cut.F_max" = { from = 1000.0, to = 5000.0, points = 250 }', 200000, 1, 60),
 ]
 METRIC = {("Perforators", "kinematic"): ("perforators.s", "max"),
           ("Perforators", "kinetostatic"): ("roller.F", "min"),
@@ -96,8 +96,8 @@ def fmpy_params(case, k):
     if name == "Perforators elastodynamic":
         return {"spring.M0": 4.0 + 6.0 * (k // 4) / 11, "spring.kt": [10.0, 20.0, 30.0, 40.0][k % 4]}
     if name == "GenevaKnifeDrive kinematic":
-        return {"speed": 20.0 + 40.0 * k / 99999}
-    return {"speed": 20.0 + 40.0 * (k // 250) / 199, "cut.F_max": 1000.0 + 4000.0 * (k % 250) / 249}
+        return {"speed": 20.0 + 40.0 * k / 199999}
+    return {"speed": 20.0 + 40.0 * (k // 250) / 799, "cut.F_max": 1000.0 + 4000.0 * (k % 250) / 249}
 
 
 def free_port():

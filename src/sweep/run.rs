@@ -32,7 +32,19 @@ impl Log for Capture {
 pub fn run<M: Model>(plan: &Plan, k: usize) -> Row {
     let params = plan.design.point(k);
     let mut log = Capture::default();
-    let result = simulate::<M>(plan, &params, &mut log);
+    // a panic in the model is a bug, but one run's bug must not take the sweep down: its row
+    // says so
+    let result = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        simulate::<M>(plan, &params, &mut log)
+    }))
+    .unwrap_or_else(|p| {
+        let what = p
+            .downcast_ref::<&str>()
+            .map(|s| s.to_string())
+            .or_else(|| p.downcast_ref::<String>().cloned())
+            .unwrap_or_default();
+        Err(format!("the model panicked (a bug of bindery-fmu, please report it): {what}"))
+    });
     let (metrics, error) = match result {
         Ok(m) => (m, String::new()),
         Err(e) => (Vec::new(), e),
