@@ -79,6 +79,23 @@ fn instance(id: &'static str) -> Result<Box<dyn Instance>, String> {
     })
 }
 
+/// The variables of the catalog model `id` a machine's component is made of (`None`: no such
+/// model).
+pub fn variables_of(id: &str) -> Option<&'static [crate::model::Var]> {
+    fn table<M: Model>() -> &'static [crate::model::Var] {
+        <M::Var as VarSet>::table()
+    }
+    Some(match id {
+        "MainShaft" => table::<MainShaft>(),
+        "GenevaKnifeDrive" => table::<GenevaKnifeDrive>(),
+        "SewingTable" => table::<SewingTable>(),
+        "Perforators" => table::<Perforators>(),
+        "DiscKnifeDrive" => table::<DiscKnifeDrive>(),
+        "LegacyNeedleDrive" => table::<LegacyNeedleDrive>(),
+        _ => return None,
+    })
+}
+
 /// A run's record on the communication grid.
 #[derive(Clone, Debug, Default)]
 pub struct Trace {

@@ -37,6 +37,7 @@ use toml::de::{DeTable, DeValue};
 pub const KEYS: &[&str] = &[
     "model",
     "scene",
+    "machine",
     "fidelity",
     "fixed",
     "swept",
@@ -101,12 +102,22 @@ pub enum Over {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Metric {
     pub name: String,
-    /// The output's unit ("" if none).
+    /// Its unit ("" if none).
     pub unit: &'static str,
-    /// Value reference of the output.
-    pub output: u32,
-    pub stat: Stat,
-    pub over: Over,
+    pub measure: Measure,
+}
+
+/// What a metric measures.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Measure {
+    /// A statistic of a model's output (value reference) over a window.
+    Output { output: u32, stat: Stat, over: Over },
+    /// A figure of a whole machine's run over its last `turns` main-shaft turns
+    /// ([`super::machine`]).
+    Machine {
+        quantity: super::machine::Quantity,
+        turns: f64,
+    },
 }
 
 /// A swept parameter: a column of the results.
@@ -158,6 +169,8 @@ pub struct Plan {
     pub metrics: Vec<Metric>,
     /// The model's runner.
     pub runner: Runner,
+    /// A sweep of a whole machine: its components, what the parameters set ([`super::machine`]).
+    pub machine: Option<super::machine::MachineRun>,
 }
 
 impl Plan {
@@ -182,29 +195,66 @@ impl Plan {
 /// The model a sweep file names (`model`, or the `mechanism` of its `scene`) and the path of
 /// its scene file, read before the file is checked against the model.
 pub fn model_of(text: &str) -> Result<(Option<String>, Option<String>), SceneError> {
-    let doc = parse_toml(text)?;
-    let root = root(text, doc.get_ref());
-    let model = root.get("model").map(|i| root.string("model", i)).transpose()?;
-    let scene = root.get("scene").map(|i| root.string("scene", i)).transpose()?;
-    if let (Some(_), Some((_, s))) = (&model, &scene) {
-        return Err(root.error(
-            "scene",
-            s.clone(),
-            "give `model` or `scene`, not both: a scene names its model".into(),
-        ));
+    match target_of(text)? {
+        Target::Model(m) => Ok((Some(m), None)),
+        Target::Scene(s) => Ok((None, Some(s))),
+        Target::Machine(m) => Err(SceneError {
+            key: "machine".into(),
+            line: None,
+            message: format!("{m:?} is a machine, not a model"),
+        }),
     }
-    if model.is_none() && scene.is_none() {
-        return Err(root.error(
-            "model",
-            0..0,
-            "missing: the file needs `model` (a model identifier) or `scene` (a scene file)"
-                .into(),
-        ));
-    }
-    Ok((model.map(|m| m.0), scene.map(|s| s.0)))
 }
 
-fn parse_toml(text: &str) -> Result<toml::Spanned<DeTable<'_>>, SceneError> {
+/// What a sweep runs.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub enum Target {
+    /// A model of the catalog, by identifier.
+    Model(String),
+    /// A scene file, by its path relative to the sweep file.
+    Scene(String),
+    /// A machine ([`crate::ssp::machines`]), by name.
+    Machine(String),
+}
+
+/// Which of `model`, `scene` or `machine` a sweep file names (exactly one).
+pub fn target_of(text: &str) -> Result<Target, SceneError> {
+    let doc = parse_toml(text)?;
+    let root = root(text, doc.get_ref());
+    let mut found = Vec::new();
+    for key in ["model", "scene", "machine"] {
+        if let Some(item) = root.get(key) {
+            let (v, span) = root.string(key, item)?;
+            found.push((key, v, span));
+        }
+    }
+    match found.len() {
+        0 => Err(root.error(
+            "model",
+            0..0,
+            "missing: the file needs `model` (a model identifier), `scene` (a scene file) or `machine` (a machine's name)"
+                .into(),
+        )),
+        1 => {
+            let (key, v, _) = found.remove(0);
+            Ok(match key {
+                "model" => Target::Model(v),
+                "scene" => Target::Scene(v),
+                _ => Target::Machine(v),
+            })
+        }
+        _ => Err(root.error(
+            found[1].0,
+            found[1].2.clone(),
+            format!(
+                "give one of `model`, `scene` or `machine`, not `{}` and `{}`: a scene names its model, a machine its components",
+                found[0].0, found[1].0
+            ),
+        )),
+    }
+}
+
+pub(super) fn parse_toml(text: &str) -> Result<toml::Spanned<DeTable<'_>>, SceneError> {
     DeTable::parse(text).map_err(|e| SceneError {
         key: String::new(),
         line: e.span().map(|s| line_of(text, s.start)),
@@ -212,7 +262,7 @@ fn parse_toml(text: &str) -> Result<toml::Spanned<DeTable<'_>>, SceneError> {
     })
 }
 
-fn root<'a, 'i>(text: &'a str, table: &'a DeTable<'i>) -> Table<'a, 'i> {
+pub(super) fn root<'a, 'i>(text: &'a str, table: &'a DeTable<'i>) -> Table<'a, 'i> {
     Table {
         text,
         prefix: "",
@@ -373,61 +423,7 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
         }
     }
 
-    // the design
-    let random = axes.iter().any(|a| matches!(a, Axis::Random(_)));
-    let (mut method, mut samples, mut seed) = (Method::MonteCarlo, 1usize, 0u64);
-    match root.table("sampling", "sampling.")? {
-        Some(s) => {
-            s.only(SAMPLING_KEYS)?;
-            if !random {
-                return Err(at(
-                    "sampling",
-                    &s.span,
-                    "no swept parameter is random (uniform, normal or tolerance): a deterministic run needs no samples".into(),
-                ));
-            }
-            if let Some(item) = s.get("method") {
-                let (m, span) = s.string("method", item)?;
-                method = match m.as_str() {
-                    "monte_carlo" => Method::MonteCarlo,
-                    "latin_hypercube" => Method::LatinHypercube,
-                    _ => return Err(s.error("method", span, format!("unknown method {m:?}; valid: monte_carlo, latin_hypercube"))),
-                };
-            }
-            let item = s.require("samples", "how many draws, an integer")?;
-            samples = whole(&s, "samples", item, 1, MAX_RUNS as i64)? as usize;
-            if let Some(item) = s.get("seed") {
-                seed = whole(&s, "seed", item, 0, i64::MAX)? as u64;
-            }
-        }
-        None if random => {
-            let span = root.get("swept").map(|i| i.1).unwrap_or(0..0);
-            return Err(at(
-                "sampling",
-                &span,
-                "missing: a random swept parameter needs [sampling] with `samples` (and `seed`, `method`)".into(),
-            ));
-        }
-        None => {}
-    }
-    let design = Design {
-        axes,
-        method,
-        samples,
-        seed,
-    };
-    let runs = design
-        .axes
-        .iter()
-        .try_fold(samples, |n, a| match a {
-            Axis::Values(v) => n.checked_mul(v.len()),
-            Axis::Random(_) => Some(n),
-        })
-        .filter(|&n| n <= MAX_RUNS);
-    if runs.is_none() {
-        let span = root.get("swept").map(|i| i.1).unwrap_or(0..0);
-        return Err(at("swept", &span, format!("the design has more than {MAX_RUNS} runs")));
-    }
+    let design = design_of(&root, axes)?;
 
     // the experiment
     let e = root
@@ -543,7 +539,8 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
                 }
             }
         };
-        metrics.push(Metric { name, unit: if matches!(stat, Stat::Any | Stat::Rises) { "" } else { table[i].unit.unwrap_or("") }, output: i as u32, stat, over });
+        let unit = if matches!(stat, Stat::Any | Stat::Rises) { "" } else { table[i].unit.unwrap_or("") };
+        metrics.push(Metric { name, unit, measure: Measure::Output { output: i as u32, stat, over } });
     }
     if metrics.is_empty() {
         return Err(at("metrics", &m.span, "is empty: a sweep asks for at least one metric".into()));
@@ -561,21 +558,88 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
         step,
         metrics,
         runner: super::run::run::<M>,
+        machine: None,
     })
 }
 
-type Entry<'a, 'i> = (&'a toml::Spanned<toml::de::DeString<'i>>, &'a toml::Spanned<DeValue<'i>>);
+pub(super) type Entry<'a, 'i> = (&'a toml::Spanned<toml::de::DeString<'i>>, &'a toml::Spanned<DeValue<'i>>);
 
 /// A table's entries in the order the file writes them (the parser's table is sorted by key):
 /// the swept parameters' order decides which varies fastest and the columns' order.
-fn in_file_order<'a, 'i>(t: &'a DeTable<'i>) -> Vec<Entry<'a, 'i>> {
+pub(super) fn in_file_order<'a, 'i>(t: &'a DeTable<'i>) -> Vec<Entry<'a, 'i>> {
     let mut e: Vec<Entry> = t.iter().collect();
     e.sort_by_key(|(k, _)| k.span().start);
     e
 }
 
+/// The design of a sweep file: its swept axes and its `[sampling]`, checked (a random axis needs
+/// samples, a deterministic design refuses them; at most [`MAX_RUNS`] runs).
+pub(super) fn design_of(root: &Table, axes: Vec<Axis>) -> Result<Design, SceneError> {
+    let at = |key: &str, span: &Range<usize>, message: String| SceneError {
+        key: key.into(),
+        line: Some(line_of(root.text, span.start)),
+        message,
+    };
+    let random = axes.iter().any(|a| matches!(a, Axis::Random(_)));
+    let (mut method, mut samples, mut seed) = (Method::MonteCarlo, 1usize, 0u64);
+    match root.table("sampling", "sampling.")? {
+        Some(s) => {
+            s.only(SAMPLING_KEYS)?;
+            if !random {
+                return Err(at(
+                    "sampling",
+                    &s.span,
+                    "no swept parameter is random (uniform, normal or tolerance): a deterministic run needs no samples".into(),
+                ));
+            }
+            if let Some(item) = s.get("method") {
+                let (m, span) = s.string("method", item)?;
+                method = match m.as_str() {
+                    "monte_carlo" => Method::MonteCarlo,
+                    "latin_hypercube" => Method::LatinHypercube,
+                    _ => return Err(s.error("method", span, format!("unknown method {m:?}; valid: monte_carlo, latin_hypercube"))),
+                };
+            }
+            let item = s.require("samples", "how many draws, an integer")?;
+            samples = whole(&s, "samples", item, 1, MAX_RUNS as i64)? as usize;
+            if let Some(item) = s.get("seed") {
+                seed = whole(&s, "seed", item, 0, i64::MAX)? as u64;
+            }
+        }
+        None if random => {
+            let span = root.get("swept").map(|i| i.1).unwrap_or(0..0);
+            return Err(at(
+                "sampling",
+                &span,
+                "missing: a random swept parameter needs [sampling] with `samples` (and `seed`, `method`)".into(),
+            ));
+        }
+        None => {}
+    }
+    let design = Design {
+        axes,
+        method,
+        samples,
+        seed,
+    };
+    let runs = design
+        .axes
+        .iter()
+        .try_fold(samples, |n, a| match a {
+            Axis::Values(v) => n.checked_mul(v.len()),
+            Axis::Random(_) => Some(n),
+        })
+        .filter(|&n| n <= MAX_RUNS);
+    if runs.is_none() {
+        let span = root.get("swept").map(|i| i.1).unwrap_or(0..0);
+        return Err(at("swept", &span, format!("the design has more than {MAX_RUNS} runs")));
+    }
+
+    Ok(design)
+}
+
 /// An integer in `[lo, hi]`.
-fn whole(t: &Table, key: &str, item: Item, lo: i64, hi: i64) -> Result<i64, SceneError> {
+pub(super) fn whole(t: &Table, key: &str, item: Item, lo: i64, hi: i64) -> Result<i64, SceneError> {
     match item.0 {
         DeValue::Integer(i) => match i64::from_str_radix(i.as_str(), i.radix()) {
             Ok(k) if (lo..=hi).contains(&k) => Ok(k),
@@ -589,7 +653,7 @@ fn whole(t: &Table, key: &str, item: Item, lo: i64, hi: i64) -> Result<i64, Scen
 /// `{ uniform = [lo, hi] }`, `{ normal = [mean, sd] }` or `{ tolerance = t }` around the
 /// nominal value (the fixed one, else the model's default), uniform or, with
 /// `distribution = "normal"`, normal with t = 3 standard deviations.
-fn axis(t: &Table, key: &str, item: Item, var: Option<&Var>, nominal: Option<f64>) -> Result<Axis, SceneError> {
+pub(super) fn axis(t: &Table, key: &str, item: Item, var: Option<&Var>, nominal: Option<f64>) -> Result<Axis, SceneError> {
     let at = |span: Range<usize>, message: String| SceneError { key: key.into(), line: Some(line_of(t.text, span.start)), message };
     let forms = "{ values = [...] }, { from = a, to = b, points = n }, { uniform = [lo, hi] }, { normal = [mean, sd] } or { tolerance = t }";
     let DeValue::Table(a) = item.0 else {

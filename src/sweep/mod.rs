@@ -4,6 +4,7 @@
 //! shaft turn or the whole run; event counts; flags; the log's warnings).
 //!
 //! - [`file`]: the sweep file (TOML), refused with the key and its line when malformed;
+//! - [`machine`]: a sweep of a whole machine (main shaft, motor, flywheel, mechanisms);
 //! - [`sample`]: the design, which values run `k` takes, the same in every process;
 //! - [`plot`]: the figure a person wants of each metric (a map, a histogram, lines);
 //! - [`run`]: one run, in this process, on the plain Rust model (no FMI call, no Python);
@@ -16,6 +17,7 @@
 //! split gives the same rows bit for bit.
 
 pub mod file;
+pub mod machine;
 pub mod row;
 pub mod plot;
 pub mod run;
@@ -24,7 +26,7 @@ pub mod store;
 #[cfg(test)]
 mod tests;
 
-pub use file::{Metric, Over, Plan, Stat, Swept};
+pub use file::{Measure, Metric, Over, Plan, Stat, Swept};
 pub use row::Row;
 
 /// A model's runner: every catalog FMU has one (`catalog::Entry::sweep`).

@@ -82,7 +82,7 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
         } else if let Some(&a) = varied.first() {
             // lines over axis a, one per combination of the other varied axes
             let mut series: Vec<(String, Vec<(f64, f64)>)> = Vec::new();
-            for run in 0..plan.runs() {
+            for (run, row) in by_run.iter().enumerate() {
                 let p = plan.design.point(run);
                 let key: Vec<String> = (varied.iter().filter(|&&i| i != a))
                     .map(|&i| {
@@ -91,7 +91,7 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
                     })
                     .collect();
                 let key = key.join(", ");
-                let pt = (p[a] * shown(plan.swept[a].unit).1, metric(by_run[run], k));
+                let pt = (p[a] * shown(plan.swept[a].unit).1, metric(*row, k));
                 match series.iter_mut().find(|s| s.0 == key) {
                     Some(s) => s.1.push(pt),
                     None => series.push((key, vec![pt])),

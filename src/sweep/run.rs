@@ -4,7 +4,7 @@
 //! the same `Model::step` and `Model::evaluate` an FMU's `fmi2DoStep` and `fmi2GetReal` run,
 //! and the metrics computed from the samples at the communication points.
 
-use super::file::{Length, Over, Plan, Stat, StepSize};
+use super::file::{Length, Measure, Over, Plan, Stat, StepSize};
 use super::Row;
 use crate::model::shaft;
 use crate::model::{Log, Model, Severity, Values, check_bounds};
@@ -108,7 +108,12 @@ fn simulate<M: Model>(plan: &Plan, params: &[f64], log: &mut Capture) -> Result<
     let steps = steps as usize;
 
     // the outputs the metrics read, sampled at every communication point
-    let mut outputs: Vec<u32> = plan.metrics.iter().map(|m| m.output).collect();
+    let mut outputs: Vec<u32> = (plan.metrics.iter())
+        .filter_map(|m| match m.measure {
+            Measure::Output { output, .. } => Some(output),
+            Measure::Machine { .. } => None,
+        })
+        .collect();
     outputs.sort_unstable();
     outputs.dedup();
     let mut series: Vec<Vec<f64>> = vec![Vec::with_capacity(steps + 1); outputs.len()];
@@ -136,12 +141,15 @@ fn simulate<M: Model>(plan: &Plan, params: &[f64], log: &mut Capture) -> Result<
         .metrics
         .iter()
         .map(|m| {
-            let x = &series[outputs.binary_search(&m.output).expect("sampled")];
-            let from = match m.over {
+            let Measure::Output { output, stat: st, over } = m.measure else {
+                unreachable!("a model's plan measures outputs")
+            };
+            let x = &series[outputs.binary_search(&output).expect("sampled")];
+            let from = match over {
                 Over::LastTurn => last_turn_from,
                 Over::Run => 0,
             };
-            stat(m.stat, &x[from..])
+            stat(st, &x[from..])
         })
         .collect())
 }

@@ -145,5 +145,67 @@ bounces = { output = "contact.liftoffs", stat = "increase" }
     let e = super::file::model_of(&format!("model = \"Perforators\"\n{text}"))
         .expect_err("refused")
         .to_string();
-    assert!(e.contains("not both"), "{e}");
+    assert!(e.contains("not `model` and `scene`"), "{e}");
+}
+
+#[test]
+fn a_machine_sweep_sets_component_parameters_and_measures_the_machine() {
+    let machine = || {
+        crate::ssp::machines()
+            .into_iter()
+            .find(|m| m.name == "ThreadSewingMachine")
+            .expect("the sewing machine")
+    };
+    let text = r#"
+machine = "ThreadSewingMachine"
+[fixed]
+"drive.gear.i" = 12.0
+[swept]
+"drive.fly.J" = { values = [0.05, 0.5] }
+[experiment]
+stop = 1.5
+[metrics]
+delta = { quantity = "delta", turns = 2 }
+tau = { quantity = "tau_peak" }
+"#;
+    assert_eq!(
+        super::file::target_of(text).expect("names a machine"),
+        super::file::Target::Machine("ThreadSewingMachine".into())
+    );
+    let p = super::machine::parse(text, machine()).expect("parses");
+    assert_eq!(p.columns(), ["drive.fly.J", "delta", "tau"]);
+    assert_eq!(p.metrics[1].unit, "N.m");
+    let rows: Vec<_> = (0..p.runs()).map(|k| p.run(k)).collect();
+    // the same numbers as the machine simulated directly
+    for r in &rows {
+        assert!(r.error.is_empty(), "{}", r.error);
+        let tr = crate::machines::simulate(
+            &machine(),
+            &[("drive", "gear.i", 12.0), ("drive", "fly.J", r.params[0])],
+            1.5,
+            machine().step,
+        )
+        .expect("runs");
+        assert_eq!(r.metrics[0].to_bits(), crate::machines::steady(&tr, 2.0).delta.to_bits());
+        assert_eq!(r.metrics[1].to_bits(), crate::machines::steady(&tr, 1.0).tau_peak.to_bits());
+    }
+    // a larger flywheel smooths the speed
+    assert!(rows[1].metrics[0] < rows[0].metrics[0], "{rows:?}");
+    // names are checked against the machine's components and their parameters
+    for (bad, words) in [
+        ("\"motor.x\" = { values", vec!["component.variable", "drive, table, perforators"]),
+        ("\"drive.fly.K\" = { values", vec!["no parameter \"fly.K\"", "fly.J"]),
+    ] {
+        let t = text.replace("\"drive.fly.J\" = { values", bad);
+        let e = super::machine::parse(&t, machine()).expect_err("refused").to_string();
+        let line = t.lines().position(|l| l.contains("{ values")).expect("there") + 1;
+        assert!(e.starts_with(&format!("line {line}:")), "{e}");
+        for w in words {
+            assert!(e.contains(w), "{e:?} does not say {w:?}");
+        }
+    }
+    let e = super::machine::parse(&text.replace("\"delta\", turns", "\"sigma\", turns"), machine())
+        .expect_err("refused")
+        .to_string();
+    assert!(e.contains("unknown quantity") && e.contains("tau_rms"), "{e}");
 }

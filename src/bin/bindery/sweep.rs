@@ -52,7 +52,21 @@ pub fn plan(file: &Path, scene_file: Option<&Path>) -> Result<Plan, String> {
         std::fs::read_to_string(file).map_err(|e| format!("{}: {e}", file.display()))?
     };
     let shown = file.display();
-    let (model, scene) = file::model_of(&text).map_err(|e| format!("{shown}: {e}"))?;
+    let (model, scene) = match file::target_of(&text).map_err(|e| format!("{shown}: {e}"))? {
+        file::Target::Machine(name) => {
+            let all = bindery_fmu::ssp::machines();
+            let names: Vec<&str> = all.iter().map(|m| m.name).collect();
+            let Some(m) = all.into_iter().find(|m| m.name == name) else {
+                return Err(format!(
+                    "{shown}: `machine`: unknown machine {name:?}; {}",
+                    bindery_fmu::scene::nearest(&name, &names)
+                ));
+            };
+            return bindery_fmu::sweep::machine::parse(&text, m).map_err(|e| format!("{shown}: {e}"));
+        }
+        file::Target::Model(m) => (Some(m), None),
+        file::Target::Scene(s) => (None, Some(s)),
+    };
     let scene_text = match (scene, scene_file) {
         (Some(_), Some(f)) => Some(std::fs::read_to_string(f).map_err(|e| format!("{}: {e}", f.display()))?),
         (Some(s), None) => {
@@ -66,7 +80,7 @@ pub fn plan(file: &Path, scene_file: Option<&Path>) -> Result<Plan, String> {
         (None, Some(t)) => bindery_fmu::scene::Scene::parse(t)
             .map_err(|e| format!("{shown}: the scene: {e}"))?
             .mechanism,
-        (None, None) => unreachable!("model_of asks for one"),
+        (None, None) => unreachable!("target_of names one"),
     };
     let all = catalog::all();
     let Some(entry) = all.iter().find(|e| e.identifier == model) else {
