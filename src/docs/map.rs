@@ -3,7 +3,7 @@
 //! cells without a value (a run refused) grey. Drawn like the line plots (embedded DejaVu Sans,
 //! supersampled, PNG through the `png` crate), deterministic.
 
-use super::plot::{FIGURE_SIZE, SS, downsample, encode_png, err, fonts, font, tick_format};
+use super::plot::{FIGURE_SIZE, SS, downsample, encode_png, err, font, fonts, tick_format};
 use plotters::prelude::*;
 use plotters::style::FontStyle;
 
@@ -89,7 +89,12 @@ pub fn render_map_png(m: &Map) -> Result<Vec<u8>, String> {
     let (w, h) = (FIGURE_SIZE.0 * SS, FIGURE_SIZE.1 * SS);
     let s = |v: u32| v * SS;
     let sf = |v: f64| v * f64::from(SS);
-    let finite: Vec<f64> = m.z.iter().flatten().copied().filter(|z| z.is_finite()).collect();
+    let finite: Vec<f64> =
+        m.z.iter()
+            .flatten()
+            .copied()
+            .filter(|z| z.is_finite())
+            .collect();
     if finite.is_empty() {
         return Err(format!("map {}: no value to draw", m.title));
     }
@@ -180,7 +185,10 @@ pub fn render_map_png(m: &Map) -> Result<Vec<u8>, String> {
         cb.draw_series((0..n).map(|k| {
             let a = lo + (hi - lo) * k as f64 / n as f64;
             let b = lo + (hi - lo) * (k + 1) as f64 / n as f64;
-            Rectangle::new([(0.0, a), (1.0, b)], viridis((k as f64 + 0.5) / n as f64).filled())
+            Rectangle::new(
+                [(0.0, a), (1.0, b)],
+                viridis((k as f64 + 0.5) / n as f64).filled(),
+            )
         }))
         .map_err(err)?;
         if lo < 0.0 && hi > 0.0 {
@@ -195,7 +203,12 @@ pub fn render_map_png(m: &Map) -> Result<Vec<u8>, String> {
     encode_png(
         FIGURE_SIZE.0,
         FIGURE_SIZE.1,
-        &downsample(&buf, FIGURE_SIZE.0 as usize, FIGURE_SIZE.1 as usize, SS as usize),
+        &downsample(
+            &buf,
+            FIGURE_SIZE.0 as usize,
+            FIGURE_SIZE.1 as usize,
+            SS as usize,
+        ),
     )
 }
 
@@ -208,7 +221,10 @@ mod tests {
         // z = x + y - 1 on a 5 x 4 grid: every segment's ends lie on x + y = 1
         let xs: Vec<f64> = (0..5).map(|i| i as f64 * 0.25).collect();
         let ys: Vec<f64> = (0..4).map(|j| j as f64 / 3.0).collect();
-        let z: Vec<Vec<f64>> = ys.iter().map(|y| xs.iter().map(|x| x + y - 1.0).collect()).collect();
+        let z: Vec<Vec<f64>> = ys
+            .iter()
+            .map(|y| xs.iter().map(|x| x + y - 1.0).collect())
+            .collect();
         let segs = zero_contour(&xs, &ys, &z);
         assert!(segs.len() >= 3, "{segs:?}");
         for s in &segs {
@@ -217,7 +233,10 @@ mod tests {
             }
         }
         // no sign change, no line; a missing corner, no segment in its cells
-        let pos: Vec<Vec<f64>> = z.iter().map(|r| r.iter().map(|v| v + 10.0).collect()).collect();
+        let pos: Vec<Vec<f64>> = z
+            .iter()
+            .map(|r| r.iter().map(|v| v + 10.0).collect())
+            .collect();
         assert!(zero_contour(&xs, &ys, &pos).is_empty());
         let mut holed = z.clone();
         for r in &mut holed {

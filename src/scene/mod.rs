@@ -166,21 +166,33 @@ impl<'a, 'i> Table<'a, 'i> {
         self.error(key, span, format!("must be {want}, not {}", type_name(v)))
     }
 
-    pub(crate) fn string(&self, key: &str, item: Item<'a, 'i>) -> Result<(String, Range<usize>), SceneError> {
+    pub(crate) fn string(
+        &self,
+        key: &str,
+        item: Item<'a, 'i>,
+    ) -> Result<(String, Range<usize>), SceneError> {
         match item.0 {
             DeValue::String(s) => Ok((s.to_string(), item.1)),
             _ => Err(self.wrong(key, item, "a string")),
         }
     }
 
-    pub(crate) fn number(&self, key: &str, item: Item<'a, 'i>) -> Result<(f64, Range<usize>), SceneError> {
+    pub(crate) fn number(
+        &self,
+        key: &str,
+        item: Item<'a, 'i>,
+    ) -> Result<(f64, Range<usize>), SceneError> {
         match number(item.0) {
             Some(x) => Ok((x, item.1)),
             None => Err(self.wrong(key, item, "a number")),
         }
     }
 
-    pub(crate) fn table(&self, key: &str, prefix: &'static str) -> Result<Option<Table<'a, 'i>>, SceneError> {
+    pub(crate) fn table(
+        &self,
+        key: &str,
+        prefix: &'static str,
+    ) -> Result<Option<Table<'a, 'i>>, SceneError> {
         match self.get(key) {
             None => Ok(None),
             Some((DeValue::Table(t), span)) => Ok(Some(Table {

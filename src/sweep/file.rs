@@ -27,8 +27,8 @@ use super::{Row, Runner};
 use crate::model::shaft::{self, Fidelity};
 use crate::model::{Causality, Model, Values, Var, VarSet, check_bounds};
 use crate::scene::{
-    FIDELITIES, Item, Scene, SceneError, Table, fidelity_name, levels_of, line_of, nearest,
-    number, value, value_of,
+    FIDELITIES, Item, Scene, SceneError, Table, fidelity_name, levels_of, line_of, nearest, number,
+    value, value_of,
 };
 use std::ops::Range;
 use toml::de::{DeTable, DeValue};
@@ -303,7 +303,11 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
         };
         let v = &table[i];
         if v.causality != Causality::Parameter {
-            return Err(at(key, span, format!("{name} is not a parameter of {}", M::IDENTIFIER)));
+            return Err(at(
+                key,
+                span,
+                format!("{name} is not a parameter of {}", M::IDENTIFIER),
+            ));
         }
         if driven && matches!(i as u32, shaft::MODE | shaft::N | shaft::FIDELITY) {
             return Err(at(
@@ -346,7 +350,13 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
                 .iter()
                 .find(|x| x.0 == f)
                 .map(|x| x.1)
-                .ok_or_else(|| at("fidelity", &span, format!("unknown level {f:?}; valid: {}", names.join(", "))))?,
+                .ok_or_else(|| {
+                    at(
+                        "fidelity",
+                        &span,
+                        format!("unknown level {f:?}; valid: {}", names.join(", ")),
+                    )
+                })?,
         );
     }
 
@@ -374,8 +384,16 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
             let name = k.get_ref().as_ref();
             let vr = param(&key, name, &k.span())?;
             let x = value(v.get_ref())
-                .ok_or_else(|| t.wrong(name, (v.get_ref(), v.span()), "a number, a boolean or an item name"))
-                .and_then(|x| value_of(&table[vr as usize], &x).map_err(|e| at(&key, &v.span(), e)))?;
+                .ok_or_else(|| {
+                    t.wrong(
+                        name,
+                        (v.get_ref(), v.span()),
+                        "a number, a boolean or an item name",
+                    )
+                })
+                .and_then(|x| {
+                    value_of(&table[vr as usize], &x).map_err(|e| at(&key, &v.span(), e))
+                })?;
             set_fixed(vr, x);
         }
     }
@@ -400,7 +418,11 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
             let key = format!("swept.{name:?}");
             let vr = if name == SPEED {
                 if !driven {
-                    return Err(at(&key, &k.span(), format!("{} drives itself: no speed to sweep", M::IDENTIFIER)));
+                    return Err(at(
+                        &key,
+                        &k.span(),
+                        format!("{} drives itself: no speed to sweep", M::IDENTIFIER),
+                    ));
                 }
                 None
             } else {
@@ -411,7 +433,11 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
                 if let Some(ft) = root.table("fixed", "fixed.")?
                     && ft.get(&name).is_some()
                 {
-                    return Err(at(&key, &k.span(), format!("{name} is both fixed and swept")));
+                    return Err(at(
+                        &key,
+                        &k.span(),
+                        format!("{name} is both fixed and swept"),
+                    ));
                 }
             }
             let var = vr.map(|vr| &table[vr as usize]);
@@ -419,16 +445,24 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
                 .and_then(|vr| fixed.iter().find(|f| f.0 == vr).map(|f| f.1))
                 .or_else(|| var.and_then(|v| v.start));
             axes.push(axis(&t, &key, (v.get_ref(), v.span()), var, nominal)?);
-            swept.push(Swept { name, vr, unit: var.map_or("rpm", |v| v.unit.unwrap_or("")) });
+            swept.push(Swept {
+                name,
+                vr,
+                unit: var.map_or("rpm", |v| v.unit.unwrap_or("")),
+            });
         }
     }
 
     let design = design_of(&root, axes)?;
 
     // the experiment
-    let e = root
-        .table("experiment", "experiment.")?
-        .ok_or_else(|| at("experiment", &(0..0), "missing: the file needs [experiment] (turns or stop, and the step)".into()))?;
+    let e = root.table("experiment", "experiment.")?.ok_or_else(|| {
+        at(
+            "experiment",
+            &(0..0),
+            "missing: the file needs [experiment] (turns or stop, and the step)".into(),
+        )
+    })?;
     e.only(EXPERIMENT_KEYS)?;
     let positive = |key: &str| -> Result<Option<(f64, Range<usize>)>, SceneError> {
         match e.get(key) {
@@ -449,7 +483,11 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
     let speed_swept = swept.iter().any(|s| s.vr.is_none());
     let speed = match positive("speed")? {
         Some((_, span)) if !driven => {
-            return Err(e.error("speed", span, format!("{} drives itself: it has no speed to set", M::IDENTIFIER)));
+            return Err(e.error(
+                "speed",
+                span,
+                format!("{} drives itself: it has no speed to set", M::IDENTIFIER),
+            ));
         }
         Some((_, span)) if speed_swept => {
             return Err(e.error("speed", span, "the speed is swept ([swept] speed)".into()));
@@ -458,22 +496,48 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
         None => scene_speed,
     };
     if driven && speed.is_none() && !speed_swept {
-        return Err(e.error("speed", e.span.clone(), "missing: the shaft speed in rpm (or sweep `speed`)".into()));
+        return Err(e.error(
+            "speed",
+            e.span.clone(),
+            "missing: the shaft speed in rpm (or sweep `speed`)".into(),
+        ));
     }
     let length = match (positive("turns")?, positive("stop")?) {
-        (Some(_), Some((_, span))) => return Err(e.error("stop", span, "give `turns` or `stop`, not both".into())),
+        (Some(_), Some((_, span))) => {
+            return Err(e.error("stop", span, "give `turns` or `stop`, not both".into()));
+        }
         (Some((_, span)), None) if !driven => {
-            return Err(e.error("turns", span, format!("{} drives itself: give `stop` in s", M::IDENTIFIER)));
+            return Err(e.error(
+                "turns",
+                span,
+                format!("{} drives itself: give `stop` in s", M::IDENTIFIER),
+            ));
         }
         (Some((x, _)), None) => Length::Turns(x),
         (None, Some((x, _))) => Length::Stop(x),
-        (None, None) => return Err(e.error("turns", e.span.clone(), "missing: `turns` (shaft turns) or `stop` (s)".into())),
+        (None, None) => {
+            return Err(e.error(
+                "turns",
+                e.span.clone(),
+                "missing: `turns` (shaft turns) or `stop` (s)".into(),
+            ));
+        }
     };
     let step = match (e.get("steps_per_turn"), positive("step")?) {
-        (Some(_), Some((_, span))) => return Err(e.error("step", span, "give `steps_per_turn` or `step`, not both".into())),
+        (Some(_), Some((_, span))) => {
+            return Err(e.error(
+                "step",
+                span,
+                "give `steps_per_turn` or `step`, not both".into(),
+            ));
+        }
         (Some(item), None) => {
             if !driven {
-                return Err(e.error("steps_per_turn", item.1, format!("{} drives itself: give `step` in s", M::IDENTIFIER)));
+                return Err(e.error(
+                    "steps_per_turn",
+                    item.1,
+                    format!("{} drives itself: give `step` in s", M::IDENTIFIER),
+                ));
             }
             StepSize::PerTurn(whole(&e, "steps_per_turn", item, 1, 1_000_000)? as usize)
         }
@@ -481,7 +545,11 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
         (None, None) => StepSize::PerTurn(if driven { 720 } else { 0 }),
     };
     if step == StepSize::PerTurn(0) {
-        return Err(e.error("step", e.span.clone(), "missing: the communication step in s".into()));
+        return Err(e.error(
+            "step",
+            e.span.clone(),
+            "missing: the communication step in s".into(),
+        ));
     }
 
     // the metrics
@@ -496,17 +564,45 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
     for (k, v) in in_file_order(m.table) {
         let name = k.get_ref().to_string();
         let key = format!("metrics.{name:?}");
-        if swept.iter().any(|s| s.name == name) || ["run", "warnings", "warning", "error"].contains(&name.as_str()) {
-            return Err(at(&key, &k.span(), format!("{name:?} is already a column of the results")));
+        if swept.iter().any(|s| s.name == name)
+            || ["run", "warnings", "warning", "error"].contains(&name.as_str())
+        {
+            return Err(at(
+                &key,
+                &k.span(),
+                format!("{name:?} is already a column of the results"),
+            ));
         }
         let DeValue::Table(mt) = v.get_ref() else {
-            return Err(at(&key, &v.span(), "must be a table: { output = \"...\", stat = \"max\" }".into()));
+            return Err(at(
+                &key,
+                &v.span(),
+                "must be a table: { output = \"...\", stat = \"max\" }".into(),
+            ));
         };
-        let mt = Table { text, prefix: "metrics.", table: mt, span: v.span() };
-        mt.only(METRIC_KEYS).map_err(|e| SceneError { key: format!("{key}.{}", e.key.trim_start_matches("metrics.")), ..e })?;
+        let mt = Table {
+            text,
+            prefix: "metrics.",
+            table: mt,
+            span: v.span(),
+        };
+        mt.only(METRIC_KEYS).map_err(|e| SceneError {
+            key: format!("{key}.{}", e.key.trim_start_matches("metrics.")),
+            ..e
+        })?;
         let (output, span) = mt.string("output", mt.require("output", "an output's name")?)?;
-        let Some(i) = table.iter().position(|x| x.name == output && matches!(x.causality, Causality::Output | Causality::Local)) else {
-            return Err(at(&key, &span, format!("{} has no output {output:?}; {}", M::IDENTIFIER, nearest(&output, &outputs))));
+        let Some(i) = table.iter().position(|x| {
+            x.name == output && matches!(x.causality, Causality::Output | Causality::Local)
+        }) else {
+            return Err(at(
+                &key,
+                &span,
+                format!(
+                    "{} has no output {output:?}; {}",
+                    M::IDENTIFIER,
+                    nearest(&output, &outputs)
+                ),
+            ));
         };
         if let Some(f) = fidelity {
             let levels = levels_of(M::STAGES, table[i].needs);
@@ -517,15 +613,36 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
                     format!(
                         "{output} is not computed at the {} level; it is at: {}",
                         fidelity_name(f),
-                        levels.iter().map(|l| fidelity_name(*l)).collect::<Vec<_>>().join(", ")
+                        levels
+                            .iter()
+                            .map(|l| fidelity_name(*l))
+                            .collect::<Vec<_>>()
+                            .join(", ")
                     ),
                 ));
             }
         }
-        let (stat, span) = mt.string("stat", mt.require("stat", "max, min, ptp, rms, mean, last, any, rises or increase")?)?;
-        let stat = STATS.iter().find(|s| s.0 == stat).map(|s| s.1).ok_or_else(|| {
-            at(&key, &span, format!("unknown stat {stat:?}; valid: {}", STATS.iter().map(|s| s.0).collect::<Vec<_>>().join(", ")))
-        })?;
+        let (stat, span) = mt.string(
+            "stat",
+            mt.require(
+                "stat",
+                "max, min, ptp, rms, mean, last, any, rises or increase",
+            )?,
+        )?;
+        let stat = STATS
+            .iter()
+            .find(|s| s.0 == stat)
+            .map(|s| s.1)
+            .ok_or_else(|| {
+                at(
+                    &key,
+                    &span,
+                    format!(
+                        "unknown stat {stat:?}; valid: {}",
+                        STATS.iter().map(|s| s.0).collect::<Vec<_>>().join(", ")
+                    ),
+                )
+            })?;
         let over = match mt.get("over") {
             None if driven => Over::LastTurn,
             None => Over::Run,
@@ -534,16 +651,47 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
                 match o.as_str() {
                     "run" => Over::Run,
                     "last_turn" if driven => Over::LastTurn,
-                    "last_turn" => return Err(at(&key, &span, format!("{} drives itself: no shaft turn to take; over = \"run\"", M::IDENTIFIER))),
-                    _ => return Err(at(&key, &span, format!("unknown window {o:?}; valid: last_turn, run"))),
+                    "last_turn" => {
+                        return Err(at(
+                            &key,
+                            &span,
+                            format!(
+                                "{} drives itself: no shaft turn to take; over = \"run\"",
+                                M::IDENTIFIER
+                            ),
+                        ));
+                    }
+                    _ => {
+                        return Err(at(
+                            &key,
+                            &span,
+                            format!("unknown window {o:?}; valid: last_turn, run"),
+                        ));
+                    }
                 }
             }
         };
-        let unit = if matches!(stat, Stat::Any | Stat::Rises) { "" } else { table[i].unit.unwrap_or("") };
-        metrics.push(Metric { name, unit, measure: Measure::Output { output: i as u32, stat, over } });
+        let unit = if matches!(stat, Stat::Any | Stat::Rises) {
+            ""
+        } else {
+            table[i].unit.unwrap_or("")
+        };
+        metrics.push(Metric {
+            name,
+            unit,
+            measure: Measure::Output {
+                output: i as u32,
+                stat,
+                over,
+            },
+        });
     }
     if metrics.is_empty() {
-        return Err(at("metrics", &m.span, "is empty: a sweep asks for at least one metric".into()));
+        return Err(at(
+            "metrics",
+            &m.span,
+            "is empty: a sweep asks for at least one metric".into(),
+        ));
     }
     Ok(Plan {
         text: text.to_string(),
@@ -562,7 +710,10 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
     })
 }
 
-pub(super) type Entry<'a, 'i> = (&'a toml::Spanned<toml::de::DeString<'i>>, &'a toml::Spanned<DeValue<'i>>);
+pub(super) type Entry<'a, 'i> = (
+    &'a toml::Spanned<toml::de::DeString<'i>>,
+    &'a toml::Spanned<DeValue<'i>>,
+);
 
 /// A table's entries in the order the file writes them (the parser's table is sorted by key):
 /// the swept parameters' order decides which varies fastest and the columns' order.
@@ -597,7 +748,13 @@ pub(super) fn design_of(root: &Table, axes: Vec<Axis>) -> Result<Design, SceneEr
                 method = match m.as_str() {
                     "monte_carlo" => Method::MonteCarlo,
                     "latin_hypercube" => Method::LatinHypercube,
-                    _ => return Err(s.error("method", span, format!("unknown method {m:?}; valid: monte_carlo, latin_hypercube"))),
+                    _ => {
+                        return Err(s.error(
+                            "method",
+                            span,
+                            format!("unknown method {m:?}; valid: monte_carlo, latin_hypercube"),
+                        ));
+                    }
                 };
             }
             let item = s.require("samples", "how many draws, an integer")?;
@@ -632,7 +789,11 @@ pub(super) fn design_of(root: &Table, axes: Vec<Axis>) -> Result<Design, SceneEr
         .filter(|&n| n <= MAX_RUNS);
     if runs.is_none() {
         let span = root.get("swept").map(|i| i.1).unwrap_or(0..0);
-        return Err(at("swept", &span, format!("the design has more than {MAX_RUNS} runs")));
+        return Err(at(
+            "swept",
+            &span,
+            format!("the design has more than {MAX_RUNS} runs"),
+        ));
     }
 
     Ok(design)
@@ -653,14 +814,33 @@ pub(super) fn whole(t: &Table, key: &str, item: Item, lo: i64, hi: i64) -> Resul
 /// `{ uniform = [lo, hi] }`, `{ normal = [mean, sd] }` or `{ tolerance = t }` around the
 /// nominal value (the fixed one, else the model's default), uniform or, with
 /// `distribution = "normal"`, normal with t = 3 standard deviations.
-pub(super) fn axis(t: &Table, key: &str, item: Item, var: Option<&Var>, nominal: Option<f64>) -> Result<Axis, SceneError> {
-    let at = |span: Range<usize>, message: String| SceneError { key: key.into(), line: Some(line_of(t.text, span.start)), message };
+pub(super) fn axis(
+    t: &Table,
+    key: &str,
+    item: Item,
+    var: Option<&Var>,
+    nominal: Option<f64>,
+) -> Result<Axis, SceneError> {
+    let at = |span: Range<usize>, message: String| SceneError {
+        key: key.into(),
+        line: Some(line_of(t.text, span.start)),
+        message,
+    };
     let forms = "{ values = [...] }, { from = a, to = b, points = n }, { uniform = [lo, hi] }, { normal = [mean, sd] } or { tolerance = t }";
     let DeValue::Table(a) = item.0 else {
         return Err(at(item.1, format!("must be a table: {forms}")));
     };
-    let a = Table { text: t.text, prefix: "", table: a, span: item.1.clone() };
-    let keys: Vec<String> = a.table.iter().map(|(k, _)| k.get_ref().to_string()).collect();
+    let a = Table {
+        text: t.text,
+        prefix: "",
+        table: a,
+        span: item.1.clone(),
+    };
+    let keys: Vec<String> = a
+        .table
+        .iter()
+        .map(|(k, _)| k.get_ref().to_string())
+        .collect();
     let has = |k: &str| keys.iter().any(|x| x == k);
     let pair = |k: &str| -> Result<(f64, f64), SceneError> {
         let (v, span) = a.get(k).expect("present");
@@ -675,10 +855,19 @@ pub(super) fn axis(t: &Table, key: &str, item: Item, var: Option<&Var>, nominal:
             _ => Err(at(span, format!("`{k}` must be an array of two numbers"))),
         }
     };
-    let only = |valid: &[&str]| a.only(valid).map_err(|e| SceneError { key: key.into(), message: format!("`{}`: {}", e.key, e.message), ..e });
+    let only = |valid: &[&str]| {
+        a.only(valid).map_err(|e| SceneError {
+            key: key.into(),
+            message: format!("`{}`: {}", e.key, e.message),
+            ..e
+        })
+    };
     let f64_of = |k: &str| -> Result<f64, SceneError> {
         let item = a.get(k).expect("present");
-        let (x, span) = a.number(k, item).map_err(|e| SceneError { key: key.into(), ..e })?;
+        let (x, span) = a.number(k, item).map_err(|e| SceneError {
+            key: key.into(),
+            ..e
+        })?;
         if !x.is_finite() {
             return Err(at(span, format!("`{k}` must be finite")));
         }
@@ -693,9 +882,16 @@ pub(super) fn axis(t: &Table, key: &str, item: Item, var: Option<&Var>, nominal:
         let mut out = Vec::new();
         for x in xs.iter() {
             let val = match var {
-                None => number(x.get_ref()).filter(|x| x.is_finite() && *x > 0.0).ok_or_else(|| at(x.span(), "a speed must be a number > 0 (rpm)".into()))?,
+                None => number(x.get_ref())
+                    .filter(|x| x.is_finite() && *x > 0.0)
+                    .ok_or_else(|| at(x.span(), "a speed must be a number > 0 (rpm)".into()))?,
                 Some(var) => {
-                    let v = value(x.get_ref()).ok_or_else(|| at(x.span(), "must be a number, a boolean or an item name".into()))?;
+                    let v = value(x.get_ref()).ok_or_else(|| {
+                        at(
+                            x.span(),
+                            "must be a number, a boolean or an item name".into(),
+                        )
+                    })?;
                     value_of(var, &v).map_err(|e| at(x.span(), e))?
                 }
             };
@@ -708,7 +904,13 @@ pub(super) fn axis(t: &Table, key: &str, item: Item, var: Option<&Var>, nominal:
     }
     let real = |what: &str| -> Result<(), SceneError> {
         match var {
-            Some(v) if v.ty != crate::model::VarType::Real => Err(at(item.1.clone(), format!("{what} needs a Real parameter; {} is not (give `values`)", v.name))),
+            Some(v) if v.ty != crate::model::VarType::Real => Err(at(
+                item.1.clone(),
+                format!(
+                    "{what} needs a Real parameter; {} is not (give `values`)",
+                    v.name
+                ),
+            )),
             _ => Ok(()),
         }
     };
@@ -717,16 +919,37 @@ pub(super) fn axis(t: &Table, key: &str, item: Item, var: Option<&Var>, nominal:
         real("from/to/points")?;
         for k in ["from", "to", "points"] {
             if !has(k) {
-                return Err(at(item.1.clone(), format!("missing `{k}`: a range needs from, to and points")));
+                return Err(at(
+                    item.1.clone(),
+                    format!("missing `{k}`: a range needs from, to and points"),
+                ));
             }
         }
         let (lo, hi) = (f64_of("from")?, f64_of("to")?);
-        let n = whole(&a, "points", a.get("points").expect("present"), 1, 1_000_000).map_err(|e| SceneError { key: key.into(), ..e })? as usize;
+        let n = whole(
+            &a,
+            "points",
+            a.get("points").expect("present"),
+            1,
+            1_000_000,
+        )
+        .map_err(|e| SceneError {
+            key: key.into(),
+            ..e
+        })? as usize;
         if n == 1 && lo != hi {
             return Err(at(item.1.clone(), "one point needs from = to".into()));
         }
         let values = (0..n)
-            .map(|i| if n == 1 { lo } else if i == n - 1 { hi } else { lo + (hi - lo) * i as f64 / (n - 1) as f64 })
+            .map(|i| {
+                if n == 1 {
+                    lo
+                } else if i == n - 1 {
+                    hi
+                } else {
+                    lo + (hi - lo) * i as f64 / (n - 1) as f64
+                }
+            })
             .collect();
         return Ok(Axis::Values(values));
     }
@@ -735,7 +958,10 @@ pub(super) fn axis(t: &Table, key: &str, item: Item, var: Option<&Var>, nominal:
         only(&["uniform"])?;
         let (lo, hi) = pair("uniform")?;
         if lo >= hi {
-            return Err(at(item.1.clone(), format!("uniform = [{lo}, {hi}]: want lo < hi")));
+            return Err(at(
+                item.1.clone(),
+                format!("uniform = [{lo}, {hi}]: want lo < hi"),
+            ));
         }
         return Ok(Axis::Random(Dist::Uniform { lo, hi }));
     }
@@ -743,7 +969,10 @@ pub(super) fn axis(t: &Table, key: &str, item: Item, var: Option<&Var>, nominal:
         only(&["normal"])?;
         let (mean, sd) = pair("normal")?;
         if sd <= 0.0 {
-            return Err(at(item.1.clone(), format!("normal = [{mean}, {sd}]: want a standard deviation > 0")));
+            return Err(at(
+                item.1.clone(),
+                format!("normal = [{mean}, {sd}]: want a standard deviation > 0"),
+            ));
         }
         return Ok(Axis::Random(Dist::Normal { mean, sd }));
     }
@@ -753,19 +982,37 @@ pub(super) fn axis(t: &Table, key: &str, item: Item, var: Option<&Var>, nominal:
         if t <= 0.0 {
             return Err(at(item.1.clone(), "`tolerance` must be > 0".into()));
         }
-        let n = nominal.ok_or_else(|| at(item.1.clone(), "a tolerance needs a nominal value: fix the parameter in [fixed]".into()))?;
+        let n = nominal.ok_or_else(|| {
+            at(
+                item.1.clone(),
+                "a tolerance needs a nominal value: fix the parameter in [fixed]".into(),
+            )
+        })?;
         let normal = match a.get("distribution") {
             None => false,
             Some(d) => match a.string("distribution", d.clone())?.0.as_str() {
                 "uniform" => false,
                 "normal" => true,
-                other => return Err(at(d.1, format!("unknown distribution {other:?}; valid: uniform (n ± t), normal (t = 3 standard deviations)"))),
+                other => {
+                    return Err(at(
+                        d.1,
+                        format!(
+                            "unknown distribution {other:?}; valid: uniform (n ± t), normal (t = 3 standard deviations)"
+                        ),
+                    ));
+                }
             },
         };
         return Ok(Axis::Random(if normal {
-            Dist::Normal { mean: n, sd: t / 3.0 }
+            Dist::Normal {
+                mean: n,
+                sd: t / 3.0,
+            }
         } else {
-            Dist::Uniform { lo: n - t, hi: n + t }
+            Dist::Uniform {
+                lo: n - t,
+                hi: n + t,
+            }
         }));
     }
     Err(at(item.1.clone(), format!("must be one of {forms}")))

@@ -15,11 +15,11 @@
 //! delta = { quantity = "delta", turns = 2 }
 //! ```
 
+use super::Row;
 use super::file::{
     Length, Measure, Metric, Plan, StepSize, Swept, axis, design_of, in_file_order, parse_toml,
     root,
 };
-use super::Row;
 use crate::machines::{simulate, startup_time, steady, variables_of};
 use crate::model::{Causality, Var};
 use crate::scene::{SceneError, Table, line_of, nearest, value, value_of};
@@ -63,7 +63,14 @@ pub struct MachineRun {
     pub targets: Vec<(&'static str, &'static str)>,
 }
 
-const KEYS: &[&str] = &["machine", "fixed", "swept", "sampling", "experiment", "metrics"];
+const KEYS: &[&str] = &[
+    "machine",
+    "fixed",
+    "swept",
+    "sampling",
+    "experiment",
+    "metrics",
+];
 
 /// Reads a sweep file of `machine`.
 pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
@@ -76,14 +83,25 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
         message,
     };
     // `component.variable`: a parameter of one of the machine's components
-    let param = |key: &str, name: &str, span: &Range<usize>| -> Result<(&'static str, &'static Var), SceneError> {
+    let param = |key: &str,
+                 name: &str,
+                 span: &Range<usize>|
+     -> Result<(&'static str, &'static Var), SceneError> {
         let names: Vec<&str> = machine.components.iter().map(|c| c.name).collect();
-        let Some(c) = machine.components.iter().find(|c| name.starts_with(c.name) && name[c.name.len()..].starts_with('.')) else {
-            return Err(at(key, span, format!(
-                "{name:?} is not component.variable of {}: its components are {}",
-                machine.name,
-                names.join(", ")
-            )));
+        let Some(c) = machine
+            .components
+            .iter()
+            .find(|c| name.starts_with(c.name) && name[c.name.len()..].starts_with('.'))
+        else {
+            return Err(at(
+                key,
+                span,
+                format!(
+                    "{name:?} is not component.variable of {}: its components are {}",
+                    machine.name,
+                    names.join(", ")
+                ),
+            ));
         };
         let var_name = &name[c.name.len() + 1..];
         let table = variables_of(c.fmu).expect("a machine's components are catalog models");
@@ -91,14 +109,21 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
             .filter(|v| v.causality == Causality::Parameter)
             .map(|v| v.name)
             .collect();
-        match table.iter().find(|v| v.name == var_name && v.causality == Causality::Parameter) {
+        match table
+            .iter()
+            .find(|v| v.name == var_name && v.causality == Causality::Parameter)
+        {
             Some(v) => Ok((c.name, v)),
-            None => Err(at(key, span, format!(
-                "{} ({}) has no parameter {var_name:?}; {}",
-                c.name,
-                c.fmu,
-                nearest(var_name, &params)
-            ))),
+            None => Err(at(
+                key,
+                span,
+                format!(
+                    "{} ({}) has no parameter {var_name:?}; {}",
+                    c.name,
+                    c.fmu,
+                    nearest(var_name, &params)
+                ),
+            )),
         }
     };
     let mut fixed: Vec<(&'static str, &'static str, f64)> = Vec::new();
@@ -108,7 +133,13 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
             let key = format!("fixed.{name:?}");
             let (c, var) = param(&key, &name, &k.span())?;
             let x = value(v.get_ref())
-                .ok_or_else(|| at(&key, &v.span(), "must be a number, a boolean or an item name".into()))
+                .ok_or_else(|| {
+                    at(
+                        &key,
+                        &v.span(),
+                        "must be a number, a boolean or an item name".into(),
+                    )
+                })
                 .and_then(|x| value_of(var, &x).map_err(|e| at(&key, &v.span(), e)))?;
             fixed.push((c, var.name, x));
         }
@@ -122,7 +153,11 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
             let key = format!("swept.{name:?}");
             let (c, var) = param(&key, &name, &k.span())?;
             if fixed.iter().any(|f| f.0 == c && f.1 == var.name) {
-                return Err(at(&key, &k.span(), format!("{name} is both fixed and swept")));
+                return Err(at(
+                    &key,
+                    &k.span(),
+                    format!("{name} is both fixed and swept"),
+                ));
             }
             // the nominal value: the machine's own, else the model's default
             let nominal = (machine.components.iter())
@@ -130,7 +165,11 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
                 .and_then(|x| x.params.iter().find(|p| p.0 == var.name).map(|p| p.1))
                 .or(var.start);
             axes.push(axis(&t, &key, (v.get_ref(), v.span()), Some(var), nominal)?);
-            swept.push(Swept { name, vr: None, unit: var.unit.unwrap_or("") });
+            swept.push(Swept {
+                name,
+                vr: None,
+                unit: var.unit.unwrap_or(""),
+            });
             targets.push((c, var.name));
         }
     }
@@ -150,31 +189,72 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
             }
         }
         if step > stop {
-            return Err(e.error("step", e.span.clone(), format!("= {step} is longer than stop = {stop}")));
+            return Err(e.error(
+                "step",
+                e.span.clone(),
+                format!("= {step} is longer than stop = {stop}"),
+            ));
         }
     }
 
-    let m = root
-        .table("metrics", "metrics.")?
-        .ok_or_else(|| at("metrics", &(0..0), "missing: the file needs [metrics], e.g. delta = { quantity = \"delta\", turns = 2 }".into()))?;
+    let m = root.table("metrics", "metrics.")?.ok_or_else(|| {
+        at(
+            "metrics",
+            &(0..0),
+            "missing: the file needs [metrics], e.g. delta = { quantity = \"delta\", turns = 2 }"
+                .into(),
+        )
+    })?;
     let mut metrics = Vec::new();
     for (k, v) in in_file_order(m.table) {
         let name = k.get_ref().to_string();
         let key = format!("metrics.{name:?}");
-        if swept.iter().any(|s| s.name == name) || ["run", "warnings", "warning", "error"].contains(&name.as_str()) {
-            return Err(at(&key, &k.span(), format!("{name:?} is already a column of the results")));
+        if swept.iter().any(|s| s.name == name)
+            || ["run", "warnings", "warning", "error"].contains(&name.as_str())
+        {
+            return Err(at(
+                &key,
+                &k.span(),
+                format!("{name:?} is already a column of the results"),
+            ));
         }
         let DeValue::Table(mt) = v.get_ref() else {
-            return Err(at(&key, &v.span(), "must be a table: { quantity = \"delta\", turns = 2 }".into()));
+            return Err(at(
+                &key,
+                &v.span(),
+                "must be a table: { quantity = \"delta\", turns = 2 }".into(),
+            ));
         };
-        let mt = Table { text, prefix: "metrics.", table: mt, span: v.span() };
-        mt.only(&["quantity", "turns"]).map_err(|e| SceneError { key: format!("{key}.{}", e.key.trim_start_matches("metrics.")), ..e })?;
-        let (q, span) = mt.string("quantity", mt.require("quantity", "delta, w_mean, w_min, w_max, tau_peak, tau_rms or startup")?)?;
+        let mt = Table {
+            text,
+            prefix: "metrics.",
+            table: mt,
+            span: v.span(),
+        };
+        mt.only(&["quantity", "turns"]).map_err(|e| SceneError {
+            key: format!("{key}.{}", e.key.trim_start_matches("metrics.")),
+            ..e
+        })?;
+        let (q, span) = mt.string(
+            "quantity",
+            mt.require(
+                "quantity",
+                "delta, w_mean, w_min, w_max, tau_peak, tau_rms or startup",
+            )?,
+        )?;
         let Some(&(_, quantity, unit)) = QUANTITIES.iter().find(|x| x.0 == q) else {
-            return Err(at(&key, &span, format!(
-                "unknown quantity {q:?}; valid: {}",
-                QUANTITIES.iter().map(|x| x.0).collect::<Vec<_>>().join(", ")
-            )));
+            return Err(at(
+                &key,
+                &span,
+                format!(
+                    "unknown quantity {q:?}; valid: {}",
+                    QUANTITIES
+                        .iter()
+                        .map(|x| x.0)
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ),
+            ));
         };
         let turns = match mt.get("turns") {
             None => 1.0,
@@ -186,10 +266,18 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
                 x
             }
         };
-        metrics.push(Metric { name, unit, measure: Measure::Machine { quantity, turns } });
+        metrics.push(Metric {
+            name,
+            unit,
+            measure: Measure::Machine { quantity, turns },
+        });
     }
     if metrics.is_empty() {
-        return Err(at("metrics", &m.span, "is empty: a sweep asks for at least one metric".into()));
+        return Err(at(
+            "metrics",
+            &m.span,
+            "is empty: a sweep asks for at least one metric".into(),
+        ));
     }
     Ok(Plan {
         text: text.to_string(),
@@ -204,7 +292,11 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
         step: StepSize::Seconds(step),
         metrics,
         runner: run,
-        machine: Some(MachineRun { machine, fixed, targets }),
+        machine: Some(MachineRun {
+            machine,
+            fixed,
+            targets,
+        }),
     })
 }
 
@@ -216,9 +308,16 @@ pub fn run(plan: &Plan, k: usize) -> Row {
         unreachable!("a machine sweep runs for a time in steps of a time")
     };
     let mut set = mr.fixed.clone();
-    set.extend(mr.targets.iter().zip(&params).map(|(&(c, v), &x)| (c, v, x)));
-    let result = std::panic::catch_unwind(|| simulate(&mr.machine, &set, stop, h))
-        .unwrap_or_else(|_| Err("the machine's simulation panicked (a bug of bindery-fmu, please report it)".into()));
+    set.extend(
+        mr.targets
+            .iter()
+            .zip(&params)
+            .map(|(&(c, v), &x)| (c, v, x)),
+    );
+    let result =
+        std::panic::catch_unwind(|| simulate(&mr.machine, &set, stop, h)).unwrap_or_else(|_| {
+            Err("the machine's simulation panicked (a bug of bindery-fmu, please report it)".into())
+        });
     let (metrics, error) = match result {
         Err(e) => (Vec::new(), e),
         Ok(tr) => (
@@ -243,5 +342,12 @@ pub fn run(plan: &Plan, k: usize) -> Row {
             String::new(),
         ),
     };
-    Row { run: k, params, metrics, warnings: 0, warning: String::new(), error }
+    Row {
+        run: k,
+        params,
+        metrics,
+        warnings: 0,
+        warning: String::new(),
+        error,
+    }
 }

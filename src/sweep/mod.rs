@@ -18,8 +18,8 @@
 
 pub mod file;
 pub mod machine;
-pub mod row;
 pub mod plot;
+pub mod row;
 pub mod run;
 pub mod sample;
 pub mod store;

@@ -2,9 +2,9 @@
 //! parameters span a grid, a histogram when parameters are drawn at random (Monte Carlo, Latin
 //! hypercube), lines over the first varied parameter otherwise (one per value of the others).
 
+use super::Row;
 use super::file::Plan;
 use super::sample::Axis;
-use super::Row;
 use crate::docs::{Figure, Map, Series, render_map_png, render_png};
 
 /// Most lines in one figure; more combinations of the other parameters are left out (said in
@@ -40,35 +40,63 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
             *slot = Some(r);
         }
     }
-    let random = plan.design.axes.iter().any(|a| matches!(a, Axis::Random(_)));
+    let random = plan
+        .design
+        .axes
+        .iter()
+        .any(|a| matches!(a, Axis::Random(_)));
     let varied: Vec<usize> = (plan.design.axes.iter().enumerate())
         .filter(|(_, a)| matches!(a, Axis::Values(v) if v.len() > 1))
         .map(|(i, _)| i)
         .collect();
-    let metric = |r: Option<&Row>, k: usize| r.and_then(|r| r.metrics.get(k).copied()).unwrap_or(f64::NAN);
+    let metric = |r: Option<&Row>, k: usize| {
+        r.and_then(|r| r.metrics.get(k).copied())
+            .unwrap_or(f64::NAN)
+    };
     let mut out = Vec::new();
     for (k, m) in plan.metrics.iter().enumerate() {
-        let file = format!("{}.png", m.name.replace(|c: char| !c.is_ascii_alphanumeric() && c != '_' && c != '-', "_"));
+        let file = format!(
+            "{}.png",
+            m.name.replace(
+                |c: char| !c.is_ascii_alphanumeric() && c != '_' && c != '-',
+                "_"
+            )
+        );
         let m_label = label(&m.name, m.unit);
         let mf = shown(m.unit).1;
         let metric = |r: Option<&Row>, k: usize| metric(r, k) * mf;
         if random {
-            let values: Vec<f64> = by_run.iter().map(|r| metric(*r, k)).filter(|x| x.is_finite()).collect();
+            let values: Vec<f64> = by_run
+                .iter()
+                .map(|r| metric(*r, k))
+                .filter(|x| x.is_finite())
+                .collect();
             if values.is_empty() {
                 continue;
             }
-            out.push((file, render_png(&histogram(plan, &m_label, shown(m.unit).0, &values))?));
+            out.push((
+                file,
+                render_png(&histogram(plan, &m_label, shown(m.unit).0, &values))?,
+            ));
         } else if varied.len() == 2 {
             let (a, b) = (varied[0], varied[1]);
-            let (Axis::Values(xs), Axis::Values(ys)) = (&plan.design.axes[a], &plan.design.axes[b]) else {
+            let (Axis::Values(xs), Axis::Values(ys)) = (&plan.design.axes[a], &plan.design.axes[b])
+            else {
                 unreachable!("varied axes have values")
             };
             // runs: the earlier axis slower; the others have one value
             let z = (0..ys.len())
-                .map(|j| (0..xs.len()).map(|i| metric(by_run[i * ys.len() + j], k)).collect())
+                .map(|j| {
+                    (0..xs.len())
+                        .map(|i| metric(by_run[i * ys.len() + j], k))
+                        .collect()
+                })
                 .collect();
             let map = Map {
-                title: format!("{}: {} over {} and {}", plan.model, m.name, plan.swept[a].name, plan.swept[b].name),
+                title: format!(
+                    "{}: {} over {} and {}",
+                    plan.model, m.name, plan.swept[a].name, plan.swept[b].name
+                ),
                 x_label: label(&plan.swept[a].name, plan.swept[a].unit),
                 y_label: label(&plan.swept[b].name, plan.swept[b].unit),
                 z_label: m_label,
@@ -87,7 +115,13 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
                 let key: Vec<String> = (varied.iter().filter(|&&i| i != a))
                     .map(|&i| {
                         let (u, f) = shown(plan.swept[i].unit);
-                        format!("{} = {} {u}", plan.swept[i].name, crate::docs::number(p[i] * f, 4)).trim_end().to_string()
+                        format!(
+                            "{} = {} {u}",
+                            plan.swept[i].name,
+                            crate::docs::number(p[i] * f, 4)
+                        )
+                        .trim_end()
+                        .to_string()
                     })
                     .collect();
                 let key = key.join(", ");
@@ -100,7 +134,10 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
             let total = series.len();
             series.truncate(MAX_LINES);
             let title = if total > MAX_LINES {
-                format!("{}: {} over {} (the first {MAX_LINES} of {total} lines)", plan.model, m.name, plan.swept[a].name)
+                format!(
+                    "{}: {} over {} (the first {MAX_LINES} of {total} lines)",
+                    plan.model, m.name, plan.swept[a].name
+                )
             } else {
                 format!("{}: {} over {}", plan.model, m.name, plan.swept[a].name)
             };
@@ -113,7 +150,12 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
                 "",
             );
             fig.markers = true;
-            if fig.series.iter().flat_map(|s| &s.points).any(|p| p.1.is_finite()) {
+            if fig
+                .series
+                .iter()
+                .flat_map(|s| &s.points)
+                .any(|p| p.1.is_finite())
+            {
                 out.push((file, render_png(&fig)?));
             }
         }
@@ -144,7 +186,8 @@ fn histogram(plan: &Plan, m_label: &str, unit: &str, values: &[f64]) -> Figure {
     }
     pts.push((hi, 0.0));
     let mean = values.iter().sum::<f64>() / n as f64;
-    let sd = (values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n.max(2) - 1) as f64).sqrt();
+    let sd =
+        (values.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (n.max(2) - 1) as f64).sqrt();
     let mut series = vec![Series::new(m_label, pts)];
     let mut title = format!(
         "{}: {} runs, mean {} {unit}, standard deviation {} {unit}",
@@ -157,7 +200,10 @@ fn histogram(plan: &Plan, m_label: &str, unit: &str, values: &[f64]) -> Figure {
     if lo < 0.0 && hi > 0.0 {
         // a sign change matters (a force that must stay positive): the share below zero
         let below = values.iter().filter(|&&x| x < 0.0).count();
-        title += &format!(", {} % below 0", crate::docs::number(100.0 * below as f64 / n as f64, 3));
+        title += &format!(
+            ", {} % below 0",
+            crate::docs::number(100.0 * below as f64 / n as f64, 3)
+        );
         let top = count.iter().copied().max().unwrap_or(0) as f64;
         series.push(Series::new("0", vec![(0.0, 0.0), (0.0, top)]));
     }

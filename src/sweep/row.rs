@@ -22,7 +22,12 @@ pub struct Row {
 impl Row {
     /// The row as one line (no newline): fields separated by tabs, text escaped.
     pub fn to_line(&self) -> String {
-        let mut out = format!("{}\t{}\t{}", self.run, self.params.len(), self.metrics.len());
+        let mut out = format!(
+            "{}\t{}\t{}",
+            self.run,
+            self.params.len(),
+            self.metrics.len()
+        );
         for x in self.params.iter().chain(&self.metrics) {
             out.push('\t');
             out.push_str(&format!("{x:?}"));
@@ -46,7 +51,10 @@ impl Row {
             return None;
         }
         let num = |s: &str| s.parse::<f64>().ok();
-        let params = f[3..3 + np].iter().map(|s| num(s)).collect::<Option<Vec<_>>>()?;
+        let params = f[3..3 + np]
+            .iter()
+            .map(|s| num(s))
+            .collect::<Option<Vec<_>>>()?;
         let metrics = (f[3 + np..3 + np + nm].iter())
             .map(|s| num(s))
             .collect::<Option<Vec<_>>>()?;
@@ -107,7 +115,10 @@ mod tests {
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(&back.params), bits(&r.params));
         assert_eq!(bits(&back.metrics), bits(&r.metrics));
-        assert_eq!((back.warnings, &back.warning, &back.error), (3, &r.warning, &r.error));
+        assert_eq!(
+            (back.warnings, &back.warning, &back.error),
+            (3, &r.warning, &r.error)
+        );
         assert!(!r.to_line().contains('\n'));
         assert_eq!(Row::from_line("1\t2\t0\t1.0"), None);
         assert_eq!(Row::from_line("not a row"), None);

@@ -4,8 +4,8 @@
 //! the same `Model::step` and `Model::evaluate` an FMU's `fmi2DoStep` and `fmi2GetReal` run,
 //! and the metrics computed from the samples at the communication points.
 
-use super::file::{Length, Measure, Over, Plan, Stat, StepSize};
 use super::Row;
+use super::file::{Length, Measure, Over, Plan, Stat, StepSize};
 use crate::model::shaft;
 use crate::model::{Log, Model, Severity, Values, check_bounds};
 use std::f64::consts::PI;
@@ -43,7 +43,9 @@ pub fn run<M: Model>(plan: &Plan, k: usize) -> Row {
             .map(|s| s.to_string())
             .or_else(|| p.downcast_ref::<String>().cloned())
             .unwrap_or_default();
-        Err(format!("the model panicked (a bug of bindery-fmu, please report it): {what}"))
+        Err(format!(
+            "the model panicked (a bug of bindery-fmu, please report it): {what}"
+        ))
     });
     let (metrics, error) = match result {
         Ok(m) => (m, String::new()),
@@ -78,7 +80,8 @@ fn simulate<M: Model>(plan: &Plan, params: &[f64], log: &mut Capture) -> Result<
             .expect("a drive mode constant_speed") as f64
             + 1.0;
         v.raw_mut()[shaft::MODE as usize] = constant;
-        v.raw_mut()[shaft::N as usize] = rpm.expect("a driven model's plan has a speed") * PI / 30.0;
+        v.raw_mut()[shaft::N as usize] =
+            rpm.expect("a driven model's plan has a speed") * PI / 30.0;
         if let Some(f) = plan.fidelity {
             v.raw_mut()[shaft::FIDELITY as usize] = f as i32 as f64;
         }
@@ -141,7 +144,12 @@ fn simulate<M: Model>(plan: &Plan, params: &[f64], log: &mut Capture) -> Result<
         .metrics
         .iter()
         .map(|m| {
-            let Measure::Output { output, stat: st, over } = m.measure else {
+            let Measure::Output {
+                output,
+                stat: st,
+                over,
+            } = m.measure
+            else {
                 unreachable!("a model's plan measures outputs")
             };
             let x = &series[outputs.binary_search(&output).expect("sampled")];

@@ -119,7 +119,13 @@ impl Store {
         let done: BTreeSet<usize> = rows.iter().map(|r| r.run).collect();
         let next_part = parts(dir)?
             .last()
-            .and_then(|p| p.file_stem()?.to_str()?.strip_prefix("part-")?.parse::<usize>().ok())
+            .and_then(|p| {
+                p.file_stem()?
+                    .to_str()?
+                    .strip_prefix("part-")?
+                    .parse::<usize>()
+                    .ok()
+            })
             .map_or(0, |n| n + 1);
         let csv = if csv {
             let path = dir.join("runs.csv");
@@ -174,7 +180,8 @@ impl Store {
             let text: String = (self.pending.iter())
                 .map(|r| csv_line(r, self.metrics.len()))
                 .collect();
-            f.write_all(text.as_bytes()).map_err(err(&self.dir.join("runs.csv")))?;
+            f.write_all(text.as_bytes())
+                .map_err(err(&self.dir.join("runs.csv")))?;
         }
         self.next_part += 1;
         self.pending.clear();
@@ -245,8 +252,16 @@ fn to_parquet(params: &[String], metrics: &[String], rows: &[Row]) -> Result<Vec
         )
     };
     let mut fields = vec![col("run", Physical::INT64, Repetition::REQUIRED)];
-    fields.extend(params.iter().map(|p| col(p, Physical::DOUBLE, Repetition::REQUIRED)));
-    fields.extend(metrics.iter().map(|m| col(m, Physical::DOUBLE, Repetition::OPTIONAL)));
+    fields.extend(
+        params
+            .iter()
+            .map(|p| col(p, Physical::DOUBLE, Repetition::REQUIRED)),
+    );
+    fields.extend(
+        metrics
+            .iter()
+            .map(|m| col(m, Physical::DOUBLE, Repetition::OPTIONAL)),
+    );
     fields.push(col("warnings", Physical::INT64, Repetition::REQUIRED));
     fields.push(text("warning"));
     fields.push(text("error"));
@@ -256,7 +271,11 @@ fn to_parquet(params: &[String], metrics: &[String], rows: &[Row]) -> Result<Vec
             .build()
             .map_err(pq)?,
     );
-    let props = Arc::new(WriterProperties::builder().set_created_by("bindery sweep".into()).build());
+    let props = Arc::new(
+        WriterProperties::builder()
+            .set_created_by("bindery sweep".into())
+            .build(),
+    );
     let mut out = Vec::new();
     let mut w = SerializedFileWriter::new(&mut out, schema, props).map_err(pq)?;
     let mut g = w.next_row_group().map_err(pq)?;
@@ -267,30 +286,52 @@ fn to_parquet(params: &[String], metrics: &[String], rows: &[Row]) -> Result<Vec
         match column {
             0 => {
                 let v: Vec<i64> = rows.iter().map(|r| r.run as i64).collect();
-                c.typed::<Int64Type>().write_batch(&v, None, None).map_err(pq)?;
+                c.typed::<Int64Type>()
+                    .write_batch(&v, None, None)
+                    .map_err(pq)?;
             }
             k if k <= np => {
                 let v: Vec<f64> = rows.iter().map(|r| r.params[k - 1]).collect();
-                c.typed::<DoubleType>().write_batch(&v, None, None).map_err(pq)?;
+                c.typed::<DoubleType>()
+                    .write_batch(&v, None, None)
+                    .map_err(pq)?;
             }
             k if k <= np + nm => {
                 let i = k - 1 - np;
-                let v: Vec<f64> = rows.iter().filter_map(|r| r.metrics.get(i).copied()).collect();
-                let def: Vec<i16> = rows.iter().map(|r| i16::from(!r.metrics.is_empty())).collect();
-                c.typed::<DoubleType>().write_batch(&v, Some(&def), None).map_err(pq)?;
+                let v: Vec<f64> = rows
+                    .iter()
+                    .filter_map(|r| r.metrics.get(i).copied())
+                    .collect();
+                let def: Vec<i16> = rows
+                    .iter()
+                    .map(|r| i16::from(!r.metrics.is_empty()))
+                    .collect();
+                c.typed::<DoubleType>()
+                    .write_batch(&v, Some(&def), None)
+                    .map_err(pq)?;
             }
             k if k == np + nm + 1 => {
                 let v: Vec<i64> = rows.iter().map(|r| r.warnings as i64).collect();
-                c.typed::<Int64Type>().write_batch(&v, None, None).map_err(pq)?;
+                c.typed::<Int64Type>()
+                    .write_batch(&v, None, None)
+                    .map_err(pq)?;
             }
             k => {
-                let of = |r: &Row| if k == np + nm + 2 { r.warning.clone() } else { r.error.clone() };
+                let of = |r: &Row| {
+                    if k == np + nm + 2 {
+                        r.warning.clone()
+                    } else {
+                        r.error.clone()
+                    }
+                };
                 let v: Vec<ByteArray> = (rows.iter().map(of))
                     .filter(|s| !s.is_empty())
                     .map(|s| ByteArray::from(s.into_bytes()))
                     .collect();
                 let def: Vec<i16> = rows.iter().map(|r| i16::from(!of(r).is_empty())).collect();
-                c.typed::<ByteArrayType>().write_batch(&v, Some(&def), None).map_err(pq)?;
+                c.typed::<ByteArrayType>()
+                    .write_batch(&v, Some(&def), None)
+                    .map_err(pq)?;
             }
         }
         c.close().map_err(pq)?;
@@ -337,7 +378,10 @@ fn from_parquet(path: &Path) -> Result<Vec<Row>, String> {
             .take_while(|c| c.self_type().get_basic_info().repetition() == Repetition::REQUIRED)
             .count();
         let params: Vec<f64> = fields[1..1 + np].iter().filter_map(|f| double(f)).collect();
-        let metrics: Vec<f64> = fields[1 + np..n - 3].iter().filter_map(|f| double(f)).collect();
+        let metrics: Vec<f64> = fields[1 + np..n - 3]
+            .iter()
+            .filter_map(|f| double(f))
+            .collect();
         out.push(Row {
             run: *run as usize,
             params,

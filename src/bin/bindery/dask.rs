@@ -28,7 +28,11 @@ fn chunks(runs: &[usize], size: usize) -> Vec<String> {
                 while j + 1 < c.len() && c[j + 1] == c[j] + 1 {
                     j += 1;
                 }
-                parts.push(if i == j { c[i].to_string() } else { format!("{}-{}", c[i], c[j]) });
+                parts.push(if i == j {
+                    c[i].to_string()
+                } else {
+                    format!("{}-{}", c[i], c[j])
+                });
                 i = j + 1;
             }
             parts.join(",")
@@ -74,7 +78,9 @@ pub fn run(
         .arg(&list)
         .stdout(Stdio::piped())
         .spawn()
-        .map_err(|e| format!("{python}: {e} (set BINDERY_PYTHON to a Python with Dask's distributed)"))?;
+        .map_err(|e| {
+            format!("{python}: {e} (set BINDERY_PYTHON to a Python with Dask's distributed)")
+        })?;
     let wanted: BTreeSet<usize> = todo.iter().copied().collect();
     let mut seen = BTreeSet::new();
     let stdout = child.stdout.take().expect("piped");
@@ -82,12 +88,18 @@ pub fn run(
     for line in std::io::BufReader::new(stdout).lines() {
         let line = line.map_err(|e| format!("the Dask driver's output: {e}"))?;
         let Some(row) = Row::from_line(&line) else {
-            result = Err(format!("{}: the Dask driver sent a line that is not a row: {line:?}", file.display()));
+            result = Err(format!(
+                "{}: the Dask driver sent a line that is not a row: {line:?}",
+                file.display()
+            ));
             break;
         };
         if !wanted.contains(&row.run) || !seen.insert(row.run) {
             // a run not asked for, or a second time: not stored
-            result = Err(format!("the Dask driver sent run {} twice or unasked", row.run));
+            result = Err(format!(
+                "the Dask driver sent run {} twice or unasked",
+                row.run
+            ));
             break;
         }
         if let Err(e) = take(row) {
@@ -102,7 +114,9 @@ pub fn run(
     let _ = std::fs::remove_dir_all(&dir);
     result?;
     if !status.success() {
-        return Err(format!("the Dask driver failed ({status}); its message is above"));
+        return Err(format!(
+            "the Dask driver failed ({status}); its message is above"
+        ));
     }
     if seen.len() != wanted.len() {
         return Err(format!(

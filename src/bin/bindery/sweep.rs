@@ -62,24 +62,32 @@ pub fn plan(file: &Path, scene_file: Option<&Path>) -> Result<Plan, String> {
                     bindery_fmu::scene::nearest(&name, &names)
                 ));
             };
-            return bindery_fmu::sweep::machine::parse(&text, m).map_err(|e| format!("{shown}: {e}"));
+            return bindery_fmu::sweep::machine::parse(&text, m)
+                .map_err(|e| format!("{shown}: {e}"));
         }
         file::Target::Model(m) => (Some(m), None),
         file::Target::Scene(s) => (None, Some(s)),
     };
     let scene_text = match (scene, scene_file) {
-        (Some(_), Some(f)) => Some(std::fs::read_to_string(f).map_err(|e| format!("{}: {e}", f.display()))?),
+        (Some(_), Some(f)) => {
+            Some(std::fs::read_to_string(f).map_err(|e| format!("{}: {e}", f.display()))?)
+        }
         (Some(s), None) => {
             let p = file.parent().unwrap_or(Path::new(".")).join(&s);
-            Some(std::fs::read_to_string(&p).map_err(|e| format!("{shown}: scene {s:?}: {}: {e}", p.display()))?)
+            Some(
+                std::fs::read_to_string(&p)
+                    .map_err(|e| format!("{shown}: scene {s:?}: {}: {e}", p.display()))?,
+            )
         }
         (None, _) => None,
     };
     let model = match (&model, &scene_text) {
         (Some(m), _) => m.clone(),
-        (None, Some(t)) => bindery_fmu::scene::Scene::parse(t)
-            .map_err(|e| format!("{shown}: the scene: {e}"))?
-            .mechanism,
+        (None, Some(t)) => {
+            bindery_fmu::scene::Scene::parse(t)
+                .map_err(|e| format!("{shown}: the scene: {e}"))?
+                .mechanism
+        }
         (None, None) => unreachable!("target_of names one"),
     };
     let all = catalog::all();
@@ -99,11 +107,18 @@ fn parse_runs(text: &str, runs: usize) -> Result<Vec<usize>, String> {
     for part in text.split(',').filter(|p| !p.is_empty()) {
         let (a, b) = part.split_once('-').unwrap_or((part, part));
         let (a, b): (usize, usize) = (
-            a.trim().parse().map_err(|_| format!("--rows {text:?}: {a:?} is not a run"))?,
-            b.trim().parse().map_err(|_| format!("--rows {text:?}: {b:?} is not a run"))?,
+            a.trim()
+                .parse()
+                .map_err(|_| format!("--rows {text:?}: {a:?} is not a run"))?,
+            b.trim()
+                .parse()
+                .map_err(|_| format!("--rows {text:?}: {b:?} is not a run"))?,
         );
         if a > b || b >= runs {
-            return Err(format!("--rows {text:?}: the sweep has runs 0 to {}", runs - 1));
+            return Err(format!(
+                "--rows {text:?}: the sweep has runs 0 to {}",
+                runs - 1
+            ));
         }
         out.extend(a..=b);
     }
@@ -171,7 +186,12 @@ pub fn sweep(o: &Options) -> Result<(), String> {
     let out = match &o.out {
         Some(d) => d.clone(),
         None => {
-            let stem = o.file.file_stem().and_then(|s| s.to_str()).filter(|s| *s != "-").unwrap_or("sweep");
+            let stem = o
+                .file
+                .file_stem()
+                .and_then(|s| s.to_str())
+                .filter(|s| *s != "-")
+                .unwrap_or("sweep");
             PathBuf::from(format!("{stem}-results"))
         }
     };
@@ -185,7 +205,10 @@ pub fn sweep(o: &Options) -> Result<(), String> {
         o.file.display(),
         plan.runs(),
         plan.model,
-        plan.fidelity.map_or(String::new(), |f| format!(" ({})", bindery_fmu::scene::fidelity_name(f))),
+        plan.fidelity.map_or(String::new(), |f| format!(
+            " ({})",
+            bindery_fmu::scene::fidelity_name(f)
+        )),
         todo.len(),
         match &o.dask {
             Some(a) => format!("on the Dask cluster at {a}"),

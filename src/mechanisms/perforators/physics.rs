@@ -382,7 +382,11 @@ impl Params {
             g += 1e-3;
         }
         let stroke = self.carriage(gamma_sw).s - s0;
-        let made = if self.made.exact() { *self } else { self.as_made() };
+        let made = if self.made.exact() {
+            *self
+        } else {
+            self.as_made()
+        };
         // the linkage as made must follow the ramp's whole swing, the needles rising
         let mut g = 0.0;
         while g <= gamma_sw + 1e-3 {

@@ -338,7 +338,10 @@ fn the_linkage_as_made_moves_the_needles_by_its_own_geometry() {
             p.lambda3 * u + made.d_arm,
         );
         let a = (r * (g - p.gamma0).cos(), r * (g - p.gamma0).sin());
-        let (n, t) = ((p.alpha.cos(), p.alpha.sin()), (-p.alpha.sin(), p.alpha.cos()));
+        let (n, t) = (
+            (p.alpha.cos(), p.alpha.sin()),
+            (-p.alpha.sin(), p.alpha.cos()),
+        );
         let off = e - (n.0 * a.0 + n.1 * a.1);
         (t.0 * a.0 + t.1 * a.1) + (l * l - off * off).sqrt()
     };
@@ -347,28 +350,51 @@ fn the_linkage_as_made_moves_the_needles_by_its_own_geometry() {
     for i in 0..720 {
         let phi = TAU * i as f64 / 720.0;
         let (k, k0) = (d.kinematics(phi, w, 0.0), design.kinematics(phi, w, 0.0));
-        assert_eq!(k.gamma.to_bits(), k0.gamma.to_bits(), "the ramp sets the lever angle");
+        assert_eq!(
+            k.gamma.to_bits(),
+            k0.gamma.to_bits(),
+            "the ramp sets the lever angle"
+        );
         let s = s_of(k.gamma) - s_of(0.0);
         assert!((k.s - s).abs() < 1e-12, "phi {phi}: {} vs {s}", k.s);
         let h = 1e-5;
         let (kp, km) = (d.kinematics(phi + h, w, 0.0), d.kinematics(phi - h, w, 0.0));
         let v = (kp.s - km.s) / (2.0 * h) * w;
         let a = (kp.v - km.v) / (2.0 * h) * w;
-        assert!((k.v - v).abs() < 1e-6 * (1.0 + v.abs()), "phi {phi}: v {} vs {v}", k.v);
+        assert!(
+            (k.v - v).abs() < 1e-6 * (1.0 + v.abs()),
+            "phi {phi}: v {} vs {v}",
+            k.v
+        );
         // where the table's motion has a corner (a phase boundary) a central difference
         // straddles it: there the design's own acceleration misses its difference too
-        let (kp0, km0) = (design.kinematics(phi + h, w, 0.0), design.kinematics(phi - h, w, 0.0));
+        let (kp0, km0) = (
+            design.kinematics(phi + h, w, 0.0),
+            design.kinematics(phi - h, w, 0.0),
+        );
         let a0 = (kp0.v - km0.v) / (2.0 * h) * w;
         if (k0.a - a0).abs() < 1e-4 * (1.0 + a0.abs()) {
-            assert!((k.a - a).abs() < 1e-4 * (1.0 + a.abs()), "phi {phi}: a {} vs {a}", k.a);
+            assert!(
+                (k.a - a).abs() < 1e-4 * (1.0 + a.abs()),
+                "phi {phi}: a {} vs {a}",
+                k.a
+            );
         }
         lo = lo.min(k.s);
         hi = hi.max(k.s);
     }
     // a shorter lever arm and a longer rod: the travel is not the design's 30 mm any more
     let stroke = hi - lo;
-    assert!((stroke - design.stroke).abs() > 1e-6, "{stroke} vs {}", design.stroke);
-    assert!((stroke - design.stroke).abs() < 1e-3, "{stroke} vs {}", design.stroke);
+    assert!(
+        (stroke - design.stroke).abs() > 1e-6,
+        "{stroke} vs {}",
+        design.stroke
+    );
+    assert!(
+        (stroke - design.stroke).abs() < 1e-3,
+        "{stroke} vs {}",
+        design.stroke
+    );
     // made exactly: the design, bit for bit (the same linkage)
     let exact = Params {
         made: Made::default(),
@@ -378,7 +404,10 @@ fn the_linkage_as_made_moves_the_needles_by_its_own_geometry() {
     .expect("assembles");
     for i in 0..90 {
         let phi = TAU * i as f64 / 90.0;
-        assert_eq!(exact.kinematics(phi, w, 0.0), design.kinematics(phi, w, 0.0));
+        assert_eq!(
+            exact.kinematics(phi, w, 0.0),
+            design.kinematics(phi, w, 0.0)
+        );
         let (f, f0) = (
             exact.forces(&exact.kinematics(phi, w, 0.0)),
             design.forces(&design.kinematics(phi, w, 0.0)),
