@@ -16,10 +16,8 @@
 //! ```
 
 use super::Row;
-use super::file::{
-    Length, Measure, Metric, Plan, StepSize, Swept, axis, design_of, in_file_order, parse_toml,
-    root,
-};
+use super::plan::{Length, Measure, Metric, Plan, StepSize, Swept};
+use super::read::{axis, design_of, in_file_order, parse_toml, root};
 use crate::machines::{simulate, startup_time, steady, variables_of};
 use crate::model::{Causality, Var};
 use crate::scene::{SceneError, Table, line_of, nearest, value, value_of};

@@ -3,7 +3,9 @@
 //! metrics the sweep file asks for (max, min, peak-to-peak, RMS, ... of an output over the last
 //! shaft turn or the whole run; event counts; flags; the log's warnings).
 //!
-//! - [`file`]: the sweep file (TOML), refused with the key and its line when malformed;
+//! - [`plan`]: what a checked sweep file says ([`Plan`]: the runs, their columns, the metrics);
+//! - [`file`]: a model's sweep file (TOML), refused with the key and its line when malformed;
+//!   [`read`]: what every sweep file has (which model, scene or machine; the axes, the design);
 //! - [`machine`]: a sweep of a whole machine (main shaft, motor, flywheel, mechanisms);
 //! - [`sample`]: the design, which values run `k` takes, the same in every process;
 //! - [`plot`]: the figure a person wants of each metric (a map, a histogram, lines);
@@ -18,7 +20,9 @@
 
 pub mod file;
 pub mod machine;
+pub mod plan;
 pub mod plot;
+pub mod read;
 pub mod row;
 pub mod run;
 pub mod sample;
@@ -26,7 +30,7 @@ pub mod store;
 #[cfg(test)]
 mod tests;
 
-pub use file::{Measure, Metric, Over, Plan, Stat, Swept};
+pub use plan::{Measure, Metric, Over, Plan, Stat, Swept};
 pub use row::Row;
 
 /// A model's runner: every catalog FMU has one (`catalog::Entry::sweep`).
