@@ -4,6 +4,8 @@
 //! designer asks for: the coefficient of speed fluctuation δ = (ω_max − ω_min)/ω_mean, the
 //! flywheel that brings it below a target, peak and RMS motor torque, start-up time.
 
+pub mod sweep;
+
 use crate::mechanisms::{
     disc_knife_drive::DiscKnifeDrive, geneva_knife_drive::GenevaKnifeDrive,
     legacy_needle_drive::LegacyNeedleDrive, main_shaft::MainShaft, perforators::Perforators,

@@ -485,7 +485,6 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
         length,
         step,
         metrics,
-        runner: super::run::run::<M>,
-        machine: None,
+        runner: super::Runner(std::sync::Arc::new(super::run::run::<M>)),
     })
 }

@@ -6,7 +6,7 @@
 //! - [`plan`]: what a checked sweep file says ([`Plan`]: the runs, their columns, the metrics);
 //! - [`file`]: a model's sweep file (TOML), refused with the key and its line when malformed;
 //!   [`read`]: what every sweep file has (which model, scene or machine; the axes, the design);
-//! - [`machine`]: a sweep of a whole machine (main shaft, motor, flywheel, mechanisms);
+//!   a whole machine's sweep is `crate::machines::sweep`, which builds on these;
 //! - [`sample`]: the design, which values run `k` takes, the same in every process;
 //! - [`plot`]: the figure a person wants of each metric (a map, a histogram, lines);
 //! - [`run`]: one run, in this process, on the plain Rust model (no FMI call, no Python);
@@ -19,7 +19,6 @@
 //! split gives the same rows bit for bit.
 
 pub mod file;
-pub mod machine;
 pub mod plan;
 pub mod plot;
 pub mod read;
@@ -33,5 +32,15 @@ mod tests;
 pub use plan::{Measure, Metric, Over, Plan, Stat, Swept};
 pub use row::Row;
 
-/// A model's runner: every catalog FMU has one (`catalog::Entry::sweep`).
-pub type Runner = fn(&Plan, usize) -> Row;
+/// What runs one point of a plan: a model's runner, or a machine's, which carries the machine.
+#[derive(Clone)]
+pub struct Runner(pub std::sync::Arc<RunFn>);
+
+/// Runs point `k` of a plan.
+pub type RunFn = dyn Fn(&Plan, usize) -> Row + Send + Sync;
+
+impl std::fmt::Debug for Runner {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str("Runner")
+    }
+}

@@ -1,7 +1,6 @@
 //! What a sweep file says, checked: the plan of the runs ([`Plan`]), its columns (swept
 //! parameters, metrics) and what each metric measures.
 
-use super::machine::MachineRun;
 use super::sample::Design;
 use super::{Row, Runner};
 use crate::model::shaft::Fidelity;
@@ -69,12 +68,36 @@ pub enum Measure {
     /// A statistic of a model's output (value reference) over a window.
     Output { output: u32, stat: Stat, over: Over },
     /// A figure of a whole machine's run over its last `turns` main-shaft turns
-    /// ([`super::machine`]).
-    Machine {
-        quantity: super::machine::Quantity,
-        turns: f64,
-    },
+    /// (`crate::machines::sweep`).
+    Machine { quantity: Quantity, turns: f64 },
 }
+
+/// A figure of a whole machine's run (`crate::machines::sweep`).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Quantity {
+    /// δ = (ω_max − ω_min)/ω_mean of the main shaft.
+    Delta,
+    /// Mean, smallest and largest main-shaft speed, rad/s.
+    WMean,
+    WMin,
+    WMax,
+    /// Peak |motor torque| and its RMS, N·m (at the motor shaft).
+    TauPeak,
+    TauRms,
+    /// Time until the main shaft first reaches 95 % of its mean speed over the last turns, s.
+    Startup,
+}
+
+/// Every quantity by its name in a sweep file, with its unit.
+pub const QUANTITIES: &[(&str, Quantity, &str)] = &[
+    ("delta", Quantity::Delta, ""),
+    ("w_mean", Quantity::WMean, "rad/s"),
+    ("w_min", Quantity::WMin, "rad/s"),
+    ("w_max", Quantity::WMax, "rad/s"),
+    ("tau_peak", Quantity::TauPeak, "N.m"),
+    ("tau_rms", Quantity::TauRms, "N.m"),
+    ("startup", Quantity::Startup, "s"),
+];
 
 /// A swept parameter: a column of the results.
 #[derive(Clone, Debug, PartialEq)]
@@ -123,10 +146,9 @@ pub struct Plan {
     pub length: Length,
     pub step: StepSize,
     pub metrics: Vec<Metric>,
-    /// The model's runner.
+    /// What runs one point of the design: a model's runner ([`super::run::run`]), or a
+    /// machine's (`crate::machines::sweep`), which carries the machine.
     pub runner: Runner,
-    /// A sweep of a whole machine: its components, what the parameters set ([`super::machine`]).
-    pub machine: Option<MachineRun>,
 }
 
 impl Plan {
@@ -137,7 +159,7 @@ impl Plan {
 
     /// Run `k` on this process.
     pub fn run(&self, k: usize) -> Row {
-        (self.runner)(self, k)
+        (self.runner.0)(self, k)
     }
 
     /// The columns of a row: the swept parameters', then the metrics'.

@@ -72,7 +72,7 @@ pub fn target_of(text: &str) -> Result<Target, SceneError> {
     }
 }
 
-pub(super) fn parse_toml(text: &str) -> Result<toml::Spanned<DeTable<'_>>, SceneError> {
+pub(crate) fn parse_toml(text: &str) -> Result<toml::Spanned<DeTable<'_>>, SceneError> {
     DeTable::parse(text).map_err(|e| SceneError {
         key: String::new(),
         line: e.span().map(|s| line_of(text, s.start)),
@@ -80,7 +80,7 @@ pub(super) fn parse_toml(text: &str) -> Result<toml::Spanned<DeTable<'_>>, Scene
     })
 }
 
-pub(super) fn root<'a, 'i>(text: &'a str, table: &'a DeTable<'i>) -> Table<'a, 'i> {
+pub(crate) fn root<'a, 'i>(text: &'a str, table: &'a DeTable<'i>) -> Table<'a, 'i> {
     Table {
         text,
         prefix: "",
@@ -89,14 +89,14 @@ pub(super) fn root<'a, 'i>(text: &'a str, table: &'a DeTable<'i>) -> Table<'a, '
     }
 }
 
-pub(super) type Entry<'a, 'i> = (
+pub(crate) type Entry<'a, 'i> = (
     &'a toml::Spanned<toml::de::DeString<'i>>,
     &'a toml::Spanned<DeValue<'i>>,
 );
 
 /// A table's entries in the order the file writes them (the parser's table is sorted by key):
 /// the swept parameters' order decides which varies fastest and the columns' order.
-pub(super) fn in_file_order<'a, 'i>(t: &'a DeTable<'i>) -> Vec<Entry<'a, 'i>> {
+pub(crate) fn in_file_order<'a, 'i>(t: &'a DeTable<'i>) -> Vec<Entry<'a, 'i>> {
     let mut e: Vec<Entry> = t.iter().collect();
     e.sort_by_key(|(k, _)| k.span().start);
     e
@@ -104,7 +104,7 @@ pub(super) fn in_file_order<'a, 'i>(t: &'a DeTable<'i>) -> Vec<Entry<'a, 'i>> {
 
 /// The design of a sweep file: its swept axes and its `[sampling]`, checked (a random axis needs
 /// samples, a deterministic design refuses them; at most [`MAX_RUNS`] runs).
-pub(super) fn design_of(root: &Table, axes: Vec<Axis>) -> Result<Design, SceneError> {
+pub(crate) fn design_of(root: &Table, axes: Vec<Axis>) -> Result<Design, SceneError> {
     let at = |key: &str, span: &Range<usize>, message: String| SceneError {
         key: key.into(),
         line: Some(line_of(root.text, span.start)),
@@ -179,7 +179,7 @@ pub(super) fn design_of(root: &Table, axes: Vec<Axis>) -> Result<Design, SceneEr
 }
 
 /// An integer in `[lo, hi]`.
-pub(super) fn whole(t: &Table, key: &str, item: Item, lo: i64, hi: i64) -> Result<i64, SceneError> {
+pub(crate) fn whole(t: &Table, key: &str, item: Item, lo: i64, hi: i64) -> Result<i64, SceneError> {
     match item.0 {
         DeValue::Integer(i) => match i64::from_str_radix(i.as_str(), i.radix()) {
             Ok(k) if (lo..=hi).contains(&k) => Ok(k),
@@ -193,7 +193,7 @@ pub(super) fn whole(t: &Table, key: &str, item: Item, lo: i64, hi: i64) -> Resul
 /// `{ uniform = [lo, hi] }`, `{ normal = [mean, sd] }` or `{ tolerance = t }` around the
 /// nominal value (the fixed one, else the model's default), uniform or, with
 /// `distribution = "normal"`, normal with t = 3 standard deviations.
-pub(super) fn axis(
+pub(crate) fn axis(
     t: &Table,
     key: &str,
     item: Item,

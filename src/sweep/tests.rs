@@ -261,7 +261,7 @@ tau = { quantity = "tau_peak" }
         super::file::target_of(text).expect("names a machine"),
         super::file::Target::Machine("ThreadSewingMachine".into())
     );
-    let p = super::machine::parse(text, machine()).expect("parses");
+    let p = crate::machines::sweep::parse(text, machine()).expect("parses");
     assert_eq!(p.columns(), ["drive.fly.J", "delta", "tau"]);
     assert_eq!(p.metrics[1].unit, "N.m");
     let rows: Vec<_> = (0..p.runs()).map(|k| p.run(k)).collect();
@@ -298,7 +298,7 @@ tau = { quantity = "tau_peak" }
         ),
     ] {
         let t = text.replace("\"drive.fly.J\" = { values", bad);
-        let e = super::machine::parse(&t, machine())
+        let e = crate::machines::sweep::parse(&t, machine())
             .expect_err("refused")
             .to_string();
         let line = t
@@ -311,7 +311,7 @@ tau = { quantity = "tau_peak" }
             assert!(e.contains(w), "{e:?} does not say {w:?}");
         }
     }
-    let e = super::machine::parse(
+    let e = crate::machines::sweep::parse(
         &text.replace("\"delta\", turns", "\"sigma\", turns"),
         machine(),
     )

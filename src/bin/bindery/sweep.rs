@@ -62,7 +62,7 @@ pub fn plan(file: &Path, scene_file: Option<&Path>) -> Result<Plan, String> {
                     bindery_fmu::scene::nearest(&name, &names)
                 ));
             };
-            return bindery_fmu::sweep::machine::parse(&text, m)
+            return bindery_fmu::machines::sweep::parse(&text, m)
                 .map_err(|e| format!("{shown}: {e}"));
         }
         file::Target::Model(m) => (Some(m), None),

@@ -15,42 +15,15 @@
 //! delta = { quantity = "delta", turns = 2 }
 //! ```
 
-use super::Row;
-use super::plan::{Length, Measure, Metric, Plan, StepSize, Swept};
-use super::read::{axis, design_of, in_file_order, parse_toml, root};
-use crate::machines::{simulate, startup_time, steady, variables_of};
+use super::{simulate, startup_time, steady, variables_of};
 use crate::model::{Causality, Var};
 use crate::scene::{SceneError, Table, line_of, nearest, value, value_of};
 use crate::ssp::Machine;
+use crate::sweep::plan::{Length, Measure, Metric, Plan, QUANTITIES, Quantity, StepSize, Swept};
+use crate::sweep::read::{axis, design_of, in_file_order, parse_toml, root};
+use crate::sweep::{Row, Runner};
 use std::ops::Range;
 use toml::de::DeValue;
-
-/// A figure of a machine's run.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Quantity {
-    /// δ = (ω_max − ω_min)/ω_mean of the main shaft.
-    Delta,
-    /// Mean, smallest and largest main-shaft speed, rad/s.
-    WMean,
-    WMin,
-    WMax,
-    /// Peak |motor torque| and its RMS, N·m (at the motor shaft).
-    TauPeak,
-    TauRms,
-    /// Time until the main shaft first reaches 95 % of its mean speed over the last turns, s.
-    Startup,
-}
-
-/// Every quantity by its name in a sweep file, with its unit.
-pub const QUANTITIES: &[(&str, Quantity, &str)] = &[
-    ("delta", Quantity::Delta, ""),
-    ("w_mean", Quantity::WMean, "rad/s"),
-    ("w_min", Quantity::WMin, "rad/s"),
-    ("w_max", Quantity::WMax, "rad/s"),
-    ("tau_peak", Quantity::TauPeak, "N.m"),
-    ("tau_rms", Quantity::TauRms, "N.m"),
-    ("startup", Quantity::Startup, "s"),
-];
 
 /// What a machine sweep sets: the machine, its fixed values and the swept parameters'
 /// components and variables, `(component, variable)`.
@@ -289,18 +262,21 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
         length: Length::Stop(stop),
         step: StepSize::Seconds(step),
         metrics,
-        runner: run,
-        machine: Some(MachineRun {
-            machine,
-            fixed,
-            targets,
-        }),
+        runner: {
+            let mr = MachineRun {
+                machine,
+                fixed,
+                targets,
+            };
+            Runner(std::sync::Arc::new(move |plan: &Plan, k: usize| {
+                run(&mr, plan, k)
+            }))
+        },
     })
 }
 
 /// Run `k` of a machine sweep.
-pub fn run(plan: &Plan, k: usize) -> Row {
-    let mr = plan.machine.as_ref().expect("a machine sweep");
+fn run(mr: &MachineRun, plan: &Plan, k: usize) -> Row {
     let params = plan.design.point(k);
     let (Length::Stop(stop), StepSize::Seconds(h)) = (plan.length, plan.step) else {
         unreachable!("a machine sweep runs for a time in steps of a time")
