@@ -17,13 +17,12 @@
 
 use super::{simulate, startup_time, steady, variables_of};
 use crate::model::{Causality, Var};
-use crate::scene::{SceneError, Table, line_of, nearest, value, value_of};
+use crate::scene::{SceneError, line_of, nearest, value, value_of};
 use crate::ssp::Machine;
 use crate::sweep::plan::{Length, Measure, Metric, Plan, QUANTITIES, Quantity, StepSize, Swept};
-use crate::sweep::read::{axis, design_of, in_file_order, parse_toml, root};
+use crate::sweep::read::{axis, design_of, in_file_order, metric_tables, parse_toml, root};
 use crate::sweep::{Row, Runner};
 use std::ops::Range;
-use toml::de::DeValue;
 
 /// What a machine sweep sets: the machine, its fixed values and the swept parameters'
 /// components and variables, `(component, variable)`.
@@ -168,44 +167,9 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
         }
     }
 
-    let m = root.table("metrics", "metrics.")?.ok_or_else(|| {
-        at(
-            "metrics",
-            &(0..0),
-            "missing: the file needs [metrics], e.g. delta = { quantity = \"delta\", turns = 2 }"
-                .into(),
-        )
-    })?;
     let mut metrics = Vec::new();
-    for (k, v) in in_file_order(m.table) {
-        let name = k.get_ref().to_string();
-        let key = format!("metrics.{name:?}");
-        if swept.iter().any(|s| s.name == name)
-            || ["run", "warnings", "warning", "error"].contains(&name.as_str())
-        {
-            return Err(at(
-                &key,
-                &k.span(),
-                format!("{name:?} is already a column of the results"),
-            ));
-        }
-        let DeValue::Table(mt) = v.get_ref() else {
-            return Err(at(
-                &key,
-                &v.span(),
-                "must be a table: { quantity = \"delta\", turns = 2 }".into(),
-            ));
-        };
-        let mt = Table {
-            text,
-            prefix: "metrics.",
-            table: mt,
-            span: v.span(),
-        };
-        mt.only(&["quantity", "turns"]).map_err(|e| SceneError {
-            key: format!("{key}.{}", e.key.trim_start_matches("metrics.")),
-            ..e
-        })?;
+    let example = "delta = { quantity = \"delta\", turns = 2 }";
+    for (name, key, mt) in metric_tables(&root, &swept, &["quantity", "turns"], example)? {
         let (q, span) = mt.string(
             "quantity",
             mt.require(
@@ -242,13 +206,6 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
             unit,
             measure: Measure::Machine { quantity, turns },
         });
-    }
-    if metrics.is_empty() {
-        return Err(at(
-            "metrics",
-            &m.span,
-            "is empty: a sweep asks for at least one metric".into(),
-        ));
     }
     Ok(Plan {
         text: text.to_string(),

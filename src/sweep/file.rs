@@ -24,15 +24,13 @@
 
 pub use super::plan::*;
 pub use super::read::{Target, model_of, target_of};
-use super::read::{axis, design_of, in_file_order, parse_toml, root, whole};
+use super::read::{axis, design_of, in_file_order, metric_tables, parse_toml, root, whole};
 use crate::model::shaft;
 use crate::model::{Causality, Model, Values, VarSet, check_bounds};
 use crate::scene::{
-    FIDELITIES, Scene, SceneError, Table, fidelity_name, levels_of, line_of, nearest, value,
-    value_of,
+    FIDELITIES, Scene, SceneError, fidelity_name, levels_of, line_of, nearest, value, value_of,
 };
 use std::ops::Range;
-use toml::de::DeValue;
 
 /// The keys of a sweep file and of its tables.
 pub const KEYS: &[&str] = &[
@@ -333,43 +331,13 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
     }
 
     // the metrics
-    let m = root
-        .table("metrics", "metrics.")?
-        .ok_or_else(|| at("metrics", &(0..0), "missing: the file needs [metrics], e.g. F_max = { output = \"rod.F\", stat = \"max\" }".into()))?;
     let mut metrics = Vec::new();
     let outputs: Vec<&str> = (table.iter())
         .filter(|v| matches!(v.causality, Causality::Output | Causality::Local))
         .map(|v| v.name)
         .collect();
-    for (k, v) in in_file_order(m.table) {
-        let name = k.get_ref().to_string();
-        let key = format!("metrics.{name:?}");
-        if swept.iter().any(|s| s.name == name)
-            || ["run", "warnings", "warning", "error"].contains(&name.as_str())
-        {
-            return Err(at(
-                &key,
-                &k.span(),
-                format!("{name:?} is already a column of the results"),
-            ));
-        }
-        let DeValue::Table(mt) = v.get_ref() else {
-            return Err(at(
-                &key,
-                &v.span(),
-                "must be a table: { output = \"...\", stat = \"max\" }".into(),
-            ));
-        };
-        let mt = Table {
-            text,
-            prefix: "metrics.",
-            table: mt,
-            span: v.span(),
-        };
-        mt.only(METRIC_KEYS).map_err(|e| SceneError {
-            key: format!("{key}.{}", e.key.trim_start_matches("metrics.")),
-            ..e
-        })?;
+    let example = "F_max = { output = \"rod.F\", stat = \"max\" }";
+    for (name, key, mt) in metric_tables(&root, &swept, METRIC_KEYS, example)? {
         let (output, span) = mt.string("output", mt.require("output", "an output's name")?)?;
         let Some(i) = table.iter().position(|x| {
             x.name == output && matches!(x.causality, Causality::Output | Causality::Local)
@@ -465,13 +433,6 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
                 over,
             },
         });
-    }
-    if metrics.is_empty() {
-        return Err(at(
-            "metrics",
-            &m.span,
-            "is empty: a sweep asks for at least one metric".into(),
-        ));
     }
     Ok(Plan {
         text: text.to_string(),

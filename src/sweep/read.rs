@@ -1,7 +1,7 @@
 //! What every sweep file has, read the same way for a model, a scene or a machine: which of
 //! them it names, its tables in the order written, the swept parameters' axes and the design.
 
-use super::plan::MAX_RUNS;
+use super::plan::{MAX_RUNS, Swept};
 use super::sample::{Axis, Design, Dist, Method};
 use crate::model::Var;
 use crate::scene::{Item, SceneError, Table, line_of, number, value, value_of};
@@ -395,4 +395,64 @@ pub(crate) fn axis(
         }));
     }
     Err(at(item.1.clone(), format!("must be one of {forms}")))
+}
+
+/// The `[metrics]` entries in the order written, each as its name, its key (`metrics."name"`)
+/// and its table, with the checks every sweep file gets: `[metrics]` is there and not empty, a
+/// metric is a table of `keys` only (`example` shows one), its name is not already a column.
+pub(crate) fn metric_tables<'a, 'i>(
+    root: &Table<'a, 'i>,
+    swept: &[Swept],
+    keys: &[&str],
+    example: &str,
+) -> Result<Vec<(String, String, Table<'a, 'i>)>, SceneError> {
+    let at = |key: &str, span: &Range<usize>, message: String| SceneError {
+        key: key.into(),
+        line: Some(line_of(root.text, span.start)),
+        message,
+    };
+    let m = root.table("metrics", "metrics.")?.ok_or_else(|| {
+        at(
+            "metrics",
+            &(0..0),
+            format!("missing: the file needs [metrics], e.g. {example}"),
+        )
+    })?;
+    let mut out = Vec::new();
+    for (k, v) in in_file_order(m.table) {
+        let name = k.get_ref().to_string();
+        let key = format!("metrics.{name:?}");
+        if swept.iter().any(|s| s.name == name)
+            || ["run", "warnings", "warning", "error"].contains(&name.as_str())
+        {
+            return Err(at(
+                &key,
+                &k.span(),
+                format!("{name:?} is already a column of the results"),
+            ));
+        }
+        let DeValue::Table(mt) = v.get_ref() else {
+            let shape = example.split_once(" = ").map_or(example, |e| e.1);
+            return Err(at(&key, &v.span(), format!("must be a table: {shape}")));
+        };
+        let mt = Table {
+            text: root.text,
+            prefix: "metrics.",
+            table: mt,
+            span: v.span(),
+        };
+        mt.only(keys).map_err(|e| SceneError {
+            key: format!("{key}.{}", e.key.trim_start_matches("metrics.")),
+            ..e
+        })?;
+        out.push((name, key, mt));
+    }
+    if out.is_empty() {
+        return Err(at(
+            "metrics",
+            &m.span,
+            "is empty: a sweep asks for at least one metric".into(),
+        ));
+    }
+    Ok(out)
 }
