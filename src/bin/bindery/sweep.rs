@@ -219,9 +219,24 @@ pub fn sweep(o: &Options) -> Result<(), String> {
         todo.len() as u64,
         "{bar:40} {pos}/{len} runs, {per_sec}, {elapsed} elapsed, ETA {eta} {msg}",
     )?;
+    // without a terminal (a log, CI) no bar is drawn: a line every 10 s says how far it is
+    let quiet_bar = !std::io::IsTerminal::is_terminal(&std::io::stderr());
+    let started = std::time::Instant::now();
+    let mut said = started;
+    let total = todo.len();
+    let mut done = 0usize;
     let mut take = |r: Row| -> Result<(), String> {
         store.push(r)?;
         bar.inc();
+        done += 1;
+        if quiet_bar && said.elapsed().as_secs() >= 10 {
+            said = std::time::Instant::now();
+            let rate = done as f64 / started.elapsed().as_secs_f64();
+            eprintln!(
+                "{done}/{total} runs, {rate:.1} runs/s, about {:.0} s to go",
+                (total - done) as f64 / rate
+            );
+        }
         Ok(())
     };
     let result = match &o.dask {
