@@ -17,10 +17,12 @@
 
 use super::{simulate, startup_time, steady, variables_of};
 use crate::model::{Causality, Var};
-use crate::scene::{SceneError, line_of, nearest, value, value_of};
+use crate::scene::{SceneError, line_of, nearest};
 use crate::ssp::Machine;
 use crate::sweep::plan::{Length, Measure, Metric, Plan, QUANTITIES, Quantity, StepSize, Swept};
-use crate::sweep::read::{axis, design_of, in_file_order, metric_tables, parse_toml, root};
+use crate::sweep::read::{
+    axis, design_of, in_file_order, metric_tables, parse_toml, root, value_for,
+};
 use crate::sweep::{Row, Runner};
 use std::ops::Range;
 
@@ -102,15 +104,7 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
             let name = k.get_ref().to_string();
             let key = format!("fixed.{name:?}");
             let (c, var) = param(&key, &name, &k.span())?;
-            let x = value(v.get_ref())
-                .ok_or_else(|| {
-                    at(
-                        &key,
-                        &v.span(),
-                        "must be a number, a boolean or an item name".into(),
-                    )
-                })
-                .and_then(|x| value_of(var, &x).map_err(|e| at(&key, &v.span(), e)))?;
+            let x = value_for(text, &key, var, v)?;
             fixed.push((c, var.name, x));
         }
     }

@@ -66,3 +66,11 @@ pub fn display_factor(unit: &str, display: &str) -> Option<f64> {
         .find(|(n, _)| *n == display)
         .map(|(_, f)| *f)
 }
+
+/// The unit a quantity in `unit` is shown in (its default display unit: mm for m, deg for rad,
+/// rpm for rad/s, MPa for Pa) and the factor from `unit` to it; `unit` itself and 1 if it has none.
+pub fn display_of(unit: &'static str) -> (&'static str, f64) {
+    super::default_display_unit(unit)
+        .and_then(|d| display_factor(unit, d).map(|f| (d, f)))
+        .unwrap_or((unit, 1.0))
+}

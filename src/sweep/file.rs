@@ -24,11 +24,13 @@
 
 pub use super::plan::*;
 pub use super::read::{Target, model_of, target_of};
-use super::read::{axis, design_of, in_file_order, metric_tables, parse_toml, root, whole};
+use super::read::{
+    axis, design_of, in_file_order, metric_tables, parse_toml, root, value_for, whole,
+};
 use crate::model::shaft;
 use crate::model::{Causality, Model, Values, VarSet, check_bounds};
 use crate::scene::{
-    FIDELITIES, Scene, SceneError, fidelity_name, levels_of, line_of, nearest, value, value_of,
+    FIDELITIES, Scene, SceneError, fidelity_name, levels_of, line_of, nearest, value_of,
 };
 use std::ops::Range;
 
@@ -161,17 +163,7 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
             let key = format!("fixed.{:?}", k.get_ref());
             let name = k.get_ref().as_ref();
             let vr = param(&key, name, &k.span())?;
-            let x = value(v.get_ref())
-                .ok_or_else(|| {
-                    t.wrong(
-                        name,
-                        (v.get_ref(), v.span()),
-                        "a number, a boolean or an item name",
-                    )
-                })
-                .and_then(|x| {
-                    value_of(&table[vr as usize], &x).map_err(|e| at(&key, &v.span(), e))
-                })?;
+            let x = value_for(text, &key, &table[vr as usize], v)?;
             set_fixed(vr, x);
         }
     }

@@ -6,25 +6,14 @@ use super::Row;
 use super::file::Plan;
 use super::sample::Axis;
 use crate::docs::{Figure, Map, Series, render_map_png, render_png};
+use crate::model::units::display_of;
 
 /// Most lines in one figure; more combinations of the other parameters are left out (said in
 /// the title).
 const MAX_LINES: usize = 10;
 
-/// The unit a quantity is shown in (its display unit: mm for m, deg for rad, rpm for rad/s,
-/// MPa for Pa) and the factor from SI to it.
-fn shown(unit: &'static str) -> (&'static str, f64) {
-    match crate::model::default_display_unit(unit) {
-        Some(d) => match crate::model::units::display_factor(unit, d) {
-            Some(f) => (d, f),
-            None => (unit, 1.0),
-        },
-        None => (unit, 1.0),
-    }
-}
-
 fn label(name: &str, unit: &'static str) -> String {
-    let unit = shown(unit).0;
+    let unit = display_of(unit).0;
     if unit.is_empty() {
         name.to_string()
     } else {
@@ -63,7 +52,7 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
             )
         );
         let m_label = label(&m.name, m.unit);
-        let mf = shown(m.unit).1;
+        let mf = display_of(m.unit).1;
         let metric = |r: Option<&Row>, k: usize| metric(r, k) * mf;
         if random {
             let values: Vec<f64> = by_run
@@ -76,7 +65,7 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
             }
             out.push((
                 file,
-                render_png(&histogram(plan, &m_label, shown(m.unit).0, &values))?,
+                render_png(&histogram(plan, &m_label, display_of(m.unit).0, &values))?,
             ));
         } else if varied.len() == 2 {
             let (a, b) = (varied[0], varied[1]);
@@ -100,8 +89,14 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
                 x_label: label(&plan.swept[a].name, plan.swept[a].unit),
                 y_label: label(&plan.swept[b].name, plan.swept[b].unit),
                 z_label: m_label,
-                xs: xs.iter().map(|x| x * shown(plan.swept[a].unit).1).collect(),
-                ys: ys.iter().map(|y| y * shown(plan.swept[b].unit).1).collect(),
+                xs: xs
+                    .iter()
+                    .map(|x| x * display_of(plan.swept[a].unit).1)
+                    .collect(),
+                ys: ys
+                    .iter()
+                    .map(|y| y * display_of(plan.swept[b].unit).1)
+                    .collect(),
                 z,
             };
             if map.z.iter().flatten().any(|z: &f64| z.is_finite()) {
@@ -114,7 +109,7 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
                 let p = plan.design.point(run);
                 let key: Vec<String> = (varied.iter().filter(|&&i| i != a))
                     .map(|&i| {
-                        let (u, f) = shown(plan.swept[i].unit);
+                        let (u, f) = display_of(plan.swept[i].unit);
                         format!(
                             "{} = {} {u}",
                             plan.swept[i].name,
@@ -125,7 +120,7 @@ pub fn figures(plan: &Plan, rows: &[Row]) -> Result<Vec<(String, Vec<u8>)>, Stri
                     })
                     .collect();
                 let key = key.join(", ");
-                let pt = (p[a] * shown(plan.swept[a].unit).1, metric(*row, k));
+                let pt = (p[a] * display_of(plan.swept[a].unit).1, metric(*row, k));
                 match series.iter_mut().find(|s| s.0 == key) {
                     Some(s) => s.1.push(pt),
                     None => series.push((key, vec![pt])),

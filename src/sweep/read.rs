@@ -264,15 +264,7 @@ pub(crate) fn axis(
                 None => number(x.get_ref())
                     .filter(|x| x.is_finite() && *x > 0.0)
                     .ok_or_else(|| at(x.span(), "a speed must be a number > 0 (rpm)".into()))?,
-                Some(var) => {
-                    let v = value(x.get_ref()).ok_or_else(|| {
-                        at(
-                            x.span(),
-                            "must be a number, a boolean or an item name".into(),
-                        )
-                    })?;
-                    value_of(var, &v).map_err(|e| at(x.span(), e))?
-                }
+                Some(var) => value_for(t.text, key, var, x)?,
             };
             out.push(val);
         }
@@ -455,4 +447,22 @@ pub(crate) fn metric_tables<'a, 'i>(
         ));
     }
     Ok(out)
+}
+
+/// The value written for a parameter `var` at `key` (a number, a boolean or an item name),
+/// type-checked against its declaration.
+pub(crate) fn value_for(
+    text: &str,
+    key: &str,
+    var: &Var,
+    v: &toml::Spanned<DeValue>,
+) -> Result<f64, SceneError> {
+    let at = |message: String| SceneError {
+        key: key.into(),
+        line: Some(line_of(text, v.span().start)),
+        message,
+    };
+    let x = value(v.get_ref())
+        .ok_or_else(|| at("must be a number, a boolean or an item name".into()))?;
+    value_of(var, &x).map_err(at)
 }

@@ -96,7 +96,6 @@ def test_the_results_are_a_parquet_dataset_with_the_design_and_the_metrics(embed
     assert (weakest["spring.M0"], weakest["spring.kt"]) == (4.0, 10.0)
     assert (strongest["spring.M0"], strongest["spring.kt"]) == (10.0, 30.0)
     assert weakest["liftoffs"] > 0 and strongest["liftoffs"] == 0
-    assert weakest["F_max"] > 10 * strongest["F_max"]
     for r in embedded:
         assert (r["lifted"] == 1.0) == (r["liftoffs"] > 0)
         assert r["warnings"] == 0 or r["warning"]
