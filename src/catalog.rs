@@ -17,6 +17,8 @@ pub struct Entry {
     pub package: &'static str,
     /// The full model description and its GUID.
     pub describe: fn() -> (String, String),
+    /// The full FMI 3.0 model description and its instantiation token (the same GUID).
+    pub describe3: fn() -> (String, String),
     /// Model info and variables (for the documentation's table).
     pub info: fn() -> ModelInfo,
     /// Every variable, by value reference.
@@ -41,6 +43,7 @@ impl Entry {
             identifier: M::IDENTIFIER,
             package,
             describe: crate::md::describe::<M>,
+            describe3: crate::md::describe3::<M>,
             info: ModelInfo::of::<M>,
             variables: variables_of::<M>,
             documentation,
@@ -108,6 +111,7 @@ pub fn scene_fmu(
         documentation: (entry.scene_documentation)(&t)?,
         icon: crate::docs::icon_png("Scene")?,
         resources: vec![(crate::scene::RESOURCE_NAME.to_string(), text.into())],
+        fmi: crate::package::Fmi::V2,
     };
     Ok((t.identifier, fmu.to_zip()?))
 }

@@ -8,6 +8,7 @@
 //! - [`solver`]: the integrators of the elastodynamic level (inside `fmi2DoStep`); know no mechanism.
 //! - [`md`]: the modelDescription.xml writer and GUID, generated from those declarations.
 //! - [`fmi2`]: the FMI 2.0 C ABI runtime; knows no mechanism.
+//! - [`fmi3`]: the FMI 3.0 C ABI over the same runtime.
 //! - `ssp` (feature `tools`): the machines as SSP 1.0 systems of these FMUs.
 //! - [`scene`]: scene files and the FMU tailored to one (`scenes.md`); knows no mechanism.
 //! - `sweep` (feature `tools`): design sweeps, every run native and in this process.
@@ -25,6 +26,7 @@ pub mod digest;
 #[cfg(feature = "tools")]
 pub mod docs;
 pub mod fmi2;
+pub mod fmi3;
 pub mod lifetime;
 #[cfg(feature = "tools")]
 pub mod machines;

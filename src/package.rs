@@ -60,6 +60,25 @@ impl Platform {
         )
     }
 
+    /// The folders under `binaries/` of an FMI 3.0 FMU: FMI 3.0's platform tuples (section
+    /// 2.5.1). The one universal macOS binary serves both of macOS's tuples.
+    pub fn folders3(self) -> &'static [&'static str] {
+        match self {
+            Platform::Linux64 => &["x86_64-linux"],
+            Platform::Aarch64Linux => &["aarch64-linux"],
+            Platform::Win64 => &["x86_64-windows"],
+            Platform::Darwin64 => &["x86_64-darwin", "aarch64-darwin"],
+        }
+    }
+
+    /// The binary's folders in an FMU of this FMI version.
+    pub fn folders(self, version: Fmi) -> Vec<&'static str> {
+        match version {
+            Fmi::V2 => vec![self.folder()],
+            Fmi::V3 => self.folders3().to_vec(),
+        }
+    }
+
     /// What the binary runs on, for the documentation.
     pub fn runs_on(self) -> &'static str {
         match self {
@@ -79,17 +98,33 @@ impl Platform {
     }
 }
 
+/// The FMI version of an FMU: the shape of its description and its platform folders.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub enum Fmi {
+    #[default]
+    V2,
+    V3,
+}
+
 /// The `documentation/index.html` placeholder that [`FmuContents::to_zip`] replaces with the
 /// platforms of the binaries it packs (written by `docs::html::page_html`).
 pub const PLATFORMS_MARK: &str = "<!-- platforms -->";
 
-/// The documentation's section on the platforms of `binaries`.
+/// The documentation's section on the platforms of `binaries` (in an FMU of FMI 2.0).
 pub fn platforms_html(platforms: &[Platform]) -> String {
+    platforms_html_of(platforms, Fmi::V2)
+}
+
+/// The documentation's section on the platforms of `binaries` in an FMU of `version`.
+pub fn platforms_html_of(platforms: &[Platform], version: Fmi) -> String {
     let mut out = String::from("<h2>Platforms</h2>\n<p>Binaries in this FMU:</p>\n<ul>\n");
     for p in platforms {
+        let folders: Vec<String> = (p.folders(version).iter())
+            .map(|f| format!("<code>binaries/{f}</code>"))
+            .collect();
         out.push_str(&format!(
-            "<li><code>binaries/{}</code>: {}</li>\n",
-            p.folder(),
+            "<li>{}: {}</li>\n",
+            folders.join(" and "),
             p.runs_on()
         ));
     }
@@ -124,6 +159,8 @@ pub struct FmuContents {
     pub icon: Vec<u8>,
     /// Files of `resources/`, by relative path.
     pub resources: Vec<(String, Vec<u8>)>,
+    /// The FMI version (`model_description`'s): where the binaries go.
+    pub fmi: Fmi,
 }
 
 impl FmuContents {
@@ -139,15 +176,16 @@ impl FmuContents {
             Cow::Borrowed(self.model_description.as_bytes()),
             false,
         )];
-        e.extend(
-            binaries
-                .iter()
-                .map(|(p, b)| (p.path(&self.identifier), Cow::Borrowed(b.as_slice()), true)),
-        );
+        for (p, b) in &binaries {
+            for folder in p.folders(self.fmi) {
+                let path = format!("binaries/{folder}/{}.{}", self.identifier, p.extension());
+                e.push((path, Cow::Borrowed(b.as_slice()), true));
+            }
+        }
         e.extend(self.documentation.iter().map(|(n, b)| {
             let bytes = match std::str::from_utf8(b) {
                 Ok(page) if n == "index.html" && page.contains(PLATFORMS_MARK) => Cow::Owned(
-                    page.replace(PLATFORMS_MARK, &platforms_html(&platforms))
+                    page.replace(PLATFORMS_MARK, &platforms_html_of(&platforms, self.fmi))
                         .into_bytes(),
                 ),
                 _ => Cow::Borrowed(b.as_slice()),
@@ -278,7 +316,40 @@ mod tests {
             )],
             icon: vec![0x89, b'P'],
             resources: vec![("scene.toml".into(), b"a = 1".to_vec())],
+            fmi: Fmi::V2,
         }
+    }
+
+    #[test]
+    fn an_fmi3_fmu_has_the_platform_tuples() {
+        let fmu = FmuContents {
+            fmi: Fmi::V3,
+            binaries: vec![(Platform::Darwin64, vec![9]), (Platform::Linux64, vec![1])],
+            ..sample()
+        };
+        let zip = fmu.to_zip().unwrap();
+        let names = entry_names(&zip);
+        for p in [
+            "binaries/x86_64-linux/X.so",
+            "binaries/x86_64-darwin/X.dylib",
+            "binaries/aarch64-darwin/X.dylib",
+        ] {
+            assert!(names.iter().any(|n| n == p), "{p} in {names:?}");
+        }
+        assert!(!names.iter().any(|n| n.contains("linux64")), "{names:?}");
+        let mut z = zip::ZipArchive::new(std::io::Cursor::new(zip)).unwrap();
+        let mut page = String::new();
+        std::io::Read::read_to_string(
+            &mut z.by_name("documentation/index.html").unwrap(),
+            &mut page,
+        )
+        .unwrap();
+        assert!(
+            page.contains(
+                "<code>binaries/x86_64-darwin</code> and <code>binaries/aarch64-darwin</code>"
+            ),
+            "{page}"
+        );
     }
 
     #[test]

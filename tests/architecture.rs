@@ -89,12 +89,13 @@ fn uses() -> BTreeMap<String, BTreeSet<String>> {
 #[test]
 fn the_layers_use_only_what_architecture_md_allows() {
     let uses = uses();
-    let allowed: [(&str, &[&str]); 5] = [
+    let allowed: [(&str, &[&str]); 6] = [
         ("mechanics", &[]),
         ("model", &["mechanics", "lifetime"]),
         ("solver", &["model", "mechanics"]),
         ("md", &["model"]),
         ("fmi2", &["model", "md", "scene", "lifetime"]),
+        ("fmi3", &["fmi2", "model"]),
     ];
     for (m, ok) in allowed {
         let used = uses.get(m).cloned().unwrap_or_default();
@@ -108,6 +109,7 @@ fn the_layers_use_only_what_architecture_md_allows() {
     for (m, used) in &uses {
         if m.starts_with("mechanisms") {
             assert!(!used.contains("fmi2"), "{m} uses the FMI runtime");
+            assert!(!used.contains("fmi3"), "{m} uses the FMI 3.0 runtime");
         }
     }
 }

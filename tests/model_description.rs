@@ -23,6 +23,28 @@ fn committed_model_descriptions_are_current() {
     }
 }
 
+/// The same for the FMI 3.0 descriptions (`modelDescription/fmi3/<id>.xml`), whose
+/// instantiation token is the FMI 2.0 GUID of the same declarations.
+#[test]
+fn committed_fmi3_model_descriptions_are_current() {
+    for e in catalog::all() {
+        let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("modelDescription/fmi3")
+            .join(format!("{}.xml", e.identifier));
+        let committed = std::fs::read_to_string(&path)
+            .unwrap_or_else(|err| panic!("{}: {err}", path.display()));
+        let (generated, token) = (e.describe3)();
+        assert!(
+            committed == generated,
+            "{} is stale: run `cargo run --release -- describe` and commit it",
+            path.display()
+        );
+        assert_eq!(token, (e.describe)().1, "{}", e.identifier);
+        assert!(committed.contains(&format!("instantiationToken=\"{token}\"")));
+        assert!(committed.contains("fmiVersion=\"3.0\""));
+    }
+}
+
 #[test]
 fn declarations_are_valid_fmi2() {
     for e in catalog::all() {

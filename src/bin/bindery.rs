@@ -38,7 +38,7 @@ mod scene;
 mod sweep;
 
 use bindery_fmu::catalog::{self, Entry};
-use bindery_fmu::package::{self, Binaries, FmuContents};
+use bindery_fmu::package::{self, Binaries, Fmi, FmuContents};
 use clap::{Parser, Subcommand};
 use place::{folder, root};
 use progress::Progress;
@@ -238,21 +238,28 @@ fn build(models: &[String], out: &Option<PathBuf>, require_all: bool) -> Result<
     for e in &entries {
         bar.doing(e.identifier);
         let binaries = built.binaries_of(e.identifier)?;
-        let model_description = bindery_fmu::md::stamp(&(e.describe)().0, &date);
         let (documentation, icon) = (e.documentation)()?;
-        let fmu = FmuContents {
-            identifier: e.identifier.into(),
-            model_description,
-            binaries,
-            documentation,
-            icon,
-            resources: vec![],
-        };
-        let path = out.join(format!("{}.fmu", e.identifier));
-        let zip = fmu.to_zip()?;
-        std::fs::write(&path, &zip).map_err(|err| format!("{}: {err}", path.display()))?;
+        // the same binary in both: it exports the FMI 2.0 and the FMI 3.0 functions
+        for (fmi, describe, dir) in [
+            (Fmi::V2, e.describe, out.clone()),
+            (Fmi::V3, e.describe3, out.join("fmi3")),
+        ] {
+            let fmu = FmuContents {
+                identifier: e.identifier.into(),
+                model_description: bindery_fmu::md::stamp(&describe().0, &date),
+                binaries: binaries.clone(),
+                documentation: documentation.clone(),
+                icon: icon.clone(),
+                resources: vec![],
+                fmi,
+            };
+            std::fs::create_dir_all(&dir).map_err(|err| format!("{}: {err}", dir.display()))?;
+            let path = dir.join(format!("{}.fmu", e.identifier));
+            let zip = fmu.to_zip()?;
+            std::fs::write(&path, &zip).map_err(|err| format!("{}: {err}", path.display()))?;
+            bar.line(format!("wrote {} ({} bytes)", path.display(), zip.len()));
+        }
         bar.inc();
-        bar.line(format!("wrote {} ({} bytes)", path.display(), zip.len()));
     }
     bar.finish();
     if let Err(stale) = check_descriptions(&entries, true) {
@@ -354,18 +361,22 @@ fn ssp(fmus: &Option<PathBuf>, out: &Option<PathBuf>) -> Result<(), String> {
 fn check_descriptions(entries: &[Entry], check: bool) -> Result<(), String> {
     let mut stale = Vec::new();
     for e in entries {
-        let path = root()?
-            .join("modelDescription")
-            .join(format!("{}.xml", e.identifier));
-        let (xml, _) = (e.describe)();
-        if check {
-            if std::fs::read_to_string(&path).ok().as_deref() != Some(xml.as_str()) {
-                stale.push(path.display().to_string());
+        // FMI 2.0 in modelDescription/, FMI 3.0 in modelDescription/fmi3/
+        for (dir, describe) in [("", e.describe), ("fmi3", e.describe3)] {
+            let path = root()?
+                .join("modelDescription")
+                .join(dir)
+                .join(format!("{}.xml", e.identifier));
+            let (xml, _) = describe();
+            if check {
+                if std::fs::read_to_string(&path).ok().as_deref() != Some(xml.as_str()) {
+                    stale.push(path.display().to_string());
+                }
+            } else {
+                std::fs::create_dir_all(path.parent().unwrap()).map_err(|err| err.to_string())?;
+                std::fs::write(&path, xml).map_err(|err| format!("{}: {err}", path.display()))?;
+                eprintln!("wrote {}", path.display());
             }
-        } else {
-            std::fs::create_dir_all(path.parent().unwrap()).map_err(|err| err.to_string())?;
-            std::fs::write(&path, xml).map_err(|err| format!("{}: {err}", path.display()))?;
-            eprintln!("wrote {}", path.display());
         }
     }
     if stale.is_empty() {

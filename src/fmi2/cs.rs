@@ -25,7 +25,7 @@ pub unsafe fn set_real_input_derivatives<M: Model>(
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::SetRealInputDerivatives, |inst| {
+        entry::<M, _>(c, Call::SetRealInputDerivatives, |inst| {
             if !M::CAN_INTERPOLATE_INPUTS {
                 return Err(
                     "not supported: canInterpolateInputs is false (this FMU holds its inputs over a step)"
@@ -91,58 +91,62 @@ pub unsafe fn set_real_input_derivatives<M: Model>(
 /// As [`entry`].
 pub unsafe fn do_step<M: Model>(c: Component, t: f64, h: f64, _no_prior: Boolean) -> Status {
     // SAFETY: as entry.
-    unsafe {
-        entry::<M>(c, Call::DoStep, |inst| {
-            if !(t.is_finite() && h.is_finite()) {
-                return Err(format!(
-                    "currentCommunicationPoint = {t}, communicationStepSize = {h}: not finite"
-                ));
-            }
-            if h <= 0.0 {
-                return Err(format!("communicationStepSize = {h} must be > 0"));
-            }
-            if !(t + h).is_finite() {
-                return Err(format!(
-                    "communicationStepSize = {h} from {t}: the end of the step is not finite"
-                ));
-            }
-            let tol = 1e-9 * inst.time.abs().max(1.0);
-            if (t - inst.time).abs() > tol {
-                return Err(format!(
-                    "currentCommunicationPoint = {t} differs from the FMU's time {}",
-                    inst.time
-                ));
-            }
-            if let Some(stop) = inst.stop_time
-                && t + h > stop + 1e-9 * stop.abs().max(1.0)
-            {
-                return Err(format!("step to {} passes the stop time {stop}", t + h));
-            }
-            // the host's communication point names the FMU's time (to rounding): what was set
-            // at the FMU's time was set at t
-            if inst.values.inputs_at == inst.time {
-                inst.values.inputs_at = t;
-            }
-            inst.time = t;
-            inst.prepared()?;
-            let model = inst.model.as_mut().expect("prepared");
-            if let Err(why) = model.step(&mut inst.values, t, h, &mut inst.logger) {
-                inst.state = State::StepFailed;
-                inst.logger.emit(
-                    Status::Discard,
-                    "logStatusDiscard",
-                    &format!("fmi2DoStep from t = {t}: {why}"),
-                );
-                return Ok(Status::Discard);
-            }
-            inst.time = t + h;
-            inst.dirty = true;
-            // input derivatives apply to the step they were set for (FMI 2.0: "with respect to
-            // the beginning of a communication time step"); the next step starts from the
-            // inputs as Model::step left them at t + h, unless the host sets them
-            inst.values.clear_input_derivatives();
-            Ok(Status::Ok)
-        })
+    unsafe { entry::<M, _>(c, Call::DoStep, |inst| inst.do_step(t, h, "fmi2DoStep")) }
+}
+
+impl<M: Model> Instance<M> {
+    /// One communication step from `t` to `t + h` (`fmi2DoStep`, `fmi3DoStep`: `call` names it
+    /// in the message of a step the model refuses).
+    pub fn do_step(&mut self, t: f64, h: f64, call: &str) -> Outcome {
+        if !(t.is_finite() && h.is_finite()) {
+            return Err(format!(
+                "currentCommunicationPoint = {t}, communicationStepSize = {h}: not finite"
+            ));
+        }
+        if h <= 0.0 {
+            return Err(format!("communicationStepSize = {h} must be > 0"));
+        }
+        if !(t + h).is_finite() {
+            return Err(format!(
+                "communicationStepSize = {h} from {t}: the end of the step is not finite"
+            ));
+        }
+        let tol = 1e-9 * self.time.abs().max(1.0);
+        if (t - self.time).abs() > tol {
+            return Err(format!(
+                "currentCommunicationPoint = {t} differs from the FMU's time {}",
+                self.time
+            ));
+        }
+        if let Some(stop) = self.stop_time
+            && t + h > stop + 1e-9 * stop.abs().max(1.0)
+        {
+            return Err(format!("step to {} passes the stop time {stop}", t + h));
+        }
+        // the host's communication point names the FMU's time (to rounding): what was set
+        // at the FMU's time was set at t
+        if self.values.inputs_at == self.time {
+            self.values.inputs_at = t;
+        }
+        self.time = t;
+        self.prepared()?;
+        let model = self.model.as_mut().expect("prepared");
+        if let Err(why) = model.step(&mut self.values, t, h, &mut self.logger) {
+            self.state = State::StepFailed;
+            self.logger.emit(
+                Status::Discard,
+                "logStatusDiscard",
+                &format!("{call} from t = {t}: {why}"),
+            );
+            return Ok(Status::Discard);
+        }
+        self.time = t + h;
+        self.dirty = true;
+        // input derivatives apply to the step they were set for (FMI 2.0: "with respect to
+        // the beginning of a communication time step"); the next step starts from the
+        // inputs as Model::step left them at t + h, unless the host sets them
+        self.values.clear_input_derivatives();
+        Ok(Status::Ok)
     }
 }
 
@@ -161,7 +165,7 @@ unsafe fn typed_status<M: Model, T>(
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, call, |inst| {
+        entry::<M, _>(c, call, |inst| {
             if value.is_null() {
                 return Err("value is NULL".into());
             }

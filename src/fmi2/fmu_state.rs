@@ -1,4 +1,5 @@
-//! The FMU-state calls: get, set, free, serialize, deserialize.
+//! The FMU-state calls: get, set, free, serialize, deserialize (of FMI 2.0 and FMI 3.0: `call`
+//! names the one the host made).
 
 use super::*;
 
@@ -6,10 +7,14 @@ use super::*;
 ///
 /// # Safety
 /// As [`entry`]; `state` points to an `fmi2FMUstate`.
-pub unsafe fn get_fmu_state<M: Model>(c: Component, state: *mut FMUstate) -> Status {
+pub unsafe fn get_fmu_state<M: Model, C: Api>(
+    c: Component,
+    call: C,
+    state: *mut FMUstate,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::GetFMUstate, |inst| {
+        entry::<M, _>(c, call, |inst| {
             if state.is_null() {
                 return Err("FMUstate pointer is NULL".into());
             }
@@ -23,10 +28,10 @@ pub unsafe fn get_fmu_state<M: Model>(c: Component, state: *mut FMUstate) -> Sta
 ///
 /// # Safety
 /// As [`entry`].
-pub unsafe fn set_fmu_state<M: Model>(c: Component, state: FMUstate) -> Status {
+pub unsafe fn set_fmu_state<M: Model, C: Api>(c: Component, call: C, state: FMUstate) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::SetFMUstate, |inst| {
+        entry::<M, _>(c, call, |inst| {
             let p = inst.own_snapshot(state)?;
             let snap = (*p).clone();
             inst.restore(&snap)
@@ -38,10 +43,14 @@ pub unsafe fn set_fmu_state<M: Model>(c: Component, state: FMUstate) -> Status {
 ///
 /// # Safety
 /// As [`entry`]; `state` points to an `fmi2FMUstate`.
-pub unsafe fn free_fmu_state<M: Model>(c: Component, state: *mut FMUstate) -> Status {
+pub unsafe fn free_fmu_state<M: Model, C: Api>(
+    c: Component,
+    call: C,
+    state: *mut FMUstate,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::FreeFMUstate, |inst| {
+        entry::<M, _>(c, call, |inst| {
             if state.is_null() || (*state).is_null() {
                 return Ok(Status::Ok);
             }
@@ -58,14 +67,15 @@ pub unsafe fn free_fmu_state<M: Model>(c: Component, state: *mut FMUstate) -> St
 ///
 /// # Safety
 /// As [`entry`].
-pub unsafe fn serialized_fmu_state_size<M: Model>(
+pub unsafe fn serialized_fmu_state_size<M: Model, C: Api>(
     c: Component,
+    call: C,
     state: FMUstate,
     size: *mut usize,
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::SerializedFMUstateSize, |inst| {
+        entry::<M, _>(c, call, |inst| {
             let p = inst.own_snapshot(state)?;
             if size.is_null() {
                 return Err("size pointer is NULL".into());
@@ -80,15 +90,16 @@ pub unsafe fn serialized_fmu_state_size<M: Model>(
 ///
 /// # Safety
 /// As [`entry`]; `bytes` holds `size` bytes.
-pub unsafe fn serialize_fmu_state<M: Model>(
+pub unsafe fn serialize_fmu_state<M: Model, C: Api>(
     c: Component,
+    call: C,
     state: FMUstate,
     bytes: *mut Byte,
     size: usize,
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::SerializeFMUstate, |inst| {
+        entry::<M, _>(c, call, |inst| {
             let p = inst.own_snapshot(state)?;
             let data = (*p).to_bytes(inst.guid_hash);
             if size < data.len() {
@@ -108,15 +119,16 @@ pub unsafe fn serialize_fmu_state<M: Model>(
 ///
 /// # Safety
 /// As [`entry`]; `bytes` holds `size` bytes; `state` points to an `fmi2FMUstate`.
-pub unsafe fn deserialize_fmu_state<M: Model>(
+pub unsafe fn deserialize_fmu_state<M: Model, C: Api>(
     c: Component,
+    call: C,
     bytes: *const Byte,
     size: usize,
     state: *mut FMUstate,
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::DeSerializeFMUstate, |inst| {
+        entry::<M, _>(c, call, |inst| {
             if state.is_null() {
                 return Err("FMUstate pointer is NULL".into());
             }

@@ -7,32 +7,35 @@ use std::borrow::Cow;
 /// The FMI type a get/set call handles: its name (for messages), its [`access`] bit and the
 /// declared types it covers (Integer calls also read and write Enumerations).
 #[derive(Clone, Copy)]
-pub(super) struct Kind {
+pub struct Kind {
     pub(super) name: &'static str,
     pub(super) bit: access::Bits,
     pub(super) ok: fn(VarType) -> bool,
 }
 
 impl Kind {
-    const fn new(name: &'static str, bit: access::Bits, ok: fn(VarType) -> bool) -> Kind {
+    /// A kind of value: its name, the [`access`] bit that marks its variables and the test of
+    /// a declared type (for the messages).
+    pub const fn new(name: &'static str, bit: access::Bits, ok: fn(VarType) -> bool) -> Kind {
         Kind { name, bit, ok }
     }
 }
 
-pub(super) const REAL: Kind = Kind::new("Real", access::REAL, |t| t == VarType::Real);
-pub(super) const INTEGER: Kind = Kind::new("Integer", access::INTEGER, VarType::is_integer_like);
-pub(super) const BOOLEAN: Kind = Kind::new("Boolean", access::BOOLEAN, |t| t == VarType::Boolean);
+pub const REAL: Kind = Kind::new("Real", access::REAL, |t| t == VarType::Real);
+pub const INTEGER: Kind = Kind::new("Integer", access::INTEGER, VarType::is_integer_like);
+pub const BOOLEAN: Kind = Kind::new("Boolean", access::BOOLEAN, |t| t == VarType::Boolean);
 /// The models have no String variables: every String call is refused by the slow path (no
 /// variable has the bit).
-pub(super) const STRING: Kind = Kind::new("String", access::STRING, |_| false);
+pub const STRING: Kind = Kind::new("String", access::STRING, |_| false);
 
-/// One `fmi2Get*` call: the host's arrays, then [`Instance::read_values`] with `conv`.
+/// One `fmi2Get*` (or `fmi3Get*`) call: the host's arrays, then [`Instance::read_values`]
+/// with `conv`.
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
-unsafe fn get<M: Model, T>(
+pub unsafe fn get<M: Model, T>(
     c: Component,
-    call: Call,
+    call: impl Api,
     vr: *const ValueReference,
     n: usize,
     value: *mut T,
@@ -41,7 +44,7 @@ unsafe fn get<M: Model, T>(
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, call, |inst| {
+        entry::<M, _>(c, call, |inst| {
             let vrs = slice(vr, n, "vr")?;
             let out = slice_mut(value, n, "value")?;
             inst.read_values(vrs, out, kind, conv)
@@ -49,14 +52,14 @@ unsafe fn get<M: Model, T>(
     }
 }
 
-/// One `fmi2Set*` call: the host's arrays, the values as `f64` (`conv`), then
+/// One `fmi2Set*` (or `fmi3Set*`) call: the host's arrays, the values as `f64` (`conv`), then
 /// [`Instance::set_values`].
 ///
 /// # Safety
 /// As [`entry`]; arrays hold `n` elements.
-unsafe fn set<M: Model, T>(
+pub unsafe fn set<M: Model, T>(
     c: Component,
-    call: Call,
+    call: impl Api,
     vr: *const ValueReference,
     n: usize,
     value: *const T,
@@ -65,7 +68,7 @@ unsafe fn set<M: Model, T>(
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, call, |inst| {
+        entry::<M, _>(c, call, |inst| {
             let vrs = slice(vr, n, "vr")?;
             let vals = conv(slice(value, n, "value")?);
             inst.set_values(vrs, &vals, kind)
@@ -125,7 +128,16 @@ get_set_calls! {
 ///
 /// # Safety
 /// As [`entry`].
-pub unsafe fn unsupported<M: Model>(c: Component, call: Call, why: &str) -> Status {
+pub unsafe fn unsupported<M: Model>(c: Component, call: impl Api, why: &str) -> Status {
     // SAFETY: as entry.
-    unsafe { entry::<M>(c, call, |_| Err(format!("not supported: {why}"))) }
+    unsafe { entry::<M, _>(c, call, |_| Err(format!("not supported: {why}"))) }
+}
+
+impl<M: Model> Instance<M> {
+    /// Refuses the value references of a call on a type no variable has, naming the first
+    /// one's type (no value reference: nothing to refuse).
+    pub fn refuse_type(&self, vrs: &[ValueReference], kind: Kind) -> Outcome {
+        self.check_get(vrs, kind)?;
+        Ok(Status::Ok)
+    }
 }

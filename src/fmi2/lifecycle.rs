@@ -60,7 +60,7 @@ pub unsafe fn instantiate_c<M: Model>(
                 .filter(|n| !n.is_empty())
                 .unwrap_or(M::IDENTIFIER);
             Logger {
-                callback: f.logger,
+                sink: logger::Sink::Fmi2(f.logger),
                 env: f.component_environment,
                 name: CString::new(name).unwrap_or_default(),
                 on: false,
@@ -99,7 +99,7 @@ pub unsafe fn instantiate<M: Model>(
         // SAFETY: NULL or valid C string.
         let name = unsafe { c_str(instance_name) }.unwrap_or("");
         let logger = Logger {
-            callback: f.logger,
+            sink: logger::Sink::Fmi2(f.logger),
             env: f.component_environment,
             name: CString::new(if name.is_empty() { M::IDENTIFIER } else { name })
                 .unwrap_or_default(),
@@ -133,46 +133,19 @@ pub unsafe fn instantiate<M: Model>(
         }
         // SAFETY: NULL or valid C string.
         let resources = unsafe { c_str(resource_location) }.and_then(resource_path);
-        let scene = match load_scene::<M>(resources.as_ref()) {
-            Ok(s) => s,
-            Err(why) => return refuse(format!("scene refused: {why}")),
-        };
-        if model_exchange
-            && scene
-                .as_ref()
-                .is_some_and(|t| !t.variables.iter().any(|(_, v)| v.derivative.is_some()))
-        {
-            return refuse(
-                "fmuType 0 (ModelExchange) requested; this scene's FMU has no states and provides Co-Simulation (1) only"
-                    .into(),
-            );
-        }
-        // the GUID of what the description states, from the declarations (no XML written)
-        let our_guid = match &scene {
-            Some(t) => t.guid.clone(),
-            None => md::guid::guid_of::<M>(),
-        };
         // SAFETY: NULL or valid C string.
-        match unsafe { c_str(guid) } {
-            Some(g) if g == our_guid => {}
-            g => {
-                return refuse(format!(
-                    "GUID {:?} does not match this binary's {our_guid}",
-                    g.unwrap_or("NULL")
-                ));
+        let guid = unsafe { c_str(guid) };
+        match create::<M>(logger, model_exchange, guid, resources) {
+            Ok(c) => c,
+            Err((logger, why)) => {
+                logger.emit(
+                    Status::Error,
+                    "logStatusError",
+                    &format!("fmi2Instantiate: {why}; refused"),
+                );
+                std::ptr::null_mut()
             }
         }
-        let mut inst = Box::new(Instance::<M>::new(
-            logger,
-            resources,
-            &our_guid,
-            scene.clone(),
-        ));
-        inst.me.is_me = model_exchange;
-        crate::lifetime::instance_created();
-        let c = Box::into_raw(inst) as Component;
-        registry::add::<M>(c);
-        c
     }));
     result.unwrap_or_else(|p| {
         eprintln!(
@@ -184,13 +157,67 @@ pub unsafe fn instantiate<M: Model>(
     })
 }
 
+/// The instance of `M` a host asked for through either FMI version (`fmi2Instantiate`,
+/// `fmi3InstantiateCoSimulation`, ...), registered: the scene of a tailored FMU read from
+/// `resources`, the GUID or instantiation token checked against the declarations'. A refusal
+/// gives the logger back with the reason, for the caller to say it in its version's words.
+pub fn create<M: Model>(
+    logger: Logger,
+    model_exchange: bool,
+    token: Option<&str>,
+    resources: Option<PathBuf>,
+) -> Result<Component, (Logger, String)> {
+    let scene = match load_scene::<M>(resources.as_ref()) {
+        Ok(s) => s,
+        Err(why) => return Err((logger, format!("scene refused: {why}"))),
+    };
+    if model_exchange
+        && scene
+            .as_ref()
+            .is_some_and(|t| !t.variables.iter().any(|(_, v)| v.derivative.is_some()))
+    {
+        return Err((
+            logger,
+            "fmuType 0 (ModelExchange) requested; this scene's FMU has no states and provides Co-Simulation (1) only"
+                .into(),
+        ));
+    }
+    // the GUID of what the description states, from the declarations (no XML written)
+    let our_guid = match &scene {
+        Some(t) => t.guid.clone(),
+        None => md::guid::guid_of::<M>(),
+    };
+    if token != Some(our_guid.as_str()) {
+        let why = format!(
+            "GUID {:?} does not match this binary's {our_guid}",
+            token.unwrap_or("NULL")
+        );
+        return Err((logger, why));
+    }
+    let mut inst = Box::new(Instance::<M>::new(logger, resources, &our_guid, scene));
+    inst.me.is_me = model_exchange;
+    crate::lifetime::instance_created();
+    let c = Box::into_raw(inst) as Component;
+    registry::add::<M>(c);
+    Ok(c)
+}
+
 /// `fmi2FreeInstance`.
 ///
 /// # Safety
 /// As [`entry`].
 pub unsafe fn free_instance<M: Model>(c: Component) {
+    // SAFETY: as this function.
+    unsafe { free_instance_as::<M, _>(c, Call::FreeInstance) }
+}
+
+/// `fmi2FreeInstance` or `fmi3FreeInstance` (`call`).
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn free_instance_as<M: Model, C: Api>(c: Component, call: C) {
     // SAFETY: as entry.
-    let ok = unsafe { entry::<M>(c, Call::FreeInstance, |_| Ok(Status::Ok)) };
+    let ok = unsafe { entry::<M, _>(c, call, |_| Ok(Status::Ok)) };
     if ok == Status::Ok && registry::remove::<M>(c) {
         // SAFETY: entry checked the pointer is a live instance of ours; no longer registered,
         // no other call reaches it.
@@ -209,9 +236,24 @@ pub unsafe fn set_debug_logging<M: Model>(
     n: usize,
     categories: *const FmiString,
 ) -> Status {
+    // SAFETY: as this function.
+    unsafe { set_debug_logging_as::<M, _>(c, Call::SetDebugLogging, on != FALSE, n, categories) }
+}
+
+/// `fmi2SetDebugLogging` or `fmi3SetDebugLogging` (`call`).
+///
+/// # Safety
+/// As [`entry`]; `categories` holds `n` C strings.
+pub unsafe fn set_debug_logging_as<M: Model, C: Api>(
+    c: Component,
+    call: C,
+    on: bool,
+    n: usize,
+    categories: *const FmiString,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::SetDebugLogging, |inst| {
+        entry::<M, _>(c, call, |inst| {
             let cats = slice(categories, n, "categories")?;
             let mut bits = 0;
             for &p in cats {
@@ -220,7 +262,7 @@ pub unsafe fn set_debug_logging<M: Model>(
                     category_bit(name).ok_or_else(|| format!("unknown log category {name:?}"))?;
             }
             // No list: everything on or off. A list: exactly those on, or those off.
-            match (n, on != FALSE) {
+            match (n, on) {
                 (0, on) => (inst.logger.on, inst.logger.categories) = (on, u32::MAX),
                 (_, true) => (inst.logger.on, inst.logger.categories) = (true, bits),
                 (_, false) => inst.logger.categories &= !bits,
@@ -244,21 +286,8 @@ pub unsafe fn setup_experiment<M: Model>(
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::SetupExperiment, |inst| {
-            if !start.is_finite() {
-                return Err(format!("startTime = {start} is not finite"));
-            }
-            if stop_defined != FALSE && !(stop.is_finite() && stop >= start) {
-                return Err(format!(
-                    "stopTime = {stop} must be finite and not before startTime = {start}"
-                ));
-            }
-            inst.start_time = start;
-            inst.time = start;
-            inst.values.inputs_at = start;
-            inst.stop_time = (stop_defined != FALSE).then_some(stop);
-            inst.dirty = true;
-            Ok(Status::Ok)
+        entry::<M, _>(c, Call::SetupExperiment, |inst| {
+            inst.setup_experiment(start, (stop_defined != FALSE).then_some(stop))
         })
     }
 }
@@ -270,10 +299,8 @@ pub unsafe fn setup_experiment<M: Model>(
 pub unsafe fn enter_initialization_mode<M: Model>(c: Component) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::EnterInitializationMode, |inst| {
-            inst.state = State::InitializationMode;
-            inst.dirty = true;
-            Ok(Status::Ok)
+        entry::<M, _>(c, Call::EnterInitializationMode, |inst| {
+            inst.enter_initialization_mode()
         })
     }
 }
@@ -287,14 +314,8 @@ pub unsafe fn enter_initialization_mode<M: Model>(c: Component) -> Status {
 pub unsafe fn exit_initialization_mode<M: Model>(c: Component) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::ExitInitializationMode, |inst| {
-            inst.params_changed = true;
-            inst.refresh()
-                .map_err(|e| format!("parameters refused: {e}"))?;
-            inst.state = State::StepComplete;
-            inst.me.mode = me::Mode::Event;
-            inst.logger.emit(Status::Ok, "logEvents", "initialized");
-            Ok(Status::Ok)
+        entry::<M, _>(c, Call::ExitInitializationMode, |inst| {
+            inst.exit_initialization_mode()
         })
     }
 }
@@ -305,15 +326,7 @@ pub unsafe fn exit_initialization_mode<M: Model>(c: Component) -> Status {
 /// As [`entry`].
 pub unsafe fn terminate<M: Model>(c: Component) -> Status {
     // SAFETY: as entry.
-    unsafe {
-        entry::<M>(c, Call::Terminate, |inst| {
-            if let Some(m) = inst.model.as_mut() {
-                m.finish(&inst.values, &mut inst.logger);
-            }
-            inst.state = State::Terminated;
-            Ok(Status::Ok)
-        })
-    }
+    unsafe { entry::<M, _>(c, Call::Terminate, |inst| inst.terminate()) }
 }
 
 /// `fmi2Reset`: back to a freshly instantiated state (start values, no experiment).
@@ -322,18 +335,72 @@ pub unsafe fn terminate<M: Model>(c: Component) -> Status {
 /// As [`entry`].
 pub unsafe fn reset<M: Model>(c: Component) -> Status {
     // SAFETY: as entry.
-    unsafe {
-        entry::<M>(c, Call::Reset, |inst| {
-            inst.state = State::Instantiated;
-            inst.me.mode = me::Mode::Event;
-            inst.values = start_values::<M>(inst.scene.as_deref());
-            inst.model = None;
-            inst.dirty = true;
-            inst.params_changed = true;
-            inst.time = 0.0;
-            inst.start_time = 0.0;
-            inst.stop_time = None;
-            Ok(Status::Ok)
-        })
+    unsafe { entry::<M, _>(c, Call::Reset, |inst| inst.reset()) }
+}
+
+/// The life of an instance, the same through either FMI version.
+impl<M: Model> Instance<M> {
+    /// The experiment's start and stop time (`fmi2SetupExperiment`, the arguments of
+    /// `fmi3EnterInitializationMode`).
+    pub fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Outcome {
+        if !start.is_finite() {
+            return Err(format!("startTime = {start} is not finite"));
+        }
+        if let Some(stop) = stop
+            && !(stop.is_finite() && stop >= start)
+        {
+            return Err(format!(
+                "stopTime = {stop} must be finite and not before startTime = {start}"
+            ));
+        }
+        self.start_time = start;
+        self.time = start;
+        self.values.inputs_at = start;
+        self.stop_time = stop;
+        self.dirty = true;
+        Ok(Status::Ok)
+    }
+
+    /// Into initialization mode.
+    pub fn enter_initialization_mode(&mut self) -> Outcome {
+        self.state = State::InitializationMode;
+        self.dirty = true;
+        Ok(Status::Ok)
+    }
+
+    /// Out of initialization mode: the parameters are final; a set the mechanism cannot work
+    /// with is refused, naming the parameter, and the instance stays in initialization mode so
+    /// the host can correct it.
+    pub fn exit_initialization_mode(&mut self) -> Outcome {
+        self.params_changed = true;
+        self.refresh()
+            .map_err(|e| format!("parameters refused: {e}"))?;
+        self.state = State::StepComplete;
+        self.me.mode = me::Mode::Event;
+        self.logger.emit(Status::Ok, "logEvents", "initialized");
+        Ok(Status::Ok)
+    }
+
+    /// The end of the run: the model reports what it gathered (the last turn's warnings).
+    pub fn terminate(&mut self) -> Outcome {
+        if let Some(m) = self.model.as_mut() {
+            m.finish(&self.values, &mut self.logger);
+        }
+        self.state = State::Terminated;
+        Ok(Status::Ok)
+    }
+
+    /// Back to a freshly instantiated state (start values, no experiment).
+    pub fn reset(&mut self) -> Outcome {
+        self.state = State::Instantiated;
+        self.me.mode = me::Mode::Event;
+        self.values = start_values::<M>(self.scene.as_deref());
+        self.model = None;
+        self.dirty = true;
+        self.params_changed = true;
+        self.time = 0.0;
+        self.start_time = 0.0;
+        self.stop_time = None;
+        Ok(Status::Ok)
     }
 }

@@ -10,9 +10,19 @@ pub(super) fn category_bit(name: &str) -> Option<u32> {
         .map(|i| 1 << i)
 }
 
+/// Where an instance's messages go: the logger of the FMI version it was instantiated through.
+#[derive(Clone, Copy)]
+pub(super) enum Sink {
+    /// `fmi2CallbackLogger`: variadic, the message a printf format (so `%` is escaped).
+    Fmi2(CallbackLogger),
+    /// `fmi3LogMessageCallback`: the message as it is (no instance name: the environment
+    /// tells the host which instance speaks).
+    Fmi3(LogMessage3),
+}
+
 /// The host's logger, with the instance name and the enabled categories.
 pub struct Logger {
-    pub(super) callback: CallbackLogger,
+    pub(super) sink: Sink,
     pub(super) env: ComponentEnvironment,
     pub(super) name: CString,
     pub(super) on: bool,
@@ -25,19 +35,47 @@ impl Logger {
         if !self.enabled(status, category) {
             return;
         }
-        let Some(cb) = self.callback else { return };
-        let msg = CString::new(message.replace('%', "%%").replace('\0', " ")).unwrap_or_default();
         let cat = CString::new(category).unwrap_or_default();
-        // SAFETY: the host gave us this logger for this environment; all strings are valid C strings.
-        unsafe {
-            cb(
-                self.env,
-                self.name.as_ptr(),
-                status,
-                cat.as_ptr(),
-                msg.as_ptr(),
-            )
-        };
+        match self.sink {
+            Sink::Fmi2(Some(cb)) => {
+                let msg =
+                    CString::new(message.replace('%', "%%").replace('\0', " ")).unwrap_or_default();
+                // SAFETY: the host gave us this logger for this environment; all strings are
+                // valid C strings.
+                unsafe {
+                    cb(
+                        self.env,
+                        self.name.as_ptr(),
+                        status,
+                        cat.as_ptr(),
+                        msg.as_ptr(),
+                    )
+                };
+            }
+            Sink::Fmi3(Some(cb)) => {
+                let msg = CString::new(message.replace('\0', " ")).unwrap_or_default();
+                // SAFETY: as above; FMI 3.0 has no fmi3Pending (never emitted: debug
+                // messages go out as fmi3OK).
+                unsafe { cb(self.env, status, cat.as_ptr(), msg.as_ptr()) };
+            }
+            Sink::Fmi2(None) | Sink::Fmi3(None) => {}
+        }
+    }
+
+    /// The logger of an FMI 3.0 instance (`fmi3Instantiate*`), all categories enabled.
+    pub fn fmi3(callback: LogMessage3, env: ComponentEnvironment, name: &str, on: bool) -> Self {
+        Logger {
+            sink: Sink::Fmi3(callback),
+            env,
+            name: CString::new(name).unwrap_or_default(),
+            on,
+            categories: u32::MAX,
+        }
+    }
+
+    /// Has the host given a callback?
+    pub fn has_callback(&self) -> bool {
+        !matches!(self.sink, Sink::Fmi2(None) | Sink::Fmi3(None))
     }
 }
 

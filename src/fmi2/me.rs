@@ -78,7 +78,7 @@ fn discard_non_finite<M: Model>(
 pub unsafe fn enter_event_mode<M: Model>(c: Component) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::EnterEventMode, |inst| {
+        entry::<M, _>(c, Call::EnterEventMode, |inst| {
             inst.me.mode = Mode::Event;
             Ok(Status::Ok)
         })
@@ -92,7 +92,7 @@ pub unsafe fn enter_event_mode<M: Model>(c: Component) -> Status {
 pub unsafe fn new_discrete_states<M: Model>(c: Component, info: *mut EventInfo) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::NewDiscreteStates, |inst| {
+        entry::<M, _>(c, Call::NewDiscreteStates, |inst| {
             if info.is_null() {
                 return Err("fmi2EventInfo pointer is NULL".into());
             }
@@ -114,7 +114,7 @@ pub unsafe fn new_discrete_states<M: Model>(c: Component, info: *mut EventInfo) 
 pub unsafe fn enter_continuous_time_mode<M: Model>(c: Component) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::EnterContinuousTimeMode, |inst| {
+        entry::<M, _>(c, Call::EnterContinuousTimeMode, |inst| {
             inst.me.mode = Mode::ContinuousTime;
             Ok(Status::Ok)
         })
@@ -133,7 +133,7 @@ pub unsafe fn completed_integrator_step<M: Model>(
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::CompletedIntegratorStep, |inst| {
+        entry::<M, _>(c, Call::CompletedIntegratorStep, |inst| {
             if enter_event_mode.is_null() || terminate.is_null() {
                 return Err("a result pointer is NULL".into());
             }
@@ -154,7 +154,7 @@ pub unsafe fn completed_integrator_step<M: Model>(
 pub unsafe fn set_time<M: Model>(c: Component, t: Real) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::SetTime, |inst| {
+        entry::<M, _>(c, Call::SetTime, |inst| {
             if !t.is_finite() {
                 return Err(format!("time {t} is not finite"));
             }
@@ -172,7 +172,7 @@ pub unsafe fn set_time<M: Model>(c: Component, t: Real) -> Status {
 pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: usize) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::SetContinuousStates, |inst| {
+        entry::<M, _>(c, Call::SetContinuousStates, |inst| {
             count(nx, "nx", M::STATES)?;
             let x = slice(x, nx, "x")?;
             // refused before anything reads it: the model keeps its states
@@ -200,7 +200,7 @@ pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: 
 pub unsafe fn get_derivatives<M: Model>(c: Component, dx: *mut Real, nx: usize) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::GetDerivatives, |inst| {
+        entry::<M, _>(c, Call::GetDerivatives, |inst| {
             count(nx, "nx", M::STATES)?;
             let dx = slice_mut(dx, nx, "derivatives")?;
             inst.prepared()?;
@@ -221,7 +221,7 @@ pub unsafe fn get_derivatives<M: Model>(c: Component, dx: *mut Real, nx: usize) 
 pub unsafe fn get_event_indicators<M: Model>(c: Component, z: *mut Real, ni: usize) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::GetEventIndicators, |inst| {
+        entry::<M, _>(c, Call::GetEventIndicators, |inst| {
             count(ni, "ni", M::EVENT_INDICATORS)?;
             let z = slice_mut(z, ni, "eventIndicators")?;
             inst.prepared()?;
@@ -241,7 +241,7 @@ pub unsafe fn get_event_indicators<M: Model>(c: Component, z: *mut Real, ni: usi
 pub unsafe fn get_continuous_states<M: Model>(c: Component, x: *mut Real, nx: usize) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::GetContinuousStates, |inst| {
+        entry::<M, _>(c, Call::GetContinuousStates, |inst| {
             count(nx, "nx", M::STATES)?;
             let x = slice_mut(x, nx, "x")?;
             x.copy_from_slice(&inst.me_states()?);
@@ -257,7 +257,7 @@ pub unsafe fn get_continuous_states<M: Model>(c: Component, x: *mut Real, nx: us
 pub unsafe fn get_nominals<M: Model>(c: Component, x: *mut Real, nx: usize) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M>(c, Call::GetNominalsOfContinuousStates, |_| {
+        entry::<M, _>(c, Call::GetNominalsOfContinuousStates, |_| {
             count(nx, "nx", M::STATES)?;
             slice_mut(x, nx, "x_nominal")?.fill(1.0);
             Ok(Status::Ok)

@@ -11,6 +11,7 @@ pub mod uri;
 #[macro_export]
 macro_rules! export_fmu {
     ($model:ty) => {
+        $crate::__export_fmi3!($model);
         mod __fmi2_exports {
             #![allow(non_snake_case, clippy::missing_safety_doc)]
             use super::*;
@@ -77,19 +78,6 @@ macro_rules! export_fmu {
                 fmi2ExitInitializationMode(c: Component) -> Status => rt::exit_initialization_mode;
                 fmi2Terminate(c: Component) -> Status => rt::terminate;
                 fmi2Reset(c: Component) -> Status => rt::reset;
-                fmi2GetFMUstate(c: Component, s: *mut FMUstate) -> Status => rt::get_fmu_state;
-                fmi2SetFMUstate(c: Component, s: FMUstate) -> Status => rt::set_fmu_state;
-                fmi2FreeFMUstate(c: Component, s: *mut FMUstate) -> Status => rt::free_fmu_state;
-                fmi2SerializedFMUstateSize(c: Component, s: FMUstate, size: *mut usize)
-                    -> Status => rt::serialized_fmu_state_size;
-                fmi2SerializeFMUstate(c: Component, s: FMUstate, bytes: *mut Byte, size: usize)
-                    -> Status => rt::serialize_fmu_state;
-                fmi2DeSerializeFMUstate(
-                    c: Component,
-                    bytes: *const Byte,
-                    size: usize,
-                    s: *mut FMUstate,
-                ) -> Status => rt::deserialize_fmu_state;
                 fmi2SetRealInputDerivatives(
                     c: Component,
                     vr: *const ValueReference,
@@ -103,6 +91,26 @@ macro_rules! export_fmu {
                     -> Status => rt::get_real_status;
                 fmi2GetBooleanStatus(c: Component, kind: std::ffi::c_int, v: *mut Boolean)
                     -> Status => rt::get_boolean_status;
+            }
+
+            // the FMU-state calls, each told which call it is
+            $crate::__fmi2_forward! { M; with_call:
+                fmi2GetFMUstate(c: Component, s: *mut FMUstate) -> Status
+                    => rt::get_fmu_state[GetFMUstate];
+                fmi2SetFMUstate(c: Component, s: FMUstate) -> Status
+                    => rt::set_fmu_state[SetFMUstate];
+                fmi2FreeFMUstate(c: Component, s: *mut FMUstate) -> Status
+                    => rt::free_fmu_state[FreeFMUstate];
+                fmi2SerializedFMUstateSize(c: Component, s: FMUstate, size: *mut usize)
+                    -> Status => rt::serialized_fmu_state_size[SerializedFMUstateSize];
+                fmi2SerializeFMUstate(c: Component, s: FMUstate, bytes: *mut Byte, size: usize)
+                    -> Status => rt::serialize_fmu_state[SerializeFMUstate];
+                fmi2DeSerializeFMUstate(
+                    c: Component,
+                    bytes: *const Byte,
+                    size: usize,
+                    s: *mut FMUstate,
+                ) -> Status => rt::deserialize_fmu_state[DeSerializeFMUstate];
             }
 
             // the get and set calls, each (component, value references, n, values)
@@ -173,10 +181,21 @@ macro_rules! export_fmu {
 
 /// For [`crate::export_fmu!`]: `extern "C"` functions, each passing its arguments on, in
 /// order, to the runtime function named after `=>`, for the model `$m`. After `get_set:`, the
-/// calls of the get/set signature, named with the type of their value array only.
+/// calls of the get/set signature, named with the type of their value array only; after
+/// `with_call:`, calls whose runtime function is told which call it serves (`f[Call]`: the
+/// component, then `Call::Call`, then the other arguments).
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __fmi2_forward {
+    ($m:ty; with_call: $(
+        $name:ident($c:ident: $ct:ty $(, $arg:ident: $t:ty)* $(,)?) -> $ret:ty
+            => $($f:ident)::+[$call:ident];
+    )*) => {$(
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name($c: $ct $(, $arg: $t)*) -> $ret {
+            unsafe { $($f)::+::<$m, _>($c, $crate::fmi2::state::Call::$call $(, $arg)*) }
+        }
+    )*};
     ($m:ty; get_set: $($name:ident($value:ty) => $($f:ident)::+;)*) => {
         $crate::__fmi2_forward! { $m; $(
             $name(

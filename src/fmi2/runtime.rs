@@ -39,7 +39,6 @@ mod snapshot;
 
 pub use cs::*;
 pub use fmu_state::*;
-use getset::Kind;
 pub use getset::*;
 pub use lifecycle::*;
 pub use logger::Logger;
@@ -78,14 +77,18 @@ pub mod access {
     /// By the String calls: no variable has it (the models have no String variables), so
     /// every String call takes the slow path, which refuses it naming the variable's type.
     pub const STRING: Bits = 512;
+    /// By FMI 3.0's Int32 calls (Integer variables).
+    pub const INT32: Bits = 1024;
+    /// By FMI 3.0's Int64 calls (Enumeration variables: FMI 3.0 gets and sets them as Int64).
+    pub const INT64: Bits = 2048;
 
     /// The bits of one declared variable.
     pub fn of(v: &Var) -> Bits {
         let mut a = match v.ty {
             VarType::Real => REAL,
-            VarType::Integer => INTEGER,
+            VarType::Integer => INTEGER | INT32,
             VarType::Boolean => BOOLEAN,
-            VarType::Enumeration(_) => INTEGER | ENUMERATION,
+            VarType::Enumeration(_) => INTEGER | ENUMERATION | INT64,
         };
         for phase in SetPhase::ALL {
             if v.settable(phase) {
@@ -578,6 +581,28 @@ impl<M: Model> Drop for Instance<M> {
     }
 }
 
+/// A function of one FMI version's C API: how it is named in messages and where it is legal.
+/// [`entry`] serves FMI 2.0 ([`Call`]) and FMI 3.0 (`crate::fmi3::state::Call`) alike.
+pub trait Api: Copy + std::fmt::Debug {
+    /// `fmi2` or `fmi3`: a call is named `{PREFIX}{call:?}`.
+    const PREFIX: &'static str;
+    /// Is the call legal in this state of a Co-Simulation instance? (The inline fast path.)
+    fn allowed_cs(self, state: State) -> bool;
+    /// Why the call is illegal on this instance now (its interface's state machine), if it is.
+    fn refusal<M: Model>(self, inst: &Instance<M>) -> Option<String>;
+}
+
+impl Api for Call {
+    const PREFIX: &'static str = "fmi2";
+    #[inline]
+    fn allowed_cs(self, state: State) -> bool {
+        allowed(self, state)
+    }
+    fn refusal<M: Model>(self, inst: &Instance<M>) -> Option<String> {
+        refusal(inst, self)
+    }
+}
+
 /// Why `call` is illegal in the instance's state (its interface's state machine), if it is.
 /// Out of line: [`entry`] decides a legal co-simulation call inline and comes here for Model
 /// Exchange calls and refusals.
@@ -612,7 +637,7 @@ fn refusal<M: Model>(inst: &Instance<M>, call: Call) -> Option<String> {
     }
 }
 
-fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
+pub(crate) fn panic_text(p: &(dyn std::any::Any + Send)) -> String {
     p.downcast_ref::<&str>()
         .map(|s| s.to_string())
         .or_else(|| p.downcast_ref::<String>().cloned())
@@ -665,9 +690,9 @@ mod registry {
 /// # Safety
 /// None for `c` itself: any pointer is refused unless it is a live instance of `M` (the
 /// registry); `f` gets that instance.
-pub unsafe fn entry<M: Model>(
+pub unsafe fn entry<M: Model, C: Api>(
     c: Component,
-    call: Call,
+    call: C,
     f: impl FnOnce(&mut Instance<M>) -> Outcome,
 ) -> Status {
     // a handle that is not a live instance of this model (NULL, freed, another model's, any
@@ -682,15 +707,15 @@ pub unsafe fn entry<M: Model>(
     }
     // the common case, a co-simulation call legal in the instance's state, is one table load
     // and a mask; anything else (and every Model Exchange call) takes the out-of-line path
-    if (inst.me.is_me || !allowed(call, inst.state))
-        && let Some(msg) = refusal(inst, call)
+    if (inst.me.is_me || !call.allowed_cs(inst.state))
+        && let Some(msg) = call.refusal(inst)
     {
         inst.logger.emit(Status::Error, "logStatusError", &msg);
         return Status::Error;
     }
     if inst.logger.on && inst.logger.enabled(Status::Ok, "logAll") {
         inst.logger
-            .emit(Status::Ok, "logAll", &format!("fmi2{call:?}"));
+            .emit(Status::Ok, "logAll", &format!("{}{call:?}", C::PREFIX));
     }
     match catch_unwind(AssertUnwindSafe(|| f(inst))) {
         Ok(Ok(status)) => status,
@@ -698,13 +723,14 @@ pub unsafe fn entry<M: Model>(
             inst.logger.emit(
                 Status::Error,
                 "logStatusError",
-                &format!("fmi2{call:?}: {msg}"),
+                &format!("{}{call:?}: {msg}", C::PREFIX),
             );
             Status::Error
         }
         Err(p) => {
             let msg = format!(
-                "fmi2{call:?}: internal error (panic caught at the FMI boundary): {}",
+                "{}{call:?}: internal error (panic caught at the FMI boundary): {}",
+                C::PREFIX,
                 panic_text(&*p)
             );
             inst.state = State::Error;
@@ -718,7 +744,7 @@ pub unsafe fn entry<M: Model>(
 ///
 /// # Safety
 /// `p` must point to `n` valid elements when non-NULL.
-unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], String> {
+pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], String> {
     if n == 0 {
         return Ok(&[]);
     }
@@ -733,7 +759,11 @@ unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&'a [T], Str
 ///
 /// # Safety
 /// `p` must point to `n` valid elements when non-NULL.
-unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T], String> {
+pub(crate) unsafe fn slice_mut<'a, T>(
+    p: *mut T,
+    n: usize,
+    what: &str,
+) -> Result<&'a mut [T], String> {
     if n == 0 {
         return Ok(&mut []);
     }
@@ -746,7 +776,7 @@ unsafe fn slice_mut<'a, T>(p: *mut T, n: usize, what: &str) -> Result<&'a mut [T
 
 /// # Safety
 /// `s` must be NULL or a valid C string.
-unsafe fn c_str<'a>(s: FmiString) -> Option<&'a str> {
+pub(crate) unsafe fn c_str<'a>(s: FmiString) -> Option<&'a str> {
     // SAFETY: per the contract above.
     (!s.is_null())
         .then(|| unsafe { CStr::from_ptr(s) }.to_str().ok())

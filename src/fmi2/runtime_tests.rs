@@ -169,7 +169,10 @@ fn a_discarded_step_keeps_the_time_and_the_instance_restorable() {
         initialize(c);
         assert_eq!(do_step::<Tiny>(c, 0.0, 0.1, TRUE), Status::Ok);
         let mut saved: FMUstate = std::ptr::null_mut();
-        assert_eq!(get_fmu_state::<Tiny>(c, &mut saved), Status::Ok);
+        assert_eq!(
+            get_fmu_state::<Tiny, _>(c, Call::GetFMUstate, &mut saved),
+            Status::Ok
+        );
         // the model cannot complete the next step (as a solver that gives up)
         let inst = instance(c);
         inst.values.set_flag(TV::fail, true);
@@ -189,11 +192,17 @@ fn a_discarded_step_keeps_the_time_and_the_instance_restorable() {
         assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Ok);
         assert_eq!(do_step::<Tiny>(c, 0.1, 0.05, TRUE), Status::Error);
         // restorable: the saved state is StepComplete again, and the run goes on
-        assert_eq!(set_fmu_state::<Tiny>(c, saved), Status::Ok);
+        assert_eq!(
+            set_fmu_state::<Tiny, _>(c, Call::SetFMUstate, saved),
+            Status::Ok
+        );
         assert_eq!(inst.state, State::StepComplete);
         assert!(!inst.values.flag(TV::fail));
         assert_eq!(do_step::<Tiny>(c, 0.1, 0.05, TRUE), Status::Ok);
-        assert_eq!(free_fmu_state::<Tiny>(c, &mut saved), Status::Ok);
+        assert_eq!(
+            free_fmu_state::<Tiny, _>(c, Call::FreeFMUstate, &mut saved),
+            Status::Ok
+        );
         free_instance::<Tiny>(c);
     }
 }

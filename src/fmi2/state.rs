@@ -46,7 +46,7 @@ bit_states! {
         Error = 1 << 6,
         Fatal = 1 << 7,
     }
-    const ALL_STATES;
+    pub const ALL_STATES;
     fn mask;
 }
 

@@ -62,6 +62,10 @@ pub enum StatusKind {
 pub type CallbackLogger = Option<
     unsafe extern "C" fn(ComponentEnvironment, FmiString, Status, FmiString, FmiString, ...),
 >;
+/// `fmi3LogMessageCallback` (FMI 3.0: not variadic, no instance name), for the instances
+/// FMI 3.0 creates over the same runtime (`crate::fmi3`).
+pub type LogMessage3 =
+    Option<unsafe extern "C" fn(ComponentEnvironment, Status, FmiString, FmiString)>;
 pub type CallbackAllocateMemory = Option<unsafe extern "C" fn(usize, usize) -> *mut c_void>;
 pub type CallbackFreeMemory = Option<unsafe extern "C" fn(*mut c_void)>;
 pub type StepFinished = Option<unsafe extern "C" fn(ComponentEnvironment, Status)>;

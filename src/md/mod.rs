@@ -17,10 +17,14 @@
 pub mod guid;
 #[cfg(feature = "tools")]
 pub mod xml;
+#[cfg(feature = "tools")]
+pub mod xml3;
 
 pub use guid::{fnv1a_128, format_guid};
 #[cfg(feature = "tools")]
 pub use xml::{describe, describe_vars, stamp};
+#[cfg(feature = "tools")]
+pub use xml3::{describe3, describe3_vars};
 
 use crate::model::{Causality, Experiment, Model, Var, VarType, Variability};
 

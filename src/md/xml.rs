@@ -126,13 +126,13 @@ struct CoSim {
 }
 
 #[derive(Serialize)]
-struct Units {
+pub(super) struct Units {
     #[serde(rename = "Unit")]
     unit: Vec<Unit>,
 }
 
 #[derive(Serialize)]
-struct Unit {
+pub(super) struct Unit {
     #[serde(rename = "@name")]
     name: &'static str,
     #[serde(rename = "BaseUnit")]
@@ -142,7 +142,7 @@ struct Unit {
 }
 
 #[derive(Serialize)]
-struct BaseUnit {
+pub(super) struct BaseUnit {
     #[serde(rename = "@kg", skip_serializing_if = "Option::is_none")]
     kg: Option<i8>,
     #[serde(rename = "@m", skip_serializing_if = "Option::is_none")]
@@ -154,7 +154,7 @@ struct BaseUnit {
 }
 
 #[derive(Serialize)]
-struct DisplayUnit {
+pub(super) struct DisplayUnit {
     #[serde(rename = "@name")]
     name: &'static str,
     #[serde(rename = "@factor")]
@@ -200,13 +200,13 @@ struct Item {
 }
 
 #[derive(Serialize)]
-struct LogCats {
+pub(super) struct LogCats {
     #[serde(rename = "Category")]
     category: Vec<Category>,
 }
 
 #[derive(Serialize)]
-struct Category {
+pub(super) struct Category {
     #[serde(rename = "@name")]
     name: &'static str,
     #[serde(rename = "@description")]
@@ -214,7 +214,7 @@ struct Category {
 }
 
 #[derive(Serialize)]
-struct DefaultExperiment {
+pub(super) struct DefaultExperiment {
     #[serde(rename = "@startTime")]
     start: String,
     #[serde(rename = "@stopTime")]
@@ -321,7 +321,7 @@ struct Unknown {
     dependencies: Option<String>,
 }
 
-fn causality_str(c: Causality) -> &'static str {
+pub(super) fn causality_str(c: Causality) -> &'static str {
     match c {
         Causality::Parameter => "parameter",
         Causality::CalculatedParameter => "calculatedParameter",
@@ -331,7 +331,7 @@ fn causality_str(c: Causality) -> &'static str {
     }
 }
 
-fn variability_str(v: Variability) -> &'static str {
+pub(super) fn variability_str(v: Variability) -> &'static str {
     match v {
         Variability::Constant => "constant",
         Variability::Fixed => "fixed",
@@ -341,7 +341,7 @@ fn variability_str(v: Variability) -> &'static str {
     }
 }
 
-fn initial_str(i: Initial) -> &'static str {
+pub(super) fn initial_str(i: Initial) -> &'static str {
     match i {
         Initial::Exact => "exact",
         Initial::Approx => "approx",
@@ -349,7 +349,7 @@ fn initial_str(i: Initial) -> &'static str {
     }
 }
 
-fn enum_types(vars: &[Var]) -> Vec<&'static EnumType> {
+pub(super) fn enum_types(vars: &[Var]) -> Vec<&'static EnumType> {
     let mut out: Vec<&'static EnumType> = Vec::new();
     for v in vars {
         if let VarType::Enumeration(t) = v.ty
@@ -395,10 +395,8 @@ fn scalar_variable(vr: u32, v: &Var, index_of: impl Fn(u32) -> Option<usize>) ->
     }
 }
 
-/// The description with this GUID, dated [`VERSION_DATE`] ([`stamp`] sets a build's date).
-fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
-    // Value reference -> 1-based index in ModelVariables.
-    let index_of = |vr: u32| vars.iter().position(|(r, _)| *r == vr).map(|p| p + 1);
+/// The units the variables use, each with its display units.
+pub(super) fn units_of(vars: &[(u32, &Var)]) -> Units {
     let mut used_units: Vec<&'static UnitDef> = vars
         .iter()
         .filter_map(|(_, v)| v.unit.and_then(unit_def))
@@ -428,6 +426,38 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             }
         })
         .collect();
+    Units { unit: units }
+}
+
+/// The log categories of every description.
+pub(super) fn log_categories() -> LogCats {
+    LogCats {
+        category: LOG_CATEGORIES
+            .iter()
+            .map(|(n, d)| Category {
+                name: n,
+                description: d,
+            })
+            .collect(),
+    }
+}
+
+/// The default experiment of a model.
+pub(super) fn default_experiment(info: &ModelInfo) -> DefaultExperiment {
+    let e = info.experiment;
+    DefaultExperiment {
+        start: fmt_real(e.start),
+        stop: fmt_real(e.stop),
+        tolerance: e.tolerance.map(fmt_real),
+        step: fmt_real(e.step),
+    }
+}
+
+/// The description with this GUID, dated [`VERSION_DATE`] ([`stamp`] sets a build's date).
+fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
+    // Value reference -> 1-based index in ModelVariables.
+    let index_of = |vr: u32| vars.iter().position(|(r, _)| *r == vr).map(|p| p + 1);
+    let units = units_of(vars);
     let plain: Vec<Var> = vars.iter().map(|(_, v)| (*v).clone()).collect();
     let types = enum_types(&plain)
         .into_iter()
@@ -489,7 +519,6 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             dependencies: None,
         })
         .collect();
-    let e = info.experiment;
     Fmd {
         fmi_version: "2.0",
         model_name: info.model_name.to_string(),
@@ -522,23 +551,10 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             async_run: false,
             capabilities: CAPABILITIES,
         },
-        units: Units { unit: units },
+        units,
         types: Types { simple: types },
-        log_categories: LogCats {
-            category: LOG_CATEGORIES
-                .iter()
-                .map(|(n, d)| Category {
-                    name: n,
-                    description: d,
-                })
-                .collect(),
-        },
-        experiment: DefaultExperiment {
-            start: fmt_real(e.start),
-            stop: fmt_real(e.stop),
-            tolerance: e.tolerance.map(fmt_real),
-            step: fmt_real(e.step),
-        },
+        log_categories: log_categories(),
+        experiment: default_experiment(info),
         variables: ModelVariables {
             vars: vars
                 .iter()

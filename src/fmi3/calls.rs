@@ -1,0 +1,433 @@
+//! The FMI 3.0 calls over the shared runtime ([`crate::fmi2::runtime`]): instantiation,
+//! initialization with the experiment, the typed get and set calls, `fmi3DoStep`. The FMU-state
+//! calls are the runtime's own, told which call they serve. Each is one [`entry`] with this
+//! version's [`Call`], so the state machine of [`super::state`] decides what is legal.
+
+use super::state::Call;
+use super::types::*;
+use crate::fmi2::runtime::{
+    Kind, Logger, c_str, create, entry, get, panic_text, set, slice, slice_mut,
+};
+use crate::model::{Model, VarType};
+use std::borrow::Cow;
+use std::panic::{AssertUnwindSafe, catch_unwind};
+use std::path::PathBuf;
+
+/// `fmi3InstantiateCoSimulation`: a Co-Simulation instance without event mode, early return or
+/// intermediate variables (`hasEventMode`, `canReturnEarlyAfterIntermediateUpdate` and
+/// `providesIntermediateUpdate` are false); asking for them is refused with the reason.
+///
+/// # Safety
+/// Pointer arguments must be NULL or valid per the FMI 3.0 standard.
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn instantiate_co_simulation<M: Model>(
+    instance_name: FmiString,
+    token: FmiString,
+    resource_path: FmiString,
+    _visible: Boolean,
+    logging_on: Boolean,
+    event_mode_used: Boolean,
+    _early_return_allowed: Boolean,
+    _required_intermediate: *const ValueReference,
+    n_required_intermediate: usize,
+    env: InstanceEnvironment,
+    log: LogMessageCallback,
+    _intermediate_update: IntermediateUpdateCallback,
+) -> Instance {
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: NULL or valid C strings, per the standard.
+        let (name, token, resources) =
+            unsafe { (c_str(instance_name), c_str(token), c_str(resource_path)) };
+        let name = name.unwrap_or("");
+        let logger = Logger::fmi3(
+            log,
+            env,
+            if name.is_empty() { M::IDENTIFIER } else { name },
+            logging_on != FALSE,
+        );
+        let refused = |logger: Logger, why: String| {
+            logger.emit(
+                Status::Error,
+                "logStatusError",
+                &format!("fmi3InstantiateCoSimulation: {why}; refused"),
+            );
+            std::ptr::null_mut()
+        };
+        if name.is_empty() {
+            return refused(logger, "instanceName is NULL or empty".into());
+        }
+        if event_mode_used != FALSE {
+            return refused(
+                logger,
+                "eventModeUsed is true; this FMU's hasEventMode is false (its events are located inside fmi3DoStep)"
+                    .into(),
+            );
+        }
+        if n_required_intermediate > 0 {
+            return refused(
+                logger,
+                format!(
+                    "{n_required_intermediate} required intermediate variables; providesIntermediateUpdate is false"
+                ),
+            );
+        }
+        // FMI 3.0 passes a native path to the resources folder (FMI 2.0 a URI)
+        let resources = resources.filter(|r| !r.is_empty()).map(PathBuf::from);
+        match create::<M>(logger, false, token, resources) {
+            Ok(c) => c,
+            Err((logger, why)) => refused(logger, why.replace("GUID", "instantiationToken")),
+        }
+    }));
+    result.unwrap_or_else(|p| {
+        eprintln!(
+            "{}: fmi3InstantiateCoSimulation: internal error: {}",
+            M::IDENTIFIER,
+            panic_text(&*p)
+        );
+        std::ptr::null_mut()
+    })
+}
+
+/// `fmi3InstantiateModelExchange` and `fmi3InstantiateScheduledExecution`: this FMU's FMI 3.0
+/// interface is Co-Simulation; the refusal says where Model Exchange is.
+///
+/// # Safety
+/// As [`instantiate_co_simulation`].
+pub unsafe fn instantiate_other<M: Model>(
+    kind: &str,
+    instance_name: FmiString,
+    env: InstanceEnvironment,
+    log: LogMessageCallback,
+) -> Instance {
+    // SAFETY: NULL or a valid C string.
+    let name = unsafe { c_str(instance_name) }.unwrap_or(M::IDENTIFIER);
+    let why = match kind {
+        "ModelExchange" => {
+            "this FMU's FMI 3.0 interface is Co-Simulation only (the FMI 2.0 FMU of the same model offers Model Exchange)"
+        }
+        _ => "Scheduled Execution is not offered (no clocks)",
+    };
+    Logger::fmi3(log, env, name, false).emit(
+        Status::Error,
+        "logStatusError",
+        &format!("fmi3Instantiate{kind}: {why}; refused"),
+    );
+    std::ptr::null_mut()
+}
+
+/// `fmi3EnterInitializationMode`: the experiment (FMI 2.0's `fmi2SetupExperiment`), then
+/// initialization mode; a bad start or stop time changes nothing.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn enter_initialization_mode<M: Model>(
+    c: Instance,
+    _tolerance_defined: Boolean,
+    _tolerance: Float64,
+    start: Float64,
+    stop_defined: Boolean,
+    stop: Float64,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M, _>(c, Call::EnterInitializationMode, |inst| {
+            inst.setup_experiment(start, (stop_defined != FALSE).then_some(stop))?;
+            inst.enter_initialization_mode()
+        })
+    }
+}
+
+/// `fmi3ExitInitializationMode`: into Step Mode (no event mode).
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn exit_initialization_mode<M: Model>(c: Instance) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M, _>(c, Call::ExitInitializationMode, |inst| {
+            inst.exit_initialization_mode()
+        })
+    }
+}
+
+/// `fmi3Terminate`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn terminate<M: Model>(c: Instance) -> Status {
+    // SAFETY: as entry.
+    unsafe { entry::<M, _>(c, Call::Terminate, |inst| inst.terminate()) }
+}
+
+/// `fmi3Reset`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn reset<M: Model>(c: Instance) -> Status {
+    // SAFETY: as entry.
+    unsafe { entry::<M, _>(c, Call::Reset, |inst| inst.reset()) }
+}
+
+/// `fmi3SetDebugLogging`.
+///
+/// # Safety
+/// As [`entry`]; `categories` holds `n` C strings.
+pub unsafe fn set_debug_logging<M: Model>(
+    c: Instance,
+    on: Boolean,
+    n: usize,
+    categories: *const FmiString,
+) -> Status {
+    // SAFETY: as this function.
+    unsafe {
+        crate::fmi2::runtime::set_debug_logging_as::<M, _>(
+            c,
+            Call::SetDebugLogging,
+            on != FALSE,
+            n,
+            categories,
+        )
+    }
+}
+
+/// `fmi3FreeInstance`.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn free_instance<M: Model>(c: Instance) {
+    // SAFETY: as this function.
+    unsafe { crate::fmi2::runtime::free_instance_as::<M, _>(c, Call::FreeInstance) }
+}
+
+/// `fmi3DoStep`: the step of the shared runtime ([`crate::fmi2::runtime::Instance::do_step`]);
+/// no event, no early return, the simulation never ends by itself; `lastSuccessfulTime` is the
+/// FMU's time after the call (the step's end, or its start when the step is discarded).
+///
+/// # Safety
+/// As [`entry`]; the out-pointers are NULL or valid.
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn do_step<M: Model>(
+    c: Instance,
+    t: Float64,
+    h: Float64,
+    _no_set_prior: Boolean,
+    event_handling_needed: *mut Boolean,
+    terminate_simulation: *mut Boolean,
+    early_return: *mut Boolean,
+    last_successful_time: *mut Float64,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M, _>(c, Call::DoStep, |inst| {
+            let status = inst.do_step(t, h, "fmi3DoStep")?;
+            for flag in [event_handling_needed, terminate_simulation, early_return] {
+                if let Some(f) = flag.as_mut() {
+                    *f = FALSE;
+                }
+            }
+            if let Some(last) = last_successful_time.as_mut() {
+                *last = inst.time;
+            }
+            Ok(status)
+        })
+    }
+}
+
+/// The FMI 3.0 value types the models have, and those they do not (no variable has their
+/// access bit, so a call of theirs is refused naming the variable's type).
+pub mod kinds {
+    use super::*;
+    use crate::fmi2::runtime::access;
+
+    pub const FLOAT64: Kind = Kind::new("Float64", access::REAL, |t| t == VarType::Real);
+    pub const INT32: Kind = Kind::new("Int32", access::INT32, |t| t == VarType::Integer);
+    pub const INT64: Kind = Kind::new("Int64", access::INT64, |t| {
+        matches!(t, VarType::Enumeration(_))
+    });
+    pub const BOOLEAN: Kind = crate::fmi2::runtime::BOOLEAN;
+    /// A type no variable has.
+    pub const fn none(name: &'static str) -> Kind {
+        Kind::new(name, access::STRING, |_| false)
+    }
+}
+
+/// Refuses `nValues` other than `nvr`: every variable is a scalar.
+fn scalars(nvr: usize, n_values: usize) -> Result<(), String> {
+    if n_values == nvr {
+        Ok(())
+    } else {
+        Err(format!(
+            "nValues = {n_values} but nValueReferences = {nvr}: every variable of this FMU is a scalar"
+        ))
+    }
+}
+
+/// The typed get and set calls: (instance, value references, nvr, values, nValues).
+macro_rules! typed_calls {
+    ($(
+        $(#[$doc:meta])*
+        $name:ident($value:ty) = $how:ident($call:ident, $kind:expr, $conv:expr);
+    )*) => {$(
+        $(#[$doc])*
+        ///
+        /// # Safety
+        /// As [`entry`]; arrays hold `nvr` elements.
+        pub unsafe fn $name<M: Model>(
+            c: Instance,
+            vr: *const ValueReference,
+            nvr: usize,
+            values: $value,
+            n_values: usize,
+        ) -> Status {
+            if let Err(why) = scalars(nvr, n_values) {
+                // SAFETY: as this function.
+                return unsafe { entry::<M, _>(c, Call::$call, |_| Err(why)) };
+            }
+            // SAFETY: as this function.
+            unsafe { $how::<M, _>(c, Call::$call, vr, nvr, values, $kind, $conv) }
+        }
+    )*};
+}
+
+typed_calls! {
+    /// `fmi3GetFloat64`.
+    get_float64(*mut Float64) = get(GetFloat64, kinds::FLOAT64, |x| x);
+    /// `fmi3GetInt32` (Integer variables).
+    get_int32(*mut Int32) = get(GetInt32, kinds::INT32, |x| x as Int32);
+    /// `fmi3GetInt64` (Enumeration variables).
+    get_int64(*mut Int64) = get(GetInt64, kinds::INT64, |x| x as Int64);
+    /// `fmi3GetBoolean`.
+    get_boolean(*mut Boolean) = get(GetBoolean, kinds::BOOLEAN, |x| Boolean::from(x != 0.0));
+    /// `fmi3GetFloat32`: no variable has this type.
+    get_float32(*mut Float32) = get(GetFloat32, kinds::none("Float32"), |_| 0.0);
+    /// `fmi3GetInt8`: no variable has this type.
+    get_int8(*mut Int8) = get(GetInt8, kinds::none("Int8"), |_| 0);
+    /// `fmi3GetUInt8`: no variable has this type.
+    get_uint8(*mut UInt8) = get(GetUInt8, kinds::none("UInt8"), |_| 0);
+    /// `fmi3GetInt16`: no variable has this type.
+    get_int16(*mut Int16) = get(GetInt16, kinds::none("Int16"), |_| 0);
+    /// `fmi3GetUInt16`: no variable has this type.
+    get_uint16(*mut UInt16) = get(GetUInt16, kinds::none("UInt16"), |_| 0);
+    /// `fmi3GetUInt32`: no variable has this type.
+    get_uint32(*mut UInt32) = get(GetUInt32, kinds::none("UInt32"), |_| 0);
+    /// `fmi3GetUInt64`: no variable has this type.
+    get_uint64(*mut UInt64) = get(GetUInt64, kinds::none("UInt64"), |_| 0);
+    /// `fmi3GetString`: no variable has this type.
+    get_string(*mut FmiString) = get(GetString, kinds::none("String"), |_| std::ptr::null());
+    /// `fmi3SetFloat64`: non-finite values are refused and the previous values kept.
+    set_float64(*const Float64) = set(SetFloat64, kinds::FLOAT64, |v| v.into());
+    /// `fmi3SetInt32` (Integer variables).
+    set_int32(*const Int32) = set(SetInt32, kinds::INT32, |v| to_f64(v, |&x| x.into()));
+    /// `fmi3SetInt64` (Enumeration variables; a value that is no item is refused).
+    set_int64(*const Int64) = set(SetInt64, kinds::INT64, |v| to_f64(v, |&x| x as f64));
+    /// `fmi3SetBoolean`.
+    set_boolean(*const Boolean) = set(SetBoolean, kinds::BOOLEAN, |v| {
+        to_f64(v, |&x| if x != FALSE { 1.0 } else { 0.0 })
+    });
+    /// `fmi3SetFloat32`: no variable has this type.
+    set_float32(*const Float32) = set(SetFloat32, kinds::none("Float32"), zeros);
+    /// `fmi3SetInt8`: no variable has this type.
+    set_int8(*const Int8) = set(SetInt8, kinds::none("Int8"), zeros);
+    /// `fmi3SetUInt8`: no variable has this type.
+    set_uint8(*const UInt8) = set(SetUInt8, kinds::none("UInt8"), zeros);
+    /// `fmi3SetInt16`: no variable has this type.
+    set_int16(*const Int16) = set(SetInt16, kinds::none("Int16"), zeros);
+    /// `fmi3SetUInt16`: no variable has this type.
+    set_uint16(*const UInt16) = set(SetUInt16, kinds::none("UInt16"), zeros);
+    /// `fmi3SetUInt32`: no variable has this type.
+    set_uint32(*const UInt32) = set(SetUInt32, kinds::none("UInt32"), zeros);
+    /// `fmi3SetUInt64`: no variable has this type.
+    set_uint64(*const UInt64) = set(SetUInt64, kinds::none("UInt64"), zeros);
+    /// `fmi3SetString`: no variable has this type.
+    set_string(*const FmiString) = set(SetString, kinds::none("String"), zeros);
+}
+
+fn to_f64<T>(v: &[T], f: impl Fn(&T) -> f64) -> Cow<'_, [f64]> {
+    v.iter().map(f).collect()
+}
+
+fn zeros<T>(v: &[T]) -> Cow<'_, [f64]> {
+    vec![0.0; v.len()].into()
+}
+
+/// `fmi3GetBinary`: no variable has this type.
+///
+/// # Safety
+/// As [`entry`]; arrays hold `nvr` elements.
+pub unsafe fn get_binary<M: Model>(
+    c: Instance,
+    vr: *const ValueReference,
+    nvr: usize,
+    _sizes: *mut usize,
+    values: *mut Binary,
+    n_values: usize,
+) -> Status {
+    // SAFETY: as this function.
+    unsafe { get_typeless::<M, _>(c, Call::GetBinary, vr, nvr, values, n_values, "Binary") }
+}
+
+/// `fmi3SetBinary`: no variable has this type.
+///
+/// # Safety
+/// As [`entry`]; arrays hold `nvr` elements.
+pub unsafe fn set_binary<M: Model>(
+    c: Instance,
+    vr: *const ValueReference,
+    nvr: usize,
+    _sizes: *const usize,
+    values: *const Binary,
+    n_values: usize,
+) -> Status {
+    let v = values as *mut Binary;
+    // SAFETY: as this function (the array is only checked, never written).
+    unsafe { get_typeless::<M, _>(c, Call::SetBinary, vr, nvr, v, n_values, "Binary") }
+}
+
+/// `fmi3GetClock` and `fmi3SetClock`: this FMU has no clocks.
+///
+/// # Safety
+/// As [`entry`]; arrays hold `nvr` elements.
+pub unsafe fn clock<M: Model>(
+    c: Instance,
+    call: Call,
+    vr: *const ValueReference,
+    nvr: usize,
+    values: *mut Clock,
+) -> Status {
+    // SAFETY: as this function.
+    unsafe { get_typeless::<M, _>(c, call, vr, nvr, values, nvr, "Clock") }
+}
+
+/// A call on a type no variable has: the arrays checked, then every value reference refused
+/// naming its variable's type (none at `nvr` = 0).
+///
+/// # Safety
+/// As [`entry`]; arrays hold `nvr` elements.
+unsafe fn get_typeless<M: Model, T>(
+    c: Instance,
+    call: Call,
+    vr: *const ValueReference,
+    nvr: usize,
+    values: *mut T,
+    n_values: usize,
+    ty: &'static str,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M, _>(c, call, |inst| {
+            scalars(nvr, n_values)?;
+            let vrs = slice(vr, nvr, "valueReferences")?;
+            slice_mut(values, nvr, "values")?;
+            inst.refuse_type(vrs, kinds::none(ty))
+        })
+    }
+}
+
+/// A call this FMU does not offer: logged and refused with its reason.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn unsupported<M: Model>(c: Instance, call: Call, why: &str) -> Status {
+    // SAFETY: as entry.
+    unsafe { crate::fmi2::runtime::unsupported::<M>(c, call, why) }
+}

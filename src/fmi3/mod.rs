@@ -1,0 +1,357 @@
+//! The FMI 3.0 C ABI over the same runtime as FMI 2.0 ([`crate::fmi2::runtime`]: one instance
+//! type, one entry wrapper, one FMU state): its C types, its state-machine table and its calls.
+//! Every FMU binary exports both versions' symbols ([`crate::export_fmu!`]), so the FMI 2.0 and
+//! the FMI 3.0 FMU of a model carry the same library and give the same numbers. Nothing here
+//! knows a mechanism.
+pub mod calls;
+pub mod state;
+pub mod types;
+
+/// Exports the FMI 3.0 functions for one model type; part of [`crate::export_fmu!`].
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __export_fmi3 {
+    ($model:ty) => {
+        mod __fmi3_exports {
+            #![allow(non_snake_case, clippy::missing_safety_doc, clippy::too_many_arguments)]
+            use super::*;
+            use $crate::fmi3::calls as rt;
+            use $crate::fmi3::state::Call;
+            use $crate::fmi3::types::*;
+            type M = $model;
+
+            #[unsafe(no_mangle)]
+            pub extern "C" fn fmi3GetVersion() -> FmiString {
+                VERSION.as_ptr()
+            }
+            $crate::__fmi3_forward! { M;
+                fmi3SetDebugLogging(c: Instance, on: Boolean, n: usize, cats: *const FmiString)
+                    -> Status => rt::set_debug_logging;
+                fmi3InstantiateCoSimulation(
+                    name: FmiString,
+                    token: FmiString,
+                    resources: FmiString,
+                    visible: Boolean,
+                    logging_on: Boolean,
+                    event_mode_used: Boolean,
+                    early_return_allowed: Boolean,
+                    required: *const ValueReference,
+                    n_required: usize,
+                    env: InstanceEnvironment,
+                    log: LogMessageCallback,
+                    update: IntermediateUpdateCallback,
+                ) -> Instance => rt::instantiate_co_simulation;
+                fmi3FreeInstance(c: Instance) => rt::free_instance;
+                fmi3EnterInitializationMode(
+                    c: Instance,
+                    tol_defined: Boolean,
+                    tol: Float64,
+                    start: Float64,
+                    stop_defined: Boolean,
+                    stop: Float64,
+                ) -> Status => rt::enter_initialization_mode;
+                fmi3ExitInitializationMode(c: Instance) -> Status => rt::exit_initialization_mode;
+                fmi3Terminate(c: Instance) -> Status => rt::terminate;
+                fmi3Reset(c: Instance) -> Status => rt::reset;
+                fmi3DoStep(
+                    c: Instance,
+                    t: Float64,
+                    h: Float64,
+                    no_prior: Boolean,
+                    event: *mut Boolean,
+                    terminate: *mut Boolean,
+                    early: *mut Boolean,
+                    last: *mut Float64,
+                ) -> Status => rt::do_step;
+                fmi3GetBinary(
+                    c: Instance,
+                    vr: *const ValueReference,
+                    n: usize,
+                    sizes: *mut usize,
+                    v: *mut Binary,
+                    nv: usize,
+                ) -> Status => rt::get_binary;
+                fmi3SetBinary(
+                    c: Instance,
+                    vr: *const ValueReference,
+                    n: usize,
+                    sizes: *const usize,
+                    v: *const Binary,
+                    nv: usize,
+                ) -> Status => rt::set_binary;
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi3InstantiateModelExchange(
+                name: FmiString,
+                _token: FmiString,
+                _resources: FmiString,
+                _visible: Boolean,
+                _logging_on: Boolean,
+                env: InstanceEnvironment,
+                log: LogMessageCallback,
+            ) -> Instance {
+                unsafe { rt::instantiate_other::<M>("ModelExchange", name, env, log) }
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi3InstantiateScheduledExecution(
+                name: FmiString,
+                _token: FmiString,
+                _resources: FmiString,
+                _visible: Boolean,
+                _logging_on: Boolean,
+                env: InstanceEnvironment,
+                log: LogMessageCallback,
+                _clock_update: ClockUpdateCallback,
+                _lock: PreemptionCallback,
+                _unlock: PreemptionCallback,
+            ) -> Instance {
+                unsafe { rt::instantiate_other::<M>("ScheduledExecution", name, env, log) }
+            }
+
+            // the FMU-state calls: the shared runtime's, told which call they serve
+            $crate::__fmi3_forward! { M; state:
+                fmi3GetFMUState(c: Instance, s: *mut FMUState) => get_fmu_state[GetFMUState];
+                fmi3SetFMUState(c: Instance, s: FMUState) => set_fmu_state[SetFMUState];
+                fmi3FreeFMUState(c: Instance, s: *mut FMUState) => free_fmu_state[FreeFMUState];
+                fmi3SerializedFMUStateSize(c: Instance, s: FMUState, size: *mut usize)
+                    => serialized_fmu_state_size[SerializedFMUStateSize];
+                fmi3SerializeFMUState(
+                    c: Instance,
+                    s: FMUState,
+                    bytes: *mut $crate::fmi2::types::Byte,
+                    size: usize,
+                ) => serialize_fmu_state[SerializeFMUState];
+                fmi3DeserializeFMUState(
+                    c: Instance,
+                    bytes: *const $crate::fmi2::types::Byte,
+                    size: usize,
+                    s: *mut FMUState,
+                ) => deserialize_fmu_state[DeserializeFMUState];
+            }
+
+            // the typed get and set calls: (instance, value references, nvr, values, nValues)
+            $crate::__fmi3_forward! { M; typed:
+                fmi3GetFloat32(*mut Float32) => rt::get_float32;
+                fmi3GetFloat64(*mut Float64) => rt::get_float64;
+                fmi3GetInt8(*mut Int8) => rt::get_int8;
+                fmi3GetUInt8(*mut UInt8) => rt::get_uint8;
+                fmi3GetInt16(*mut Int16) => rt::get_int16;
+                fmi3GetUInt16(*mut UInt16) => rt::get_uint16;
+                fmi3GetInt32(*mut Int32) => rt::get_int32;
+                fmi3GetUInt32(*mut UInt32) => rt::get_uint32;
+                fmi3GetInt64(*mut Int64) => rt::get_int64;
+                fmi3GetUInt64(*mut UInt64) => rt::get_uint64;
+                fmi3GetBoolean(*mut Boolean) => rt::get_boolean;
+                fmi3GetString(*mut FmiString) => rt::get_string;
+                fmi3SetFloat32(*const Float32) => rt::set_float32;
+                fmi3SetFloat64(*const Float64) => rt::set_float64;
+                fmi3SetInt8(*const Int8) => rt::set_int8;
+                fmi3SetUInt8(*const UInt8) => rt::set_uint8;
+                fmi3SetInt16(*const Int16) => rt::set_int16;
+                fmi3SetUInt16(*const UInt16) => rt::set_uint16;
+                fmi3SetInt32(*const Int32) => rt::set_int32;
+                fmi3SetUInt32(*const UInt32) => rt::set_uint32;
+                fmi3SetInt64(*const Int64) => rt::set_int64;
+                fmi3SetUInt64(*const UInt64) => rt::set_uint64;
+                fmi3SetBoolean(*const Boolean) => rt::set_boolean;
+                fmi3SetString(*const FmiString) => rt::set_string;
+            }
+
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi3GetClock(
+                c: Instance,
+                vr: *const ValueReference,
+                n: usize,
+                v: *mut Clock,
+            ) -> Status {
+                unsafe { rt::clock::<M>(c, Call::GetClock, vr, n, v) }
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi3SetClock(
+                c: Instance,
+                vr: *const ValueReference,
+                n: usize,
+                v: *const Clock,
+            ) -> Status {
+                unsafe { rt::clock::<M>(c, Call::SetClock, vr, n, v as *mut Clock) }
+            }
+
+            // what this FMU's FMI 3.0 interface does not offer: refused with the reason
+            $crate::__fmi3_forward! { M; unsupported:
+                fmi3EnterEventMode() = EnterEventMode, "hasEventMode is false";
+                fmi3GetNumberOfVariableDependencies(_vr: ValueReference, _n: *mut usize)
+                    = GetNumberOfVariableDependencies,
+                    "the dependencies are in modelDescription.xml's ModelStructure";
+                fmi3GetVariableDependencies(
+                    _dependent: ValueReference,
+                    _element_of_dependent: *mut usize,
+                    _independents: *mut ValueReference,
+                    _element_of_independents: *mut usize,
+                    _kinds: *mut DependencyKind,
+                    _n: usize,
+                ) = GetVariableDependencies,
+                    "the dependencies are in modelDescription.xml's ModelStructure";
+                fmi3GetDirectionalDerivative(
+                    _unknowns: *const ValueReference,
+                    _n_unknowns: usize,
+                    _knowns: *const ValueReference,
+                    _n_knowns: usize,
+                    _seed: *const Float64,
+                    _n_seed: usize,
+                    _sensitivity: *mut Float64,
+                    _n_sensitivity: usize,
+                ) = GetDirectionalDerivative, "providesDirectionalDerivative is false";
+                fmi3GetAdjointDerivative(
+                    _unknowns: *const ValueReference,
+                    _n_unknowns: usize,
+                    _knowns: *const ValueReference,
+                    _n_knowns: usize,
+                    _seed: *const Float64,
+                    _n_seed: usize,
+                    _sensitivity: *mut Float64,
+                    _n_sensitivity: usize,
+                ) = GetAdjointDerivative, "providesAdjointDerivatives is false";
+                fmi3EnterConfigurationMode() = EnterConfigurationMode,
+                    "this FMU has no structural parameters";
+                fmi3ExitConfigurationMode() = ExitConfigurationMode,
+                    "this FMU has no structural parameters";
+                fmi3GetIntervalDecimal(
+                    _vr: *const ValueReference,
+                    _n: usize,
+                    _intervals: *mut Float64,
+                    _qualifiers: *mut IntervalQualifier,
+                ) = GetIntervalDecimal, "this FMU has no clocks";
+                fmi3GetIntervalFraction(
+                    _vr: *const ValueReference,
+                    _n: usize,
+                    _counters: *mut UInt64,
+                    _resolutions: *mut UInt64,
+                    _qualifiers: *mut IntervalQualifier,
+                ) = GetIntervalFraction, "this FMU has no clocks";
+                fmi3GetShiftDecimal(_vr: *const ValueReference, _n: usize, _shifts: *mut Float64)
+                    = GetShiftDecimal, "this FMU has no clocks";
+                fmi3GetShiftFraction(
+                    _vr: *const ValueReference,
+                    _n: usize,
+                    _counters: *mut UInt64,
+                    _resolutions: *mut UInt64,
+                ) = GetShiftFraction, "this FMU has no clocks";
+                fmi3SetIntervalDecimal(
+                    _vr: *const ValueReference,
+                    _n: usize,
+                    _intervals: *const Float64,
+                ) = SetIntervalDecimal, "this FMU has no clocks";
+                fmi3SetIntervalFraction(
+                    _vr: *const ValueReference,
+                    _n: usize,
+                    _counters: *const UInt64,
+                    _resolutions: *const UInt64,
+                ) = SetIntervalFraction, "this FMU has no clocks";
+                fmi3SetShiftDecimal(_vr: *const ValueReference, _n: usize, _shifts: *const Float64)
+                    = SetShiftDecimal, "this FMU has no clocks";
+                fmi3SetShiftFraction(
+                    _vr: *const ValueReference,
+                    _n: usize,
+                    _counters: *const UInt64,
+                    _resolutions: *const UInt64,
+                ) = SetShiftFraction, "this FMU has no clocks";
+                fmi3EvaluateDiscreteStates() = EvaluateDiscreteStates, "hasEventMode is false";
+                fmi3UpdateDiscreteStates(
+                    _update: *mut Boolean,
+                    _terminate: *mut Boolean,
+                    _nominals_changed: *mut Boolean,
+                    _values_changed: *mut Boolean,
+                    _next_defined: *mut Boolean,
+                    _next: *mut Float64,
+                ) = UpdateDiscreteStates, "hasEventMode is false";
+                fmi3EnterContinuousTimeMode() = EnterContinuousTimeMode,
+                    "a Model Exchange function";
+                fmi3CompletedIntegratorStep(
+                    _no_prior: Boolean,
+                    _enter_event_mode: *mut Boolean,
+                    _terminate: *mut Boolean,
+                ) = CompletedIntegratorStep, "a Model Exchange function";
+                fmi3SetTime(_t: Float64) = SetTime, "a Model Exchange function";
+                fmi3SetContinuousStates(_x: *const Float64, _n: usize)
+                    = SetContinuousStates, "a Model Exchange function";
+                fmi3GetContinuousStateDerivatives(_dx: *mut Float64, _n: usize)
+                    = GetContinuousStateDerivatives, "a Model Exchange function";
+                fmi3GetEventIndicators(_z: *mut Float64, _n: usize)
+                    = GetEventIndicators, "a Model Exchange function";
+                fmi3GetContinuousStates(_x: *mut Float64, _n: usize)
+                    = GetContinuousStates, "a Model Exchange function";
+                fmi3GetNominalsOfContinuousStates(_x: *mut Float64, _n: usize)
+                    = GetNominalsOfContinuousStates, "a Model Exchange function";
+                fmi3GetNumberOfEventIndicators(_n: *mut usize)
+                    = GetNumberOfEventIndicators, "a Model Exchange function";
+                fmi3GetNumberOfContinuousStates(_n: *mut usize)
+                    = GetNumberOfContinuousStates, "a Model Exchange function";
+                fmi3EnterStepMode() = EnterStepMode, "hasEventMode is false";
+                fmi3GetOutputDerivatives(
+                    _vr: *const ValueReference,
+                    _n: usize,
+                    _orders: *const Int32,
+                    _v: *mut Float64,
+                    _nv: usize,
+                ) = GetOutputDerivatives, "maxOutputDerivativeOrder is 0";
+                fmi3ActivateModelPartition(_clock: ValueReference, _t: Float64)
+                    = ActivateModelPartition, "Scheduled Execution is not offered";
+            }
+        }
+    };
+}
+
+/// For [`crate::__export_fmi3!`]: `extern "C"` functions passing their arguments on to the
+/// runtime function after `=>`, for the model `$m`. After `state:`, the shared runtime's
+/// FMU-state calls, told which FMI 3.0 call they serve; after `typed:`, the typed get/set calls
+/// (named with their value array's type); after `unsupported:`, the calls refused with a reason.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __fmi3_forward {
+    ($m:ty; state: $(
+        $name:ident($c:ident: $ct:ty $(, $arg:ident: $t:ty)* $(,)?) => $f:ident[$call:ident];
+    )*) => {$(
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name($c: $ct $(, $arg: $t)*) -> $crate::fmi3::types::Status {
+            unsafe {
+                $crate::fmi2::runtime::$f::<$m, _>(
+                    $c,
+                    $crate::fmi3::state::Call::$call
+                    $(, $arg)*
+                )
+            }
+        }
+    )*};
+    ($m:ty; typed: $($name:ident($value:ty) => $($f:ident)::+;)*) => {
+        $crate::__fmi3_forward! { $m; $(
+            $name(
+                c: $crate::fmi3::types::Instance,
+                vr: *const $crate::fmi3::types::ValueReference,
+                n: usize,
+                v: $value,
+                nv: usize,
+            ) -> $crate::fmi3::types::Status => $($f)::+;
+        )* }
+    };
+    ($m:ty; unsupported: $(
+        $name:ident($($arg:ident: $t:ty),* $(,)?) = $call:ident, $why:literal;
+    )*) => {$(
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name(
+            c: $crate::fmi3::types::Instance,
+            $($arg: $t),*
+        ) -> $crate::fmi3::types::Status {
+            unsafe {
+                $crate::fmi3::calls::unsupported::<$m>(c, $crate::fmi3::state::Call::$call, $why)
+            }
+        }
+    )*};
+    ($m:ty; $(
+        $name:ident($($arg:ident: $t:ty),* $(,)?) $(-> $ret:ty)? => $($f:ident)::+;
+    )*) => {$(
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name($($arg: $t),*) $(-> $ret)? {
+            unsafe { $($f)::+::<$m>($($arg),*) }
+        }
+    )*};
+}

@@ -1,0 +1,343 @@
+//! The FMI 3.0 `modelDescription.xml` (quick-xml and serde) from the same declarations as the
+//! FMI 2.0 one ([`super::xml`]): the same variables, value references, units, display units,
+//! log categories and experiment, written in FMI 3.0's shape (a typed element per variable,
+//! `EnumerationType`, value references in `ModelStructure`, the independent variable `time`),
+//! and the same GUID as its `instantiationToken`. Elements follow `fmi3ModelDescription.xsd`.
+
+use super::guid::guid;
+use super::xml::{
+    DefaultExperiment, LogCats, Units, causality_str, default_experiment, enum_types, initial_str,
+    log_categories, units_of, variability_str,
+};
+use super::{AUTHOR, COPYRIGHT, LICENSE, ModelInfo, VERSION_DATE, fmt_real};
+use crate::model::{Causality, Initial, Model, Var, VarType};
+use serde::Serialize;
+
+#[derive(Serialize)]
+#[serde(rename = "fmiModelDescription")]
+struct Fmd {
+    #[serde(rename = "@fmiVersion")]
+    fmi_version: &'static str,
+    #[serde(rename = "@modelName")]
+    model_name: &'static str,
+    #[serde(rename = "@instantiationToken")]
+    token: String,
+    #[serde(rename = "@description")]
+    description: &'static str,
+    #[serde(rename = "@author")]
+    author: &'static str,
+    #[serde(rename = "@version")]
+    version: &'static str,
+    #[serde(rename = "@copyright")]
+    copyright: &'static str,
+    #[serde(rename = "@license")]
+    license: &'static str,
+    #[serde(rename = "@generationTool")]
+    generation_tool: String,
+    #[serde(rename = "@generationDateAndTime")]
+    generation_date: &'static str,
+    #[serde(rename = "@variableNamingConvention")]
+    naming: &'static str,
+    #[serde(rename = "CoSimulation")]
+    co_simulation: CoSim,
+    #[serde(rename = "UnitDefinitions")]
+    units: Units,
+    #[serde(rename = "TypeDefinitions", skip_serializing_if = "Types::is_empty")]
+    types: Types,
+    #[serde(rename = "LogCategories")]
+    log_categories: LogCats,
+    #[serde(rename = "DefaultExperiment")]
+    experiment: DefaultExperiment,
+    #[serde(rename = "ModelVariables")]
+    variables: ModelVariables,
+    #[serde(rename = "ModelStructure")]
+    structure: ModelStructure,
+}
+
+/// The Co-Simulation interface: variable steps, FMU state; no event mode, early return,
+/// intermediate update or derivatives (yet).
+#[derive(Serialize)]
+struct CoSim {
+    #[serde(rename = "@modelIdentifier")]
+    model_identifier: &'static str,
+    #[serde(rename = "@needsExecutionTool")]
+    needs_execution_tool: bool,
+    #[serde(rename = "@canBeInstantiatedOnlyOncePerProcess")]
+    once_per_process: bool,
+    #[serde(rename = "@canGetAndSetFMUState")]
+    get_set_state: bool,
+    #[serde(rename = "@canSerializeFMUState")]
+    serialize_state: bool,
+    #[serde(rename = "@providesDirectionalDerivatives")]
+    directional: bool,
+    #[serde(rename = "@providesAdjointDerivatives")]
+    adjoint: bool,
+    #[serde(rename = "@canHandleVariableCommunicationStepSize")]
+    variable_step: bool,
+    #[serde(rename = "@maxOutputDerivativeOrder")]
+    max_output_derivative_order: u32,
+    #[serde(rename = "@providesIntermediateUpdate")]
+    intermediate_update: bool,
+    #[serde(rename = "@canReturnEarlyAfterIntermediateUpdate")]
+    early_return: bool,
+    #[serde(rename = "@hasEventMode")]
+    event_mode: bool,
+}
+
+#[derive(Serialize)]
+struct Types {
+    #[serde(rename = "EnumerationType")]
+    enumerations: Vec<EnumerationType>,
+}
+
+impl Types {
+    fn is_empty(&self) -> bool {
+        self.enumerations.is_empty()
+    }
+}
+
+#[derive(Serialize)]
+struct EnumerationType {
+    #[serde(rename = "@name")]
+    name: &'static str,
+    #[serde(rename = "@description")]
+    description: &'static str,
+    #[serde(rename = "Item")]
+    items: Vec<Item>,
+}
+
+#[derive(Serialize)]
+struct Item {
+    #[serde(rename = "@name")]
+    name: &'static str,
+    #[serde(rename = "@value")]
+    value: i64,
+    #[serde(rename = "@description")]
+    description: &'static str,
+}
+
+#[derive(Serialize)]
+struct ModelVariables {
+    #[serde(rename = "$value")]
+    vars: Vec<Variable>,
+}
+
+/// One variable: the element names its type.
+#[derive(Serialize)]
+enum Variable {
+    Float64(Attrs),
+    Int32(Attrs),
+    Boolean(Attrs),
+    Enumeration(Attrs),
+}
+
+/// The attributes of a variable element (those of another type are left out).
+#[derive(Serialize)]
+struct Attrs {
+    #[serde(rename = "@name")]
+    name: &'static str,
+    #[serde(rename = "@valueReference")]
+    vr: u32,
+    #[serde(rename = "@description", skip_serializing_if = "str::is_empty")]
+    description: &'static str,
+    #[serde(rename = "@causality")]
+    causality: &'static str,
+    #[serde(rename = "@variability")]
+    variability: &'static str,
+    #[serde(rename = "@initial", skip_serializing_if = "Option::is_none")]
+    initial: Option<&'static str>,
+    #[serde(rename = "@declaredType", skip_serializing_if = "Option::is_none")]
+    declared_type: Option<&'static str>,
+    #[serde(rename = "@unit", skip_serializing_if = "Option::is_none")]
+    unit: Option<&'static str>,
+    #[serde(rename = "@displayUnit", skip_serializing_if = "Option::is_none")]
+    display_unit: Option<&'static str>,
+    #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
+    min: Option<String>,
+    #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
+    max: Option<String>,
+    #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
+    start: Option<String>,
+    #[serde(rename = "@derivative", skip_serializing_if = "Option::is_none")]
+    derivative: Option<u32>,
+}
+
+#[derive(Serialize)]
+struct ModelStructure {
+    #[serde(rename = "Output")]
+    outputs: Vec<Unknown>,
+    #[serde(rename = "ContinuousStateDerivative")]
+    derivatives: Vec<Unknown>,
+    #[serde(rename = "InitialUnknown")]
+    initial: Vec<Unknown>,
+}
+
+#[derive(Serialize)]
+struct Unknown {
+    #[serde(rename = "@valueReference")]
+    vr: u32,
+    #[serde(rename = "@dependencies", skip_serializing_if = "Option::is_none")]
+    dependencies: Option<String>,
+}
+
+/// The variable element of a declaration.
+fn variable(vr: u32, v: &Var) -> Variable {
+    let integer = |x: Option<f64>| x.map(|x| (x as i64).to_string());
+    let mut a = Attrs {
+        name: v.name,
+        vr,
+        description: v.description,
+        causality: causality_str(v.causality),
+        variability: variability_str(v.variability),
+        initial: v.initial.map(initial_str),
+        declared_type: None,
+        unit: None,
+        display_unit: None,
+        min: None,
+        max: None,
+        start: None,
+        derivative: None,
+    };
+    match v.ty {
+        VarType::Real => {
+            a.unit = v.unit;
+            a.display_unit = v.display_unit;
+            a.min = v.min.map(fmt_real);
+            a.max = v.max.map(fmt_real);
+            a.start = v.start.map(fmt_real);
+            a.derivative = v.derivative;
+            Variable::Float64(a)
+        }
+        VarType::Integer => {
+            (a.min, a.max, a.start) = (integer(v.min), integer(v.max), integer(v.start));
+            Variable::Int32(a)
+        }
+        VarType::Boolean => {
+            a.start = v.start.map(|x| (x != 0.0).to_string());
+            Variable::Boolean(a)
+        }
+        VarType::Enumeration(t) => {
+            a.declared_type = Some(t.name);
+            a.start = integer(v.start);
+            Variable::Enumeration(a)
+        }
+    }
+}
+
+/// The description with this instantiation token, dated [`VERSION_DATE`].
+fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
+    let plain: Vec<Var> = vars.iter().map(|(_, v)| (*v).clone()).collect();
+    let enumerations = enum_types(&plain)
+        .into_iter()
+        .map(|t| EnumerationType {
+            name: t.name,
+            description: t.description,
+            items: (t.items.iter().enumerate())
+                .map(|(i, (n, d))| Item {
+                    name: n,
+                    value: i as i64 + 1,
+                    description: d,
+                })
+                .collect(),
+        })
+        .collect();
+    // the independent variable, after every value reference of the model's
+    let time_vr = vars.iter().map(|(r, _)| r + 1).max().unwrap_or(0);
+    let mut variables = vec![Variable::Float64(Attrs {
+        name: "time",
+        vr: time_vr,
+        description: "Simulation time",
+        causality: "independent",
+        variability: "continuous",
+        initial: None,
+        declared_type: None,
+        unit: None,
+        display_unit: None,
+        min: None,
+        max: None,
+        start: None,
+        derivative: None,
+    })];
+    variables.extend(vars.iter().map(|(vr, v)| variable(*vr, v)));
+    let unknown = |vr: u32, dependencies: Option<String>| Unknown { vr, dependencies };
+    let outputs = (vars.iter())
+        .filter(|(_, v)| v.causality == Causality::Output)
+        .map(|(vr, v)| {
+            let deps: Vec<String> = (v.depends.iter())
+                .filter(|d| vars.iter().any(|(r, _)| r == *d))
+                .map(|d| d.to_string())
+                .collect();
+            unknown(*vr, Some(deps.join(" ")))
+        })
+        .collect();
+    let derivatives = (vars.iter())
+        .filter(|(_, v)| v.derivative.is_some())
+        .map(|(vr, _)| unknown(*vr, None))
+        .collect();
+    let initial = (vars.iter())
+        .filter(|(_, v)| {
+            (matches!(v.causality, Causality::Output | Causality::Local)
+                && matches!(v.initial, Some(Initial::Approx | Initial::Calculated)))
+                || v.causality == Causality::CalculatedParameter
+        })
+        .map(|(vr, _)| unknown(*vr, None))
+        .collect();
+    Fmd {
+        fmi_version: "3.0",
+        model_name: info.model_name,
+        token: token.to_string(),
+        description: info.description,
+        author: AUTHOR,
+        version: env!("CARGO_PKG_VERSION"),
+        copyright: COPYRIGHT,
+        license: LICENSE,
+        generation_tool: format!("bindery-fmu {}", env!("CARGO_PKG_VERSION")),
+        generation_date: VERSION_DATE,
+        naming: "structured",
+        co_simulation: CoSim {
+            model_identifier: info.identifier,
+            needs_execution_tool: false,
+            once_per_process: false,
+            get_set_state: true,
+            serialize_state: true,
+            directional: false,
+            adjoint: false,
+            variable_step: true,
+            max_output_derivative_order: 0,
+            intermediate_update: false,
+            early_return: false,
+            event_mode: false,
+        },
+        units: units_of(vars),
+        types: Types { enumerations },
+        log_categories: log_categories(),
+        experiment: default_experiment(info),
+        variables: ModelVariables { vars: variables },
+        structure: ModelStructure {
+            outputs,
+            derivatives,
+            initial,
+        },
+    }
+}
+
+/// The FMI 3.0 model description of the given variables (by value reference), and its
+/// instantiation token (the GUID of the FMI 2.0 description of the same variables).
+pub fn describe3_vars(info: &ModelInfo, vars: &[(u32, &Var)]) -> (String, String) {
+    let token = guid(info, vars);
+    let mut body = String::new();
+    let mut ser = quick_xml::se::Serializer::new(&mut body);
+    ser.indent(' ', 2);
+    build(info, vars, &token)
+        .serialize(ser)
+        .expect("model description serializes");
+    (
+        format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{body}\n"),
+        token,
+    )
+}
+
+/// The full FMI 3.0 model description of a model type, and its instantiation token.
+pub fn describe3<M: Model>() -> (String, String) {
+    describe3_vars(&ModelInfo::of::<M>(), &crate::model::variables_of::<M>())
+}
