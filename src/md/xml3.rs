@@ -86,13 +86,36 @@ struct CoSim {
 
 #[derive(Serialize)]
 struct Types {
+    #[serde(rename = "Float64Type")]
+    floats: Vec<Float64Type>,
     #[serde(rename = "EnumerationType")]
     enumerations: Vec<EnumerationType>,
 }
 
 impl Types {
     fn is_empty(&self) -> bool {
-        self.enumerations.is_empty()
+        self.floats.is_empty() && self.enumerations.is_empty()
+    }
+}
+
+/// A unit with its display unit, as a type the Float64 variables declare (as the Reference
+/// FMUs do: a variable element then carries no unit of its own, which every FMI 3.0 reader
+/// accepts, fmi-sim's too).
+#[derive(Serialize)]
+struct Float64Type {
+    #[serde(rename = "@name")]
+    name: String,
+    #[serde(rename = "@unit")]
+    unit: &'static str,
+    #[serde(rename = "@displayUnit", skip_serializing_if = "Option::is_none")]
+    display_unit: Option<&'static str>,
+}
+
+/// The name of the type of a unit and display unit: the unit, and the display unit after it.
+fn type_name(unit: &str, display: Option<&str>) -> String {
+    match display {
+        Some(d) => format!("{unit} in {d}"),
+        None => unit.to_string(),
     }
 }
 
@@ -147,11 +170,7 @@ struct Attrs {
     #[serde(rename = "@initial", skip_serializing_if = "Option::is_none")]
     initial: Option<&'static str>,
     #[serde(rename = "@declaredType", skip_serializing_if = "Option::is_none")]
-    declared_type: Option<&'static str>,
-    #[serde(rename = "@unit", skip_serializing_if = "Option::is_none")]
-    unit: Option<&'static str>,
-    #[serde(rename = "@displayUnit", skip_serializing_if = "Option::is_none")]
-    display_unit: Option<&'static str>,
+    declared_type: Option<String>,
     #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
     min: Option<String>,
     #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
@@ -191,8 +210,6 @@ fn variable(vr: u32, v: &Var) -> Variable {
         variability: variability_str(v.variability),
         initial: v.initial.map(initial_str),
         declared_type: None,
-        unit: None,
-        display_unit: None,
         min: None,
         max: None,
         start: None,
@@ -200,8 +217,7 @@ fn variable(vr: u32, v: &Var) -> Variable {
     };
     match v.ty {
         VarType::Real => {
-            a.unit = v.unit;
-            a.display_unit = v.display_unit;
+            a.declared_type = v.unit.map(|u| type_name(u, v.display_unit));
             a.min = v.min.map(fmt_real);
             a.max = v.max.map(fmt_real);
             a.start = v.start.map(fmt_real);
@@ -217,7 +233,7 @@ fn variable(vr: u32, v: &Var) -> Variable {
             Variable::Boolean(a)
         }
         VarType::Enumeration(t) => {
-            a.declared_type = Some(t.name);
+            a.declared_type = Some(t.name.to_string());
             a.start = integer(v.start);
             Variable::Enumeration(a)
         }
@@ -241,6 +257,20 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
                 .collect(),
         })
         .collect();
+    let mut floats: Vec<Float64Type> = Vec::new();
+    for (_, v) in vars {
+        if let (VarType::Real, Some(unit)) = (v.ty, v.unit) {
+            let name = type_name(unit, v.display_unit);
+            if !floats.iter().any(|t| t.name == name) {
+                floats.push(Float64Type {
+                    name,
+                    unit,
+                    display_unit: v.display_unit,
+                });
+            }
+        }
+    }
+    floats.sort_by(|a, b| a.name.cmp(&b.name));
     // the independent variable, after every value reference of the model's
     let time_vr = vars.iter().map(|(r, _)| r + 1).max().unwrap_or(0);
     let mut variables = vec![Variable::Float64(Attrs {
@@ -251,8 +281,6 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
         variability: "continuous",
         initial: None,
         declared_type: None,
-        unit: None,
-        display_unit: None,
         min: None,
         max: None,
         start: None,
@@ -309,7 +337,10 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
             event_mode: false,
         },
         units: units_of(vars),
-        types: Types { enumerations },
+        types: Types {
+            floats,
+            enumerations,
+        },
         log_categories: log_categories(),
         experiment: default_experiment(info),
         variables: ModelVariables { vars: variables },

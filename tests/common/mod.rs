@@ -4,6 +4,7 @@
 
 pub mod c_logger;
 pub mod elastic;
+pub mod fmi3;
 #[cfg(target_os = "linux")]
 pub mod heap;
 pub mod me;
