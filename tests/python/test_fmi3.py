@@ -1,0 +1,157 @@
+"""The FMI 3.0 FMUs (out/fmus/fmi3/, made by the same `cargo run --release -- build` from the same
+binaries and declarations as the FMI 2.0 ones) in the hosts: FMPy validates each (XSD and its
+checks) and fmu-manipulation-toolbox finds it compliant with FMI 3.0; FMPy's FMI 3.0
+Co-Simulation run of the cross-check inputs equals its FMI 2.0 run bit for bit in every output at
+every level; fmi-sim runs each FMI 3.0 FMU and agrees with FMPy to the cross-check tolerance (as
+test_fmi_sim.py holds for FMI 2.0); an FMU state taken and serialized through FMPy's FMU3Slave
+replays the following steps bit for bit.
+
+fmi-sim 0.7.0 reads FMI 3.0 descriptions with fmi-schema 0.8.0, which knows no `<Enumeration>`
+variable and drops them: it runs these FMUs at their default level and cannot set an
+enumeration (the level, a motion law), so the levels are compared in FMPy.
+"""
+
+from __future__ import annotations
+
+import subprocess
+from pathlib import Path
+
+import numpy as np
+import pytest
+from fmpy import read_model_description
+from fmpy.fmi3 import FMU3Slave
+from fmpy.util import read_csv, read_ref_opt_file
+from fmpy.validation import validate_fmu
+
+from harness import CROSS_CHECK_DIR, FMU_DIR, MD_DIR, Extracted, columns_close, cross_check_paths
+from test_all_fmus import run_fmutool_check
+from test_fmi_sim import Case, assert_switches_agree, fmi_sim, run_fmi_sim
+
+FMU3_DIR = FMU_DIR / "fmi3"
+MODELS = sorted(p.name for p in CROSS_CHECK_DIR.iterdir() if p.is_dir())
+LEVELS = {"kinematic": 1, "kinetostatic": 2, "elastodynamic": 3}
+
+
+def fmu3(model: str) -> Path:
+    path = FMU3_DIR / f"{model}.fmu"
+    if not path.is_file():
+        pytest.fail(f"{path} is missing: run `cargo run --release -- build` (or tests/run) first")
+    return path
+
+
+def test_every_fmu_has_its_fmi3_twin():
+    fmi2 = sorted(p.stem for p in FMU_DIR.glob("*.fmu"))
+    assert fmi2 and sorted(p.stem for p in FMU3_DIR.glob("*.fmu")) == fmi2
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_fmi3_fmu_is_valid(model):
+    path = fmu3(model)
+    problems = validate_fmu(str(path))
+    assert problems == [], problems
+    md = read_model_description(str(path))
+    assert md.fmiVersion == "3.0" and md.coSimulation is not None
+    assert md.instantiationToken == read_model_description(str(FMU_DIR / f"{model}.fmu")).guid
+    proc = run_fmutool_check(path)
+    out = proc.stdout + proc.stderr
+    assert proc.returncode == 0 and "compliant with FMI-3.0" in out and "No semantic error" in out, out
+
+
+def _levels(model: str) -> list[str]:
+    """The levels of a model, from its committed description (as test_fmi_sim.py takes them:
+    LegacyNeedleDrive, without Model Exchange, has no elastodynamic level)."""
+    md = (MD_DIR / f"{model}.xml").read_text()
+    if 'name="model.fidelity"' not in md:
+        return [""]
+    return [lv for lv in LEVELS if lv != "elastodynamic" or "<ModelExchange" in md]
+
+
+def _cases():
+    return [pytest.param(m, lv, id="-".join(x for x in (m, lv) if x)) for m in MODELS for lv in _levels(m)]
+
+
+@pytest.mark.parametrize("model,level", _cases())
+def test_fmi3_equals_fmi2_bit_for_bit(model, level):
+    """FMPy's Co-Simulation loop over the cross-check inputs, FMI 2.0 and FMI 3.0: every output
+    equal to the bit, row by row."""
+    paths = cross_check_paths(model)
+    opt = read_ref_opt_file(str(paths["opt"]))
+    ex2, ex3 = Extracted.of(FMU_DIR / f"{model}.fmu"), Extracted.of(fmu3(model))
+    outputs = ex2.outputs(types=("Real", "Integer", "Boolean"))
+    assert sorted(outputs) == sorted(ex3.outputs(types=("Float64", "Int32", "Boolean")))
+    kw = dict(start_time=opt["StartTime"], stop_time=opt["StopTime"], output_interval=opt["StepSize"],
+              relative_tolerance=opt["RelTol"], input=read_csv(str(paths["in"])), output=outputs,
+              start_values={"model.fidelity": LEVELS[level]} if level else {}, fmi_type="CoSimulation")
+    r2, r3 = ex2.simulate(**kw), ex3.simulate(**kw)
+    assert len(r2) == len(r3) > 100
+    for name in ["time"] + outputs:
+        a, b = np.asarray(r2[name], dtype=float), np.asarray(r3[name], dtype=float)
+        assert np.array_equal(a.view(np.uint64), b.view(np.uint64)), f"{name}: {a[a != b][:3]} vs {b[a != b][:3]}"
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_fmi_sim_runs_the_fmi3_fmu(model, tmp_path):
+    """fmi-sim's FMI 3.0 Co-Simulation of the cross-check inputs agrees with FMPy's (the same
+    FMU) to the cross-check tolerance, as for FMI 2.0 in test_fmi_sim.py."""
+    fmi_sim()
+    paths = cross_check_paths(model)
+    opt = read_ref_opt_file(str(paths["opt"]))
+    path = fmu3(model)
+    ex = Extracted.of(path)
+    case = Case(path, "CoSimulation", {}, paths["in"], opt["StopTime"], opt["StepSize"], opt["RelTol"])
+    outputs = ex.outputs(types=("Float64", "Int32", "Boolean"))
+    result = run_fmi_sim(case, tmp_path / "out.csv")
+    assert sorted(n for n in result if n != "time") == sorted(outputs), "fmi-sim records other columns"
+    reference = ex.simulate(start_time=0.0, stop_time=case.stop, output_interval=case.step,
+                            relative_tolerance=case.rel_tol, input=read_csv(str(case.input_csv)),
+                            output=outputs, fmi_type="CoSimulation")
+    assert len(result["time"]) == len(reference)
+    np.testing.assert_array_equal(result["time"], reference["time"])
+    for name in outputs:
+        if name.endswith("E_residual"):  # a balance: on the scale of what it balances (none here)
+            continue
+        if ex.vars[name].type == "Float64":
+            columns_close(result[name], reference[name], rtol=case.rel_tol, name=name)
+        else:
+            assert_switches_agree(result[name], np.asarray(reference[name], dtype=float), name)
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_fmu3_state_serialized_through_fmpy_replays(model):
+    ex = Extracted.of(fmu3(model))
+    paths = cross_check_paths(model)
+    signals = read_csv(str(paths["in"]))
+    inputs = [n for n in signals.dtype.names if n != "time"]
+    vr_in = [ex.vars[n].valueReference for n in inputs]
+    vr_out = [ex.vars[n].valueReference for n in ex.outputs(types=("Float64",))]
+    fmu = FMU3Slave(guid=ex.md.instantiationToken, unzipDirectory=ex.dir,
+                    modelIdentifier=ex.md.coSimulation.modelIdentifier, instanceName="state")
+    fmu.instantiate()
+    try:
+        fmu.enterInitializationMode(startTime=0.0)
+        fmu.exitInitializationMode()
+
+        def run(k0, n):
+            rows = []
+            for k in range(k0, k0 + n):
+                t, h = signals["time"][k], signals["time"][k + 1] - signals["time"][k]
+                fmu.setFloat64(vr_in, [float(signals[x][k]) for x in inputs])
+                event, terminate, early, last = fmu.doStep(t, h)
+                assert not (event or terminate or early) and last == t + h
+                rows.append(fmu.getFloat64(vr_out))
+            return np.array(rows)
+
+        run(0, 50)
+        state = fmu.getFMUState()
+        blob = fmu.serializeFMUState(state)
+        first = run(50, 50)
+        fmu.setFMUState(state)
+        assert np.array_equal(run(50, 50), first)
+        fmu.freeFMUState(state)
+        state = fmu.deserializeFMUState(blob)
+        fmu.setFMUState(state)
+        assert np.array_equal(run(50, 50), first)
+        fmu.freeFMUState(state)
+        fmu.terminate()
+    finally:
+        fmu.freeInstance()
