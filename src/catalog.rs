@@ -102,16 +102,33 @@ pub fn scene_fmu(
     binaries: &dyn Fn(&str) -> Result<crate::package::Binaries, String>,
     date: &str,
 ) -> Result<(String, Vec<u8>), String> {
+    scene_fmu_of(text, binaries, date, crate::package::Fmi::V2)
+}
+
+/// [`scene_fmu`] as an FMU of FMI version `fmi` (the same binary, scene and documentation; the
+/// description of that version).
+pub fn scene_fmu_of(
+    text: &str,
+    binaries: &dyn Fn(&str) -> Result<crate::package::Binaries, String>,
+    date: &str,
+    fmi: crate::package::Fmi,
+) -> Result<(String, Vec<u8>), String> {
     let scene = Scene::parse(text).map_err(|e| e.to_string())?;
     let (entry, t) = tailor(&scene).map_err(|e| e.to_string())?;
     let fmu = crate::package::FmuContents {
         identifier: t.identifier.clone(),
-        model_description: crate::md::stamp(&t.model_description(), date),
+        model_description: crate::md::stamp(
+            &match fmi {
+                crate::package::Fmi::V2 => t.model_description(),
+                crate::package::Fmi::V3 => t.model_description3(),
+            },
+            date,
+        ),
         binaries: binaries(entry.identifier)?,
         documentation: (entry.scene_documentation)(&t)?,
         icon: crate::docs::icon_png("Scene")?,
         resources: vec![(crate::scene::RESOURCE_NAME.to_string(), text.into())],
-        fmi: crate::package::Fmi::V2,
+        fmi,
     };
     Ok((t.identifier, fmu.to_zip()?))
 }

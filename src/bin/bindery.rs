@@ -297,15 +297,19 @@ fn scenes(files: &[PathBuf], out: &Option<PathBuf>, require_all: bool) -> Result
     let (date, source) = place::generation_date()?;
     eprintln!("generationDateAndTime {date} ({source})");
     for f in &files {
-        let (id, bytes) = scene::export(f, &|lib| built.binaries_of(lib), &date)?;
-        let path = out.join(format!("{id}.fmu"));
-        std::fs::write(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
-        eprintln!(
-            "wrote {} ({} bytes, from {})",
-            path.display(),
-            bytes.len(),
-            f.display()
-        );
+        // FMI 2.0 in out/scenes/, FMI 3.0 in out/scenes/fmi3/: the same binary and scene
+        for (fmi, dir) in [(Fmi::V2, out.clone()), (Fmi::V3, out.join("fmi3"))] {
+            let (id, bytes) = scene::export(f, &|lib| built.binaries_of(lib), &date, fmi)?;
+            std::fs::create_dir_all(&dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+            let path = dir.join(format!("{id}.fmu"));
+            std::fs::write(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
+            eprintln!(
+                "wrote {} ({} bytes, from {})",
+                path.display(),
+                bytes.len(),
+                f.display()
+            );
+        }
     }
     Ok(())
 }

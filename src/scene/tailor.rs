@@ -34,6 +34,13 @@ impl Tailored {
     pub fn model_description(&self) -> String {
         md::describe_vars(&self.info, &self.refs()).0
     }
+
+    /// Its FMI 3.0 model description (the same variables; [`Tailored::guid`] as the
+    /// instantiation token).
+    #[cfg(feature = "tools")]
+    pub fn model_description3(&self) -> String {
+        md::describe3_vars(&self.info, &self.refs()).0
+    }
 }
 
 /// `modelIdentifier` of a scene's FMU: the mechanism's, `_`, the scene name with `-` as `_`

@@ -25,7 +25,7 @@ from fmpy.validation import validate_fmu
 
 from harness import CROSS_CHECK_DIR, FMU_DIR, MD_DIR, Extracted, columns_close, cross_check_paths
 from test_all_fmus import run_fmutool_check
-from test_fmi_sim import Case, assert_switches_agree, fmi_sim, run_fmi_sim
+from test_fmi_sim import Case, assert_switches_agree, fmi_sim, run_fmi_sim, run_fmpy
 
 FMU3_DIR = FMU_DIR / "fmi3"
 MODELS = sorted(p.name for p in CROSS_CHECK_DIR.iterdir() if p.is_dir())
@@ -155,3 +155,54 @@ def test_fmu3_state_serialized_through_fmpy_replays(model):
         fmu.terminate()
     finally:
         fmu.freeInstance()
+
+
+# --- the scene FMUs (out/scenes/fmi3/, from `cargo run --release -- scene`) ----------------------
+
+SCENE_FMU_DIR = FMU_DIR.parent / "scenes"
+SCENES = sorted(p.stem for p in (FMU_DIR.parents[1] / "scenes").glob("*.toml"))
+
+
+def _scene_fmus(scene: str) -> tuple[Path, Path]:
+    import tomllib
+    s = tomllib.loads((FMU_DIR.parents[1] / "scenes" / f"{scene}.toml").read_text())
+    ident = f"{s['mechanism']}_{s['name'].replace('-', '_')}"
+    pair = SCENE_FMU_DIR / f"{ident}.fmu", SCENE_FMU_DIR / "fmi3" / f"{ident}.fmu"
+    for p in pair:
+        if not p.is_file():
+            pytest.fail(f"{p} is missing: run `cargo run --release -- scene` (or tests/run) first")
+    return pair
+
+
+@pytest.mark.parametrize("scene", SCENES)
+def test_fmi3_scene_fmu_equals_its_fmi2_twin(scene, tmp_path):
+    """A scene's FMI 3.0 FMU: valid, the same variables, FMPy's run equal to the FMI 2.0 one's
+    bit for bit (the scene's inputs of test_scenes.py), and fmi-sim runs it."""
+    from test_fmi_sim import _scene_input
+    p2, p3 = _scene_fmus(scene)
+    assert validate_fmu(str(p3)) == []
+    ex2, ex3 = Extracted.of(p2), Extracted.of(p3)
+    outputs = ex2.outputs(types=("Real", "Integer", "Boolean"))
+    assert sorted(outputs) == sorted(ex3.outputs(types=("Float64", "Int32", "Boolean")))
+    stop = float(ex2.md.defaultExperiment.stopTime)
+    csv_in = _scene_input(ex2, stop, tmp_path / "in.csv")
+    kw = dict(output=outputs, fmi_type="CoSimulation")
+    if csv_in is not None:
+        kw["input"] = read_csv(str(csv_in))
+    r2, r3 = ex2.simulate(**kw), ex3.simulate(**kw)
+    for name in ["time"] + outputs:
+        a, b = np.asarray(r2[name], dtype=float), np.asarray(r3[name], dtype=float)
+        assert np.array_equal(a.view(np.uint64), b.view(np.uint64)), name
+    fmi_sim()
+    case = Case(p3, "CoSimulation", {}, csv_in, None, None, 1e-6)
+    result = run_fmi_sim(case, tmp_path / "out.csv")
+    assert sorted(n for n in result if n != "time") == sorted(outputs)
+    reference = run_fmpy(ex3, case, outputs)
+    np.testing.assert_array_equal(result["time"], reference["time"])
+    for name in outputs:
+        if name.endswith("E_residual"):  # a balance residual, on its own scale: test_fmi_sim.py
+            continue
+        if ex3.vars[name].type == "Float64":
+            columns_close(result[name], reference[name], rtol=case.rel_tol, name=name)
+        else:
+            assert_switches_agree(result[name], np.asarray(reference[name], dtype=float), name)

@@ -60,7 +60,9 @@ pub fn export(
     path: &Path,
     binaries: &dyn Fn(&str) -> Result<Binaries, String>,
     date: &str,
+    fmi: bindery_fmu::package::Fmi,
 ) -> Result<(String, Vec<u8>), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    catalog::scene_fmu(&text, binaries, date).map_err(|e| format!("{}: {e}", path.display()))
+    catalog::scene_fmu_of(&text, binaries, date, fmi)
+        .map_err(|e| format!("{}: {e}", path.display()))
 }
