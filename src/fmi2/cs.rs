@@ -208,3 +208,89 @@ pub unsafe fn get_boolean_status<M: Model>(
     // SAFETY: as this function.
     unsafe { typed_status::<M, _>(c, Call::GetBooleanStatus, known, kind, value, |_| FALSE) }
 }
+
+impl<M: Model> Instance<M> {
+    /// The value references of the discrete outputs this FMU lists whose change is an event
+    /// ([`crate::model::Var::event`]).
+    fn event_outputs(&self) -> Vec<usize> {
+        (Self::table().iter().enumerate())
+            .filter(|&(i, v)| v.event && self.access.get(i).is_some_and(|&a| a != 0))
+            .map(|(i, _)| i)
+            .collect()
+    }
+
+    /// A step from `t` that returns early at the first event inside it (FMI 3.0's
+    /// `earlyReturnAllowed`): the step to `t + h`; if an event output then differs from its
+    /// value at `t`, the shortest step after which it differs, found by bisection (each trial
+    /// from the state at `t`, without logging) to adjacent floating-point times, is the step
+    /// taken. Returns the status and the event's time if the step ended there. A change and a
+    /// change back inside one step are not seen (a shorter step sees them).
+    pub fn do_step_to_event(
+        &mut self,
+        t: f64,
+        h: f64,
+        call: &str,
+    ) -> Result<(Status, Option<f64>), String> {
+        let events = self.event_outputs();
+        if events.is_empty() {
+            return Ok((self.do_step(t, h, call)?, None));
+        }
+        self.refresh()?;
+        let read = |inst: &Self| -> Vec<f64> {
+            let raw = inst.values.raw();
+            events.iter().map(|&i| raw[i]).collect()
+        };
+        let before = read(self);
+        let saved = (
+            self.values.clone(),
+            self.model.as_ref().map(M::save_state),
+            self.time,
+            self.state,
+        );
+        let status = self.do_step(t, h, call)?;
+        if status != Status::Ok {
+            return Ok((status, None));
+        }
+        self.refresh()?;
+        if read(self) == before {
+            return Ok((status, None));
+        }
+        let muted = std::mem::replace(&mut self.logger.sink, logger::Sink::Fmi2(None));
+        let (mut lo, mut hi) = (0.0_f64, h);
+        let trials = (|| -> Result<(), String> {
+            loop {
+                let mid = lo + 0.5 * (hi - lo);
+                if !(t + lo < t + mid && t + mid < t + hi) {
+                    return Ok(());
+                }
+                self.put_back(&saved)?;
+                // a shorter step refused: the event is taken where it was found
+                if !matches!(self.do_step(t, mid, call), Ok(Status::Ok)) || self.refresh().is_err()
+                {
+                    return Ok(());
+                }
+                if read(self) != before {
+                    hi = mid;
+                } else {
+                    lo = mid;
+                }
+            }
+        })();
+        self.logger.sink = muted;
+        trials?;
+        self.put_back(&saved)?;
+        let status = self.do_step(t, hi, call)?;
+        Ok((status, (hi < h).then_some(t + hi)))
+    }
+
+    /// Back to what [`Instance::do_step_to_event`] saved.
+    fn put_back(&mut self, saved: &(Values<M::Var>, Option<Vec<f64>>, f64, State)) -> Outcome {
+        let (values, model_state, time, state) = saved;
+        self.values = values.clone();
+        if let (Some(m), Some(s)) = (self.model.as_mut(), model_state) {
+            m.restore_state(s)?;
+        }
+        (self.time, self.state, self.dirty) = (*time, *state, true);
+        Ok(Status::Ok)
+    }
+}

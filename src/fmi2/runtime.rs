@@ -145,8 +145,15 @@ pub struct Instance<M: Model> {
     pub resources: Option<PathBuf>,
     /// FMU states handed out and not yet freed (so a foreign pointer is refused, not followed).
     snapshots: Vec<*mut Snapshot>,
-    /// Model Exchange: instantiated as such, and its mode.
+    /// Model Exchange: instantiated as such, and its mode. An FMI 3.0 Co-Simulation instance
+    /// with event mode ([`Instance::event_mode_used`]) keeps its Event Mode (`me::Mode::Event`)
+    /// and Step Mode (`ContinuousTime`) here too.
     pub me: me::MeMode,
+    /// FMI 3.0 Co-Simulation: the host uses Event Mode (`eventModeUsed`).
+    pub event_mode_used: bool,
+    /// FMI 3.0 Co-Simulation: a step may return early at the first event
+    /// (`earlyReturnAllowed`): where a discrete output marked as an event changes.
+    pub early_return: bool,
     /// Per value reference, what a host may do with it ([`access`]; 0: not visible).
     access: Box<[access::Bits]>,
     /// The scene this FMU is tailored to (`resources/scene.toml`), if any: its variables are
@@ -178,6 +185,8 @@ impl<M: Model> Instance<M> {
             resources,
             snapshots: Vec::new(),
             me: me::MeMode::default(),
+            event_mode_used: false,
+            early_return: false,
             access: access_table::<M>(scene.as_deref()),
             scene,
         }
@@ -447,7 +456,7 @@ impl<M: Model> Instance<M> {
             values: self.values.raw().to_vec(),
             model_state: self.model.as_ref().map(M::save_state).unwrap_or_default(),
             input_derivatives: self.values.input_derivatives().to_vec(),
-            continuous_time: self.me.is_me
+            continuous_time: (self.me.is_me || self.event_mode_used)
                 && self.state == State::StepComplete
                 && self.me.mode == me::Mode::ContinuousTime,
             inputs_at: self.values.inputs_at,
@@ -478,7 +487,9 @@ impl<M: Model> Instance<M> {
                 s.state
             ));
         }
-        if s.continuous_time && !(self.me.is_me && s.state == State::StepComplete) {
+        if s.continuous_time
+            && !((self.me.is_me || self.event_mode_used) && s.state == State::StepComplete)
+        {
             return Err(
                 "FMU state refused: continuous-time mode belongs to an initialized Model Exchange instance"
                     .into(),
@@ -586,17 +597,20 @@ impl<M: Model> Drop for Instance<M> {
 pub trait Api: Copy + std::fmt::Debug {
     /// `fmi2` or `fmi3`: a call is named `{PREFIX}{call:?}`.
     const PREFIX: &'static str;
-    /// Is the call legal in this state of a Co-Simulation instance? (The inline fast path.)
-    fn allowed_cs(self, state: State) -> bool;
+    /// Is the call legal on this instance now? The inline fast path: `false` sends the call to
+    /// [`Api::refusal`], which decides (and words the refusal).
+    fn allowed_now<M: Model>(self, inst: &Instance<M>) -> bool;
     /// Why the call is illegal on this instance now (its interface's state machine), if it is.
     fn refusal<M: Model>(self, inst: &Instance<M>) -> Option<String>;
 }
 
 impl Api for Call {
     const PREFIX: &'static str = "fmi2";
+    /// A co-simulation call legal in the instance's state is one table load and a mask;
+    /// anything else (and every Model Exchange call) takes the out-of-line path.
     #[inline]
-    fn allowed_cs(self, state: State) -> bool {
-        allowed(self, state)
+    fn allowed_now<M: Model>(self, inst: &Instance<M>) -> bool {
+        !inst.me.is_me && allowed(self, inst.state)
     }
     fn refusal<M: Model>(self, inst: &Instance<M>) -> Option<String> {
         refusal(inst, self)
@@ -705,9 +719,8 @@ pub unsafe fn entry<M: Model, C: Api>(
     if inst.magic != MAGIC {
         return Status::Error;
     }
-    // the common case, a co-simulation call legal in the instance's state, is one table load
-    // and a mask; anything else (and every Model Exchange call) takes the out-of-line path
-    if (inst.me.is_me || !call.allowed_cs(inst.state))
+    // the common case, a call legal in the instance's state, is decided inline
+    if !call.allowed_now(inst)
         && let Some(msg) = call.refusal(inst)
     {
         inst.logger.emit(Status::Error, "logStatusError", &msg);

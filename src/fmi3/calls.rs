@@ -5,6 +5,7 @@
 
 use super::state::Call;
 use super::types::*;
+use crate::fmi2::runtime::me::Mode;
 use crate::fmi2::runtime::{
     Kind, Logger, c_str, create, entry, get, panic_text, set, slice, slice_mut,
 };
@@ -13,9 +14,10 @@ use std::borrow::Cow;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 
-/// `fmi3InstantiateCoSimulation`: a Co-Simulation instance without event mode, early return or
-/// intermediate variables (`hasEventMode`, `canReturnEarlyAfterIntermediateUpdate` and
-/// `providesIntermediateUpdate` are false); asking for them is refused with the reason.
+/// `fmi3InstantiateCoSimulation`: a Co-Simulation instance, with Event Mode if the host uses it
+/// (`eventModeUsed`) and steps that return early at the mechanism's events if it allows them
+/// (`earlyReturnAllowed`); intermediate variables are refused (`providesIntermediateUpdate`
+/// is false).
 ///
 /// # Safety
 /// Pointer arguments must be NULL or valid per the FMI 3.0 standard.
@@ -27,7 +29,7 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
     _visible: Boolean,
     logging_on: Boolean,
     event_mode_used: Boolean,
-    _early_return_allowed: Boolean,
+    early_return_allowed: Boolean,
     _required_intermediate: *const ValueReference,
     n_required_intermediate: usize,
     env: InstanceEnvironment,
@@ -56,13 +58,6 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
         if name.is_empty() {
             return refused(logger, "instanceName is NULL or empty".into());
         }
-        if event_mode_used != FALSE {
-            return refused(
-                logger,
-                "eventModeUsed is true; this FMU's hasEventMode is false (its events are located inside fmi3DoStep)"
-                    .into(),
-            );
-        }
         if n_required_intermediate > 0 {
             return refused(
                 logger,
@@ -74,7 +69,13 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
         // FMI 3.0 passes a native path to the resources folder (FMI 2.0 a URI)
         let resources = resources.filter(|r| !r.is_empty()).map(PathBuf::from);
         match create::<M>(logger, false, token, resources) {
-            Ok(c) => c,
+            Ok(c) => {
+                // SAFETY: create returned a live instance of M.
+                let inst = unsafe { &mut *(c as *mut crate::fmi2::runtime::Instance<M>) };
+                inst.event_mode_used = event_mode_used != FALSE;
+                inst.early_return = early_return_allowed != FALSE;
+                c
+            }
             Err((logger, why)) => refused(logger, why.replace("GUID", "instantiationToken")),
         }
     }));
@@ -137,7 +138,7 @@ pub unsafe fn enter_initialization_mode<M: Model>(
     }
 }
 
-/// `fmi3ExitInitializationMode`: into Step Mode (no event mode).
+/// `fmi3ExitInitializationMode`: into Event Mode if the host uses it, else Step Mode.
 ///
 /// # Safety
 /// As [`entry`].
@@ -200,8 +201,10 @@ pub unsafe fn free_instance<M: Model>(c: Instance) {
 }
 
 /// `fmi3DoStep`: the step of the shared runtime ([`crate::fmi2::runtime::Instance::do_step`]);
-/// no event, no early return, the simulation never ends by itself; `lastSuccessfulTime` is the
-/// FMU's time after the call (the step's end, or its start when the step is discarded).
+/// if the host allows early return, the step ends at the first event inside it
+/// (`earlyReturn`, `lastSuccessfulTime` the event's time, and `eventHandlingNeeded` if the host
+/// uses Event Mode). The simulation never ends by itself. `lastSuccessfulTime` is the FMU's
+/// time after the call (the step's end, the event, or the start of a discarded step).
 ///
 /// # Safety
 /// As [`entry`]; the out-pointers are NULL or valid.
@@ -219,16 +222,103 @@ pub unsafe fn do_step<M: Model>(
     // SAFETY: as entry.
     unsafe {
         entry::<M, _>(c, Call::DoStep, |inst| {
-            let status = inst.do_step(t, h, "fmi3DoStep")?;
-            for flag in [event_handling_needed, terminate_simulation, early_return] {
-                if let Some(f) = flag.as_mut() {
-                    *f = FALSE;
+            let (status, event) = if inst.early_return {
+                inst.do_step_to_event(t, h, "fmi3DoStep")?
+            } else {
+                (inst.do_step(t, h, "fmi3DoStep")?, None)
+            };
+            let flags = [
+                (
+                    event_handling_needed,
+                    event.is_some() && inst.event_mode_used,
+                ),
+                (terminate_simulation, false),
+                (early_return, event.is_some()),
+            ];
+            for (p, value) in flags {
+                if let Some(f) = p.as_mut() {
+                    *f = Boolean::from(value);
                 }
             }
             if let Some(last) = last_successful_time.as_mut() {
                 *last = inst.time;
             }
+            if let Some(te) = event {
+                inst.logger.emit(
+                    Status::Ok,
+                    "logEvents",
+                    &format!("fmi3DoStep: returns early at the event at t = {te}"),
+                );
+            }
             Ok(status)
+        })
+    }
+}
+
+/// `fmi3EnterEventMode`: from Step Mode, for a host that uses Event Mode.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn enter_event_mode<M: Model>(c: Instance) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M, _>(c, Call::EnterEventMode, |inst| {
+            if !inst.event_mode_used {
+                return Err("eventModeUsed was false at instantiation".into());
+            }
+            inst.me.mode = Mode::Event;
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi3UpdateDiscreteStates`: the mechanisms' discrete outputs follow the shaft and the
+/// states at the event's time, so there is nothing to iterate: no update needed, no new
+/// event time, continuous states unchanged.
+///
+/// # Safety
+/// As [`entry`]; the out-pointers are NULL or valid.
+pub unsafe fn update_discrete_states<M: Model>(
+    c: Instance,
+    update_needed: *mut Boolean,
+    terminate: *mut Boolean,
+    nominals_changed: *mut Boolean,
+    values_changed: *mut Boolean,
+    next_time_defined: *mut Boolean,
+    next_time: *mut Float64,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M, _>(c, Call::UpdateDiscreteStates, |_| {
+            for p in [
+                update_needed,
+                terminate,
+                nominals_changed,
+                values_changed,
+                next_time_defined,
+            ] {
+                if let Some(f) = p.as_mut() {
+                    *f = FALSE;
+                }
+            }
+            if let Some(t) = next_time.as_mut() {
+                *t = 0.0;
+            }
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi3EnterStepMode`: from Event Mode back to Step Mode.
+///
+/// # Safety
+/// As [`entry`].
+pub unsafe fn enter_step_mode<M: Model>(c: Instance) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M, _>(c, Call::EnterStepMode, |inst| {
+            inst.me.mode = Mode::ContinuousTime;
+            Ok(Status::Ok)
         })
     }
 }

@@ -63,6 +63,17 @@ macro_rules! __export_fmi3 {
                     early: *mut Boolean,
                     last: *mut Float64,
                 ) -> Status => rt::do_step;
+                fmi3EnterEventMode(c: Instance) -> Status => rt::enter_event_mode;
+                fmi3EnterStepMode(c: Instance) -> Status => rt::enter_step_mode;
+                fmi3UpdateDiscreteStates(
+                    c: Instance,
+                    update: *mut Boolean,
+                    terminate: *mut Boolean,
+                    nominals_changed: *mut Boolean,
+                    values_changed: *mut Boolean,
+                    next_defined: *mut Boolean,
+                    next: *mut Float64,
+                ) -> Status => rt::update_discrete_states;
                 fmi3GetBinary(
                     c: Instance,
                     vr: *const ValueReference,
@@ -178,7 +189,6 @@ macro_rules! __export_fmi3 {
 
             // what this FMU's FMI 3.0 interface does not offer: refused with the reason
             $crate::__fmi3_forward! { M; unsupported:
-                fmi3EnterEventMode() = EnterEventMode, "hasEventMode is false";
                 fmi3GetNumberOfVariableDependencies(_vr: ValueReference, _n: *mut usize)
                     = GetNumberOfVariableDependencies,
                     "the dependencies are in modelDescription.xml's ModelStructure";
@@ -255,15 +265,8 @@ macro_rules! __export_fmi3 {
                     _counters: *const UInt64,
                     _resolutions: *const UInt64,
                 ) = SetShiftFraction, "this FMU has no clocks";
-                fmi3EvaluateDiscreteStates() = EvaluateDiscreteStates, "hasEventMode is false";
-                fmi3UpdateDiscreteStates(
-                    _update: *mut Boolean,
-                    _terminate: *mut Boolean,
-                    _nominals_changed: *mut Boolean,
-                    _values_changed: *mut Boolean,
-                    _next_defined: *mut Boolean,
-                    _next: *mut Float64,
-                ) = UpdateDiscreteStates, "hasEventMode is false";
+                fmi3EvaluateDiscreteStates() = EvaluateDiscreteStates,
+                    "providesEvaluateDiscreteStates is false";
                 fmi3EnterContinuousTimeMode() = EnterContinuousTimeMode,
                     "a Model Exchange function";
                 fmi3CompletedIntegratorStep(
@@ -286,7 +289,6 @@ macro_rules! __export_fmi3 {
                     = GetNumberOfEventIndicators, "a Model Exchange function";
                 fmi3GetNumberOfContinuousStates(_n: *mut usize)
                     = GetNumberOfContinuousStates, "a Model Exchange function";
-                fmi3EnterStepMode() = EnterStepMode, "hasEventMode is false";
                 fmi3GetOutputDerivatives(
                     _vr: *const ValueReference,
                     _n: usize,

@@ -94,6 +94,12 @@ pub enum Call {
     ActivateModelPartition,
 }
 
+/// Event Mode of a Co-Simulation instance that uses it (`eventModeUsed`): the runtime's
+/// `StepComplete` with its mode at `Event` ([`bits`]); a bit of its own in the masks.
+pub const EVENT_MODE: u16 = 1 << 8;
+/// Step Mode: the runtime's `StepComplete` (outside Event Mode).
+const STEP: u16 = StepComplete as u16;
+
 /// Every state but Fatal.
 const ANY: u16 = mask(&[
     Instantiated,
@@ -102,7 +108,7 @@ const ANY: u16 = mask(&[
     StepFailed,
     Terminated,
     Error,
-]);
+]) | EVENT_MODE;
 /// Where values can be read: from initialization on (and in Error, for diagnosis).
 const READ: u16 = mask(&[
     InitializationMode,
@@ -110,13 +116,13 @@ const READ: u16 = mask(&[
     StepFailed,
     Terminated,
     Error,
-]);
+]) | EVENT_MODE;
 /// Where values can be set.
-const SET: u16 = mask(&[Instantiated, InitializationMode, StepComplete, Terminated]);
+const SET: u16 = mask(&[Instantiated, InitializationMode, StepComplete, Terminated]) | EVENT_MODE;
 
 /// In which states of a Co-Simulation instance each call is legal (0: never, on this FMU's
-/// Co-Simulation interface: Model Exchange, event mode, configuration and clocks are not
-/// offered, and their calls are refused with the reason).
+/// Co-Simulation interface: Model Exchange, configuration and clocks are not offered, and their
+/// calls are refused with the reason).
 pub const LEGAL: &[(Call, u16)] = {
     use Call as C;
     &[
@@ -124,8 +130,8 @@ pub const LEGAL: &[(Call, u16)] = {
         (C::FreeInstance, ANY | Fatal as u16),
         (C::EnterInitializationMode, mask(&[Instantiated])),
         (C::ExitInitializationMode, mask(&[InitializationMode])),
-        (C::EnterEventMode, mask(&[StepComplete])),
-        (C::Terminate, mask(&[StepComplete, StepFailed])),
+        (C::EnterEventMode, STEP),
+        (C::Terminate, STEP | EVENT_MODE | StepFailed as u16),
         (C::Reset, ANY),
         (C::GetFloat32, READ),
         (C::GetFloat64, READ),
@@ -165,15 +171,15 @@ pub const LEGAL: &[(Call, u16)] = {
         (C::DeserializeFMUState, ANY),
         (
             C::GetDirectionalDerivative,
-            mask(&[InitializationMode, StepComplete, Terminated]),
+            mask(&[InitializationMode, StepComplete, Terminated]) | EVENT_MODE,
         ),
         (
             C::GetAdjointDerivative,
-            mask(&[InitializationMode, StepComplete, Terminated]),
+            mask(&[InitializationMode, StepComplete, Terminated]) | EVENT_MODE,
         ),
         (
             C::EnterConfigurationMode,
-            mask(&[Instantiated, StepComplete]),
+            mask(&[Instantiated, StepComplete]) | EVENT_MODE,
         ),
         (C::ExitConfigurationMode, 0),
         (C::GetIntervalDecimal, ANY),
@@ -184,8 +190,8 @@ pub const LEGAL: &[(Call, u16)] = {
         (C::SetIntervalFraction, ANY),
         (C::SetShiftDecimal, ANY),
         (C::SetShiftFraction, ANY),
-        (C::EvaluateDiscreteStates, 0),
-        (C::UpdateDiscreteStates, 0),
+        (C::EvaluateDiscreteStates, EVENT_MODE),
+        (C::UpdateDiscreteStates, EVENT_MODE),
         (C::EnterContinuousTimeMode, 0),
         (C::CompletedIntegratorStep, 0),
         (C::SetTime, 0),
@@ -196,12 +202,12 @@ pub const LEGAL: &[(Call, u16)] = {
         (C::GetNominalsOfContinuousStates, 0),
         (C::GetNumberOfEventIndicators, 0),
         (C::GetNumberOfContinuousStates, 0),
-        (C::EnterStepMode, 0),
+        (C::EnterStepMode, EVENT_MODE),
         (
             C::GetOutputDerivatives,
-            mask(&[StepComplete, StepFailed, Terminated]),
+            STEP | mask(&[StepFailed, Terminated]),
         ),
-        (C::DoStep, mask(&[StepComplete])),
+        (C::DoStep, STEP),
         (C::ActivateModelPartition, 0),
     ]
 };
@@ -217,41 +223,61 @@ const BY_CALL: [u16; LEGAL.len()] = {
     t
 };
 
-/// Is `call` legal in `state` of a Co-Simulation instance?
+/// Is `call` legal in the state with these bits ([`bits`])?
 #[inline]
+pub fn allowed_in(call: Call, bits: u16) -> bool {
+    BY_CALL.get(call as usize).is_some_and(|&m| m & bits != 0)
+}
+
+/// Is `call` legal in `state` of a Co-Simulation instance outside Event Mode?
 pub fn allowed(call: Call, state: State) -> bool {
-    BY_CALL
-        .get(call as usize)
-        .is_some_and(|&m| m & state as u16 != 0)
+    allowed_in(call, state as u16)
+}
+
+/// The instance's state as a bit of [`LEGAL`]'s masks: the runtime's, or [`EVENT_MODE`].
+#[inline]
+pub fn bits<M: Model>(inst: &Instance<M>) -> u16 {
+    if inst.event_mode_used
+        && inst.state == StepComplete
+        && inst.me.mode == crate::fmi2::runtime::me::Mode::Event
+    {
+        EVENT_MODE
+    } else {
+        inst.state as u16
+    }
 }
 
 /// A state as FMI 3.0 names it.
-pub fn name(state: State) -> &'static str {
-    match state {
-        Instantiated => "Instantiated",
-        InitializationMode => "Initialization Mode",
-        StepComplete => "Step Mode",
-        StepFailed => "Step Discarded",
-        StepCanceled => "Step Canceled",
-        Terminated => "Terminated",
-        Error => "Error",
-        Fatal => "Fatal",
+pub fn name(bits: u16) -> &'static str {
+    match bits {
+        EVENT_MODE => "Event Mode",
+        b if b == Instantiated as u16 => "Instantiated",
+        b if b == InitializationMode as u16 => "Initialization Mode",
+        STEP => "Step Mode",
+        b if b == StepFailed as u16 => "Step Discarded",
+        b if b == Terminated as u16 => "Terminated",
+        b if b == Error as u16 => "Error",
+        b if b == Fatal as u16 => "Fatal",
+        _ => "Step Canceled",
     }
 }
 
 impl Api for Call {
     const PREFIX: &'static str = "fmi3";
     #[inline]
-    fn allowed_cs(self, state: State) -> bool {
-        allowed(self, state)
+    fn allowed_now<M: Model>(self, inst: &Instance<M>) -> bool {
+        allowed_in(self, bits(inst))
     }
     #[inline(never)]
     fn refusal<M: Model>(self, inst: &Instance<M>) -> Option<String> {
-        (!allowed(self, inst.state)).then(|| {
+        let b = bits(inst);
+        (!allowed_in(self, b)).then(|| {
             let why = match self {
                 Call::ExitConfigurationMode => " (this FMU has no structural parameters)",
-                Call::EvaluateDiscreteStates | Call::UpdateDiscreteStates | Call::EnterStepMode => {
-                    " (hasEventMode is false: never in Event Mode)"
+                Call::EnterEventMode | Call::EnterStepMode | Call::UpdateDiscreteStates
+                    if !inst.event_mode_used =>
+                {
+                    " (eventModeUsed was false at instantiation: never in Event Mode)"
                 }
                 Call::ActivateModelPartition => " (a Scheduled Execution function)",
                 c if BY_CALL[c as usize] == 0 => {
@@ -259,10 +285,7 @@ impl Api for Call {
                 }
                 _ => "",
             };
-            format!(
-                "fmi3{self:?} is not allowed in state {}{why}",
-                name(inst.state)
-            )
+            format!("fmi3{self:?} is not allowed in state {}{why}", name(b))
         })
     }
 }
@@ -295,5 +318,10 @@ mod tests {
             assert!(!allowed(Call::SetTime, s), "{s:?}");
             assert!(!allowed(Call::EnterStepMode, s), "{s:?}");
         }
+        assert!(allowed_in(Call::EnterStepMode, EVENT_MODE));
+        assert!(allowed_in(Call::UpdateDiscreteStates, EVENT_MODE));
+        assert!(!allowed_in(Call::DoStep, EVENT_MODE));
+        assert!(allowed_in(Call::GetFloat64, EVENT_MODE));
+        assert!(allowed_in(Call::Terminate, EVENT_MODE));
     }
 }

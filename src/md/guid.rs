@@ -148,6 +148,8 @@ pub fn guid(info: &ModelInfo, vars: &[(u32, &Var)]) -> String {
             // which computation stages produce or use a variable is not in the description
             needs: _,
             feeds: _,
+            // nor which discrete outputs mark events (FMI 3.0's early return)
+            event: _,
         } = v;
         h.u64(vr as u64);
         h.str(name);

@@ -54,7 +54,8 @@ struct Fmd {
     structure: ModelStructure,
 }
 
-/// The Co-Simulation interface: variable steps, FMU state; no event mode, early return,
+/// The Co-Simulation interface: variable steps, FMU state, Event Mode, and a step that may
+/// return early at the mechanism's events (its discrete outputs marked as events); no
 /// intermediate update or derivatives (yet).
 #[derive(Serialize)]
 struct CoSim {
@@ -78,6 +79,8 @@ struct CoSim {
     max_output_derivative_order: u32,
     #[serde(rename = "@providesIntermediateUpdate")]
     intermediate_update: bool,
+    #[serde(rename = "@mightReturnEarlyFromDoStep")]
+    might_return_early: bool,
     #[serde(rename = "@canReturnEarlyAfterIntermediateUpdate")]
     early_return: bool,
     #[serde(rename = "@hasEventMode")]
@@ -333,8 +336,9 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
             variable_step: true,
             max_output_derivative_order: 0,
             intermediate_update: false,
+            might_return_early: vars.iter().any(|(_, v)| v.event),
             early_return: false,
-            event_mode: false,
+            event_mode: true,
         },
         units: units_of(vars),
         types: Types {

@@ -154,6 +154,10 @@ pub struct Var {
     /// For outputs and locals: the computation stages ([`Model::STAGES`]) that produce it,
     /// beyond what always runs. A scene that does not ask for it may skip them (`scenes.md`).
     pub needs: Stages,
+    /// For a discrete output: its change is an event of the mechanism (a phase boundary, the
+    /// Geneva roller entering or leaving a slot, a lift-off). An FMI 3.0 Co-Simulation step
+    /// that may return early stops where it changes ([`Var::event`]).
+    pub event: bool,
     /// For parameters: the stages whose results it influences ([`Stages::ALL`]: everything,
     /// the default). A scene keeps a parameter only if it feeds a stage the scene needs.
     pub feeds: Stages,
@@ -200,6 +204,7 @@ impl Var {
             derivative: None,
             needs: Stages::NONE,
             feeds: Stages::ALL,
+            event: false,
         }
     }
 
@@ -312,6 +317,17 @@ impl Var {
     }
 
     /// An output's dependencies on inputs (value references; see [`shaft::PHI`] etc.).
+    /// Marks a discrete output whose change is an event of the mechanism ([`Var::event`]).
+    pub fn event(mut self) -> Self {
+        debug_assert!(
+            self.ty != VarType::Real,
+            "{}: only a discrete output marks events",
+            self.name
+        );
+        self.event = true;
+        self
+    }
+
     pub fn depends(mut self, inputs: &'static [u32]) -> Self {
         self.depends = inputs;
         self

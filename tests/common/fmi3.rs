@@ -83,7 +83,7 @@ impl Fmu3 {
         &self,
         name: &CStr,
         token: &CStr,
-        event_mode_used: bool,
+        (event_mode_used, early_return): (bool, bool),
         required: &[u32],
     ) -> (Instance, usize) {
         let env = new_env();
@@ -96,7 +96,7 @@ impl Fmu3 {
                 FALSE,
                 FALSE,
                 event_mode_used as Boolean,
-                FALSE,
+                early_return as Boolean,
                 required.as_ptr(),
                 required.len(),
                 env as *mut c_void,
@@ -109,9 +109,14 @@ impl Fmu3 {
 
     /// A Co-Simulation instance with the right token and a recording logger.
     pub fn instance(&self, name: &str) -> Inst3<'_> {
+        self.instance_with(name, false, false)
+    }
+
+    /// A Co-Simulation instance using Event Mode or not, allowing early return or not.
+    pub fn instance_with(&self, name: &str, event_mode: bool, early: bool) -> Inst3<'_> {
         let n = CString::new(name).unwrap();
         let t = CString::new(self.token.clone()).unwrap();
-        let (c, env) = self.instantiate_with(&n, &t, false, &[]);
+        let (c, env) = self.instantiate_with(&n, &t, (event_mode, early), &[]);
         assert!(!c.is_null(), "instantiate refused: {:?}", logs_of(env));
         Inst3 { fmu: self, c, env }
     }
@@ -171,6 +176,24 @@ impl Inst3<'_> {
     pub fn init(&self) -> Status {
         self.enter_init(0.0, None)
             .max(self.call0("fmi3ExitInitializationMode"))
+    }
+    /// `fmi3UpdateDiscreteStates`: the status and its six results (the last as a time).
+    pub fn update_discrete_states(&self) -> (Status, [bool; 5], f64) {
+        type Update = unsafe extern "C" fn(
+            Instance,
+            *mut Boolean,
+            *mut Boolean,
+            *mut Boolean,
+            *mut Boolean,
+            *mut Boolean,
+            *mut Float64,
+        ) -> Status;
+        let f: Symbol<Update> = self.fmu.sym("fmi3UpdateDiscreteStates");
+        let mut b = [7u8; 5];
+        let mut next = f64::NAN;
+        let [p0, p1, p2, p3, p4] = b.each_mut().map(|x| x as *mut u8);
+        let st = unsafe { f(self.c, p0, p1, p2, p3, p4, &mut next) };
+        (st, b.map(|x| x != 0), next)
     }
     /// `fmi3DoStep`: the status and (eventHandlingNeeded, terminateSimulation, earlyReturn,
     /// lastSuccessfulTime).

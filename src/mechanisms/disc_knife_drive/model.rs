@@ -59,7 +59,7 @@ crate::model_variables! {
         knife_ay = Var::output("knife.ay", "m/s2", "Acceleration of S, y").depends(ON_ALL),
         support_x = Var::output("support.x", "m", "x of hinge D, slider 7 on EQ (eq. 6)").depends(ON_PHI),
         support_y = Var::output("support.y", "m", "y of hinge D, slider 7 on EQ (eq. 6)").depends(ON_PHI),
-        knife_working = Var::bool_output("knife.working", "True in the working stroke: slider C moves to +x").depends(ON_PHI_W),
+        knife_working = Var::bool_output("knife.working", "True in the working stroke: slider C moves to +x").depends(ON_PHI_W).event(),
         cut_Fx = Var::output("cut.Fx", "N", "Cutting force on the holder at S, x: cut.F against the velocity of S relative to the block, working stroke only (kinetostatic level)").depends(ON_PHI_W).needs(stage::FORCES),
         cut_Fy = Var::output("cut.Fy", "N", "Cutting force on the holder at S, y (kinetostatic level)").depends(ON_PHI_W).needs(stage::FORCES),
         rod_F = Var::output("rod.F", "N", "Rod force P, compression positive (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),

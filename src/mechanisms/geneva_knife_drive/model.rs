@@ -54,7 +54,7 @@ crate::model_variables! {
         knife_s = Var::output("knife.s", "m", "Knife displacement from its top position, down positive").depends(ON_PHI),
         knife_v = Var::output("knife.v", "m/s", "Knife velocity, down positive").depends(ON_PHI_W),
         knife_a = Var::output("knife.a", "m/s2", "Knife acceleration, down positive").depends(ON_ALL),
-        knife_dwell = Var::bool_output("knife.dwell", "True while the roller is out of the slots: cross locked, knife stopped at the top").depends(ON_PHI),
+        knife_dwell = Var::bool_output("knife.dwell", "True while the roller is out of the slots: cross locked, knife stopped at the top").depends(ON_PHI).event(),
         knife_F_cut = Var::output("knife.F_cut", "N", "Cutting resistance on the knife, >= 0, only while descending through the stack (kinetostatic level; 0 at kinematic)").depends(ON_PHI_W).needs(stage::FORCES),
         knife_F_inertia = Var::output("knife.F_inertia", "N", "Inertia force of the slider mass m_s = knife.m + rod.m/2, -m_s*a, down positive (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         rod_F = Var::output("rod.F", "N", "Rod force P along the rod, positive when it pulls the knife down towards the crank (tension: with s = r2 + l - x_C the crank lies below the knife, so P*cos(nu) along +s is a pull) (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),

@@ -116,7 +116,7 @@ crate::model_variables! {
         roller_F = Var::output("roller.F", "N", "Cam-roller force P_kr of one branch, eq. (7): > 0 the cam pushes on the flank that raises the needles (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         roller_sigma_H = Var::output("roller.sigma_H", "Pa", "Hertz stress cam - roller on the loaded flank, paper 002 eq. 8 (kinetostatic level)").depends(ON_ALL).needs(stage::HERTZ),
         cam_rho_red = Var::output("cam.rho_red", "m", "Reduced curvature radius of the contact on the loaded flank, 1/rho = 1/roller.r + 1/rho_flank (kinetostatic level)").depends(ON_ALL).needs(stage::HERTZ),
-        cam_flank = Var::int_output("cam.flank", "Loaded flank: +1 the one that raises the needles, -1 the other (a groove; kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
+        cam_flank = Var::int_output("cam.flank", "Loaded flank: +1 the one that raises the needles, -1 the other (a groove; kinetostatic level)").depends(ON_ALL).needs(stage::FORCES).event(),
         roller_lost_contact = Var::bool_output("roller.lost_contact", "True with a spring-closed cam if it would have to pull the roller now or did during the last communication step, the shaft's path over it sampled at most 0.25 deg apart (kinetostatic level)").depends(ON_ALL).needs(stage::WATCH),
         roller_F_margin = Var::output("roller.F_margin", "N", "Smallest cam force over the last completed shaft turn (during the first turn: so far, and now), along the shaft's path over each communication step sampled at most 0.25 deg apart; a groove: of |roller.F|, the loaded flank's (kinetostatic level)").depends(ON_ALL).needs(stage::WATCH),
     }

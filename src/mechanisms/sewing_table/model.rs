@@ -93,7 +93,7 @@ crate::model_variables! {
         table_x = Var::output("table.x", "m", "Table position: 0 at loading, table.stroke at sewing (rocking: the saddle's horizontal displacement)").depends(ON_PHI),
         table_v = Var::output("table.v", "m/s", "Table velocity").depends(ON_PHI_W),
         table_a = Var::output("table.a", "m/s2", "Table acceleration").depends(ON_ALL),
-        table_phase = Var::int_output("table.phase", "0 forward travel, 1 dwell at sewing, 2 return, 3 dwell at loading").depends(ON_PHI),
+        table_phase = Var::int_output("table.phase", "0 forward travel, 1 dwell at sewing, 2 return, 3 dwell at loading").depends(ON_PHI).event(),
         table_F_inertia = Var::output("table.F_inertia", "N", "Inertia force -m*a of the translating table (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         table_F_friction = Var::output("table.F_friction", "N", "Guide friction on the table along +x, -f*N*sgn(v) (kinetostatic level; 0 for rocking)").depends(ON_ALL_F).needs(stage::FORCES),
         cam_theta = Var::output("cam.theta", "rad", "Pressure angle theta_p of the slot cam (translating table)").depends(ON_PHI),
@@ -113,7 +113,7 @@ crate::model_variables! {
         elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the follower chain table.x_kin - table.x, play included (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
         elastic_F = Var::output("elastic.F", "N", "Dynamic force of the cam on the table along +x (0 while the roller crosses the play; elastodynamic level)").depends(ON_PHI_W).needs(stage::ELASTIC),
         dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) cam force along x, of the last complete shaft turn (the running one before), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
-        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller left a slot flank: contact-opening events, located by the FMU's integrator in Co-Simulation, by the host in Model Exchange (with play; elastodynamic level)").needs(stage::ELASTIC),
+        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller left a slot flank: contact-opening events, located by the FMU's integrator in Co-Simulation, by the host in Model Exchange (with play; elastodynamic level)").needs(stage::ELASTIC).event(),
         contact_F_impact = Var::output("contact.F_impact", "N", concat!("Largest cam force after a landing of the roller on a flank, taken ", crate::at_accepted_steps!(), " (with play; elastodynamic level)")).needs(stage::ELASTIC),
         @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
