@@ -206,3 +206,56 @@ def test_fmi3_scene_fmu_equals_its_fmi2_twin(scene, tmp_path):
             columns_close(result[name], reference[name], rtol=case.rel_tol, name=name)
         else:
             assert_switches_agree(result[name], np.asarray(reference[name], dtype=float), name)
+
+
+# --- events the FMI 3.0 way: FMPy with early return and Event Mode --------------------------------
+
+EVENT_OUTPUTS = {"SewingTable": "table.phase", "GenevaKnifeDrive": "knife.dwell",
+                 "DiscKnifeDrive": "knife.working", "LegacyNeedleDrive": "cam.flank"}
+
+
+@pytest.mark.parametrize("model", sorted(EVENT_OUTPUTS))
+def test_fmpy_stops_at_the_events_with_early_return(model):
+    """FMPy's FMI 3.0 loop with early return and Event Mode (`simulate_fmu(...,
+    early_return_allowed=True, use_event_mode=True)`) over the cross-check inputs: the run stops
+    at the mechanism's events between its output points (a row off the output grid, where the
+    event output has just changed); on the output grid the outputs equal those of the run
+    without early return to the cross-check tolerance (the steps are cut at the events). The
+    output interval is 1.3 times the cross-check's, so that the events do not fall on output
+    points; `roller.F_margin` is left out of the comparison: it is sampled along each
+    communication step's path, so it follows where the steps end."""
+    paths = cross_check_paths(model)
+    opt = read_ref_opt_file(str(paths["opt"]))
+    opt["StepSize"] *= 1.3
+    ex = Extracted.of(fmu3(model))
+    name = EVENT_OUTPUTS[model]
+    outputs = [name] + [n for n in ex.outputs(types=("Float64",))
+                        if not n.endswith(("E_residual", "F_margin"))]
+    kw = dict(start_time=opt["StartTime"], stop_time=opt["StopTime"], output_interval=opt["StepSize"],
+              relative_tolerance=opt["RelTol"], input=read_csv(str(paths["in"])), output=outputs,
+              fmi_type="CoSimulation")
+    plain = ex.simulate(**kw)
+    with_events = ex.simulate(early_return_allowed=True, use_event_mode=True, **kw)
+    t = with_events["time"]
+    k = t / opt["StepSize"]
+    on_grid = np.abs(k - np.round(k)) < 1e-6
+    off = np.flatnonzero(~on_grid & (t < t[-1]))
+    assert off.size > 0, "no stop between output points"
+    e = np.asarray(with_events[name], dtype=float)
+    grid_rows = np.flatnonzero(on_grid)
+    for i in off:
+        # the event output changed since the last output point. FMPy records an event's time
+        # twice (after the step, after Event Mode), and where its input at that time (the
+        # shaft angle interpolated from the input file) rounds to the old side of the event,
+        # the output is back at the old value after Event Mode, and the next step returns at
+        # the next floating-point time: the rows within 1e-12 s of this one hold the change.
+        j = grid_rows[grid_rows < i][-1]
+        near = np.flatnonzero(np.abs(t - t[i]) < 1e-12)
+        assert np.any(e[near] != e[j]), f"row {i} at t = {t[i]}: {name} = {e[near]} as at t = {t[j]}"
+    # the plain run's instants (the output points and the stop time) are in the run with
+    # events too (the first row at each), with the same values to the tolerance
+    rows = [int(np.flatnonzero(np.abs(t - tp) < 1e-12)[0]) for tp in plain["time"]]
+    grid = with_events[rows]
+    for n in outputs[1:]:
+        columns_close(grid[n], plain[n], rtol=opt["RelTol"], name=n)
+    assert_switches_agree(np.asarray(grid[name], dtype=float), np.asarray(plain[name], dtype=float), name)
