@@ -19,6 +19,8 @@ pub struct Entry {
     pub describe: fn() -> (String, String),
     /// The full FMI 3.0 model description and its instantiation token (the same GUID).
     pub describe3: fn() -> (String, String),
+    /// The full FMI 3.0 FMU's `terminalsAndIcons.xml`.
+    pub terminals3: fn() -> String,
     /// Model info and variables (for the documentation's table).
     pub info: fn() -> ModelInfo,
     /// Every variable, by value reference.
@@ -44,6 +46,7 @@ impl Entry {
             package,
             describe: crate::md::describe::<M>,
             describe3: crate::md::describe3::<M>,
+            terminals3: crate::md::terminals::of::<M>,
             info: ModelInfo::of::<M>,
             variables: variables_of::<M>,
             documentation,
@@ -128,6 +131,8 @@ pub fn scene_fmu_of(
         documentation: (entry.scene_documentation)(&t)?,
         icon: crate::docs::icon_png("Scene")?,
         resources: vec![(crate::scene::RESOURCE_NAME.to_string(), text.into())],
+        terminals: (fmi == crate::package::Fmi::V3)
+            .then(|| crate::md::terminals::terminals_and_icons(t.info.terminals, &t.refs())),
         fmi,
     };
     Ok((t.identifier, fmu.to_zip()?))

@@ -159,8 +159,11 @@ pub struct FmuContents {
     pub icon: Vec<u8>,
     /// Files of `resources/`, by relative path.
     pub resources: Vec<(String, Vec<u8>)>,
-    /// The FMI version (`model_description`'s): where the binaries go.
+    /// The FMI version (`model_description`'s): where the binaries go, and the icon (FMI 2.0:
+    /// `model.png`; FMI 3.0: `terminalsAndIcons/icon.png`).
     pub fmi: Fmi,
+    /// FMI 3.0: `terminalsAndIcons/terminalsAndIcons.xml`.
+    pub terminals: Option<String>,
 }
 
 impl FmuContents {
@@ -192,7 +195,23 @@ impl FmuContents {
             };
             (format!("documentation/{n}"), bytes, false)
         }));
-        e.push(("model.png".into(), Cow::Borrowed(&self.icon), false));
+        match self.fmi {
+            Fmi::V2 => e.push(("model.png".into(), Cow::Borrowed(&self.icon), false)),
+            Fmi::V3 => {
+                e.push((
+                    "terminalsAndIcons/icon.png".into(),
+                    Cow::Borrowed(&self.icon),
+                    false,
+                ));
+                if let Some(t) = &self.terminals {
+                    e.push((
+                        "terminalsAndIcons/terminalsAndIcons.xml".into(),
+                        Cow::Borrowed(t.as_bytes()),
+                        false,
+                    ));
+                }
+            }
+        }
         let mut res: Vec<_> = self
             .resources
             .iter()
@@ -317,6 +336,7 @@ mod tests {
             icon: vec![0x89, b'P'],
             resources: vec![("scene.toml".into(), b"a = 1".to_vec())],
             fmi: Fmi::V2,
+            terminals: None,
         }
     }
 
@@ -325,11 +345,15 @@ mod tests {
         let fmu = FmuContents {
             fmi: Fmi::V3,
             binaries: vec![(Platform::Darwin64, vec![9]), (Platform::Linux64, vec![1])],
+            terminals: Some("<fmiTerminalsAndIcons/>".into()),
             ..sample()
         };
         let zip = fmu.to_zip().unwrap();
         let names = entry_names(&zip);
+        assert!(!names.iter().any(|n| n == "model.png"), "{names:?}");
         for p in [
+            "terminalsAndIcons/icon.png",
+            "terminalsAndIcons/terminalsAndIcons.xml",
             "binaries/x86_64-linux/X.so",
             "binaries/x86_64-darwin/X.dylib",
             "binaries/aarch64-darwin/X.dylib",

@@ -240,9 +240,14 @@ fn build(models: &[String], out: &Option<PathBuf>, require_all: bool) -> Result<
         let binaries = built.binaries_of(e.identifier)?;
         let (documentation, icon) = (e.documentation)()?;
         // the same binary in both: it exports the FMI 2.0 and the FMI 3.0 functions
-        for (fmi, describe, dir) in [
-            (Fmi::V2, e.describe, out.clone()),
-            (Fmi::V3, e.describe3, out.join("fmi3")),
+        for (fmi, describe, dir, terminals) in [
+            (Fmi::V2, e.describe, out.clone(), None),
+            (
+                Fmi::V3,
+                e.describe3,
+                out.join("fmi3"),
+                Some((e.terminals3)()),
+            ),
         ] {
             let fmu = FmuContents {
                 identifier: e.identifier.into(),
@@ -252,6 +257,7 @@ fn build(models: &[String], out: &Option<PathBuf>, require_all: bool) -> Result<
                 icon: icon.clone(),
                 resources: vec![],
                 fmi,
+                terminals,
             };
             std::fs::create_dir_all(&dir).map_err(|err| format!("{}: {err}", dir.display()))?;
             let path = dir.join(format!("{}.fmu", e.identifier));

@@ -648,6 +648,7 @@ mod tests {
             },
             event_indicators: 0,
             can_interpolate_inputs: false,
+            terminals: &[],
         }
     }
 

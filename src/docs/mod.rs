@@ -239,6 +239,7 @@ mod tests {
             },
             event_indicators: 0,
             can_interpolate_inputs: false,
+            terminals: &[],
         };
         let v = Var::output("y", "m", "out");
         let fig = |f: &str| Figure {

@@ -119,6 +119,8 @@ pub fn guid(info: &ModelInfo, vars: &[(u32, &Var)]) -> String {
             },
         event_indicators,
         can_interpolate_inputs,
+        // not in the FMI 2.0 description: the FMI 3.0 terminals name variables it states
+        terminals: _,
     } = info;
     for s in [identifier, model_name, description] {
         h.str(s);

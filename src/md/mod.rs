@@ -16,6 +16,8 @@
 
 pub mod guid;
 #[cfg(feature = "tools")]
+pub mod terminals;
+#[cfg(feature = "tools")]
 pub mod xml;
 #[cfg(feature = "tools")]
 pub mod xml3;
@@ -88,6 +90,8 @@ pub struct ModelInfo {
     pub event_indicators: u32,
     /// `canInterpolateInputs` of the Co-Simulation interface.
     pub can_interpolate_inputs: bool,
+    /// The terminals (FMI 3.0's `terminalsAndIcons.xml`; those whose variables are all listed).
+    pub terminals: &'static [crate::model::shaft::Terminal],
 }
 
 impl ModelInfo {
@@ -100,6 +104,7 @@ impl ModelInfo {
             experiment: M::EXPERIMENT,
             event_indicators: M::EVENT_INDICATORS as u32,
             can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS,
+            terminals: M::TERMINALS,
         }
     }
 }

@@ -138,6 +138,14 @@ pub trait Model: Dynamics<<Self as Model>::Var> + Sized + Send + 'static {
     /// connector; not a `standalone` one, whose inputs are held over a step.
     const CAN_INTERPOLATE_INPUTS: bool = <Self::Var as VarSet>::SHAFT_CONNECTOR;
 
+    /// The model's terminals (FMI 3.0's `terminalsAndIcons.xml`): a mechanism driven through
+    /// the shaft connector has the shaft's ([`shaft::TERMINALS`]); a drive declares its own.
+    const TERMINALS: &'static [shaft::Terminal] = if <Self::Var as VarSet>::SHAFT_CONNECTOR {
+        shaft::TERMINALS
+    } else {
+        &[]
+    };
+
     /// Does a step use the derivative of order `order` of the input `vr` a host set with
     /// `fmi2SetRealInputDerivatives`? `None`: yes; else why it is kept but not used (the
     /// runtime warns with it). By default those the shaft's path takes

@@ -79,6 +79,49 @@ pub static FIDELITY_LEVEL: EnumType = EnumType {
 
 pub use super::var::Fidelity;
 
+/// A terminal: variables a host connects as one connector, each under a member name (FMI 3.0's
+/// `terminalsAndIcons.xml`, matching rule `plug`: the members of two terminals are connected by
+/// name).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Terminal {
+    pub name: &'static str,
+    pub description: &'static str,
+    /// (member name, variable name).
+    pub members: &'static [(&'static str, &'static str)],
+}
+
+/// The terminal kind of the shaft terminals: a rotational flange as Modelica's
+/// `GeneralAngleToTorqueAdaptor` presents it (angle, speed and acceleration one way, the cut
+/// torque of the flange, positive into the mechanism, the other).
+pub const TERMINAL_KIND: &str = "org.modelica.mechanics.rotational.flange.angle_to_torque";
+
+/// The terminals of every mechanism driven through the shaft connector: the flange (`tau`, the
+/// torque the mechanism needs) and the flange with the torque split (`tau0`, `J_red`) for a
+/// drive that solves its acceleration with the mechanism's inertia (MainShaft's `load1`..).
+pub const TERMINALS: &[Terminal] = &[
+    Terminal {
+        name: "shaft",
+        description: "The driving shaft as a rotational flange: angle, speed and acceleration in, the torque the mechanism needs out (connect to MainShaft's load)",
+        members: &[
+            ("phi", "shaft.phi"),
+            ("w", "shaft.w"),
+            ("a", "shaft.a"),
+            ("tau", "shaft.tau"),
+        ],
+    },
+    Terminal {
+        name: "shaft_reduced",
+        description: "The driving shaft with the torque split shaft.tau = tau0 + J_red*a: angle, speed and acceleration in, tau0 and J_red out (connect to one of MainShaft's load1, load2, load3)",
+        members: &[
+            ("phi", "shaft.phi"),
+            ("w", "shaft.w"),
+            ("a", "shaft.a"),
+            ("tau0", "shaft.tau0"),
+            ("J_red", "shaft.J_red"),
+        ],
+    },
+];
+
 /// The common declarations; `nominal_rpm` is the machine's nominal speed.
 pub fn declarations(nominal_rpm: f64) -> Vec<Var> {
     let w0 = PI * (nominal_rpm / 30.0);

@@ -420,6 +420,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         // input derivatives shape the shaft's path over a step at every level, and need the
         // shaft angle as an input (not with a constant-speed drive)
         can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS && exposed[shaft::PHI as usize],
+        terminals: M::TERMINALS,
     };
     let refs: Vec<(u32, &Var)> = variables.iter().map(|(vr, v)| (*vr, v)).collect();
     let guid = md::guid::guid(&info, &refs);

@@ -259,3 +259,94 @@ def test_fmpy_stops_at_the_events_with_early_return(model):
     for n in outputs[1:]:
         columns_close(grid[n], plain[n], rtol=opt["RelTol"], name=n)
     assert_switches_agree(np.asarray(grid[name], dtype=float), np.asarray(plain[name], dtype=float), name)
+
+
+# --- terminals and icons -----------------------------------------------------------------------
+
+XSD = (Path(__import__("fmu_manipulation_toolbox").__file__).parent / "resources" / "fmi-3.0"
+       / "fmi3TerminalsAndIcons.xsd")
+
+
+def _terminals(path: Path) -> dict[str, list[tuple[str, str]]]:
+    """{terminal: [(member, variable)]} of an FMI 3.0 FMU, its terminalsAndIcons.xml checked
+    against the standard's schema."""
+    import zipfile
+    from lxml import etree
+    with zipfile.ZipFile(path) as z:
+        xml = z.read("terminalsAndIcons/terminalsAndIcons.xml")
+        icon = z.read("terminalsAndIcons/icon.png")
+    assert icon.startswith(b"\x89PNG\r\n\x1a\n"), "terminalsAndIcons/icon.png is no PNG"
+    schema = etree.XMLSchema(etree.parse(str(XSD)))
+    doc = etree.fromstring(xml)
+    assert schema.validate(doc), schema.error_log
+    return {t.get("name"): [(m.get("memberName"), m.get("variableName")) for m in t.findall("TerminalMemberVariable")]
+            for t in doc.iter("Terminal")}
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_terminals_connect_mechanisms_to_the_main_shaft(model):
+    """Every FMI 3.0 FMU has an icon and a valid terminalsAndIcons.xml; a mechanism's `shaft` and
+    `shaft_reduced` terminals plug into MainShaft's `load` and `load1` (the same member names,
+    the same units, inputs facing outputs), so a host connects them as one connector each."""
+    terms = _terminals(fmu3(model))
+    drive = _terminals(fmu3("MainShaft"))
+    md = read_model_description(str(fmu3(model)))
+    dmd = read_model_description(str(fmu3("MainShaft")))
+    v = {x.name: x for x in md.modelVariables}
+    dv = {x.name: x for x in dmd.modelVariables}
+    if model == "MainShaft":
+        assert sorted(terms) == ["load", "load1", "load2", "load3"]
+        return
+    assert sorted(terms) == ["shaft", "shaft_reduced"]
+    for mine, theirs in [("shaft", "load"), ("shaft_reduced", "load1")]:
+        a, b = dict(terms[mine]), dict(drive[theirs])
+        assert sorted(a) == sorted(b), (mine, theirs)
+        for member in a:
+            x, y = v[a[member]], dv[b[member]]
+            assert {x.causality, y.causality} == {"input", "output"}, (member, x.causality, y.causality)
+            unit = lambda z: z.declaredType.unit if z.declaredType is not None else z.unit  # noqa: E731
+            assert unit(x) == unit(y) and unit(x), (member, unit(x), unit(y))
+
+
+def test_a_host_connects_by_terminal_alone(tmp_path):
+    """MainShaft driving the SewingTable, wired from the terminals only (member by member,
+    outputs to inputs, FMI 3.0 both): the shaft runs up towards its synchronous speed and the
+    table's torque reaches the drive as load.tau."""
+    drive_t, mech_t = _terminals(fmu3("MainShaft"))["load"], _terminals(fmu3("SewingTable"))["shaft"]
+    exs = {m: Extracted.of(fmu3(m)) for m in ("MainShaft", "SewingTable")}
+    slaves = {}
+    for m, ex in exs.items():
+        s = FMU3Slave(guid=ex.md.instantiationToken, unzipDirectory=ex.dir,
+                      modelIdentifier=ex.md.coSimulation.modelIdentifier, instanceName=m)
+        s.instantiate()
+        s.enterInitializationMode(startTime=0.0)
+        s.exitInitializationMode()
+        slaves[m] = s
+    vr = {m: {x.name: x.valueReference for x in ex.md.modelVariables} for m, ex in exs.items()}
+    caus = {m: {x.name: x.causality for x in ex.md.modelVariables} for m, ex in exs.items()}
+    links = []  # (from model, from variable, to model, to variable)
+    for (member, dvar), (_, mvar) in zip(sorted(drive_t), sorted(mech_t)):
+        if caus["MainShaft"][dvar] == "output":
+            links.append(("MainShaft", dvar, "SewingTable", mvar))
+        else:
+            links.append(("SewingTable", mvar, "MainShaft", dvar))
+    assert len(links) == 4
+    t, h, speeds, taus = 0.0, 1e-3, [], []
+    try:
+        for _ in range(1500):
+            for src, sv, dst, dvv in links:
+                slaves[dst].setFloat64([vr[dst][dvv]], slaves[src].getFloat64([vr[src][sv]]))
+            for s in slaves.values():
+                s.doStep(t, h)
+            t += h
+            speeds.append(slaves["MainShaft"].getFloat64([vr["MainShaft"]["shaft.w"]])[0])
+            taus.append((slaves["MainShaft"].getFloat64([vr["MainShaft"]["load.tau"]])[0],
+                         slaves["SewingTable"].getFloat64([vr["SewingTable"]["shaft.tau"]])[0]))
+    finally:
+        for s in slaves.values():
+            s.terminate()
+            s.freeInstance()
+    assert speeds[-1] > 5.0 and np.all(np.isfinite(speeds)), speeds[-1]
+    # the drive carries the table's torque (a plain torque coupling, one step late)
+    received, sent = np.array(taus).T
+    assert np.max(np.abs(received)) > 0 and np.max(np.abs(received)) == pytest.approx(np.max(np.abs(sent)), rel=0.05)

@@ -3,6 +3,7 @@
 //! `shaft.w`, `shaft.a` are its outputs, the load its inputs.
 
 use super::physics::{Load, Motor, Params, Point};
+use crate::model::shaft::Terminal;
 use crate::model::{Dynamics, Experiment, Log, Model, Outcome, ParamError, Values};
 use crate::solver::{Integrator, Memory, Method, OdeSystem, Settings};
 use std::f64::consts::PI;
@@ -123,11 +124,43 @@ impl MainShaft {
     }
 }
 
+/// A terminal of the main shaft for a mechanism's torque split (its `shaft_reduced`).
+macro_rules! load_terminal {
+    ($name:literal, $tau0:literal, $j_red:literal) => {
+        Terminal {
+            name: $name,
+            description: "The main shaft driving a mechanism with its torque split: angle, speed and acceleration out, the mechanism's tau0 and J_red in (connect to a mechanism's shaft_reduced)",
+            members: &[
+                ("phi", "shaft.phi"),
+                ("w", "shaft.w"),
+                ("a", "shaft.a"),
+                ("tau0", $tau0),
+                ("J_red", $j_red),
+            ],
+        }
+    };
+}
+
 impl Model for MainShaft {
     type Var = V;
     const IDENTIFIER: &'static str = "MainShaft";
     const DESCRIPTION: &'static str = "Main-shaft drive of a bookbinding machine: induction motor (Kloss's formula), gear, flywheel and bearing friction, loaded by the mechanisms' reduced inertia and torque";
     const EXPERIMENT: Experiment = Experiment::until(5.0, 1e-3);
+    const TERMINALS: &'static [Terminal] = &[
+        Terminal {
+            name: "load",
+            description: "The main shaft as a rotational flange driving a mechanism: angle, speed and acceleration out, the mechanism's torque in (connect to a mechanism's shaft)",
+            members: &[
+                ("phi", "shaft.phi"),
+                ("w", "shaft.w"),
+                ("a", "shaft.a"),
+                ("tau", "load.tau"),
+            ],
+        },
+        load_terminal!("load1", "load1.tau0", "load1.J_red"),
+        load_terminal!("load2", "load2.tau0", "load2.J_red"),
+        load_terminal!("load3", "load3.tau0", "load3.J_red"),
+    ];
 
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
         let params = Self::params(v);
