@@ -21,6 +21,9 @@ pub struct Entry {
     pub describe3: fn() -> (String, String),
     /// The full FMI 3.0 FMU's `terminalsAndIcons.xml`.
     pub terminals3: fn() -> String,
+    /// The outputs of a cross-check experiment, run natively (the reference results inside
+    /// the FMU: [`crate::reference`]).
+    pub reference: fn(&crate::reference::Experiment) -> Result<String, String>,
     /// Model info and variables (for the documentation's table).
     pub info: fn() -> ModelInfo,
     /// Every variable, by value reference.
@@ -47,6 +50,7 @@ impl Entry {
             describe: crate::md::describe::<M>,
             describe3: crate::md::describe3::<M>,
             terminals3: crate::md::terminals::of::<M>,
+            reference: crate::reference::run::<M>,
             info: ModelInfo::of::<M>,
             variables: variables_of::<M>,
             documentation,
@@ -134,6 +138,7 @@ pub fn scene_fmu_of(
         terminals: (fmi == crate::package::Fmi::V3)
             .then(|| crate::md::terminals::terminals_and_icons(t.info.terminals, &t.refs())),
         fmi,
+        extra: vec![],
     };
     Ok((t.identifier, fmu.to_zip()?))
 }

@@ -36,6 +36,8 @@ pub mod mechanisms;
 pub mod model;
 #[cfg(feature = "tools")]
 pub mod package;
+#[cfg(feature = "tools")]
+pub mod reference;
 pub mod scene;
 pub mod solver;
 #[cfg(feature = "tools")]

@@ -164,6 +164,8 @@ pub struct FmuContents {
     pub fmi: Fmi,
     /// FMI 3.0: `terminalsAndIcons/terminalsAndIcons.xml`.
     pub terminals: Option<String>,
+    /// Files of `extra/` (layered standards), by relative path.
+    pub extra: Vec<(String, Vec<u8>)>,
 }
 
 impl FmuContents {
@@ -212,6 +214,11 @@ impl FmuContents {
                 }
             }
         }
+        let mut extra: Vec<_> = (self.extra.iter())
+            .map(|(n, b)| (format!("extra/{n}"), Cow::Borrowed(b.as_slice()), false))
+            .collect();
+        extra.sort_by(|a, b| a.0.cmp(&b.0));
+        e.extend(extra);
         let mut res: Vec<_> = self
             .resources
             .iter()
@@ -337,6 +344,7 @@ mod tests {
             resources: vec![("scene.toml".into(), b"a = 1".to_vec())],
             fmi: Fmi::V2,
             terminals: None,
+            extra: vec![],
         }
     }
 

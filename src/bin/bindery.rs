@@ -239,6 +239,7 @@ fn build(models: &[String], out: &Option<PathBuf>, require_all: bool) -> Result<
         bar.doing(e.identifier);
         let binaries = built.binaries_of(e.identifier)?;
         let (documentation, icon) = (e.documentation)()?;
+        let extra = reference_files(e)?;
         // the same binary in both: it exports the FMI 2.0 and the FMI 3.0 functions
         for (fmi, describe, dir, terminals) in [
             (Fmi::V2, e.describe, out.clone(), None),
@@ -258,6 +259,7 @@ fn build(models: &[String], out: &Option<PathBuf>, require_all: bool) -> Result<
                 resources: vec![],
                 fmi,
                 terminals,
+                extra: extra.clone(),
             };
             std::fs::create_dir_all(&dir).map_err(|err| format!("{}: {err}", dir.display()))?;
             let path = dir.join(format!("{}.fmu", e.identifier));
@@ -274,6 +276,53 @@ fn build(models: &[String], out: &Option<PathBuf>, require_all: bool) -> Result<
         );
     }
     Ok(())
+}
+
+/// The reference results of an FMU (FMI-LS-REF, [`bindery_fmu::reference`]): its model run
+/// over its cross-check experiment (`fmus/<Model>/<Model>_in.csv`, `_ref.opt`; the outputs of
+/// `_ref.csv`), with the inputs and the manifest.
+fn reference_files(e: &Entry) -> Result<Vec<(String, Vec<u8>)>, String> {
+    let dir = root()?.join("fmus").join(e.identifier);
+    let read = |ext: &str| {
+        let p = dir.join(format!("{}{ext}", e.identifier));
+        std::fs::read_to_string(&p).map_err(|err| format!("{}: {err}", p.display()))
+    };
+    let (input, opt, reference) = (read("_in.csv")?, read("_ref.opt")?, read("_ref.csv")?);
+    let value = |key: &str| -> Result<f64, String> {
+        (opt.lines())
+            .find_map(|l| {
+                l.strip_prefix(key)?
+                    .trim_start_matches([',', ' '])
+                    .parse()
+                    .ok()
+            })
+            .ok_or_else(|| format!("{}_ref.opt: no {key}", e.identifier))
+    };
+    let (start, stop, step) = (value("StartTime")?, value("StopTime")?, value("StepSize")?);
+    let outputs = bindery_fmu::reference::header(&reference)[1..].to_vec();
+    let experiment = bindery_fmu::reference::Experiment {
+        input_csv: &input,
+        start,
+        stop,
+        step,
+        outputs: &outputs,
+    };
+    let out = (e.reference)(&experiment).map_err(|err| format!("{}: {err}", e.identifier))?;
+    let folder = "org.fmi-standard.fmi-ls-ref";
+    Ok(vec![
+        (
+            format!("{folder}/fmi-ls-manifest.xml"),
+            bindery_fmu::reference::manifest(e.identifier, start, stop, step).into_bytes(),
+        ),
+        (
+            format!("{folder}/{}_out.csv", e.identifier),
+            out.into_bytes(),
+        ),
+        (
+            format!("{folder}/{}_in.csv", e.identifier),
+            input.into_bytes(),
+        ),
+    ])
 }
 
 /// Exports every scene (all of `scenes/` when none is named): checks every file first, then

@@ -350,3 +350,47 @@ def test_a_host_connects_by_terminal_alone(tmp_path):
     # the drive carries the table's torque (a plain torque coupling, one step late)
     received, sent = np.array(taus).T
     assert np.max(np.abs(received)) > 0 and np.max(np.abs(received)) == pytest.approx(np.max(np.abs(sent)), rel=0.05)
+
+
+# --- reference results inside every FMU (FMI-LS-REF) ---------------------------------------------
+
+LS_REF = "extra/org.fmi-standard.fmi-ls-ref"
+
+
+@pytest.mark.parametrize("version", ["2.0", "3.0"])
+@pytest.mark.parametrize("model", MODELS)
+def test_reference_results_inside_the_fmu(model, version, tmp_path):
+    """Every FMU (FMI 2.0 and 3.0) carries its reference results in FMI-LS-REF's layout:
+    `fmi-ls-manifest.xml` naming `<Model>_out.csv` (role result) and the inputs it ran on. The
+    build computed them with the FMU's code; they equal FMPy's run of the FMU itself over those
+    inputs (to 1e-12 of each column's scale: the hosts interpolate the input file in their own
+    arithmetic) and the committed cross-check result (1e-9), which the closed-form tests hold
+    against the papers."""
+    import zipfile
+    from lxml import etree
+    path = (FMU3_DIR if version == "3.0" else FMU_DIR) / f"{model}.fmu"
+    if not path.is_file():
+        pytest.fail(f"{path} is missing: run `cargo run --release -- build` (or tests/run) first")
+    with zipfile.ZipFile(path) as z:
+        manifest = etree.fromstring(z.read(f"{LS_REF}/fmi-ls-manifest.xml"))
+        ns = "{http://fmi-standard.org/fmi-ls-manifest}"
+        assert manifest.tag == "fmiReferences"
+        assert manifest.get(f"{ns}fmi-ls-name") == "org.fmi-standard.fmi-ls-ref"
+        related = {r.get("role"): r.get("source") for r in manifest.findall("Related")}
+        assert related == {"result": f"{model}_out.csv", "input": f"{model}_in.csv"}
+        for name in related.values():
+            (tmp_path / name).write_bytes(z.read(f"{LS_REF}/{name}"))
+    inside = read_csv(str(tmp_path / f"{model}_out.csv"))
+    columns = [n for n in inside.dtype.names if n != "time"]
+    paths = cross_check_paths(model)
+    opt = read_ref_opt_file(str(paths["opt"]))
+    ex = Extracted.of(path)
+    host = ex.simulate(start_time=opt["StartTime"], stop_time=opt["StopTime"], output_interval=opt["StepSize"],
+                       relative_tolerance=opt["RelTol"], input=read_csv(str(tmp_path / f"{model}_in.csv")),
+                       output=columns, fmi_type="CoSimulation")
+    committed = read_csv(str(paths["ref"]))
+    assert len(inside) == len(host) == len(committed)
+    np.testing.assert_allclose(inside["time"], host["time"], rtol=0, atol=1e-12)
+    for n in columns:
+        columns_close(inside[n], host[n], rtol=1e-12, name=f"{n} (FMPy's run of the FMU)")
+        columns_close(inside[n], committed[n], rtol=1e-9, name=f"{n} (committed cross-check result)")
