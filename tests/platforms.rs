@@ -393,3 +393,42 @@ fn panics_are_caught_on_win64() {
         "probe(0), probe(1), probe(2) on win64"
     );
 }
+
+/// Every FMI 3.0 FMU (out/fmus/fmi3, out/scenes/fmi3) carries its FMI 2.0 twin's binaries, byte
+/// for byte, in FMI 3.0's platform folders (the universal macOS binary in both of macOS's), and
+/// nothing in FMI 2.0's folders; every platform of the twin is there.
+#[test]
+fn every_fmi3_fmu_carries_its_twins_binaries_under_fmi3_platform_names() {
+    let mut checked = 0;
+    for dir in ["fmus", "scenes"] {
+        for p in files(&out(dir).join("fmi3"), "fmu") {
+            let twin = out(dir).join(p.file_name().unwrap());
+            let mut three = Fmu::of(p.display().to_string(), std::fs::read(&p).unwrap());
+            let mut two = Fmu::of(twin.display().to_string(), std::fs::read(&twin).unwrap());
+            let names: Vec<String> = (0..three.zip.len())
+                .map(|i| three.zip.by_index(i).unwrap().name().unwrap().to_string())
+                .collect();
+            for platform in Platform::ALL {
+                let b2 = two.binary(platform);
+                for folder in platform.folders3() {
+                    let path = format!("binaries/{folder}/{}.{}", three.id, platform.extension());
+                    let b3 = entry(&mut three.zip, &path)
+                        .unwrap_or_else(|| panic!("{}: no {path}", three.name));
+                    assert!(b2 == b3, "{}: {path} differs from {}", three.name, two.name);
+                }
+                let old = format!("binaries/{}/", platform.folder());
+                assert!(
+                    platform.folders3().contains(&platform.folder())
+                        || !names.iter().any(|n| n.starts_with(&old)),
+                    "{}: an FMI 2.0 folder {old}",
+                    three.name
+                );
+            }
+            checked += 1;
+        }
+    }
+    assert!(
+        checked > catalog::all().len(),
+        "want the FMI 3.0 FMUs and scenes built (tests/run): found {checked}"
+    );
+}
