@@ -8,8 +8,8 @@
 mod common;
 
 use bindery_fmu::catalog::{self, Entry};
-use bindery_fmu::fmi2::state::State;
-use bindery_fmu::fmi3::state::{Call, EVENT_MODE, allowed_in};
+use bindery_fmu::fmi2::state::{ME_STATES, MeState, State};
+use bindery_fmu::fmi3::state::{Call, EVENT_MODE, allowed_in, me_allowed};
 use bindery_fmu::fmi3::types::*;
 use bindery_fmu::model::{Causality, Var, VarType};
 use common::Fmu;
@@ -751,6 +751,154 @@ fn fmi3_call_sequence_matrix() {
     assert_eq!(rows().len(), bindery_fmu::fmi3::state::LEGAL.len() - 1);
 }
 
+/// The Model Exchange column of the table: every FMI 3.0 function in every state of a Model
+/// Exchange instance, refused as "not allowed" exactly where `fmi3::state` says.
+#[test]
+fn fmi3_model_exchange_call_sequence_matrix() {
+    let e = &catalog::all()[0];
+    let f3 = Fmu3::of(e);
+    let mut checked = 0;
+    for (name, call, invoke) in rows() {
+        for state in ME_STATES {
+            let i = f3.me_instance("me-matrix");
+            match state {
+                MeState::Instantiated => {}
+                MeState::InitializationMode => i.ok(i.enter_init(0.0, None), "enter"),
+                MeState::EventMode => i.ok(i.init(), "init"),
+                MeState::ContinuousTimeMode => {
+                    i.ok(i.init(), "init");
+                    i.ok(i.call0("fmi3EnterContinuousTimeMode"), "ct");
+                }
+                MeState::Terminated => {
+                    i.ok(i.init(), "init");
+                    i.ok(i.call0("fmi3Terminate"), "terminate");
+                }
+                MeState::Error => {
+                    let probe = f3.me_instance("probe");
+                    probe.ok(probe.init(), "init");
+                    let mut bytes = probe.state_bytes();
+                    bytes[24..26].copy_from_slice(&State::Error.code().to_le_bytes());
+                    i.restore_bytes(&bytes);
+                }
+            }
+            let before = i.logs().len();
+            let st = invoke(&i);
+            let logs = i.logs();
+            let illegal = (logs[before..].iter()).any(|l| l.2.contains("is not allowed in state"));
+            if me_allowed(call, state) {
+                assert!(!illegal, "{name} in {state:?}: {:?}", &logs[before..]);
+            } else {
+                assert_eq!(st, Status::Error, "{name} in {state:?}");
+                assert!(illegal, "{name} in {state:?}: {:?}", &logs[before..]);
+            }
+            checked += 1;
+        }
+    }
+    assert_eq!(checked, 70 * ME_STATES.len());
+}
+
+/// Model Exchange through FMI 3.0 gives FMI 2.0's bits: the same calls (time, states,
+/// derivatives, event indicators, completed steps, an event) on both interfaces of every model
+/// with states, at its highest level.
+#[test]
+fn fmi3_model_exchange_equals_fmi2() {
+    for e in catalog::all() {
+        if !vars(&e).iter().any(|(_, v)| v.derivative.is_some()) {
+            continue;
+        }
+        let (f2, f3) = (Fmu::of(&e), Fmu3::of(&e));
+        let s2 = f2.me_instance("fmi2");
+        let i3 = f3.me_instance("fmi3");
+        s2.ok(s2.setup(0.0, None), "setup");
+        if let Some(fid) = vr_of(&e, "model.fidelity") {
+            s2.ok(s2.set_integer(&[fid], &[3]), "level");
+            i3.ok(i3.set("fmi3SetInt64", &[fid], &[3i64]), "level");
+        }
+        s2.ok(s2.init(), "init");
+        i3.ok(i3.init(), "init");
+        let nx = vars(&e)
+            .iter()
+            .filter(|(_, v)| v.derivative.is_some())
+            .count();
+        let nz = {
+            let mut n = 0usize;
+            let f: Symbol<unsafe extern "C" fn(Instance, *mut usize) -> Status> =
+                f3.sym("fmi3GetNumberOfEventIndicators");
+            i3.ok(unsafe { f(i3.c, &mut n) }, "number of indicators");
+            n
+        };
+        let arr2 = |name: &str, n: usize| s2.get_array(name, n);
+        let arr3 = |name: &str, n: usize| -> Vec<f64> {
+            let f: Symbol<unsafe extern "C" fn(Instance, *mut f64, usize) -> Status> = f3.sym(name);
+            let mut v = vec![0.0; n];
+            i3.ok(unsafe { f(i3.c, v.as_mut_ptr(), n) }, name);
+            v
+        };
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        s2.ok(s2.call0("fmi2EnterContinuousTimeMode"), "ct");
+        i3.ok(i3.call0("fmi3EnterContinuousTimeMode"), "ct");
+        // forward Euler below the stiffest chain's limit (DiscKnifeDrive's rod)
+        let h = 5e-6;
+        let mut t = 0.0;
+        for _ in 0..200 {
+            let x2 = arr2("fmi2GetContinuousStates", nx).1;
+            let x3 = arr3("fmi3GetContinuousStates", nx);
+            assert_eq!(bits(&x2), bits(&x3), "{} states at {t}", e.identifier);
+            let d2 = arr2("fmi2GetDerivatives", nx).1;
+            let d3 = arr3("fmi3GetContinuousStateDerivatives", nx);
+            assert_eq!(bits(&d2), bits(&d3), "{} derivatives at {t}", e.identifier);
+            let z2 = arr2("fmi2GetEventIndicators", nz).1;
+            let z3 = arr3("fmi3GetEventIndicators", nz);
+            assert_eq!(bits(&z2), bits(&z3), "{} indicators at {t}", e.identifier);
+            // the event indicators are variables too (after time)
+            let n = vars(&e).len() as u32;
+            let zvrs: Vec<u32> = (0..nz as u32).map(|j| n + 1 + j).collect();
+            let (st, zv) = i3.get::<f64>("fmi3GetFloat64", &zvrs);
+            i3.ok(st, "indicators as variables");
+            assert_eq!(bits(&zv), bits(&z3), "{}", e.identifier);
+            assert_eq!(i3.get::<f64>("fmi3GetFloat64", &[n]).1, vec![t], "time");
+            // forward Euler on both
+            let x: Vec<f64> = x2.iter().zip(&d2).map(|(x, d)| x + h * d).collect();
+            s2.ok(s2.set_time(t + h), "time");
+            s2.ok(s2.set_states(&x), "states");
+            s2.ok(s2.completed_step().0, "completed");
+            let f: Symbol<unsafe extern "C" fn(Instance, f64) -> Status> = f3.sym("fmi3SetTime");
+            i3.ok(unsafe { f(i3.c, t + h) }, "time");
+            let f: Symbol<unsafe extern "C" fn(Instance, *const f64, usize) -> Status> =
+                f3.sym("fmi3SetContinuousStates");
+            i3.ok(unsafe { f(i3.c, x.as_ptr(), nx) }, "states");
+            let f: Symbol<unsafe extern "C" fn(Instance, u8, *mut u8, *mut u8) -> Status> =
+                f3.sym("fmi3CompletedIntegratorStep");
+            let (mut ev, mut term) = (7u8, 7u8);
+            i3.ok(unsafe { f(i3.c, TRUE, &mut ev, &mut term) }, "completed");
+            assert_eq!((ev, term), (0, 0));
+            let reals = of_type(&e, |t| t == VarType::Real);
+            assert_eq!(
+                bits(&s2.get_real(&reals).1),
+                bits(&i3.get::<f64>("fmi3GetFloat64", &reals).1),
+                "{} outputs at {}",
+                e.identifier,
+                t + h
+            );
+            t += h;
+        }
+        // an event on both
+        s2.ok(s2.call0("fmi2EnterEventMode"), "event");
+        i3.ok(i3.call0("fmi3EnterEventMode"), "event");
+        s2.event_iteration();
+        let (st, flags, _) = i3.update_discrete_states();
+        i3.ok(st, "update");
+        assert_eq!(flags, [false; 5]);
+        let reals = of_type(&e, |t| t == VarType::Real);
+        assert_eq!(
+            bits(&s2.get_real(&reals).1),
+            bits(&i3.get::<f64>("fmi3GetFloat64", &reals).1),
+            "{} after the event",
+            e.identifier
+        );
+    }
+}
+
 /// Event Mode the FMI 3.0 way: after initialization an instance that uses it is in Event Mode
 /// (no step there), leaves it with `fmi3EnterStepMode`, enters it again from Step Mode;
 /// `fmi3UpdateDiscreteStates` asks for nothing more. An instance that does not use it is never
@@ -1144,7 +1292,8 @@ fn a_tampered_serialized_state_is_refused() {
 }
 
 /// Instantiation asks what this interface offers: a wrong token, intermediate variables, no
-/// name, Model Exchange and Scheduled Execution are refused with the reason.
+/// name, Model Exchange of a model without continuous states and Scheduled Execution are
+/// refused with the reason.
 #[test]
 fn instantiation_refuses_what_is_not_offered() {
     let e = &catalog::all()[0];
@@ -1176,33 +1325,65 @@ fn instantiation_refuses_what_is_not_offered() {
         f3.instantiate_with(&cstr(""), &token, (false, false), &[]),
         "instanceName",
     );
-    for kind in ["ModelExchange", "ScheduledExecution"] {
-        let env = new_env();
-        let c = if kind == "ModelExchange" {
-            type Me = unsafe extern "C" fn(
-                FmiString,
-                FmiString,
-                FmiString,
-                Boolean,
-                Boolean,
-                InstanceEnvironment,
-                LogMessageCallback,
-            ) -> Instance;
-            let f: Symbol<Me> = f3.sym("fmi3InstantiateModelExchange");
-            unsafe {
-                f(
-                    cstr("x").as_ptr(),
-                    token.as_ptr(),
-                    std::ptr::null(),
-                    FALSE,
-                    FALSE,
-                    env as _,
-                    None,
-                )
-            }
-        } else {
-            std::ptr::null_mut()
+    // Model Exchange: the models with continuous states; one without is refused
+    type Me = unsafe extern "C" fn(
+        FmiString,
+        FmiString,
+        FmiString,
+        Boolean,
+        Boolean,
+        InstanceEnvironment,
+        LogMessageCallback,
+    ) -> Instance;
+    for e in catalog::all() {
+        let g = Fmu3::of(&e);
+        let f: Symbol<Me> = g.sym("fmi3InstantiateModelExchange");
+        let t = cstr(&g.token);
+        let c = unsafe {
+            f(
+                cstr("me").as_ptr(),
+                t.as_ptr(),
+                null(),
+                FALSE,
+                FALSE,
+                null_mut(),
+                None,
+            )
         };
-        assert!(c.is_null(), "{kind}");
+        let has_states = vars(&e).iter().any(|(_, v)| v.derivative.is_some());
+        assert_eq!(!c.is_null(), has_states, "{}", e.identifier);
+        if !c.is_null() {
+            let free: Symbol<unsafe extern "C" fn(Instance)> = g.sym("fmi3FreeInstance");
+            unsafe { free(c) };
+        }
     }
+    let se: Symbol<
+        unsafe extern "C" fn(
+            FmiString,
+            FmiString,
+            FmiString,
+            Boolean,
+            Boolean,
+            InstanceEnvironment,
+            LogMessageCallback,
+            ClockUpdateCallback,
+            PreemptionCallback,
+            PreemptionCallback,
+        ) -> Instance,
+    > = f3.sym("fmi3InstantiateScheduledExecution");
+    let c = unsafe {
+        se(
+            cstr("x").as_ptr(),
+            token.as_ptr(),
+            null(),
+            FALSE,
+            FALSE,
+            null_mut(),
+            None,
+            None,
+            None,
+            None,
+        )
+    };
+    assert!(c.is_null(), "Scheduled Execution");
 }

@@ -649,6 +649,7 @@ mod tests {
             event_indicators: 0,
             can_interpolate_inputs: false,
             terminals: &[],
+            variables: 0,
         }
     }
 

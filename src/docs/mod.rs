@@ -240,6 +240,7 @@ mod tests {
             event_indicators: 0,
             can_interpolate_inputs: false,
             terminals: &[],
+            variables: 0,
         };
         let v = Var::output("y", "m", "out");
         let fig = |f: &str| Figure {

@@ -134,6 +134,11 @@ pub unsafe fn unsupported<M: Model>(c: Component, call: impl Api, why: &str) -> 
 }
 
 impl<M: Model> Instance<M> {
+    /// The values of Real variables (`fmi2GetReal`'s checks and lazy outputs).
+    pub fn read_reals(&mut self, vrs: &[ValueReference], out: &mut [f64]) -> Outcome {
+        self.read_values(vrs, out, REAL, |x| x)
+    }
+
     /// Refuses the value references of a call on a type no variable has, naming the first
     /// one's type (no value reference: nothing to refuse).
     pub fn refuse_type(&self, vrs: &[ValueReference], kind: Kind) -> Outcome {

@@ -50,7 +50,7 @@ fn named_states<M: Model>(x: &[f64]) -> String {
 /// are finite.
 fn discard_non_finite<M: Model>(
     inst: &mut Instance<M>,
-    call: &str,
+    call: impl Api,
     values: &[f64],
     name: impl Fn(usize) -> String,
 ) -> Status {
@@ -61,7 +61,8 @@ fn discard_non_finite<M: Model>(
     let model = inst.model.as_mut().expect("prepared");
     model.me_states(&inst.values, inst.time, &mut x);
     let msg = format!(
-        "fmi2{call}: {} = {} at t = {} is not finite: the model has no finite value at the states {} (outside its domain); a smaller step is needed",
+        "{}{call:?}: {} = {} at t = {} is not finite: the model has no finite value at the states {} (outside its domain); a smaller step is needed",
+        call.prefix(),
         name(i),
         values[i],
         inst.time,
@@ -75,10 +76,10 @@ fn discard_non_finite<M: Model>(
 ///
 /// # Safety
 /// As [`entry`].
-pub unsafe fn enter_event_mode<M: Model>(c: Component) -> Status {
+pub unsafe fn enter_event_mode<M: Model, C: Api>(c: Component, call: C) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M, _>(c, Call::EnterEventMode, |inst| {
+        entry::<M, _>(c, call, |inst| {
             inst.me.mode = Mode::Event;
             Ok(Status::Ok)
         })
@@ -96,10 +97,7 @@ pub unsafe fn new_discrete_states<M: Model>(c: Component, info: *mut EventInfo) 
             if info.is_null() {
                 return Err("fmi2EventInfo pointer is NULL".into());
             }
-            inst.prepared()?;
-            let model = inst.model.as_mut().expect("prepared");
-            model.me_event(&inst.values, inst.time, &mut inst.logger);
-            inst.dirty = true;
+            inst.me_event()?;
             // no new discrete states, no termination, no state change, no time event
             *info = EventInfo::default();
             Ok(Status::Ok)
@@ -111,10 +109,10 @@ pub unsafe fn new_discrete_states<M: Model>(c: Component, info: *mut EventInfo) 
 ///
 /// # Safety
 /// As [`entry`].
-pub unsafe fn enter_continuous_time_mode<M: Model>(c: Component) -> Status {
+pub unsafe fn enter_continuous_time_mode<M: Model, C: Api>(c: Component, call: C) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M, _>(c, Call::EnterContinuousTimeMode, |inst| {
+        entry::<M, _>(c, call, |inst| {
             inst.me.mode = Mode::ContinuousTime;
             Ok(Status::Ok)
         })
@@ -137,9 +135,7 @@ pub unsafe fn completed_integrator_step<M: Model>(
             if enter_event_mode.is_null() || terminate.is_null() {
                 return Err("a result pointer is NULL".into());
             }
-            inst.prepared()?;
-            let model = inst.model.as_mut().expect("prepared");
-            model.me_completed_step(&inst.values, inst.time, &mut inst.logger);
+            inst.completed_step()?;
             *enter_event_mode = FALSE;
             *terminate = FALSE;
             Ok(Status::Ok)
@@ -151,10 +147,10 @@ pub unsafe fn completed_integrator_step<M: Model>(
 ///
 /// # Safety
 /// As [`entry`].
-pub unsafe fn set_time<M: Model>(c: Component, t: Real) -> Status {
+pub unsafe fn set_time<M: Model, C: Api>(c: Component, call: C, t: Real) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M, _>(c, Call::SetTime, |inst| {
+        entry::<M, _>(c, call, |inst| {
             if !t.is_finite() {
                 return Err(format!("time {t} is not finite"));
             }
@@ -169,10 +165,15 @@ pub unsafe fn set_time<M: Model>(c: Component, t: Real) -> Status {
 ///
 /// # Safety
 /// As [`entry`]; `x` holds `nx` reals.
-pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: usize) -> Status {
+pub unsafe fn set_continuous_states<M: Model, C: Api>(
+    c: Component,
+    call: C,
+    x: *const Real,
+    nx: usize,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M, _>(c, Call::SetContinuousStates, |inst| {
+        entry::<M, _>(c, call, |inst| {
             count(nx, "nx", M::STATES)?;
             let x = slice(x, nx, "x")?;
             // refused before anything reads it: the model keeps its states
@@ -197,17 +198,22 @@ pub unsafe fn set_continuous_states<M: Model>(c: Component, x: *const Real, nx: 
 ///
 /// # Safety
 /// As [`entry`]; `dx` holds `nx` reals.
-pub unsafe fn get_derivatives<M: Model>(c: Component, dx: *mut Real, nx: usize) -> Status {
+pub unsafe fn get_derivatives<M: Model, C: Api>(
+    c: Component,
+    call: C,
+    dx: *mut Real,
+    nx: usize,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M, _>(c, Call::GetDerivatives, |inst| {
+        entry::<M, _>(c, call, |inst| {
             count(nx, "nx", M::STATES)?;
             let dx = slice_mut(dx, nx, "derivatives")?;
             inst.prepared()?;
             let model = inst.model.as_mut().expect("prepared");
             model.me_derivatives(&inst.values, inst.time, dx);
             let names = crate::model::state_names::<M::Var>();
-            Ok(discard_non_finite(inst, "GetDerivatives", dx, |i| {
+            Ok(discard_non_finite(inst, call, dx, |i| {
                 format!("der({})", names[i])
             }))
         })
@@ -218,16 +224,21 @@ pub unsafe fn get_derivatives<M: Model>(c: Component, dx: *mut Real, nx: usize) 
 ///
 /// # Safety
 /// As [`entry`]; `z` holds `ni` reals.
-pub unsafe fn get_event_indicators<M: Model>(c: Component, z: *mut Real, ni: usize) -> Status {
+pub unsafe fn get_event_indicators<M: Model, C: Api>(
+    c: Component,
+    call: C,
+    z: *mut Real,
+    ni: usize,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M, _>(c, Call::GetEventIndicators, |inst| {
+        entry::<M, _>(c, call, |inst| {
             count(ni, "ni", M::EVENT_INDICATORS)?;
             let z = slice_mut(z, ni, "eventIndicators")?;
             inst.prepared()?;
             let model = inst.model.as_mut().expect("prepared");
             model.me_event_indicators(&inst.values, inst.time, z);
-            Ok(discard_non_finite(inst, "GetEventIndicators", z, |i| {
+            Ok(discard_non_finite(inst, call, z, |i| {
                 format!("event indicator {i}")
             }))
         })
@@ -238,10 +249,15 @@ pub unsafe fn get_event_indicators<M: Model>(c: Component, z: *mut Real, ni: usi
 ///
 /// # Safety
 /// As [`entry`]; `x` holds `nx` reals.
-pub unsafe fn get_continuous_states<M: Model>(c: Component, x: *mut Real, nx: usize) -> Status {
+pub unsafe fn get_continuous_states<M: Model, C: Api>(
+    c: Component,
+    call: C,
+    x: *mut Real,
+    nx: usize,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M, _>(c, Call::GetContinuousStates, |inst| {
+        entry::<M, _>(c, call, |inst| {
             count(nx, "nx", M::STATES)?;
             let x = slice_mut(x, nx, "x")?;
             x.copy_from_slice(&inst.me_states()?);
@@ -254,10 +270,15 @@ pub unsafe fn get_continuous_states<M: Model>(c: Component, x: *mut Real, nx: us
 ///
 /// # Safety
 /// As [`entry`]; `x` holds `nx` reals.
-pub unsafe fn get_nominals<M: Model>(c: Component, x: *mut Real, nx: usize) -> Status {
+pub unsafe fn get_nominals<M: Model, C: Api>(
+    c: Component,
+    call: C,
+    x: *mut Real,
+    nx: usize,
+) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M, _>(c, Call::GetNominalsOfContinuousStates, |_| {
+        entry::<M, _>(c, call, |_| {
             count(nx, "nx", M::STATES)?;
             slice_mut(x, nx, "x_nominal")?.fill(1.0);
             Ok(Status::Ok)
@@ -266,6 +287,34 @@ pub unsafe fn get_nominals<M: Model>(c: Component, x: *mut Real, nx: usize) -> S
 }
 
 impl<M: Model> Instance<M> {
+    /// The model's event indicators now.
+    pub fn event_indicators(&mut self) -> Result<Vec<f64>, String> {
+        self.prepared()?;
+        let mut z = vec![0.0; M::EVENT_INDICATORS];
+        let model = self.model.as_mut().expect("prepared");
+        model.me_event_indicators(&self.values, self.time, &mut z);
+        Ok(z)
+    }
+
+    /// The model's event at this instant (FMI 2.0's `fmi2NewDiscreteStates`, FMI 3.0's
+    /// `fmi3UpdateDiscreteStates`): it switches its discrete modes.
+    pub fn me_event(&mut self) -> Outcome {
+        self.prepared()?;
+        let model = self.model.as_mut().expect("prepared");
+        model.me_event(&self.values, self.time, &mut self.logger);
+        self.dirty = true;
+        Ok(Status::Ok)
+    }
+
+    /// A step of the host's integrator completed (`fmi2CompletedIntegratorStep`,
+    /// `fmi3CompletedIntegratorStep`); never asks for an event or the end.
+    pub fn completed_step(&mut self) -> Outcome {
+        self.prepared()?;
+        let model = self.model.as_mut().expect("prepared");
+        model.me_completed_step(&self.values, self.time, &mut self.logger);
+        Ok(Status::Ok)
+    }
+
     /// The model's continuous states.
     fn me_states(&mut self) -> Result<Vec<f64>, String> {
         self.prepared()?;

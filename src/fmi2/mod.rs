@@ -152,28 +152,30 @@ macro_rules! export_fmu {
 
             // ---- Model Exchange (runtime::me); refused on a Co-Simulation instance
             $crate::__fmi2_forward! { M;
-                fmi2EnterEventMode(c: Component) -> Status => rt::me::enter_event_mode;
                 fmi2NewDiscreteStates(c: Component, info: *mut rt::me::EventInfo)
                     -> Status => rt::me::new_discrete_states;
-                fmi2EnterContinuousTimeMode(c: Component)
-                    -> Status => rt::me::enter_continuous_time_mode;
                 fmi2CompletedIntegratorStep(
                     c: Component,
                     no_set_prior: Boolean,
                     enter_event_mode: *mut Boolean,
                     terminate: *mut Boolean,
                 ) -> Status => rt::me::completed_integrator_step;
-                fmi2SetTime(c: Component, t: Real) -> Status => rt::me::set_time;
+            }
+            $crate::__fmi2_forward! { M; with_call:
+                fmi2EnterEventMode(c: Component) -> Status => rt::me::enter_event_mode[EnterEventMode];
+                fmi2EnterContinuousTimeMode(c: Component)
+                    -> Status => rt::me::enter_continuous_time_mode[EnterContinuousTimeMode];
+                fmi2SetTime(c: Component, t: Real) -> Status => rt::me::set_time[SetTime];
                 fmi2SetContinuousStates(c: Component, x: *const Real, nx: usize)
-                    -> Status => rt::me::set_continuous_states;
+                    -> Status => rt::me::set_continuous_states[SetContinuousStates];
                 fmi2GetDerivatives(c: Component, dx: *mut Real, nx: usize)
-                    -> Status => rt::me::get_derivatives;
+                    -> Status => rt::me::get_derivatives[GetDerivatives];
                 fmi2GetEventIndicators(c: Component, z: *mut Real, ni: usize)
-                    -> Status => rt::me::get_event_indicators;
+                    -> Status => rt::me::get_event_indicators[GetEventIndicators];
                 fmi2GetContinuousStates(c: Component, x: *mut Real, nx: usize)
-                    -> Status => rt::me::get_continuous_states;
+                    -> Status => rt::me::get_continuous_states[GetContinuousStates];
                 fmi2GetNominalsOfContinuousStates(c: Component, x: *mut Real, nx: usize)
-                    -> Status => rt::me::get_nominals;
+                    -> Status => rt::me::get_nominals[GetNominalsOfContinuousStates];
             }
         }
     };

@@ -597,6 +597,10 @@ impl<M: Model> Drop for Instance<M> {
 pub trait Api: Copy + std::fmt::Debug {
     /// `fmi2` or `fmi3`: a call is named `{PREFIX}{call:?}`.
     const PREFIX: &'static str;
+    /// [`Api::PREFIX`] of a value's type.
+    fn prefix(&self) -> &'static str {
+        Self::PREFIX
+    }
     /// Is the call legal on this instance now? The inline fast path: `false` sends the call to
     /// [`Api::refusal`], which decides (and words the refusal).
     fn allowed_now<M: Model>(self, inst: &Instance<M>) -> bool;

@@ -89,29 +89,80 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
     })
 }
 
-/// `fmi3InstantiateModelExchange` and `fmi3InstantiateScheduledExecution`: this FMU's FMI 3.0
-/// interface is Co-Simulation; the refusal says where Model Exchange is.
+/// `fmi3InstantiateModelExchange`: a Model Exchange instance of a model with continuous
+/// states (those of its elastodynamic level, MainShaft's); a model without is refused, naming
+/// its Co-Simulation interface.
+///
+/// # Safety
+/// Pointer arguments must be NULL or valid per the FMI 3.0 standard.
+pub unsafe fn instantiate_model_exchange<M: Model>(
+    instance_name: FmiString,
+    token: FmiString,
+    resource_path: FmiString,
+    _visible: Boolean,
+    logging_on: Boolean,
+    env: InstanceEnvironment,
+    log: LogMessageCallback,
+) -> Instance {
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: NULL or valid C strings, per the standard.
+        let (name, token, resources) =
+            unsafe { (c_str(instance_name), c_str(token), c_str(resource_path)) };
+        let name = name.unwrap_or("");
+        let logger = Logger::fmi3(
+            log,
+            env,
+            if name.is_empty() { M::IDENTIFIER } else { name },
+            logging_on != FALSE,
+        );
+        let refused = |logger: Logger, why: String| {
+            logger.emit(
+                Status::Error,
+                "logStatusError",
+                &format!("fmi3InstantiateModelExchange: {why}; refused"),
+            );
+            std::ptr::null_mut()
+        };
+        if name.is_empty() {
+            return refused(logger, "instanceName is NULL or empty".into());
+        }
+        if M::STATES == 0 {
+            return refused(
+                logger,
+                "this FMU has no continuous states and provides Co-Simulation only".into(),
+            );
+        }
+        let resources = resources.filter(|r| !r.is_empty()).map(PathBuf::from);
+        match create::<M>(logger, true, token, resources) {
+            Ok(c) => c,
+            Err((logger, why)) => refused(logger, why.replace("GUID", "instantiationToken")),
+        }
+    }));
+    result.unwrap_or_else(|p| {
+        eprintln!(
+            "{}: fmi3InstantiateModelExchange: internal error: {}",
+            M::IDENTIFIER,
+            panic_text(&*p)
+        );
+        std::ptr::null_mut()
+    })
+}
+
+/// `fmi3InstantiateScheduledExecution`: not offered (no clocks); refused with the reason.
 ///
 /// # Safety
 /// As [`instantiate_co_simulation`].
-pub unsafe fn instantiate_other<M: Model>(
-    kind: &str,
+pub unsafe fn instantiate_scheduled_execution<M: Model>(
     instance_name: FmiString,
     env: InstanceEnvironment,
     log: LogMessageCallback,
 ) -> Instance {
     // SAFETY: NULL or a valid C string.
     let name = unsafe { c_str(instance_name) }.unwrap_or(M::IDENTIFIER);
-    let why = match kind {
-        "ModelExchange" => {
-            "this FMU's FMI 3.0 interface is Co-Simulation only (the FMI 2.0 FMU of the same model offers Model Exchange)"
-        }
-        _ => "Scheduled Execution is not offered (no clocks)",
-    };
     Logger::fmi3(log, env, name, false).emit(
         Status::Error,
         "logStatusError",
-        &format!("fmi3Instantiate{kind}: {why}; refused"),
+        "fmi3InstantiateScheduledExecution: Scheduled Execution is not offered (no clocks); refused",
     );
     std::ptr::null_mut()
 }
@@ -263,7 +314,7 @@ pub unsafe fn enter_event_mode<M: Model>(c: Instance) -> Status {
     // SAFETY: as entry.
     unsafe {
         entry::<M, _>(c, Call::EnterEventMode, |inst| {
-            if !inst.event_mode_used {
+            if !(inst.me.is_me || inst.event_mode_used) {
                 return Err("eventModeUsed was false at instantiation".into());
             }
             inst.me.mode = Mode::Event;
@@ -272,9 +323,10 @@ pub unsafe fn enter_event_mode<M: Model>(c: Instance) -> Status {
     }
 }
 
-/// `fmi3UpdateDiscreteStates`: the mechanisms' discrete outputs follow the shaft and the
-/// states at the event's time, so there is nothing to iterate: no update needed, no new
-/// event time, continuous states unchanged.
+/// `fmi3UpdateDiscreteStates`: Model Exchange: the model switches its discrete modes at the
+/// event (as `fmi2NewDiscreteStates`); Co-Simulation: the mechanisms' discrete outputs follow
+/// the shaft and the states at the event's time. Either way one pass: no further update, no
+/// new event time, continuous states unchanged.
 ///
 /// # Safety
 /// As [`entry`]; the out-pointers are NULL or valid.
@@ -289,7 +341,10 @@ pub unsafe fn update_discrete_states<M: Model>(
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M, _>(c, Call::UpdateDiscreteStates, |_| {
+        entry::<M, _>(c, Call::UpdateDiscreteStates, |inst| {
+            if inst.me.is_me {
+                inst.me_event()?;
+            }
             for p in [
                 update_needed,
                 terminate,
@@ -303,6 +358,96 @@ pub unsafe fn update_discrete_states<M: Model>(
             }
             if let Some(t) = next_time.as_mut() {
                 *t = 0.0;
+            }
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi3CompletedIntegratorStep` (Model Exchange): never asks for an event or the end.
+///
+/// # Safety
+/// As [`entry`]; the two flags point to an `fmi3Boolean` each.
+pub unsafe fn completed_integrator_step<M: Model>(
+    c: Instance,
+    _no_set_prior: Boolean,
+    enter_event_mode: *mut Boolean,
+    terminate: *mut Boolean,
+) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M, _>(c, Call::CompletedIntegratorStep, |inst| {
+            if enter_event_mode.is_null() || terminate.is_null() {
+                return Err("a result pointer is NULL".into());
+            }
+            inst.completed_step()?;
+            (*enter_event_mode, *terminate) = (FALSE, FALSE);
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi3GetNumberOfContinuousStates` and `fmi3GetNumberOfEventIndicators` (`call`).
+///
+/// # Safety
+/// As [`entry`]; `n` points to a `size_t`.
+pub unsafe fn number_of<M: Model>(c: Instance, call: Call, n: *mut usize) -> Status {
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M, _>(c, call, |_| {
+            let n = n.as_mut().ok_or("the result pointer is NULL")?;
+            *n = match call {
+                Call::GetNumberOfContinuousStates => M::STATES,
+                _ => M::EVENT_INDICATORS,
+            };
+            Ok(Status::Ok)
+        })
+    }
+}
+
+/// `fmi3GetFloat64`: the model's Real variables, and the variables FMI 3.0 adds after them:
+/// `time` (the instance's time) and, with Model Exchange, the event indicators.
+///
+/// # Safety
+/// As [`entry`]; arrays hold `nvr` elements.
+pub unsafe fn get_float64<M: Model>(
+    c: Instance,
+    vr: *const ValueReference,
+    nvr: usize,
+    values: *mut Float64,
+    n_values: usize,
+) -> Status {
+    let n = <M::Var as crate::model::VarSet>::table().len();
+    // SAFETY: as this function (a NULL array is refused by the call below).
+    let model_only =
+        unsafe { slice(vr, nvr, "vr") }.is_ok_and(|v| v.iter().all(|&r| (r as usize) < n));
+    if model_only {
+        // SAFETY: as this function.
+        return unsafe { get_float64_of_model::<M>(c, vr, nvr, values, n_values) };
+    }
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M, _>(c, Call::GetFloat64, |inst| {
+            scalars(nvr, n_values)?;
+            let vrs = slice(vr, nvr, "vr")?;
+            let out = slice_mut(values, nvr, "values")?;
+            let mut z: Option<Vec<f64>> = None;
+            for (o, &r) in out.iter_mut().zip(vrs) {
+                let r = r as usize;
+                *o = if r < n {
+                    let mut x = [0.0];
+                    inst.read_reals(&[r as u32], &mut x)?;
+                    x[0]
+                } else if r == n {
+                    inst.time
+                } else if r - n - 1 < M::EVENT_INDICATORS && M::STATES > 0 {
+                    if z.is_none() {
+                        z = Some(inst.event_indicators()?);
+                    }
+                    z.as_ref().expect("computed")[r - n - 1]
+                } else {
+                    return Err(format!("unknown value reference {r}"));
+                };
             }
             Ok(Status::Ok)
         })
@@ -380,8 +525,8 @@ macro_rules! typed_calls {
 }
 
 typed_calls! {
-    /// `fmi3GetFloat64`.
-    get_float64(*mut Float64) = get(GetFloat64, kinds::FLOAT64, |x| x);
+    /// `fmi3GetFloat64` of the model's variables ([`get_float64`]).
+    get_float64_of_model(*mut Float64) = get(GetFloat64, kinds::FLOAT64, |x| x);
     /// `fmi3GetInt32` (Integer variables).
     get_int32(*mut Int32) = get(GetInt32, kinds::INT32, |x| x as Int32);
     /// `fmi3GetInt64` (Enumeration variables).

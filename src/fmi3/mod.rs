@@ -91,17 +91,52 @@ macro_rules! __export_fmi3 {
                     nv: usize,
                 ) -> Status => rt::set_binary;
             }
+            $crate::__fmi3_forward! { M;
+                fmi3InstantiateModelExchange(
+                    name: FmiString,
+                    token: FmiString,
+                    resources: FmiString,
+                    visible: Boolean,
+                    logging_on: Boolean,
+                    env: InstanceEnvironment,
+                    log: LogMessageCallback,
+                ) -> Instance => rt::instantiate_model_exchange;
+                fmi3CompletedIntegratorStep(
+                    c: Instance,
+                    no_prior: Boolean,
+                    enter_event_mode: *mut Boolean,
+                    terminate: *mut Boolean,
+                ) -> Status => rt::completed_integrator_step;
+            }
+            // Model Exchange: the shared runtime's calls, told which FMI 3.0 call they serve
+            $crate::__fmi3_forward! { M; me:
+                fmi3EnterContinuousTimeMode(c: Instance)
+                    => enter_continuous_time_mode[EnterContinuousTimeMode];
+                fmi3SetTime(c: Instance, t: Float64) => set_time[SetTime];
+                fmi3SetContinuousStates(c: Instance, x: *const Float64, n: usize)
+                    => set_continuous_states[SetContinuousStates];
+                fmi3GetContinuousStateDerivatives(c: Instance, dx: *mut Float64, n: usize)
+                    => get_derivatives[GetContinuousStateDerivatives];
+                fmi3GetEventIndicators(c: Instance, z: *mut Float64, n: usize)
+                    => get_event_indicators[GetEventIndicators];
+                fmi3GetContinuousStates(c: Instance, x: *mut Float64, n: usize)
+                    => get_continuous_states[GetContinuousStates];
+                fmi3GetNominalsOfContinuousStates(c: Instance, x: *mut Float64, n: usize)
+                    => get_nominals[GetNominalsOfContinuousStates];
+            }
             #[unsafe(no_mangle)]
-            pub unsafe extern "C" fn fmi3InstantiateModelExchange(
-                name: FmiString,
-                _token: FmiString,
-                _resources: FmiString,
-                _visible: Boolean,
-                _logging_on: Boolean,
-                env: InstanceEnvironment,
-                log: LogMessageCallback,
-            ) -> Instance {
-                unsafe { rt::instantiate_other::<M>("ModelExchange", name, env, log) }
+            pub unsafe extern "C" fn fmi3GetNumberOfContinuousStates(
+                c: Instance,
+                n: *mut usize,
+            ) -> Status {
+                unsafe { rt::number_of::<M>(c, Call::GetNumberOfContinuousStates, n) }
+            }
+            #[unsafe(no_mangle)]
+            pub unsafe extern "C" fn fmi3GetNumberOfEventIndicators(
+                c: Instance,
+                n: *mut usize,
+            ) -> Status {
+                unsafe { rt::number_of::<M>(c, Call::GetNumberOfEventIndicators, n) }
             }
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi3InstantiateScheduledExecution(
@@ -116,7 +151,7 @@ macro_rules! __export_fmi3 {
                 _lock: PreemptionCallback,
                 _unlock: PreemptionCallback,
             ) -> Instance {
-                unsafe { rt::instantiate_other::<M>("ScheduledExecution", name, env, log) }
+                unsafe { rt::instantiate_scheduled_execution::<M>(name, env, log) }
             }
 
             // the FMU-state calls: the shared runtime's, told which call they serve
@@ -267,28 +302,6 @@ macro_rules! __export_fmi3 {
                 ) = SetShiftFraction, "this FMU has no clocks";
                 fmi3EvaluateDiscreteStates() = EvaluateDiscreteStates,
                     "providesEvaluateDiscreteStates is false";
-                fmi3EnterContinuousTimeMode() = EnterContinuousTimeMode,
-                    "a Model Exchange function";
-                fmi3CompletedIntegratorStep(
-                    _no_prior: Boolean,
-                    _enter_event_mode: *mut Boolean,
-                    _terminate: *mut Boolean,
-                ) = CompletedIntegratorStep, "a Model Exchange function";
-                fmi3SetTime(_t: Float64) = SetTime, "a Model Exchange function";
-                fmi3SetContinuousStates(_x: *const Float64, _n: usize)
-                    = SetContinuousStates, "a Model Exchange function";
-                fmi3GetContinuousStateDerivatives(_dx: *mut Float64, _n: usize)
-                    = GetContinuousStateDerivatives, "a Model Exchange function";
-                fmi3GetEventIndicators(_z: *mut Float64, _n: usize)
-                    = GetEventIndicators, "a Model Exchange function";
-                fmi3GetContinuousStates(_x: *mut Float64, _n: usize)
-                    = GetContinuousStates, "a Model Exchange function";
-                fmi3GetNominalsOfContinuousStates(_x: *mut Float64, _n: usize)
-                    = GetNominalsOfContinuousStates, "a Model Exchange function";
-                fmi3GetNumberOfEventIndicators(_n: *mut usize)
-                    = GetNumberOfEventIndicators, "a Model Exchange function";
-                fmi3GetNumberOfContinuousStates(_n: *mut usize)
-                    = GetNumberOfContinuousStates, "a Model Exchange function";
                 fmi3GetOutputDerivatives(
                     _vr: *const ValueReference,
                     _n: usize,
@@ -317,6 +330,20 @@ macro_rules! __fmi3_forward {
         pub unsafe extern "C" fn $name($c: $ct $(, $arg: $t)*) -> $crate::fmi3::types::Status {
             unsafe {
                 $crate::fmi2::runtime::$f::<$m, _>(
+                    $c,
+                    $crate::fmi3::state::Call::$call
+                    $(, $arg)*
+                )
+            }
+        }
+    )*};
+    ($m:ty; me: $(
+        $name:ident($c:ident: $ct:ty $(, $arg:ident: $t:ty)* $(,)?) => $f:ident[$call:ident];
+    )*) => {$(
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name($c: $ct $(, $arg: $t)*) -> $crate::fmi3::types::Status {
+            unsafe {
+                $crate::fmi2::runtime::me::$f::<$m, _>(
                     $c,
                     $crate::fmi3::state::Call::$call
                     $(, $arg)*

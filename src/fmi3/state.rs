@@ -4,6 +4,10 @@
 //! the FMI 3.0 way in messages: `StepComplete` is Step Mode, `StepFailed` Step Discarded.
 
 use crate::fmi2::runtime::{Api, Instance};
+use crate::fmi2::state::MeState::{
+    self, ContinuousTimeMode as Ct, Error as Er, EventMode as Ev, InitializationMode as In,
+    Instantiated as Is, Terminated as Te,
+};
 use crate::fmi2::state::State::{self, *};
 use crate::model::Model;
 
@@ -120,104 +124,146 @@ const READ: u16 = mask(&[
 /// Where values can be set.
 const SET: u16 = mask(&[Instantiated, InitializationMode, StepComplete, Terminated]) | EVENT_MODE;
 
-/// In which states of a Co-Simulation instance each call is legal (0: never, on this FMU's
-/// Co-Simulation interface: Model Exchange, configuration and clocks are not offered, and their
-/// calls are refused with the reason).
-pub const LEGAL: &[(Call, u16)] = {
+/// Model Exchange states, as the runtime's `MeState` bits.
+const ME_ANY: u8 = me_mask(&[Is, In, Ev, Ct, Te, Er]);
+const ME_READ: u8 = me_mask(&[In, Ev, Ct, Te, Er]);
+const ME_SET: u8 = me_mask(&[Is, In, Ev, Ct]);
+const ME_SET_DISCRETE: u8 = me_mask(&[Is, In, Ev]);
+
+/// The mask of some Model Exchange states.
+const fn me_mask(states: &[MeState]) -> u8 {
+    let mut m = 0;
+    let mut i = 0;
+    while i < states.len() {
+        m |= states[i] as u8;
+        i += 1;
+    }
+    m
+}
+
+/// In which states of each interface each call is legal: (call, Co-Simulation states, Model
+/// Exchange states); 0: never on that interface (configuration and clocks are not offered,
+/// and their calls are refused with the reason).
+pub const LEGAL: &[(Call, u16, u8)] = {
     use Call as C;
+    const NEVER: u8 = 0;
     &[
-        (C::SetDebugLogging, ANY),
-        (C::FreeInstance, ANY | Fatal as u16),
-        (C::EnterInitializationMode, mask(&[Instantiated])),
-        (C::ExitInitializationMode, mask(&[InitializationMode])),
-        (C::EnterEventMode, STEP),
-        (C::Terminate, STEP | EVENT_MODE | StepFailed as u16),
-        (C::Reset, ANY),
-        (C::GetFloat32, READ),
-        (C::GetFloat64, READ),
-        (C::GetInt8, READ),
-        (C::GetUInt8, READ),
-        (C::GetInt16, READ),
-        (C::GetUInt16, READ),
-        (C::GetInt32, READ),
-        (C::GetUInt32, READ),
-        (C::GetInt64, READ),
-        (C::GetUInt64, READ),
-        (C::GetBoolean, READ),
-        (C::GetString, READ),
-        (C::GetBinary, READ),
-        (C::GetClock, ANY),
-        (C::SetFloat32, SET),
-        (C::SetFloat64, SET),
-        (C::SetInt8, SET),
-        (C::SetUInt8, SET),
-        (C::SetInt16, SET),
-        (C::SetUInt16, SET),
-        (C::SetInt32, SET),
-        (C::SetUInt32, SET),
-        (C::SetInt64, SET),
-        (C::SetUInt64, SET),
-        (C::SetBoolean, SET),
-        (C::SetString, SET),
-        (C::SetBinary, SET),
-        (C::SetClock, ANY),
-        (C::GetNumberOfVariableDependencies, ANY),
-        (C::GetVariableDependencies, ANY),
-        (C::GetFMUState, ANY),
-        (C::SetFMUState, ANY),
-        (C::FreeFMUState, ANY),
-        (C::SerializedFMUStateSize, ANY),
-        (C::SerializeFMUState, ANY),
-        (C::DeserializeFMUState, ANY),
+        (C::SetDebugLogging, ANY, ME_ANY),
+        (C::FreeInstance, ANY | Fatal as u16, ME_ANY),
+        (
+            C::EnterInitializationMode,
+            mask(&[Instantiated]),
+            me_mask(&[Is]),
+        ),
+        (
+            C::ExitInitializationMode,
+            mask(&[InitializationMode]),
+            me_mask(&[In]),
+        ),
+        (C::EnterEventMode, STEP, me_mask(&[Ev, Ct])),
+        (
+            C::Terminate,
+            STEP | EVENT_MODE | StepFailed as u16,
+            me_mask(&[Ev, Ct]),
+        ),
+        (C::Reset, ANY, ME_ANY),
+        (C::GetFloat32, READ, ME_READ),
+        (C::GetFloat64, READ, ME_READ),
+        (C::GetInt8, READ, ME_READ),
+        (C::GetUInt8, READ, ME_READ),
+        (C::GetInt16, READ, ME_READ),
+        (C::GetUInt16, READ, ME_READ),
+        (C::GetInt32, READ, ME_READ),
+        (C::GetUInt32, READ, ME_READ),
+        (C::GetInt64, READ, ME_READ),
+        (C::GetUInt64, READ, ME_READ),
+        (C::GetBoolean, READ, ME_READ),
+        (C::GetString, READ, ME_READ),
+        (C::GetBinary, READ, ME_READ),
+        (C::GetClock, ANY, ME_ANY),
+        (C::SetFloat32, SET, ME_SET),
+        (C::SetFloat64, SET, ME_SET),
+        (C::SetInt8, SET, ME_SET_DISCRETE),
+        (C::SetUInt8, SET, ME_SET_DISCRETE),
+        (C::SetInt16, SET, ME_SET_DISCRETE),
+        (C::SetUInt16, SET, ME_SET_DISCRETE),
+        (C::SetInt32, SET, ME_SET_DISCRETE),
+        (C::SetUInt32, SET, ME_SET_DISCRETE),
+        (C::SetInt64, SET, ME_SET_DISCRETE),
+        (C::SetUInt64, SET, ME_SET_DISCRETE),
+        (C::SetBoolean, SET, ME_SET_DISCRETE),
+        (C::SetString, SET, ME_SET_DISCRETE),
+        (C::SetBinary, SET, ME_SET_DISCRETE),
+        (C::SetClock, ANY, ME_ANY),
+        (C::GetNumberOfVariableDependencies, ANY, ME_ANY),
+        (C::GetVariableDependencies, ANY, ME_ANY),
+        (C::GetFMUState, ANY, ME_ANY),
+        (C::SetFMUState, ANY, ME_ANY),
+        (C::FreeFMUState, ANY, ME_ANY),
+        (C::SerializedFMUStateSize, ANY, ME_ANY),
+        (C::SerializeFMUState, ANY, ME_ANY),
+        (C::DeserializeFMUState, ANY, ME_ANY),
         (
             C::GetDirectionalDerivative,
             mask(&[InitializationMode, StepComplete, Terminated]) | EVENT_MODE,
+            me_mask(&[In, Ev, Ct, Te]),
         ),
         (
             C::GetAdjointDerivative,
             mask(&[InitializationMode, StepComplete, Terminated]) | EVENT_MODE,
+            me_mask(&[In, Ev, Ct, Te]),
         ),
         (
             C::EnterConfigurationMode,
             mask(&[Instantiated, StepComplete]) | EVENT_MODE,
+            me_mask(&[Is, Ev]),
         ),
-        (C::ExitConfigurationMode, 0),
-        (C::GetIntervalDecimal, ANY),
-        (C::GetIntervalFraction, ANY),
-        (C::GetShiftDecimal, ANY),
-        (C::GetShiftFraction, ANY),
-        (C::SetIntervalDecimal, ANY),
-        (C::SetIntervalFraction, ANY),
-        (C::SetShiftDecimal, ANY),
-        (C::SetShiftFraction, ANY),
-        (C::EvaluateDiscreteStates, EVENT_MODE),
-        (C::UpdateDiscreteStates, EVENT_MODE),
-        (C::EnterContinuousTimeMode, 0),
-        (C::CompletedIntegratorStep, 0),
-        (C::SetTime, 0),
-        (C::SetContinuousStates, 0),
-        (C::GetContinuousStateDerivatives, 0),
-        (C::GetEventIndicators, 0),
-        (C::GetContinuousStates, 0),
-        (C::GetNominalsOfContinuousStates, 0),
-        (C::GetNumberOfEventIndicators, 0),
-        (C::GetNumberOfContinuousStates, 0),
-        (C::EnterStepMode, EVENT_MODE),
+        (C::ExitConfigurationMode, 0, NEVER),
+        (C::GetIntervalDecimal, ANY, ME_ANY),
+        (C::GetIntervalFraction, ANY, ME_ANY),
+        (C::GetShiftDecimal, ANY, ME_ANY),
+        (C::GetShiftFraction, ANY, ME_ANY),
+        (C::SetIntervalDecimal, ANY, ME_ANY),
+        (C::SetIntervalFraction, ANY, ME_ANY),
+        (C::SetShiftDecimal, ANY, ME_ANY),
+        (C::SetShiftFraction, ANY, ME_ANY),
+        (C::EvaluateDiscreteStates, EVENT_MODE, me_mask(&[Ev])),
+        (C::UpdateDiscreteStates, EVENT_MODE, me_mask(&[Ev])),
+        (C::EnterContinuousTimeMode, 0, me_mask(&[Ev])),
+        (C::CompletedIntegratorStep, 0, me_mask(&[Ct])),
+        (C::SetTime, 0, me_mask(&[Ev, Ct])),
+        (C::SetContinuousStates, 0, me_mask(&[Ct])),
+        (
+            C::GetContinuousStateDerivatives,
+            0,
+            me_mask(&[Ev, Ct, Te, Er]),
+        ),
+        (C::GetEventIndicators, 0, ME_READ),
+        (C::GetContinuousStates, 0, ME_READ),
+        (
+            C::GetNominalsOfContinuousStates,
+            0,
+            me_mask(&[Is, Ev, Ct, Te, Er]),
+        ),
+        (C::GetNumberOfEventIndicators, 0, ME_ANY),
+        (C::GetNumberOfContinuousStates, 0, ME_ANY),
+        (C::EnterStepMode, EVENT_MODE, NEVER),
         (
             C::GetOutputDerivatives,
             STEP | mask(&[StepFailed, Terminated]),
+            NEVER,
         ),
-        (C::DoStep, STEP),
-        (C::ActivateModelPartition, 0),
+        (C::DoStep, STEP, NEVER),
+        (C::ActivateModelPartition, 0, NEVER),
     ]
 };
 
 /// [`LEGAL`] indexed by the call, built at compile time.
-const BY_CALL: [u16; LEGAL.len()] = {
-    let mut t = [0; LEGAL.len()];
+const BY_CALL: [(u16, u8); LEGAL.len()] = {
+    let mut t = [(0, 0); LEGAL.len()];
     let mut i = 0;
     while i < LEGAL.len() {
-        t[LEGAL[i].0 as usize] = LEGAL[i].1;
+        t[LEGAL[i].0 as usize] = (LEGAL[i].1, LEGAL[i].2);
         i += 1;
     }
     t
@@ -226,7 +272,17 @@ const BY_CALL: [u16; LEGAL.len()] = {
 /// Is `call` legal in the state with these bits ([`bits`])?
 #[inline]
 pub fn allowed_in(call: Call, bits: u16) -> bool {
-    BY_CALL.get(call as usize).is_some_and(|&m| m & bits != 0)
+    BY_CALL
+        .get(call as usize)
+        .is_some_and(|&(m, _)| m & bits != 0)
+}
+
+/// Is `call` legal in `state` of a Model Exchange instance?
+#[inline]
+pub fn me_allowed(call: Call, state: MeState) -> bool {
+    BY_CALL
+        .get(call as usize)
+        .is_some_and(|&(_, m)| m & state as u8 != 0)
 }
 
 /// Is `call` legal in `state` of a Co-Simulation instance outside Event Mode?
@@ -244,6 +300,18 @@ pub fn bits<M: Model>(inst: &Instance<M>) -> u16 {
         EVENT_MODE
     } else {
         inst.state as u16
+    }
+}
+
+/// A Model Exchange state as FMI 3.0 names it.
+pub fn me_name(state: MeState) -> &'static str {
+    match state {
+        Is => "Instantiated",
+        In => "Initialization Mode",
+        Ev => "Event Mode",
+        Ct => "Continuous-Time Mode",
+        Te => "Terminated",
+        Er => "Error",
     }
 }
 
@@ -266,10 +334,29 @@ impl Api for Call {
     const PREFIX: &'static str = "fmi3";
     #[inline]
     fn allowed_now<M: Model>(self, inst: &Instance<M>) -> bool {
-        allowed_in(self, bits(inst))
+        if inst.me.is_me {
+            inst.me_state().is_some_and(|s| me_allowed(self, s))
+        } else {
+            allowed_in(self, bits(inst))
+        }
     }
     #[inline(never)]
     fn refusal<M: Model>(self, inst: &Instance<M>) -> Option<String> {
+        if inst.me.is_me {
+            let state = inst.me_state();
+            return (!state.is_some_and(|s| me_allowed(self, s))).then(|| {
+                let cs_only = BY_CALL[self as usize].1 == 0;
+                format!(
+                    "fmi3{self:?} is not allowed in state {}{}",
+                    state.map_or("?", me_name),
+                    if cs_only {
+                        " (a Co-Simulation function; this instance is Model Exchange)"
+                    } else {
+                        ""
+                    }
+                )
+            });
+        }
         let b = bits(inst);
         (!allowed_in(self, b)).then(|| {
             let why = match self {
@@ -280,7 +367,7 @@ impl Api for Call {
                     " (eventModeUsed was false at instantiation: never in Event Mode)"
                 }
                 Call::ActivateModelPartition => " (a Scheduled Execution function)",
-                c if BY_CALL[c as usize] == 0 => {
+                c if BY_CALL[c as usize].0 == 0 => {
                     " (a Model Exchange function; this instance is Co-Simulation)"
                 }
                 _ => "",
@@ -297,7 +384,7 @@ mod tests {
 
     #[test]
     fn every_call_has_one_entry_in_its_place() {
-        for (i, (c, _)) in LEGAL.iter().enumerate() {
+        for (i, (c, _, _)) in LEGAL.iter().enumerate() {
             assert_eq!(*c as usize, i, "{c:?} out of order");
         }
         assert_eq!(LEGAL.len(), Call::ActivateModelPartition as usize + 1);

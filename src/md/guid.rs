@@ -121,6 +121,7 @@ pub fn guid(info: &ModelInfo, vars: &[(u32, &Var)]) -> String {
         can_interpolate_inputs,
         // not in the FMI 2.0 description: the FMI 3.0 terminals name variables it states
         terminals: _,
+        variables: _,
     } = info;
     for s in [identifier, model_name, description] {
         h.str(s);

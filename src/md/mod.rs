@@ -92,6 +92,9 @@ pub struct ModelInfo {
     pub can_interpolate_inputs: bool,
     /// The terminals (FMI 3.0's `terminalsAndIcons.xml`; those whose variables are all listed).
     pub terminals: &'static [crate::model::shaft::Terminal],
+    /// The number of the model's variables (a tailored FMU lists some): FMI 3.0's independent
+    /// variable `time` has this value reference, its event indicators the next ones.
+    pub variables: u32,
 }
 
 impl ModelInfo {
@@ -105,6 +108,7 @@ impl ModelInfo {
             event_indicators: M::EVENT_INDICATORS as u32,
             can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS,
             terminals: M::TERMINALS,
+            variables: <M::Var as crate::model::VarSet>::table().len() as u32,
         }
     }
 }

@@ -38,6 +38,8 @@ struct Fmd {
     generation_date: &'static str,
     #[serde(rename = "@variableNamingConvention")]
     naming: &'static str,
+    #[serde(rename = "ModelExchange", skip_serializing_if = "Option::is_none")]
+    model_exchange: Option<ModelExch>,
     #[serde(rename = "CoSimulation")]
     co_simulation: CoSim,
     #[serde(rename = "UnitDefinitions")]
@@ -85,6 +87,29 @@ struct CoSim {
     early_return: bool,
     #[serde(rename = "@hasEventMode")]
     event_mode: bool,
+}
+
+/// The Model Exchange interface, where the model has continuous states (as in FMI 2.0).
+#[derive(Serialize)]
+struct ModelExch {
+    #[serde(rename = "@modelIdentifier")]
+    model_identifier: &'static str,
+    #[serde(rename = "@needsExecutionTool")]
+    needs_execution_tool: bool,
+    #[serde(rename = "@canBeInstantiatedOnlyOncePerProcess")]
+    once_per_process: bool,
+    #[serde(rename = "@canGetAndSetFMUState")]
+    get_set_state: bool,
+    #[serde(rename = "@canSerializeFMUState")]
+    serialize_state: bool,
+    #[serde(rename = "@providesDirectionalDerivatives")]
+    directional: bool,
+    #[serde(rename = "@providesAdjointDerivatives")]
+    adjoint: bool,
+    #[serde(rename = "@needsCompletedIntegratorStep")]
+    completed_step: bool,
+    #[serde(rename = "@providesEvaluateDiscreteStates")]
+    evaluate_discrete_states: bool,
 }
 
 #[derive(Serialize)]
@@ -161,7 +186,7 @@ enum Variable {
 #[derive(Serialize)]
 struct Attrs {
     #[serde(rename = "@name")]
-    name: &'static str,
+    name: String,
     #[serde(rename = "@valueReference")]
     vr: u32,
     #[serde(rename = "@description", skip_serializing_if = "str::is_empty")]
@@ -192,6 +217,8 @@ struct ModelStructure {
     derivatives: Vec<Unknown>,
     #[serde(rename = "InitialUnknown")]
     initial: Vec<Unknown>,
+    #[serde(rename = "EventIndicator")]
+    event_indicators: Vec<Unknown>,
 }
 
 #[derive(Serialize)]
@@ -206,7 +233,7 @@ struct Unknown {
 fn variable(vr: u32, v: &Var) -> Variable {
     let integer = |x: Option<f64>| x.map(|x| (x as i64).to_string());
     let mut a = Attrs {
-        name: v.name,
+        name: v.name.to_string(),
         vr,
         description: v.description,
         causality: causality_str(v.causality),
@@ -274,10 +301,19 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
         }
     }
     floats.sort_by(|a, b| a.name.cmp(&b.name));
-    // the independent variable, after every value reference of the model's
-    let time_vr = vars.iter().map(|(r, _)| r + 1).max().unwrap_or(0);
+    // the independent variable, after every value reference of the model's, and the event
+    // indicators of Model Exchange after it
+    let time_vr = info
+        .variables
+        .max(vars.iter().map(|(r, _)| r + 1).max().unwrap_or(0));
+    let model_exchange = vars.iter().any(|(_, v)| v.derivative.is_some());
+    let indicators = if model_exchange {
+        info.event_indicators
+    } else {
+        0
+    };
     let mut variables = vec![Variable::Float64(Attrs {
-        name: "time",
+        name: "time".into(),
         vr: time_vr,
         description: "Simulation time",
         causality: "independent",
@@ -290,6 +326,21 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
         derivative: None,
     })];
     variables.extend(vars.iter().map(|(vr, v)| variable(*vr, v)));
+    for k in 0..indicators {
+        variables.push(Variable::Float64(Attrs {
+            name: format!("event.indicator_{}", k + 1),
+            vr: time_vr + 1 + k,
+            description: "Event indicator of Model Exchange: a state event where it changes sign (a contact opening or closing, the knife entering or leaving the stack)",
+            causality: "local",
+            variability: "continuous",
+            initial: Some("calculated"),
+            declared_type: None,
+            min: None,
+            max: None,
+            start: None,
+            derivative: None,
+        }));
+    }
     let unknown = |vr: u32, dependencies: Option<String>| Unknown { vr, dependencies };
     let outputs = (vars.iter())
         .filter(|(_, v)| v.causality == Causality::Output)
@@ -313,6 +364,9 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
         })
         .map(|(vr, _)| unknown(*vr, None))
         .collect();
+    let event_indicators = (0..indicators)
+        .map(|k| unknown(time_vr + 1 + k, None))
+        .collect();
     Fmd {
         fmi_version: "3.0",
         model_name: info.model_name,
@@ -325,6 +379,17 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
         generation_tool: format!("bindery-fmu {}", env!("CARGO_PKG_VERSION")),
         generation_date: VERSION_DATE,
         naming: "structured",
+        model_exchange: model_exchange.then_some(ModelExch {
+            model_identifier: info.identifier,
+            needs_execution_tool: false,
+            once_per_process: false,
+            get_set_state: true,
+            serialize_state: true,
+            directional: false,
+            adjoint: false,
+            completed_step: true,
+            evaluate_discrete_states: false,
+        }),
         co_simulation: CoSim {
             model_identifier: info.identifier,
             needs_execution_tool: false,
@@ -352,6 +417,7 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
             outputs,
             derivatives,
             initial,
+            event_indicators,
         },
     }
 }

@@ -421,6 +421,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         // shaft angle as an input (not with a constant-speed drive)
         can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS && exposed[shaft::PHI as usize],
         terminals: M::TERMINALS,
+        variables: <M::Var as crate::model::VarSet>::table().len() as u32,
     };
     let refs: Vec<(u32, &Var)> = variables.iter().map(|(vr, v)| (*vr, v)).collect();
     let guid = md::guid::guid(&info, &refs);

@@ -112,6 +112,35 @@ impl Fmu3 {
         self.instance_with(name, false, false)
     }
 
+    /// A Model Exchange instance with the right token and a recording logger.
+    pub fn me_instance(&self, name: &str) -> Inst3<'_> {
+        type Me = unsafe extern "C" fn(
+            FmiString,
+            FmiString,
+            FmiString,
+            Boolean,
+            Boolean,
+            InstanceEnvironment,
+            LogMessageCallback,
+        ) -> Instance;
+        let env = new_env();
+        let f: Symbol<Me> = self.sym("fmi3InstantiateModelExchange");
+        let (n, t) = (cstr(name), cstr(&self.token));
+        let c = unsafe {
+            f(
+                n.as_ptr(),
+                t.as_ptr(),
+                std::ptr::null(),
+                FALSE,
+                FALSE,
+                env as *mut c_void,
+                Some(record),
+            )
+        };
+        assert!(!c.is_null(), "instantiate refused: {:?}", logs_of(env));
+        Inst3 { fmu: self, c, env }
+    }
+
     /// A Co-Simulation instance using Event Mode or not, allowing early return or not.
     pub fn instance_with(&self, name: &str, event_mode: bool, early: bool) -> Inst3<'_> {
         let n = CString::new(name).unwrap();

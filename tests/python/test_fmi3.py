@@ -394,3 +394,49 @@ def test_reference_results_inside_the_fmu(model, version, tmp_path):
     for n in columns:
         columns_close(inside[n], host[n], rtol=1e-12, name=f"{n} (FMPy's run of the FMU)")
         columns_close(inside[n], committed[n], rtol=1e-9, name=f"{n} (committed cross-check result)")
+
+
+# --- Model Exchange ------------------------------------------------------------------------------
+
+ME_MODELS = [m for m in MODELS if "<ModelExchange" in (MD_DIR / f"{m}.xml").read_text()]
+
+
+@pytest.mark.parametrize("model", ME_MODELS)
+def test_fmi3_model_exchange_equals_fmi2(model):
+    """FMPy's Model Exchange run (CVode, events located by FMPy) of the cross-check inputs at
+    the model's highest level: the FMI 3.0 FMU gives the FMI 2.0 FMU's rows, bit for bit."""
+    paths = cross_check_paths(model)
+    opt = read_ref_opt_file(str(paths["opt"]))
+    ex2, ex3 = Extracted.of(FMU_DIR / f"{model}.fmu"), Extracted.of(fmu3(model))
+    assert ex3.md.modelExchange is not None
+    assert len(ex3.md.eventIndicators) == ex2.md.numberOfEventIndicators
+    outputs = ex2.outputs(types=("Real", "Integer", "Boolean"))
+    level = {"model.fidelity": 3} if "model.fidelity" in ex2.vars else {}
+    kw = dict(start_time=opt["StartTime"], stop_time=min(opt["StopTime"], 0.3), output_interval=opt["StepSize"],
+              relative_tolerance=opt["RelTol"] / 100, input=read_csv(str(paths["in"])), output=outputs,
+              start_values=level, fmi_type="ModelExchange")
+    r2, r3 = ex2.simulate(**kw), ex3.simulate(**kw)
+    assert len(r2) == len(r3) > 30
+    for name in ["time"] + outputs:
+        a, b = np.asarray(r2[name], dtype=float), np.asarray(r3[name], dtype=float)
+        assert np.array_equal(a.view(np.uint64), b.view(np.uint64)), f"{name}: {a[a != b][:3]} vs {b[a != b][:3]}"
+
+
+def test_fmi_sim_runs_the_fmi3_main_shaft_in_model_exchange(tmp_path):
+    """fmi-sim's FMI 3.0 Model Exchange (forward Euler) of MainShaft, whose states move at its
+    only level, agrees with FMPy's Euler run of the same FMU to the cross-check tolerance."""
+    fmi_sim()
+    model = "MainShaft"
+    paths = cross_check_paths(model)
+    opt = read_ref_opt_file(str(paths["opt"]))
+    path = fmu3(model)
+    ex = Extracted.of(path)
+    case = Case(path, "ModelExchange", {}, paths["in"], opt["StopTime"], opt["StepSize"], opt["RelTol"])
+    outputs = ex.outputs(types=("Float64", "Int32", "Boolean"))
+    from test_fmi_sim import last_row_per_time
+    result = last_row_per_time(run_fmi_sim(case, tmp_path / "out.csv"))
+    reference = run_fmpy(ex, case, outputs)
+    assert len(result["time"]) == len(reference)
+    for name in outputs:
+        if ex.vars[name].type == "Float64":
+            columns_close(result[name], reference[name], rtol=case.rel_tol, name=name)
