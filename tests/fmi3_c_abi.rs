@@ -1006,6 +1006,8 @@ fn early_return_stops_exactly_at_each_event() {
         };
         let (mut t, stop, h) = (0.0, rows[rows.len() - 1][0], rows[1][0] - rows[0][0]);
         let (mut events, mut changes, mut last_bits) = (vec![], vec![], None);
+        // (which event output, rose) of the early returns
+        let mut kinds = std::collections::BTreeSet::new();
         while t < stop - 1e-12 {
             let step = h.min(stop - t);
             i.ok(i.set("fmi3SetFloat64", &inputs, &input_at(t)), "inputs");
@@ -1060,6 +1062,11 @@ fn early_return_stops_exactly_at_each_event() {
                 probe.ok(probe.do_step(t, last - t).0, "probe");
                 assert_eq!(event_bits(&probe, &e), after, "{} at {last}", e.identifier);
                 events.push(last);
+                for (j, (b, a)) in before.iter().zip(&after).enumerate() {
+                    if b != a {
+                        kinds.insert((j, a > b || (*a == 1 && *b > 1)));
+                    }
+                }
                 i.ok(i.call0("fmi3EnterEventMode"), "event mode");
                 i.ok(i.update_discrete_states().0, "update");
                 i.ok(i.call0("fmi3EnterStepMode"), "step mode");
@@ -1067,6 +1074,32 @@ fn early_return_stops_exactly_at_each_event() {
                 assert_eq!(last, t + step);
             }
             t = last;
+        }
+        let marked: Vec<&str> = (vars(&e).into_iter())
+            .filter(|(_, v)| v.event)
+            .map(|(_, v)| v.name)
+            .collect();
+        let seen = |name: &str, rose: bool| {
+            let j = marked.iter().position(|n| *n == name).unwrap();
+            kinds.contains(&(j, rose))
+        };
+        match e.identifier {
+            // the cut's start and its cut-through, the roller entering and leaving the slots
+            "GenevaKnifeDrive" => {
+                for (name, rose) in [("knife.in_stack", true), ("knife.in_stack", false)] {
+                    assert!(seen(name, rose), "Geneva: {name} rising {rose}: {kinds:?}");
+                }
+            }
+            // a lift-off and a landing
+            "Perforators" => {
+                for (name, rose) in [("contact.open", true), ("contact.open", false)] {
+                    assert!(
+                        seen(name, rose),
+                        "Perforators: {name} rising {rose}: {kinds:?}"
+                    );
+                }
+            }
+            _ => {}
         }
         assert!(
             !events.is_empty(),

@@ -77,6 +77,8 @@ crate::model_variables! {
             elastic_xd = ("elastic.xd", "m/s", "State: knife velocity (elastodynamic level)") => der_elastic_xd "m/s2",
             elastic_W = ("elastic.W", "J", "State: work done on knife and chain spring by drive, gravity, cutting, friction and damping (for the energy balance)") => der_elastic_W "W",
         ) },
+        // ---- events (FMI 3.0 early return)
+        knife_in_stack = Var::bool_output("knife.in_stack", "True while the knife cuts: descending through the stack, cut.s_start <= knife.s <= cut.s_end (elastodynamic level: while the stack resists, knife.F_cut > 0): it rises at the cut's start and falls at the cut-through").depends(ON_PHI_W).event(),
     }
 }
 
@@ -239,6 +241,7 @@ impl Model for GenevaKnifeDrive {
         let k = p.kinematics_of(&self.geneva, s.phi, s.w, s.a);
         Self::write_kinematics(v, &k);
         v[V::knife_s_kin] = k.s;
+        v.set_flag(V::knife_in_stack, p.in_stack(k.s, k.v));
         if let Some(d) = self.dynamic.as_ref() {
             let path = shaft::path(v, time);
             let ode = d.ode(p, path, v);
@@ -308,6 +311,7 @@ fn elastic_outputs(p: &Params, v: &mut Values<V>, pt: &Point, w: f64, eps: f64) 
     v[V::elastic_deflection] = pt.delta;
     v[V::elastic_F] = pt.f_el;
     v[V::knife_F_cut] = pt.f_cut;
+    v.set_flag(V::knife_in_stack, pt.f_cut > 0.0);
     v[V::knife_F_inertia] = -p.slider_mass() * pt.xdd;
     let rod_f = pt.f_el / k.cos_nu;
     v[V::rod_F] = rod_f;

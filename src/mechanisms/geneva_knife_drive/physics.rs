@@ -389,13 +389,18 @@ impl Params {
         }
     }
 
+    /// Is the knife in the stack: descending (`v > 0`) with `s ∈ [s_start, s_end]`?
+    #[inline]
+    pub fn in_stack(&self, s: f64, v: f64) -> bool {
+        v > 0.0 && s >= self.cut_s_start && s <= self.cut_s_end
+    }
+
     /// Cutting resistance on the knife (spec, Kinetostatics): 0 unless the knife descends
     /// (`v > 0`) with `s ∈ [s_start, s_end]`; rises linearly from 0 at `s_start` to `F_max` at
     /// `s_full`, then stays at `F_max` until `s_end` (cut through). N, ≥ 0.
     #[inline]
     pub fn cut_force(&self, s: f64, v: f64) -> f64 {
-        let in_stack = v > 0.0 && s >= self.cut_s_start && s <= self.cut_s_end;
-        if !in_stack {
+        if !self.in_stack(s, v) {
             0.0
         } else if s >= self.cut_s_full {
             self.cut_f_max

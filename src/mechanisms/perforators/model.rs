@@ -139,6 +139,8 @@ crate::model_variables! {
         made_d_rod = Var::parameter("made.d_rod", 0.0, "m", "Rod length as made minus its design length synth.lambda1*synth.unit (a manufacturing deviation: the ramp stays cut for the design, the needles' travel follows the made linkage)").min(-0.005).max(0.005),
         made_d_arm = Var::parameter("made.d_arm", 0.0, "m", "Lever arm to the rod as made minus its design length synth.lambda3*synth.unit (a manufacturing deviation, as made.d_rod)").min(-0.005).max(0.005),
         made_d_line = Var::parameter("made.d_line", 0.0, "m", "Distance of the carriage line from the lever pivot as made minus its design synth.lambda2*synth.unit (a manufacturing deviation, as made.d_rod)").min(-0.005).max(0.005),
+        // ---- events (FMI 3.0 early return)
+        contact_open = Var::bool_output("contact.open", "True while the roller is off the ramp (contact.penetration < 0): it rises at a lift-off, falls at a landing (elastodynamic level; false at the others)").needs(stage::ELASTIC).event(),
     }
 }
 
@@ -323,6 +325,7 @@ impl Perforators {
         };
         v[V::elastic_deflection] = y[0];
         v[V::contact_pen] = pt.pen;
+        v.set_flag(V::contact_open, pt.pen < 0.0);
         v[V::elastic_F] = pt.f_c;
         let f_rigid = ode.rigid_force(&pt.rigid);
         v[V::roller_F_kin] = f_rigid;
@@ -425,6 +428,7 @@ impl Model for Perforators {
         }
         v[V::elastic_deflection] = 0.0;
         v[V::contact_pen] = 0.0;
+        v.set_flag(V::contact_open, false);
         v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS) {
             let f = d.forces_with(&k, v.wants(stage::HERTZ));

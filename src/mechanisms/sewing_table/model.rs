@@ -122,6 +122,8 @@ crate::model_variables! {
             elastic_xd = ("elastic.xd", "m/s", "State: table velocity (elastodynamic level)") => der_elastic_xd "m/s2",
             elastic_W = ("elastic.W", "J", "State: work done on table and follower spring by cam, guides, damping and table.F_ext (for the energy balance)") => der_elastic_W "W",
         ) },
+        // ---- events (FMI 3.0 early return)
+        contact_open = Var::bool_output("contact.open", "True while the roller crosses the slot's play, off both flanks: it rises when the roller leaves a flank, falls when it lands on one (elastodynamic level with cam.clearance; false otherwise)").needs(stage::ELASTIC).event(),
     }
 }
 
@@ -321,6 +323,7 @@ impl Model for SewingTable {
             v[V::cam_theta] = k.theta;
             v[V::elastic_deflection] = pt.delta;
             v[V::elastic_F] = pt.f_c;
+            v.set_flag(V::contact_open, pt.pen < 0.0);
             let rigid = if v.wants(stage::FLANK.or(stage::HERTZ)) {
                 p.forces_with(&k, st.a, f_ext, v.wants(stage::HERTZ))
             } else {
