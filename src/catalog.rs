@@ -109,19 +109,26 @@ pub fn scene_fmu(
     binaries: &dyn Fn(&str) -> Result<crate::package::Binaries, String>,
     date: &str,
 ) -> Result<(String, Vec<u8>), String> {
-    scene_fmu_of(text, binaries, date, crate::package::Fmi::V2)
+    scene_fmu_of(text, binaries, date, crate::package::Fmi::V2, None)
 }
 
 /// [`scene_fmu`] as an FMU of FMI version `fmi` (the same binary, scene and documentation; the
-/// description of that version).
+/// description of that version), with its reference results (FMI-LS-REF) if `inputs` gives
+/// the mechanism's cross-check inputs (`<Model>_in.csv`): the scene's default experiment on
+/// the inputs the scene lists ([`scene_reference`]).
 pub fn scene_fmu_of(
     text: &str,
     binaries: &dyn Fn(&str) -> Result<crate::package::Binaries, String>,
     date: &str,
     fmi: crate::package::Fmi,
+    inputs: Option<&str>,
 ) -> Result<(String, Vec<u8>), String> {
     let scene = Scene::parse(text).map_err(|e| e.to_string())?;
     let (entry, t) = tailor(&scene).map_err(|e| e.to_string())?;
+    let extra = match inputs {
+        Some(csv) => scene_reference(&entry, &t, csv)?,
+        None => vec![],
+    };
     let fmu = crate::package::FmuContents {
         identifier: t.identifier.clone(),
         model_description: crate::md::stamp(
@@ -138,7 +145,40 @@ pub fn scene_fmu_of(
         terminals: (fmi == crate::package::Fmi::V3)
             .then(|| crate::md::terminals::terminals_and_icons(t.info.terminals, &t.refs())),
         fmi,
-        extra: vec![],
+        extra,
     };
     Ok((t.identifier, fmu.to_zip()?))
+}
+
+/// The reference results of a scene's FMU: the mechanism run natively with the scene's start
+/// values and stages over the scene's default experiment, on the columns of the cross-check
+/// inputs `csv` that the scene lists (none for a constant-speed drive), every Real output the
+/// scene lists recorded.
+pub fn scene_reference(
+    entry: &Entry,
+    t: &Tailored,
+    csv: &str,
+) -> Result<Vec<(String, Vec<u8>)>, String> {
+    use crate::model::Causality;
+    let listed = |c: Causality| -> Vec<&str> {
+        (t.variables.iter())
+            .filter(|(_, v)| v.causality == c && v.ty == crate::model::VarType::Real)
+            .map(|(_, v)| v.name)
+            .collect()
+    };
+    let input = crate::reference::columns(csv, &listed(Causality::Input));
+    let outputs: Vec<String> = (listed(Causality::Output).into_iter())
+        .map(String::from)
+        .collect();
+    let e = t.info.experiment;
+    let x = crate::reference::Experiment {
+        input_csv: &input,
+        start: e.start,
+        stop: e.stop,
+        step: e.step,
+        outputs: &outputs,
+        tailored: Some((&t.start, t.stages)),
+    };
+    let out = (entry.reference)(&x).map_err(|err| format!("{}: {err}", t.identifier))?;
+    Ok(crate::reference::files(&t.identifier, &x, out))
 }

@@ -7,7 +7,9 @@
 //! The build computes them with the FMU's own code, stepped as an FMI host's Co-Simulation
 //! loop steps the FMU: the inputs of `t_k` set, [`Model::step`] over `h`, the outputs evaluated
 //! at `t_k + h` (the first row after initialization at the inputs of the start time). The tests
-//! check them against a host's run of the built FMU and the committed cross-check results.
+//! check them against a host's run of the built FMU (bit for bit) and the committed
+//! cross-check results. A scene's FMU: the scene's start values and stages, its default
+//! experiment, the mechanism's cross-check inputs it lists (`crate::catalog::scene_reference`).
 
 use crate::model::{Log, Model, NoLog, Values, VarSet, check_bounds};
 
@@ -23,6 +25,8 @@ pub struct Experiment<'a> {
     pub step: f64,
     /// The outputs to record (the columns of `<Model>_ref.csv`).
     pub outputs: &'a [String],
+    /// A tailored FMU's start values and stages (its scene's), else the model's.
+    pub tailored: Option<(&'a [f64], crate::model::Stages)>,
 }
 
 /// The columns of a CSV header, unquoted.
@@ -42,7 +46,10 @@ pub fn run<M: Model>(x: &Experiment) -> Result<String, String> {
             .position(|v| v.name == name)
             .ok_or_else(|| format!("{}: no variable {name:?}", M::IDENTIFIER))
     };
-    let inputs: Vec<usize> = names[1..].iter().map(|n| vr(n)).collect::<Result<_, _>>()?;
+    let inputs: Vec<usize> = (names.iter().skip(1))
+        .filter(|n| !n.is_empty())
+        .map(|n| vr(n))
+        .collect::<Result<_, _>>()?;
     let outputs: Vec<usize> = x.outputs.iter().map(|n| vr(n)).collect::<Result<_, _>>()?;
     let rows: Vec<Vec<f64>> = (x.input_csv.lines().skip(1))
         .filter(|l| !l.trim().is_empty())
@@ -52,20 +59,31 @@ pub fn run<M: Model>(x: &Experiment) -> Result<String, String> {
                 .collect()
         })
         .collect::<Result<_, _>>()?;
-    // the inputs at time t: the table's rows, linear in between (as a host interpolates them)
+    // the inputs at time t: the table's rows, linear in between and held before the first and
+    // after the last, in a host's arithmetic (FMPy's: w0*v0 + w1*v1 with w0 = (t1 - t)/(t1 - t0)),
+    // so that a host's run over the same inputs gives these rows
     let input_at = |t: f64| -> Vec<f64> {
-        let k = rows.iter().rposition(|r| r[0] <= t).unwrap_or(0);
-        let k = k.min(rows.len().saturating_sub(2));
-        let (r0, r1) = (&rows[k], &rows[(k + 1).min(rows.len() - 1)]);
-        let f = if r1[0] > r0[0] {
-            (t - r0[0]) / (r1[0] - r0[0])
-        } else {
-            0.0
-        };
-        (1..r0.len()).map(|j| r0[j] + f * (r1[j] - r0[j])).collect()
+        let i1 = rows.partition_point(|r| r[0] < t);
+        if rows.is_empty() {
+            return vec![];
+        }
+        if i1 == 0 || rows.len() < 2 {
+            return rows[0][1..].to_vec();
+        }
+        if i1 == rows.len() {
+            return rows[rows.len() - 1][1..].to_vec();
+        }
+        let (r0, r1) = (&rows[i1 - 1], &rows[i1]);
+        let w0 = (r1[0] - t) / (r1[0] - r0[0]);
+        let w1 = 1.0 - w0;
+        (1..r0.len()).map(|j| w0 * r0[j] + w1 * r1[j]).collect()
     };
     let mut log = NoLog;
     let mut v = Values::<M::Var>::start();
+    if let Some((start, stages)) = x.tailored {
+        v.raw_mut().copy_from_slice(start);
+        v.stages = stages;
+    }
     let set = |v: &mut Values<M::Var>, t: f64| {
         for (&i, x) in inputs.iter().zip(input_at(t)) {
             v.raw_mut()[i] = x;
@@ -109,6 +127,44 @@ pub fn run<M: Model>(x: &Experiment) -> Result<String, String> {
     Ok(out)
 }
 
+/// The columns of `csv` (`time` first) that are in `keep`, and the rows, as CSV text.
+pub fn columns(csv: &str, keep: &[&str]) -> String {
+    let head = header(csv);
+    let idx: Vec<usize> = (0..head.len())
+        .filter(|&j| j == 0 || keep.contains(&head[j].as_str()))
+        .collect();
+    let mut out = String::new();
+    for (i, line) in csv.lines().filter(|l| !l.trim().is_empty()).enumerate() {
+        let cells: Vec<&str> = line.split(',').collect();
+        let picked: Vec<String> = (idx.iter())
+            .map(|&j| match i {
+                0 => format!("\"{}\"", head[j]),
+                _ => cells[j].trim().to_string(),
+            })
+            .collect();
+        out.push_str(&picked.join(","));
+        out.push('\n');
+    }
+    out
+}
+
+/// The files of FMI-LS-REF in `extra/` for model (or scene FMU) `name`: the manifest, the
+/// result and the inputs it ran on.
+pub fn files(name: &str, x: &Experiment, result: String) -> Vec<(String, Vec<u8>)> {
+    let folder = FOLDER.trim_start_matches("extra/");
+    vec![
+        (
+            format!("{folder}/fmi-ls-manifest.xml"),
+            manifest(name, x.start, x.stop, x.step).into_bytes(),
+        ),
+        (format!("{folder}/{name}_out.csv"), result.into_bytes()),
+        (
+            format!("{folder}/{name}_in.csv"),
+            x.input_csv.as_bytes().to_vec(),
+        ),
+    ]
+}
+
 /// `fmi-ls-manifest.xml` of FMI-LS-REF naming the result and the inputs it ran on.
 pub fn manifest(model: &str, start: f64, stop: f64, step: f64) -> String {
     format!(
@@ -119,7 +175,7 @@ pub fn manifest(model: &str, start: f64, stop: f64, step: f64) -> String {
     fmi-ls:fmi-ls-version="1.0.0-alpha.1"
     fmi-ls:fmi-ls-description="Reference results of the cross-check experiment">
   <Related type="text/csv" source="{model}_out.csv" role="result" description="Outputs of the cross-check experiment: Co-Simulation from {start:?} s to {stop:?} s in steps of {step:?} s, the inputs of {model}_in.csv at each step's start (the first row: after initialization)"/>
-  <Related type="text/csv" source="{model}_in.csv" role="input" description="The inputs of the cross-check experiment, linear between rows"/>
+  <Related type="text/csv" source="{model}_in.csv" role="input" description="The inputs the result ran on: linear between rows, held after the last"/>
 </fmiReferences>
 "#
     )

@@ -306,23 +306,14 @@ fn reference_files(e: &Entry) -> Result<Vec<(String, Vec<u8>)>, String> {
         stop,
         step,
         outputs: &outputs,
+        tailored: None,
     };
     let out = (e.reference)(&experiment).map_err(|err| format!("{}: {err}", e.identifier))?;
-    let folder = "org.fmi-standard.fmi-ls-ref";
-    Ok(vec![
-        (
-            format!("{folder}/fmi-ls-manifest.xml"),
-            bindery_fmu::reference::manifest(e.identifier, start, stop, step).into_bytes(),
-        ),
-        (
-            format!("{folder}/{}_out.csv", e.identifier),
-            out.into_bytes(),
-        ),
-        (
-            format!("{folder}/{}_in.csv", e.identifier),
-            input.into_bytes(),
-        ),
-    ])
+    Ok(bindery_fmu::reference::files(
+        e.identifier,
+        &experiment,
+        out,
+    ))
 }
 
 /// Exports every scene (all of `scenes/` when none is named): checks every file first, then

@@ -363,10 +363,10 @@ LS_REF = "extra/org.fmi-standard.fmi-ls-ref"
 def test_reference_results_inside_the_fmu(model, version, tmp_path):
     """Every FMU (FMI 2.0 and 3.0) carries its reference results in FMI-LS-REF's layout:
     `fmi-ls-manifest.xml` naming `<Model>_out.csv` (role result) and the inputs it ran on. The
-    build computed them with the FMU's code; they equal FMPy's run of the FMU itself over those
-    inputs (to 1e-12 of each column's scale: the hosts interpolate the input file in their own
-    arithmetic) and the committed cross-check result (1e-9), which the closed-form tests hold
-    against the papers."""
+    build computed them with the FMU's code, stepping it as a host does (the inputs interpolated
+    in FMPy's arithmetic); they equal FMPy's run of the FMU itself over those inputs bit for bit,
+    and the committed cross-check result to 1e-9, which the closed-form tests hold against the
+    papers."""
     import zipfile
     from lxml import etree
     path = (FMU3_DIR if version == "3.0" else FMU_DIR) / f"{model}.fmu"
@@ -393,7 +393,8 @@ def test_reference_results_inside_the_fmu(model, version, tmp_path):
     assert len(inside) == len(host) == len(committed)
     np.testing.assert_allclose(inside["time"], host["time"], rtol=0, atol=1e-12)
     for n in columns:
-        columns_close(inside[n], host[n], rtol=1e-12, name=f"{n} (FMPy's run of the FMU)")
+        a, b = np.asarray(inside[n], dtype=float), np.asarray(host[n], dtype=float)
+        assert np.array_equal(a.view(np.uint64), b.view(np.uint64)), f"{n}: {a[a != b][:3]} vs {b[a != b][:3]}"
         columns_close(inside[n], committed[n], rtol=1e-9, name=f"{n} (committed cross-check result)")
 
 
@@ -441,3 +442,33 @@ def test_fmi_sim_runs_the_fmi3_main_shaft_in_model_exchange(tmp_path):
     for name in outputs:
         if ex.vars[name].type == "Float64":
             columns_close(result[name], reference[name], rtol=case.rel_tol, name=name)
+
+
+@pytest.mark.parametrize("scene", SCENES)
+def test_reference_results_inside_the_scene_fmus(scene, tmp_path):
+    """A scene's FMUs (FMI 2.0 and 3.0) carry reference results too: the scene's default
+    experiment on the mechanism's cross-check inputs the scene lists (none with a constant-speed
+    drive), every Real output it lists; FMPy's run of the FMU over those inputs gives them bit
+    for bit."""
+    import zipfile
+    for path in _scene_fmus(scene):
+        ident = path.stem
+        with zipfile.ZipFile(path) as z:
+            names = z.namelist()
+            for f in ("fmi-ls-manifest.xml", f"{ident}_out.csv", f"{ident}_in.csv"):
+                assert f"{LS_REF}/{f}" in names, (path, f)
+                (tmp_path / f).write_bytes(z.read(f"{LS_REF}/{f}"))
+        inside = read_csv(str(tmp_path / f"{ident}_out.csv"))
+        columns = [n for n in inside.dtype.names if n != "time"]
+        ex = Extracted.of(path)
+        de = ex.md.defaultExperiment
+        stimuli = read_csv(str(tmp_path / f"{ident}_in.csv"))
+        kw = dict(start_time=float(de.startTime), stop_time=float(de.stopTime),
+                  output_interval=float(de.stepSize), output=columns, fmi_type="CoSimulation")
+        if len(stimuli.dtype.names) > 1:
+            kw["input"] = stimuli
+        host = ex.simulate(**kw)
+        assert len(inside) == len(host)
+        for n in columns:
+            a, b = np.asarray(inside[n], dtype=float), np.asarray(host[n], dtype=float)
+            assert np.array_equal(a.view(np.uint64), b.view(np.uint64)), f"{ident} {n}"

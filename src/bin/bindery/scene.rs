@@ -63,6 +63,15 @@ pub fn export(
     fmi: bindery_fmu::package::Fmi,
 ) -> Result<(String, Vec<u8>), String> {
     let text = std::fs::read_to_string(path).map_err(|e| format!("{}: {e}", path.display()))?;
-    catalog::scene_fmu_of(&text, binaries, date, fmi)
+    // the mechanism's cross-check inputs, for the reference results inside the FMU
+    let scene =
+        bindery_fmu::scene::Scene::parse(&text).map_err(|e| format!("{}: {e}", path.display()))?;
+    let inputs_path = crate::place::root()?
+        .join("fmus")
+        .join(&scene.mechanism)
+        .join(format!("{}_in.csv", scene.mechanism));
+    let inputs = std::fs::read_to_string(&inputs_path)
+        .map_err(|e| format!("{}: {e}", inputs_path.display()))?;
+    catalog::scene_fmu_of(&text, binaries, date, fmi, Some(&inputs))
         .map_err(|e| format!("{}: {e}", path.display()))
 }
