@@ -119,25 +119,27 @@ pub unsafe fn enter_continuous_time_mode<M: Model, C: Api>(c: Component, call: C
     }
 }
 
-/// `fmi2CompletedIntegratorStep`.
+/// `fmi2CompletedIntegratorStep` and `fmi3CompletedIntegratorStep` (`call`; `B` the version's
+/// Boolean): never asks for an event or the end.
 ///
 /// # Safety
-/// As [`entry`]; the two flags point to an `fmi2Boolean` each.
-pub unsafe fn completed_integrator_step<M: Model>(
+/// As [`entry`]; the two flags point to a Boolean each.
+pub unsafe fn completed_integrator_step<M: Model, B: From<bool>>(
     c: Component,
-    _no_set_prior: Boolean,
-    enter_event_mode: *mut Boolean,
-    terminate: *mut Boolean,
+    call: impl Api,
+    _no_set_prior: B,
+    enter_event_mode: *mut B,
+    terminate: *mut B,
 ) -> Status {
     // SAFETY: as entry.
     unsafe {
-        entry::<M, _>(c, Call::CompletedIntegratorStep, |inst| {
+        entry::<M, _>(c, call, |inst| {
             if enter_event_mode.is_null() || terminate.is_null() {
                 return Err("a result pointer is NULL".into());
             }
             inst.completed_step()?;
-            *enter_event_mode = FALSE;
-            *terminate = FALSE;
+            *enter_event_mode = B::from(false);
+            *terminate = B::from(false);
             Ok(Status::Ok)
         })
     }

@@ -16,6 +16,7 @@ macro_rules! export_fmu {
             #![allow(non_snake_case, clippy::missing_safety_doc)]
             use super::*;
             use $crate::fmi2::runtime as rt;
+            use $crate::fmi2::state::Call;
             use $crate::fmi2::types::*;
             type M = $model;
 
@@ -154,17 +155,17 @@ macro_rules! export_fmu {
             $crate::__fmi2_forward! { M;
                 fmi2NewDiscreteStates(c: Component, info: *mut rt::me::EventInfo)
                     -> Status => rt::me::new_discrete_states;
-                fmi2CompletedIntegratorStep(
-                    c: Component,
-                    no_set_prior: Boolean,
-                    enter_event_mode: *mut Boolean,
-                    terminate: *mut Boolean,
-                ) -> Status => rt::me::completed_integrator_step;
             }
             $crate::__fmi2_forward! { M; with_call:
                 fmi2EnterEventMode(c: Component) -> Status => rt::me::enter_event_mode[EnterEventMode];
                 fmi2EnterContinuousTimeMode(c: Component)
                     -> Status => rt::me::enter_continuous_time_mode[EnterContinuousTimeMode];
+                fmi2CompletedIntegratorStep(
+                    c: Component,
+                    no_set_prior: Boolean,
+                    enter_event_mode: *mut Boolean,
+                    terminate: *mut Boolean,
+                ) -> Status => rt::me::completed_integrator_step[CompletedIntegratorStep];
                 fmi2SetTime(c: Component, t: Real) -> Status => rt::me::set_time[SetTime];
                 fmi2SetContinuousStates(c: Component, x: *const Real, nx: usize)
                     -> Status => rt::me::set_continuous_states[SetContinuousStates];
@@ -185,7 +186,8 @@ macro_rules! export_fmu {
 /// order, to the runtime function named after `=>`, for the model `$m`. After `get_set:`, the
 /// calls of the get/set signature, named with the type of their value array only; after
 /// `with_call:`, calls whose runtime function is told which call it serves (`f[Call]`: the
-/// component, then `Call::Call`, then the other arguments).
+/// component, then `Call::Call` of the version whose `Call` the invoking module imports, then
+/// the other arguments).
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __fmi2_forward {
@@ -195,7 +197,7 @@ macro_rules! __fmi2_forward {
     )*) => {$(
         #[unsafe(no_mangle)]
         pub unsafe extern "C" fn $name($c: $ct $(, $arg: $t)*) -> $ret {
-            unsafe { $($f)::+::<$m, _>($c, $crate::fmi2::state::Call::$call $(, $arg)*) }
+            unsafe { $($f)::+::<$m, _>($c, Call::$call $(, $arg)*) }
         }
     )*};
     ($m:ty; get_set: $($name:ident($value:ty) => $($f:ident)::+;)*) => {
@@ -220,7 +222,8 @@ macro_rules! __fmi2_forward {
 
 /// For [`crate::export_fmu!`]: `extern "C"` functions of calls the model does not support, each
 /// taking the component and the listed (unused) arguments, and refusing the call with its
-/// reason ([`crate::fmi2::runtime::unsupported`]).
+/// reason ([`crate::fmi2::runtime::unsupported`]); `Call` is the invoking module's (FMI 2.0's
+/// or FMI 3.0's).
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __fmi2_unsupported {
@@ -233,7 +236,7 @@ macro_rules! __fmi2_unsupported {
             $($arg: $t),*
         ) -> $crate::fmi2::types::Status {
             unsafe {
-                $crate::fmi2::runtime::unsupported::<$m>(c, $crate::fmi2::state::Call::$call, $why)
+                $crate::fmi2::runtime::unsupported::<$m>(c, Call::$call, $why)
             }
         }
     )*};

@@ -22,7 +22,7 @@ macro_rules! bit_states {
         $all_vis const $all: [$name; [$($name::$state),*].len()] = [$($name::$state),*];
 
         /// The mask of `states`.
-        const fn $mask(states: &[$name]) -> $repr {
+        pub const fn $mask(states: &[$name]) -> $repr {
             let mut m = 0;
             let mut i = 0;
             while i < states.len() {

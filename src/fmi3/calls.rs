@@ -14,6 +14,77 @@ use std::borrow::Cow;
 use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 
+/// What an `fmi3Instantiate*` call asks for, besides the model.
+struct Request {
+    /// `CoSimulation` or `ModelExchange`: names the call in messages.
+    kind: &'static str,
+    /// Why this interface refuses, if it does (`None`: go ahead).
+    refusal: Option<String>,
+    model_exchange: bool,
+    event_mode_used: bool,
+    early_return: bool,
+}
+
+/// One instantiation through FMI 3.0: the host's strings read, its logger made, the request's
+/// refusal or the runtime's ([`create`]) logged, panics caught.
+///
+/// # Safety
+/// Pointer arguments must be NULL or valid per the FMI 3.0 standard.
+unsafe fn instantiate<M: Model>(
+    (instance_name, token, resource_path): (FmiString, FmiString, FmiString),
+    logging_on: Boolean,
+    (env, log): (InstanceEnvironment, LogMessageCallback),
+    request: Request,
+) -> Instance {
+    let call = format!("fmi3Instantiate{}", request.kind);
+    let result = catch_unwind(AssertUnwindSafe(|| {
+        // SAFETY: NULL or valid C strings, per the standard.
+        let (name, token, resources) =
+            unsafe { (c_str(instance_name), c_str(token), c_str(resource_path)) };
+        let name = name.unwrap_or("");
+        let logger = Logger::fmi3(
+            log,
+            env,
+            if name.is_empty() { M::IDENTIFIER } else { name },
+            logging_on != FALSE,
+        );
+        let refused = |logger: Logger, why: String| {
+            logger.emit(
+                Status::Error,
+                "logStatusError",
+                &format!("{call}: {why}; refused"),
+            );
+            std::ptr::null_mut()
+        };
+        if name.is_empty() {
+            return refused(logger, "instanceName is NULL or empty".into());
+        }
+        if let Some(why) = request.refusal {
+            return refused(logger, why);
+        }
+        // FMI 3.0 passes a native path to the resources folder (FMI 2.0 a URI)
+        let resources = resources.filter(|r| !r.is_empty()).map(PathBuf::from);
+        match create::<M>(logger, request.model_exchange, token, resources) {
+            Ok(c) => {
+                // SAFETY: create returned a live instance of M.
+                let inst = unsafe { &mut *(c as *mut crate::fmi2::runtime::Instance<M>) };
+                inst.event_mode_used = request.event_mode_used;
+                inst.early_return = request.early_return;
+                c
+            }
+            Err((logger, why)) => refused(logger, why.replace("GUID", "instantiationToken")),
+        }
+    }));
+    result.unwrap_or_else(|p| {
+        eprintln!(
+            "{}: {call}: internal error: {}",
+            M::IDENTIFIER,
+            panic_text(&*p)
+        );
+        std::ptr::null_mut()
+    })
+}
+
 /// `fmi3InstantiateCoSimulation`: a Co-Simulation instance, with Event Mode if the host uses it
 /// (`eventModeUsed`) and steps that return early at the mechanism's events if it allows them
 /// (`earlyReturnAllowed`); intermediate variables are refused (`providesIntermediateUpdate`
@@ -36,57 +107,20 @@ pub unsafe fn instantiate_co_simulation<M: Model>(
     log: LogMessageCallback,
     _intermediate_update: IntermediateUpdateCallback,
 ) -> Instance {
-    let result = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: NULL or valid C strings, per the standard.
-        let (name, token, resources) =
-            unsafe { (c_str(instance_name), c_str(token), c_str(resource_path)) };
-        let name = name.unwrap_or("");
-        let logger = Logger::fmi3(
-            log,
-            env,
-            if name.is_empty() { M::IDENTIFIER } else { name },
-            logging_on != FALSE,
-        );
-        let refused = |logger: Logger, why: String| {
-            logger.emit(
-                Status::Error,
-                "logStatusError",
-                &format!("fmi3InstantiateCoSimulation: {why}; refused"),
-            );
-            std::ptr::null_mut()
-        };
-        if name.is_empty() {
-            return refused(logger, "instanceName is NULL or empty".into());
-        }
-        if n_required_intermediate > 0 {
-            return refused(
-                logger,
-                format!(
-                    "{n_required_intermediate} required intermediate variables; providesIntermediateUpdate is false"
-                ),
-            );
-        }
-        // FMI 3.0 passes a native path to the resources folder (FMI 2.0 a URI)
-        let resources = resources.filter(|r| !r.is_empty()).map(PathBuf::from);
-        match create::<M>(logger, false, token, resources) {
-            Ok(c) => {
-                // SAFETY: create returned a live instance of M.
-                let inst = unsafe { &mut *(c as *mut crate::fmi2::runtime::Instance<M>) };
-                inst.event_mode_used = event_mode_used != FALSE;
-                inst.early_return = early_return_allowed != FALSE;
-                c
-            }
-            Err((logger, why)) => refused(logger, why.replace("GUID", "instantiationToken")),
-        }
-    }));
-    result.unwrap_or_else(|p| {
-        eprintln!(
-            "{}: fmi3InstantiateCoSimulation: internal error: {}",
-            M::IDENTIFIER,
-            panic_text(&*p)
-        );
-        std::ptr::null_mut()
-    })
+    let request = Request {
+        kind: "CoSimulation",
+        refusal: (n_required_intermediate > 0).then(|| {
+            format!(
+                "{n_required_intermediate} required intermediate variables; providesIntermediateUpdate is false"
+            )
+        }),
+        model_exchange: false,
+        event_mode_used: event_mode_used != FALSE,
+        early_return: early_return_allowed != FALSE,
+    };
+    let strings = (instance_name, token, resource_path);
+    // SAFETY: as this function.
+    unsafe { instantiate::<M>(strings, logging_on, (env, log), request) }
 }
 
 /// `fmi3InstantiateModelExchange`: a Model Exchange instance of a model with continuous
@@ -104,48 +138,17 @@ pub unsafe fn instantiate_model_exchange<M: Model>(
     env: InstanceEnvironment,
     log: LogMessageCallback,
 ) -> Instance {
-    let result = catch_unwind(AssertUnwindSafe(|| {
-        // SAFETY: NULL or valid C strings, per the standard.
-        let (name, token, resources) =
-            unsafe { (c_str(instance_name), c_str(token), c_str(resource_path)) };
-        let name = name.unwrap_or("");
-        let logger = Logger::fmi3(
-            log,
-            env,
-            if name.is_empty() { M::IDENTIFIER } else { name },
-            logging_on != FALSE,
-        );
-        let refused = |logger: Logger, why: String| {
-            logger.emit(
-                Status::Error,
-                "logStatusError",
-                &format!("fmi3InstantiateModelExchange: {why}; refused"),
-            );
-            std::ptr::null_mut()
-        };
-        if name.is_empty() {
-            return refused(logger, "instanceName is NULL or empty".into());
-        }
-        if M::STATES == 0 {
-            return refused(
-                logger,
-                "this FMU has no continuous states and provides Co-Simulation only".into(),
-            );
-        }
-        let resources = resources.filter(|r| !r.is_empty()).map(PathBuf::from);
-        match create::<M>(logger, true, token, resources) {
-            Ok(c) => c,
-            Err((logger, why)) => refused(logger, why.replace("GUID", "instantiationToken")),
-        }
-    }));
-    result.unwrap_or_else(|p| {
-        eprintln!(
-            "{}: fmi3InstantiateModelExchange: internal error: {}",
-            M::IDENTIFIER,
-            panic_text(&*p)
-        );
-        std::ptr::null_mut()
-    })
+    let request = Request {
+        kind: "ModelExchange",
+        refusal: (M::STATES == 0)
+            .then(|| "this FMU has no continuous states and provides Co-Simulation only".into()),
+        model_exchange: true,
+        event_mode_used: false,
+        early_return: false,
+    };
+    let strings = (instance_name, token, resource_path);
+    // SAFETY: as this function.
+    unsafe { instantiate::<M>(strings, logging_on, (env, log), request) }
 }
 
 /// `fmi3InstantiateScheduledExecution`: not offered (no clocks); refused with the reason.
@@ -359,29 +362,6 @@ pub unsafe fn update_discrete_states<M: Model>(
             if let Some(t) = next_time.as_mut() {
                 *t = 0.0;
             }
-            Ok(Status::Ok)
-        })
-    }
-}
-
-/// `fmi3CompletedIntegratorStep` (Model Exchange): never asks for an event or the end.
-///
-/// # Safety
-/// As [`entry`]; the two flags point to an `fmi3Boolean` each.
-pub unsafe fn completed_integrator_step<M: Model>(
-    c: Instance,
-    _no_set_prior: Boolean,
-    enter_event_mode: *mut Boolean,
-    terminate: *mut Boolean,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, Call::CompletedIntegratorStep, |inst| {
-            if enter_event_mode.is_null() || terminate.is_null() {
-                return Err("a result pointer is NULL".into());
-            }
-            inst.completed_step()?;
-            (*enter_event_mode, *terminate) = (FALSE, FALSE);
             Ok(Status::Ok)
         })
     }
@@ -656,13 +636,4 @@ unsafe fn get_typeless<M: Model, T>(
             inst.refuse_type(vrs, kinds::none(ty))
         })
     }
-}
-
-/// A call this FMU does not offer: logged and refused with its reason.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn unsupported<M: Model>(c: Instance, call: Call, why: &str) -> Status {
-    // SAFETY: as entry.
-    unsafe { crate::fmi2::runtime::unsupported::<M>(c, call, why) }
 }

@@ -15,6 +15,7 @@ macro_rules! __export_fmi3 {
         mod __fmi3_exports {
             #![allow(non_snake_case, clippy::missing_safety_doc, clippy::too_many_arguments)]
             use super::*;
+            use $crate::fmi2::runtime as shared;
             use $crate::fmi3::calls as rt;
             use $crate::fmi3::state::Call;
             use $crate::fmi3::types::*;
@@ -101,28 +102,28 @@ macro_rules! __export_fmi3 {
                     env: InstanceEnvironment,
                     log: LogMessageCallback,
                 ) -> Instance => rt::instantiate_model_exchange;
+            }
+            // Model Exchange: the shared runtime's calls, told which FMI 3.0 call they serve
+            $crate::__fmi2_forward! { M; with_call:
+                fmi3EnterContinuousTimeMode(c: Instance) -> Status
+                    => shared::me::enter_continuous_time_mode[EnterContinuousTimeMode];
                 fmi3CompletedIntegratorStep(
                     c: Instance,
                     no_prior: Boolean,
                     enter_event_mode: *mut Boolean,
                     terminate: *mut Boolean,
-                ) -> Status => rt::completed_integrator_step;
-            }
-            // Model Exchange: the shared runtime's calls, told which FMI 3.0 call they serve
-            $crate::__fmi3_forward! { M; me:
-                fmi3EnterContinuousTimeMode(c: Instance)
-                    => enter_continuous_time_mode[EnterContinuousTimeMode];
-                fmi3SetTime(c: Instance, t: Float64) => set_time[SetTime];
-                fmi3SetContinuousStates(c: Instance, x: *const Float64, n: usize)
-                    => set_continuous_states[SetContinuousStates];
-                fmi3GetContinuousStateDerivatives(c: Instance, dx: *mut Float64, n: usize)
-                    => get_derivatives[GetContinuousStateDerivatives];
-                fmi3GetEventIndicators(c: Instance, z: *mut Float64, n: usize)
-                    => get_event_indicators[GetEventIndicators];
-                fmi3GetContinuousStates(c: Instance, x: *mut Float64, n: usize)
-                    => get_continuous_states[GetContinuousStates];
-                fmi3GetNominalsOfContinuousStates(c: Instance, x: *mut Float64, n: usize)
-                    => get_nominals[GetNominalsOfContinuousStates];
+                ) -> Status => shared::me::completed_integrator_step[CompletedIntegratorStep];
+                fmi3SetTime(c: Instance, t: Float64) -> Status => shared::me::set_time[SetTime];
+                fmi3SetContinuousStates(c: Instance, x: *const Float64, n: usize) -> Status
+                    => shared::me::set_continuous_states[SetContinuousStates];
+                fmi3GetContinuousStateDerivatives(c: Instance, dx: *mut Float64, n: usize) -> Status
+                    => shared::me::get_derivatives[GetContinuousStateDerivatives];
+                fmi3GetEventIndicators(c: Instance, z: *mut Float64, n: usize) -> Status
+                    => shared::me::get_event_indicators[GetEventIndicators];
+                fmi3GetContinuousStates(c: Instance, x: *mut Float64, n: usize) -> Status
+                    => shared::me::get_continuous_states[GetContinuousStates];
+                fmi3GetNominalsOfContinuousStates(c: Instance, x: *mut Float64, n: usize) -> Status
+                    => shared::me::get_nominals[GetNominalsOfContinuousStates];
             }
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi3GetNumberOfContinuousStates(
@@ -155,24 +156,24 @@ macro_rules! __export_fmi3 {
             }
 
             // the FMU-state calls: the shared runtime's, told which call they serve
-            $crate::__fmi3_forward! { M; state:
-                fmi3GetFMUState(c: Instance, s: *mut FMUState) => get_fmu_state[GetFMUState];
-                fmi3SetFMUState(c: Instance, s: FMUState) => set_fmu_state[SetFMUState];
-                fmi3FreeFMUState(c: Instance, s: *mut FMUState) => free_fmu_state[FreeFMUState];
-                fmi3SerializedFMUStateSize(c: Instance, s: FMUState, size: *mut usize)
-                    => serialized_fmu_state_size[SerializedFMUStateSize];
+            $crate::__fmi2_forward! { M; with_call:
+                fmi3GetFMUState(c: Instance, s: *mut FMUState) -> Status => shared::get_fmu_state[GetFMUState];
+                fmi3SetFMUState(c: Instance, s: FMUState) -> Status => shared::set_fmu_state[SetFMUState];
+                fmi3FreeFMUState(c: Instance, s: *mut FMUState) -> Status => shared::free_fmu_state[FreeFMUState];
+                fmi3SerializedFMUStateSize(c: Instance, s: FMUState, size: *mut usize) -> Status
+                    => shared::serialized_fmu_state_size[SerializedFMUStateSize];
                 fmi3SerializeFMUState(
                     c: Instance,
                     s: FMUState,
                     bytes: *mut $crate::fmi2::types::Byte,
                     size: usize,
-                ) => serialize_fmu_state[SerializeFMUState];
+                ) -> Status => shared::serialize_fmu_state[SerializeFMUState];
                 fmi3DeserializeFMUState(
                     c: Instance,
                     bytes: *const $crate::fmi2::types::Byte,
                     size: usize,
                     s: *mut FMUState,
-                ) => deserialize_fmu_state[DeserializeFMUState];
+                ) -> Status => shared::deserialize_fmu_state[DeserializeFMUState];
             }
 
             // the typed get and set calls: (instance, value references, nvr, values, nValues)
@@ -223,7 +224,7 @@ macro_rules! __export_fmi3 {
             }
 
             // what this FMU's FMI 3.0 interface does not offer: refused with the reason
-            $crate::__fmi3_forward! { M; unsupported:
+            $crate::__fmi2_unsupported! { M;
                 fmi3GetNumberOfVariableDependencies(_vr: ValueReference, _n: *mut usize)
                     = GetNumberOfVariableDependencies,
                     "the dependencies are in modelDescription.xml's ModelStructure";
@@ -317,40 +318,13 @@ macro_rules! __export_fmi3 {
 }
 
 /// For [`crate::__export_fmi3!`]: `extern "C"` functions passing their arguments on to the
-/// runtime function after `=>`, for the model `$m`. After `state:`, the shared runtime's
-/// FMU-state calls, told which FMI 3.0 call they serve; after `typed:`, the typed get/set calls
-/// (named with their value array's type); after `unsupported:`, the calls refused with a reason.
+/// runtime function after `=>`, for the model `$m`. After `typed:`, the typed get/set calls
+/// (named with their value array's type). (The calls told which call they serve go through
+/// [`crate::__fmi2_forward!`]'s `with_call:`, the unsupported ones through
+/// [`crate::__fmi2_unsupported!`], with FMI 3.0's `Call` in scope.)
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __fmi3_forward {
-    ($m:ty; state: $(
-        $name:ident($c:ident: $ct:ty $(, $arg:ident: $t:ty)* $(,)?) => $f:ident[$call:ident];
-    )*) => {$(
-        #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $name($c: $ct $(, $arg: $t)*) -> $crate::fmi3::types::Status {
-            unsafe {
-                $crate::fmi2::runtime::$f::<$m, _>(
-                    $c,
-                    $crate::fmi3::state::Call::$call
-                    $(, $arg)*
-                )
-            }
-        }
-    )*};
-    ($m:ty; me: $(
-        $name:ident($c:ident: $ct:ty $(, $arg:ident: $t:ty)* $(,)?) => $f:ident[$call:ident];
-    )*) => {$(
-        #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $name($c: $ct $(, $arg: $t)*) -> $crate::fmi3::types::Status {
-            unsafe {
-                $crate::fmi2::runtime::me::$f::<$m, _>(
-                    $c,
-                    $crate::fmi3::state::Call::$call
-                    $(, $arg)*
-                )
-            }
-        }
-    )*};
     ($m:ty; typed: $($name:ident($value:ty) => $($f:ident)::+;)*) => {
         $crate::__fmi3_forward! { $m; $(
             $name(
@@ -362,19 +336,6 @@ macro_rules! __fmi3_forward {
             ) -> $crate::fmi3::types::Status => $($f)::+;
         )* }
     };
-    ($m:ty; unsupported: $(
-        $name:ident($($arg:ident: $t:ty),* $(,)?) = $call:ident, $why:literal;
-    )*) => {$(
-        #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $name(
-            c: $crate::fmi3::types::Instance,
-            $($arg: $t),*
-        ) -> $crate::fmi3::types::Status {
-            unsafe {
-                $crate::fmi3::calls::unsupported::<$m>(c, $crate::fmi3::state::Call::$call, $why)
-            }
-        }
-    )*};
     ($m:ty; $(
         $name:ident($($arg:ident: $t:ty),* $(,)?) $(-> $ret:ty)? => $($f:ident)::+;
     )*) => {$(

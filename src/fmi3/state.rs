@@ -9,18 +9,8 @@ use crate::fmi2::state::MeState::{
     Instantiated as Is, Terminated as Te,
 };
 use crate::fmi2::state::State::{self, *};
+use crate::fmi2::state::{mask, me_mask};
 use crate::model::Model;
-
-/// The mask of some states.
-const fn mask(states: &[State]) -> u16 {
-    let mut m = 0;
-    let mut i = 0;
-    while i < states.len() {
-        m |= states[i] as u16;
-        i += 1;
-    }
-    m
-}
 
 /// Every FMI 3.0 function that takes an instance.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -129,17 +119,6 @@ const ME_ANY: u8 = me_mask(&[Is, In, Ev, Ct, Te, Er]);
 const ME_READ: u8 = me_mask(&[In, Ev, Ct, Te, Er]);
 const ME_SET: u8 = me_mask(&[Is, In, Ev, Ct]);
 const ME_SET_DISCRETE: u8 = me_mask(&[Is, In, Ev]);
-
-/// The mask of some Model Exchange states.
-const fn me_mask(states: &[MeState]) -> u8 {
-    let mut m = 0;
-    let mut i = 0;
-    while i < states.len() {
-        m |= states[i] as u8;
-        i += 1;
-    }
-    m
-}
 
 /// In which states of each interface each call is legal: (call, Co-Simulation states, Model
 /// Exchange states); 0: never on that interface (configuration and clocks are not offered,

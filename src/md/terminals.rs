@@ -28,19 +28,13 @@ struct Graphics {
 
 #[derive(Serialize)]
 struct Coordinates {
-    #[serde(rename = "@x1")]
-    x1: f64,
-    #[serde(rename = "@y1")]
-    y1: f64,
-    #[serde(rename = "@x2")]
-    x2: f64,
-    #[serde(rename = "@y2")]
-    y2: f64,
+    #[serde(flatten)]
+    extent: Extent,
     #[serde(rename = "@suggestedScalingFactorTo_mm")]
     to_mm: f64,
 }
 
-#[derive(Serialize)]
+#[derive(Clone, Copy, Serialize)]
 struct Extent {
     #[serde(rename = "@x1")]
     x1: f64,
@@ -51,6 +45,14 @@ struct Extent {
     #[serde(rename = "@y2")]
     y2: f64,
 }
+
+/// The coordinate system and the icon: 200 × 200 units around the origin.
+const SQUARE: Extent = Extent {
+    x1: -100.0,
+    y1: -100.0,
+    x2: 100.0,
+    y2: 100.0,
+};
 
 #[derive(Serialize)]
 struct Terminals {
@@ -114,18 +116,10 @@ pub fn terminals_and_icons(terminals: &[Terminal], vars: &[(u32, &Var)]) -> Stri
         fmi_version: "3.0",
         graphics: Graphics {
             coordinates: Coordinates {
-                x1: -100.0,
-                y1: -100.0,
-                x2: 100.0,
-                y2: 100.0,
+                extent: SQUARE,
                 to_mm: 0.1,
             },
-            icon: Extent {
-                x1: -100.0,
-                y1: -100.0,
-                x2: 100.0,
-                y2: 100.0,
-            },
+            icon: SQUARE,
         },
         terminals: Terminals { terminal },
     };

@@ -33,25 +33,8 @@ struct Fmd {
     model_name: String,
     #[serde(rename = "@guid")]
     guid: String,
-    #[serde(rename = "@description")]
-    description: String,
-    #[serde(rename = "@author")]
-    author: &'static str,
-    #[serde(rename = "@version")]
-    version: &'static str,
-    #[serde(rename = "@copyright")]
-    copyright: &'static str,
-    #[serde(rename = "@license")]
-    license: &'static str,
-    #[serde(rename = "@generationTool")]
-    generation_tool: String,
-    #[serde(
-        rename = "@generationDateAndTime",
-        skip_serializing_if = "Option::is_none"
-    )]
-    generation_date: Option<&'static str>,
-    #[serde(rename = "@variableNamingConvention")]
-    naming: &'static str,
+    #[serde(flatten)]
+    header: Header,
     #[serde(rename = "@numberOfEventIndicators")]
     event_indicators: u32,
     #[serde(rename = "ModelExchange", skip_serializing_if = "Option::is_none")]
@@ -70,6 +53,42 @@ struct Fmd {
     variables: ModelVariables,
     #[serde(rename = "ModelStructure")]
     structure: ModelStructure,
+}
+
+/// The attributes of `fmiModelDescription` after the model's name and GUID, the same in FMI 2.0
+/// and FMI 3.0 ([`super::xml3`]).
+#[derive(Serialize)]
+pub(super) struct Header {
+    #[serde(rename = "@description")]
+    description: String,
+    #[serde(rename = "@author")]
+    author: &'static str,
+    #[serde(rename = "@version")]
+    version: &'static str,
+    #[serde(rename = "@copyright")]
+    copyright: &'static str,
+    #[serde(rename = "@license")]
+    license: &'static str,
+    #[serde(rename = "@generationTool")]
+    generation_tool: String,
+    #[serde(rename = "@generationDateAndTime")]
+    generation_date: &'static str,
+    #[serde(rename = "@variableNamingConvention")]
+    naming: &'static str,
+}
+
+/// [`Header`] of a model, dated [`VERSION_DATE`].
+pub(super) fn header(info: &ModelInfo) -> Header {
+    Header {
+        description: info.description.to_string(),
+        author: AUTHOR,
+        version: env!("CARGO_PKG_VERSION"),
+        copyright: COPYRIGHT,
+        license: LICENSE,
+        generation_tool: format!("bindery-fmu {}", env!("CARGO_PKG_VERSION")),
+        generation_date: VERSION_DATE,
+        naming: "structured",
+    }
 }
 
 /// The capability flags both interfaces state, the same for both.
@@ -523,14 +542,7 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
         fmi_version: "2.0",
         model_name: info.model_name.to_string(),
         guid: guid.to_string(),
-        description: info.description.to_string(),
-        author: AUTHOR,
-        version: env!("CARGO_PKG_VERSION"),
-        copyright: COPYRIGHT,
-        license: LICENSE,
-        generation_tool: format!("bindery-fmu {}", env!("CARGO_PKG_VERSION")),
-        generation_date: Some(VERSION_DATE),
-        naming: "structured",
+        header: header(info),
         event_indicators: if derivatives.is_empty() {
             0
         } else {
@@ -573,7 +585,8 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
 
 fn to_xml(fmd: &Fmd) -> String {
     let mut body = String::new();
-    let mut ser = quick_xml::se::Serializer::new(&mut body);
+    let mut ser = quick_xml::se::Serializer::with_root(&mut body, Some("fmiModelDescription"))
+        .expect("a valid root name");
     ser.indent(' ', 2);
     fmd.serialize(ser).expect("model description serializes");
     format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{body}\n")

@@ -6,10 +6,10 @@
 
 use super::guid::guid;
 use super::xml::{
-    DefaultExperiment, LogCats, Units, causality_str, default_experiment, enum_types, initial_str,
-    log_categories, units_of, variability_str,
+    DefaultExperiment, Header, LogCats, Units, causality_str, default_experiment, enum_types,
+    header, initial_str, log_categories, units_of, variability_str,
 };
-use super::{AUTHOR, COPYRIGHT, LICENSE, ModelInfo, VERSION_DATE, fmt_real};
+use super::{ModelInfo, fmt_real};
 use crate::model::{Causality, Initial, Model, Var, VarType};
 use serde::Serialize;
 
@@ -22,22 +22,8 @@ struct Fmd {
     model_name: &'static str,
     #[serde(rename = "@instantiationToken")]
     token: String,
-    #[serde(rename = "@description")]
-    description: &'static str,
-    #[serde(rename = "@author")]
-    author: &'static str,
-    #[serde(rename = "@version")]
-    version: &'static str,
-    #[serde(rename = "@copyright")]
-    copyright: &'static str,
-    #[serde(rename = "@license")]
-    license: &'static str,
-    #[serde(rename = "@generationTool")]
-    generation_tool: String,
-    #[serde(rename = "@generationDateAndTime")]
-    generation_date: &'static str,
-    #[serde(rename = "@variableNamingConvention")]
-    naming: &'static str,
+    #[serde(flatten)]
+    header: Header,
     #[serde(rename = "ModelExchange", skip_serializing_if = "Option::is_none")]
     model_exchange: Option<ModelExch>,
     #[serde(rename = "CoSimulation")]
@@ -61,20 +47,8 @@ struct Fmd {
 /// intermediate update or derivatives (yet).
 #[derive(Serialize)]
 struct CoSim {
-    #[serde(rename = "@modelIdentifier")]
-    model_identifier: &'static str,
-    #[serde(rename = "@needsExecutionTool")]
-    needs_execution_tool: bool,
-    #[serde(rename = "@canBeInstantiatedOnlyOncePerProcess")]
-    once_per_process: bool,
-    #[serde(rename = "@canGetAndSetFMUState")]
-    get_set_state: bool,
-    #[serde(rename = "@canSerializeFMUState")]
-    serialize_state: bool,
-    #[serde(rename = "@providesDirectionalDerivatives")]
-    directional: bool,
-    #[serde(rename = "@providesAdjointDerivatives")]
-    adjoint: bool,
+    #[serde(flatten)]
+    common: Interface,
     #[serde(rename = "@canHandleVariableCommunicationStepSize")]
     variable_step: bool,
     #[serde(rename = "@maxOutputDerivativeOrder")]
@@ -89,9 +63,9 @@ struct CoSim {
     event_mode: bool,
 }
 
-/// The Model Exchange interface, where the model has continuous states (as in FMI 2.0).
+/// What both interfaces state, the same for both.
 #[derive(Serialize)]
-struct ModelExch {
+struct Interface {
     #[serde(rename = "@modelIdentifier")]
     model_identifier: &'static str,
     #[serde(rename = "@needsExecutionTool")]
@@ -106,6 +80,27 @@ struct ModelExch {
     directional: bool,
     #[serde(rename = "@providesAdjointDerivatives")]
     adjoint: bool,
+}
+
+impl Interface {
+    fn of(info: &ModelInfo) -> Self {
+        Interface {
+            model_identifier: info.identifier,
+            needs_execution_tool: false,
+            once_per_process: false,
+            get_set_state: true,
+            serialize_state: true,
+            directional: false,
+            adjoint: false,
+        }
+    }
+}
+
+/// The Model Exchange interface, where the model has continuous states (as in FMI 2.0).
+#[derive(Serialize)]
+struct ModelExch {
+    #[serde(flatten)]
+    common: Interface,
     #[serde(rename = "@needsCompletedIntegratorStep")]
     completed_step: bool,
     #[serde(rename = "@providesEvaluateDiscreteStates")]
@@ -371,33 +366,14 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
         fmi_version: "3.0",
         model_name: info.model_name,
         token: token.to_string(),
-        description: info.description,
-        author: AUTHOR,
-        version: env!("CARGO_PKG_VERSION"),
-        copyright: COPYRIGHT,
-        license: LICENSE,
-        generation_tool: format!("bindery-fmu {}", env!("CARGO_PKG_VERSION")),
-        generation_date: VERSION_DATE,
-        naming: "structured",
+        header: header(info),
         model_exchange: model_exchange.then_some(ModelExch {
-            model_identifier: info.identifier,
-            needs_execution_tool: false,
-            once_per_process: false,
-            get_set_state: true,
-            serialize_state: true,
-            directional: false,
-            adjoint: false,
+            common: Interface::of(info),
             completed_step: true,
             evaluate_discrete_states: false,
         }),
         co_simulation: CoSim {
-            model_identifier: info.identifier,
-            needs_execution_tool: false,
-            once_per_process: false,
-            get_set_state: true,
-            serialize_state: true,
-            directional: false,
-            adjoint: false,
+            common: Interface::of(info),
             variable_step: true,
             max_output_derivative_order: 0,
             intermediate_update: false,
@@ -427,7 +403,8 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
 pub fn describe3_vars(info: &ModelInfo, vars: &[(u32, &Var)]) -> (String, String) {
     let token = guid(info, vars);
     let mut body = String::new();
-    let mut ser = quick_xml::se::Serializer::new(&mut body);
+    let mut ser = quick_xml::se::Serializer::with_root(&mut body, Some("fmiModelDescription"))
+        .expect("a valid root name");
     ser.indent(' ', 2);
     build(info, vars, &token)
         .serialize(ser)
