@@ -5,6 +5,7 @@
 use super::LogLine;
 use bindery_fmu::catalog::Entry;
 use bindery_fmu::fmi3::types::*;
+use bindery_fmu::model::{Var, VarType};
 use libloading::{Library, Symbol};
 use std::ffi::{CStr, CString, c_char, c_void};
 use std::sync::Mutex;
@@ -310,3 +311,112 @@ pub fn cstr(s: &str) -> CString {
 
 /// A pointer type the tests pass where any C string goes.
 pub type Text = *const c_char;
+
+// ---- what the FMI 3.0 tests share: the catalog's variables, the cross-check inputs, the
+// values as bits through either interface
+
+pub fn vars(e: &Entry) -> Vec<(u32, &'static Var)> {
+    (e.variables)()
+}
+
+pub fn vr_of(e: &Entry, name: &str) -> Option<u32> {
+    vars(e)
+        .into_iter()
+        .find(|(_, v)| v.name == name)
+        .map(|(vr, _)| vr)
+}
+
+/// The value references of every variable of one type.
+pub fn of_type(e: &Entry, pred: impl Fn(VarType) -> bool) -> Vec<u32> {
+    (vars(e).into_iter())
+        .filter(|(_, v)| pred(v.ty))
+        .map(|(vr, _)| vr)
+        .collect()
+}
+
+/// The cross-check inputs of a model (`fmus/<id>/<id>_in.csv`): the input value references and
+/// the rows (time, then the inputs).
+pub fn cross_check_inputs(e: &Entry) -> (Vec<u32>, Vec<Vec<f64>>) {
+    let path = format!(
+        "{}/fmus/{id}/{id}_in.csv",
+        env!("CARGO_MANIFEST_DIR"),
+        id = e.identifier
+    );
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|err| panic!("{path}: {err}"));
+    let mut lines = text.lines();
+    let names: Vec<String> = (lines.next().unwrap().split(','))
+        .map(|n| n.trim_matches('"').to_string())
+        .collect();
+    let vrs = (names[1..].iter())
+        .map(|n| vr_of(e, n).unwrap_or_else(|| panic!("{n} in {path}")))
+        .collect();
+    let rows = lines
+        .map(|l| l.split(',').map(|x| x.parse().unwrap()).collect())
+        .collect();
+    (vrs, rows)
+}
+
+/// The levels a model has (`model.fidelity`'s items), or none.
+pub fn levels(e: &Entry) -> Vec<Option<i32>> {
+    match vr_of(e, "model.fidelity") {
+        Some(_) => vec![Some(1), Some(2), Some(3)],
+        None => vec![None],
+    }
+}
+
+/// Every variable's value as bits, through the FMI 2.0 interface.
+pub fn bits2(s: &super::Slave, e: &Entry) -> Vec<u64> {
+    let reals = s.get_real(&of_type(e, |t| t == VarType::Real));
+    let ints = s.get_integer(&of_type(e, VarType::is_integer_like));
+    let bools = s.get_boolean(&of_type(e, |t| t == VarType::Boolean));
+    assert_eq!(
+        (reals.0, ints.0, bools.0),
+        (Status::Ok, Status::Ok, Status::Ok)
+    );
+    (reals.1.iter().map(|x| x.to_bits()))
+        .chain(ints.1.iter().map(|&i| i as u64))
+        .chain(bools.1.iter().map(|&b| b as u64))
+        .collect()
+}
+
+/// The same through the FMI 3.0 interface (Integer variables by `fmi3GetInt32`, Enumerations
+/// by `fmi3GetInt64`, in the value references' order as in [`bits2`]).
+pub fn bits3(i: &Inst3, e: &Entry) -> Vec<u64> {
+    let reals = i.get::<f64>("fmi3GetFloat64", &of_type(e, |t| t == VarType::Real));
+    let all_ints = of_type(e, VarType::is_integer_like);
+    let bools = i.get::<u8>("fmi3GetBoolean", &of_type(e, |t| t == VarType::Boolean));
+    assert_eq!(
+        (reals.0, bools.0),
+        (Status::Ok, Status::Ok),
+        "{:?}",
+        i.logs()
+    );
+    let ints = all_ints.iter().map(|&vr| {
+        let enumeration = matches!(vars(e)[vr as usize].1.ty, VarType::Enumeration(_));
+        if enumeration {
+            let (s, v) = i.get::<i64>("fmi3GetInt64", &[vr]);
+            assert_eq!(s, Status::Ok);
+            v[0] as i32 as u64
+        } else {
+            let (s, v) = i.get::<i32>("fmi3GetInt32", &[vr]);
+            assert_eq!(s, Status::Ok);
+            v[0] as u64
+        }
+    });
+    let ints: Vec<u64> = ints.collect();
+    (reals.1.iter().map(|x| x.to_bits()))
+        .chain(ints)
+        .chain(bools.1.iter().map(|&b| (b != 0) as u64))
+        .collect()
+}
+
+/// An FMI 3.0 instance at this level, initialized from t = 0.
+pub fn started3<'a>(f3: &'a Fmu3, e: &Entry, level: Option<i32>) -> Inst3<'a> {
+    let i = f3.instance("fmi3");
+    if let Some(l) = level {
+        let vr = vr_of(e, "model.fidelity").unwrap();
+        i.ok(i.set("fmi3SetInt64", &[vr], &[l as i64]), "fidelity");
+    }
+    i.ok(i.init(), "initialization");
+    i
+}
