@@ -110,6 +110,23 @@ pub enum Fmi {
 /// platforms of the binaries it packs (written by `docs::html::page_html`).
 pub const PLATFORMS_MARK: &str = "<!-- platforms -->";
 
+/// The `documentation/index.html` placeholder for the FMI version of the FMU that carries the
+/// page ([`version_html`]): the same page serves both.
+pub const VERSION_MARK: &str = "<!-- fmi version -->";
+
+/// What the page says of the FMI version of the FMU it is in (`None`: read outside an FMU).
+pub fn version_html(version: Option<Fmi>) -> &'static str {
+    match version {
+        Some(Fmi::V2) => "FMI 2.0",
+        Some(Fmi::V3) => {
+            "FMI 3.0 (the text below names FMI 2.0's calls; FMI 3.0's counterparts are \
+             <code>fmi3DoStep</code>, <code>fmi3SetFloat64</code>, \
+             <code>fmi3CompletedIntegratorStep</code>, ...; input derivatives are FMI 2.0's only)"
+        }
+        None => "FMI 2.0 and FMI 3.0",
+    }
+}
+
 /// The documentation's section on the platforms of `binaries` (in an FMU of FMI 2.0).
 pub fn platforms_html(platforms: &[Platform]) -> String {
     platforms_html_of(platforms, Fmi::V2)
@@ -191,6 +208,7 @@ impl FmuContents {
             let bytes = match std::str::from_utf8(b) {
                 Ok(page) if n == "index.html" && page.contains(PLATFORMS_MARK) => Cow::Owned(
                     page.replace(PLATFORMS_MARK, &platforms_html_of(&platforms, self.fmi))
+                        .replace(VERSION_MARK, version_html(Some(self.fmi)))
                         .into_bytes(),
                 ),
                 _ => Cow::Borrowed(b.as_slice()),
@@ -338,7 +356,7 @@ mod tests {
             ],
             documentation: vec![(
                 "index.html".into(),
-                format!("<html>{PLATFORMS_MARK}</html>").into_bytes(),
+                format!("<html>{VERSION_MARK} {PLATFORMS_MARK}</html>").into_bytes(),
             )],
             icon: vec![0x89, b'P'],
             resources: vec![("scene.toml".into(), b"a = 1".to_vec())],
@@ -380,6 +398,10 @@ mod tests {
             page.contains(
                 "<code>binaries/x86_64-darwin</code> and <code>binaries/aarch64-darwin</code>"
             ),
+            "{page}"
+        );
+        assert!(
+            page.starts_with("<html>FMI 3.0 (") && !page.contains(VERSION_MARK),
             "{page}"
         );
     }
@@ -431,6 +453,7 @@ mod tests {
         )
         .unwrap();
         assert!(!page.contains(PLATFORMS_MARK), "{page}");
+        assert!(page.starts_with("<html>FMI 2.0 <h2>"), "{page}");
         assert!(
             page.contains("<code>binaries/linux64</code>: Linux on x86-64"),
             "{page}"

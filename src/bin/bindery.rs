@@ -368,7 +368,8 @@ fn docs(out: &Option<PathBuf>) -> Result<(), String> {
         let (mut files, icon) = (e.documentation)()?;
         for (_, bytes) in files.iter_mut().filter(|(n, _)| n == "index.html") {
             let page = String::from_utf8_lossy(bytes)
-                .replace(package::PLATFORMS_MARK, &package::platforms_all_html());
+                .replace(package::PLATFORMS_MARK, &package::platforms_all_html())
+                .replace(package::VERSION_MARK, package::version_html(None));
             *bytes = page.into_bytes();
         }
         for (name, bytes) in files

@@ -396,7 +396,8 @@ pub fn page_html(p: &Page) -> String {
     };
     let _ = writeln!(
         out,
-        "<p class=\"meta\">FMI 2.0 {interfaces} FMU <code>{}</code>, bindery-fmu {}, license {}.</p>",
+        "<p class=\"meta\">{} {interfaces} FMU <code>{}</code>, bindery-fmu {}, license {}.</p>",
+        crate::package::VERSION_MARK,
         escape(info.identifier),
         env!("CARGO_PKG_VERSION"),
         escape(crate::md::LICENSE)
