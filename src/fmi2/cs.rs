@@ -257,7 +257,9 @@ impl<M: Model> Instance<M> {
         }
         let muted = std::mem::replace(&mut self.logger.sink, logger::Sink::Fmi2(None));
         let (mut lo, mut hi) = (0.0_f64, h);
-        let trials = (|| -> Result<(), String> {
+        // the logger is muted for the trials and given back even if one panics (the entry
+        // wrapper reports the panic through it)
+        let trials = catch_unwind(AssertUnwindSafe(|| -> Result<(), String> {
             loop {
                 let mid = lo + 0.5 * (hi - lo);
                 if !(t + lo < t + mid && t + mid < t + hi) {
@@ -275,9 +277,9 @@ impl<M: Model> Instance<M> {
                     lo = mid;
                 }
             }
-        })();
+        }));
         self.logger.sink = muted;
-        trials?;
+        trials.unwrap_or_else(|p| std::panic::resume_unwind(p))?;
         self.put_back(&saved)?;
         let status = self.do_step(t, hi, call)?;
         Ok((status, (hi < h).then_some(t + hi)))
