@@ -78,25 +78,19 @@ fn fmi2_step(b: Bencher, id: &str) {
 
 #[divan::bench(args = MODELS)]
 fn fmi3_step(b: Bencher, id: &str) {
-    let e = entry(id);
-    let f = Fmu3::of(&e);
-    let i = f.instance("bench");
-    i.init();
-    let (ins, outs) = io(&e);
-    let mut t = 0.0;
-    b.bench_local(|| {
-        i.set("fmi3SetFloat64", &ins, &inputs_at(&e, &ins, t));
-        let (_, _, last) = i.do_step(t, H);
-        t = last;
-        black_box(i.get::<f64>("fmi3GetFloat64", &outs));
-    });
+    fmi3_steps(b, id, false);
 }
 
 #[divan::bench(args = MODELS)]
 fn fmi3_step_early_return(b: Bencher, id: &str) {
+    fmi3_steps(b, id, true);
+}
+
+/// Steps of an FMI 3.0 instance, early return allowed or not.
+fn fmi3_steps(b: Bencher, id: &str, early: bool) {
     let e = entry(id);
     let f = Fmu3::of(&e);
-    let i = f.instance_with("bench", false, true);
+    let i = f.instance_with("bench", false, early);
     i.init();
     let (ins, outs) = io(&e);
     let mut t = 0.0;

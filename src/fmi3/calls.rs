@@ -420,7 +420,7 @@ pub unsafe fn get_float64<M: Model>(
                     x[0]
                 } else if r == n {
                     inst.time
-                } else if r - n - 1 < M::EVENT_INDICATORS && M::STATES > 0 {
+                } else if r - n - 1 < M::EVENT_INDICATORS && lists_indicators(inst) {
                     if z.is_none() {
                         z = Some(inst.event_indicators()?);
                     }
@@ -432,6 +432,14 @@ pub unsafe fn get_float64<M: Model>(
             Ok(Status::Ok)
         })
     }
+}
+
+/// Does this FMU list event-indicator variables? Those of Model Exchange: a model with
+/// continuous states, and a tailored FMU that keeps them (as `md::xml3` writes it).
+fn lists_indicators<M: Model>(inst: &crate::fmi2::runtime::Instance<M>) -> bool {
+    M::STATES > 0
+        && (inst.scene.as_ref())
+            .is_none_or(|t| t.variables.iter().any(|(_, v)| v.derivative.is_some()))
 }
 
 /// `fmi3EnterStepMode`: from Event Mode back to Step Mode.

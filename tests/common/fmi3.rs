@@ -115,6 +115,14 @@ impl Fmu3 {
 
     /// A Model Exchange instance with the right token and a recording logger.
     pub fn me_instance(&self, name: &str) -> Inst3<'_> {
+        let (c, env) = self.instantiate_me(name);
+        assert!(!c.is_null(), "instantiate refused: {:?}", logs_of(env));
+        Inst3 { fmu: self, c, env }
+    }
+
+    /// `fmi3InstantiateModelExchange` with the right token, logging under a new environment: the
+    /// instance (NULL if refused) and the environment.
+    pub fn instantiate_me(&self, name: &str) -> (Instance, usize) {
         type Me = unsafe extern "C" fn(
             FmiString,
             FmiString,
@@ -138,8 +146,7 @@ impl Fmu3 {
                 Some(record),
             )
         };
-        assert!(!c.is_null(), "instantiate refused: {:?}", logs_of(env));
-        Inst3 { fmu: self, c, env }
+        (c, env)
     }
 
     /// A Co-Simulation instance using Event Mode or not, allowing early return or not.

@@ -472,3 +472,28 @@ def test_reference_results_inside_the_scene_fmus(scene, tmp_path):
         for n in columns:
             a, b = np.asarray(inside[n], dtype=float), np.asarray(host[n], dtype=float)
             assert np.array_equal(a.view(np.uint64), b.view(np.uint64)), f"{ident} {n}"
+
+
+@pytest.mark.parametrize("scene", SCENES)
+def test_a_scene_fmu_reads_time_and_only_the_indicators_it_lists(scene):
+    """`time` reads as the instance's time; the event indicators read as variables exactly where
+    the FMU lists them (Model Exchange), and an FMU that lists none refuses their value
+    references."""
+    from fmpy.fmi1 import FMICallException
+    ex = Extracted.of(_scene_fmus(scene)[1])
+    t_vr = ex.vars["time"].valueReference
+    listed = [v.valueReference for v in ex.md.modelVariables if v.name.startswith("event.indicator_")]
+    fmu = FMU3Slave(guid=ex.md.instantiationToken, unzipDirectory=ex.dir,
+                    modelIdentifier=ex.md.coSimulation.modelIdentifier, instanceName="vars")
+    fmu.instantiate()
+    try:
+        fmu.enterInitializationMode(startTime=0.25)
+        fmu.exitInitializationMode()
+        assert fmu.getFloat64([t_vr]) == [0.25]
+        if listed:
+            assert len(fmu.getFloat64(listed)) == len(listed)
+        else:
+            with pytest.raises(FMICallException):
+                fmu.getFloat64([t_vr + 1])
+    finally:
+        fmu.freeInstance()
