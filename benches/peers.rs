@@ -24,6 +24,7 @@
 mod common;
 
 use bindery_fmu::fmi2::runtime;
+use bindery_fmu::fmi2::state::Call;
 use bindery_fmu::fmi2::types::*;
 use bindery_fmu::mechanics::geneva::Geneva;
 use bindery_fmu::mechanisms::geneva_knife_drive::GenevaKnifeDrive;
@@ -507,9 +508,15 @@ fn heap(a: &Args) -> String {
                 FALSE,
             );
             assert!(!c.is_null());
-            runtime::setup_experiment::<GenevaKnifeDrive>(c, FALSE, 0.0, 0.0, FALSE, 0.0);
-            runtime::enter_initialization_mode::<GenevaKnifeDrive>(c);
-            runtime::exit_initialization_mode::<GenevaKnifeDrive>(c);
+            runtime::entry::<GenevaKnifeDrive, _>(c, Call::SetupExperiment, |i| {
+                i.experiment(FALSE, 0.0, 0.0, FALSE, 0.0)
+            });
+            runtime::entry::<GenevaKnifeDrive, _>(c, Call::EnterInitializationMode, |i| {
+                i.enter_initialization_mode()
+            });
+            runtime::entry::<GenevaKnifeDrive, _>(c, Call::ExitInitializationMode, |i| {
+                i.exit_initialization_mode()
+            });
             runtime::do_step::<GenevaKnifeDrive>(c, 0.0, H, TRUE);
             let mut x = [0.0];
             runtime::get_real::<GenevaKnifeDrive>(c, [3u32].as_ptr(), 1, x.as_mut_ptr());

@@ -1,140 +1,112 @@
-//! The FMU-state calls: get, set, free, serialize, deserialize (of FMI 2.0 and FMI 3.0: `call`
-//! names the one the host made).
+//! The FMU-state calls: get, set, free, serialize, deserialize (of FMI 2.0 and FMI 3.0: the
+//! export macros run each through the entry wrapper as the call the host made).
 
 use super::*;
 
-/// `fmi2GetFMUstate`.
-///
-/// # Safety
-/// As [`entry`]; `state` points to an `fmi2FMUstate`.
-pub unsafe fn get_fmu_state<M: Model, C: Api>(
-    c: Component,
-    call: C,
-    state: *mut FMUstate,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            if state.is_null() {
-                return Err("FMUstate pointer is NULL".into());
-            }
-            let snap = inst.snapshot();
-            inst.store_snapshot(state, snap)
-        })
+impl<M: Model> Instance<M> {
+    /// `fmi2GetFMUstate`.
+    ///
+    /// # Safety
+    /// `state` points to an `fmi2FMUstate`.
+    pub unsafe fn get_fmu_state(&mut self, state: *mut FMUstate) -> Outcome {
+        if state.is_null() {
+            return Err("FMUstate pointer is NULL".into());
+        }
+        let snap = self.snapshot();
+        // SAFETY: as this function.
+        unsafe { self.store_snapshot(state, snap) }
     }
-}
 
-/// `fmi2SetFMUstate`.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn set_fmu_state<M: Model, C: Api>(c: Component, call: C, state: FMUstate) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            let p = inst.own_snapshot(state)?;
-            let snap = (*p).clone();
-            inst.restore(&snap)
-        })
+    /// `fmi2SetFMUstate`.
+    ///
+    /// # Safety
+    /// None beyond the entry wrapper's: `state` is checked to be one of this instance's.
+    pub unsafe fn set_fmu_state(&mut self, state: FMUstate) -> Outcome {
+        let p = self.own_snapshot(state)?;
+        // SAFETY: a live snapshot of this instance.
+        let snap = unsafe { (*p).clone() };
+        self.restore(&snap)
     }
-}
 
-/// `fmi2FreeFMUstate`.
-///
-/// # Safety
-/// As [`entry`]; `state` points to an `fmi2FMUstate`.
-pub unsafe fn free_fmu_state<M: Model, C: Api>(
-    c: Component,
-    call: C,
-    state: *mut FMUstate,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            if state.is_null() || (*state).is_null() {
-                return Ok(Status::Ok);
-            }
-            let p = inst.own_snapshot(*state)?;
-            inst.snapshots.retain(|&q| q != p);
+    /// `fmi2FreeFMUstate`.
+    ///
+    /// # Safety
+    /// `state` points to an `fmi2FMUstate`.
+    pub unsafe fn free_fmu_state(&mut self, state: *mut FMUstate) -> Outcome {
+        // SAFETY: as this function.
+        if state.is_null() || unsafe { (*state).is_null() } {
+            return Ok(Status::Ok);
+        }
+        // SAFETY: as this function; own_snapshot checks it is one of ours, still live.
+        unsafe {
+            let p = self.own_snapshot(*state)?;
+            self.snapshots.retain(|&q| q != p);
             drop(Box::from_raw(p));
             *state = std::ptr::null_mut();
-            Ok(Status::Ok)
-        })
+        }
+        Ok(Status::Ok)
     }
-}
 
-/// `fmi2SerializedFMUstateSize`.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn serialized_fmu_state_size<M: Model, C: Api>(
-    c: Component,
-    call: C,
-    state: FMUstate,
-    size: *mut usize,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            let p = inst.own_snapshot(state)?;
-            if size.is_null() {
-                return Err("size pointer is NULL".into());
-            }
-            *size = (*p).to_bytes(inst.guid_hash).len();
-            Ok(Status::Ok)
-        })
+    /// `fmi2SerializedFMUstateSize`.
+    ///
+    /// # Safety
+    /// `size` points to a `size_t` (checked for NULL).
+    pub unsafe fn serialized_fmu_state_size(
+        &mut self,
+        state: FMUstate,
+        size: *mut usize,
+    ) -> Outcome {
+        let p = self.own_snapshot(state)?;
+        if size.is_null() {
+            return Err("size pointer is NULL".into());
+        }
+        // SAFETY: a live snapshot of this instance; `size` as this function.
+        unsafe { *size = (*p).to_bytes(self.guid_hash).len() };
+        Ok(Status::Ok)
     }
-}
 
-/// `fmi2SerializeFMUstate`.
-///
-/// # Safety
-/// As [`entry`]; `bytes` holds `size` bytes.
-pub unsafe fn serialize_fmu_state<M: Model, C: Api>(
-    c: Component,
-    call: C,
-    state: FMUstate,
-    bytes: *mut Byte,
-    size: usize,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            let p = inst.own_snapshot(state)?;
-            let data = (*p).to_bytes(inst.guid_hash);
-            if size < data.len() {
-                return Err(format!(
-                    "buffer of {size} bytes is too small for {} bytes",
-                    data.len()
-                ));
-            }
-            let out = slice_mut(bytes as *mut u8, data.len(), "serializedState")?;
-            out.copy_from_slice(&data);
-            Ok(Status::Ok)
-        })
+    /// `fmi2SerializeFMUstate`.
+    ///
+    /// # Safety
+    /// `bytes` holds `size` bytes.
+    pub unsafe fn serialize_fmu_state(
+        &mut self,
+        state: FMUstate,
+        bytes: *mut Byte,
+        size: usize,
+    ) -> Outcome {
+        let p = self.own_snapshot(state)?;
+        // SAFETY: a live snapshot of this instance.
+        let data = unsafe { (*p).to_bytes(self.guid_hash) };
+        if size < data.len() {
+            return Err(format!(
+                "buffer of {size} bytes is too small for {} bytes",
+                data.len()
+            ));
+        }
+        // SAFETY: as this function.
+        let out = unsafe { slice_mut(bytes as *mut u8, data.len(), "serializedState")? };
+        out.copy_from_slice(&data);
+        Ok(Status::Ok)
     }
-}
 
-/// `fmi2DeSerializeFMUstate`: refuses bytes that are truncated, from another FMU or corrupt.
-///
-/// # Safety
-/// As [`entry`]; `bytes` holds `size` bytes; `state` points to an `fmi2FMUstate`.
-pub unsafe fn deserialize_fmu_state<M: Model, C: Api>(
-    c: Component,
-    call: C,
-    bytes: *const Byte,
-    size: usize,
-    state: *mut FMUstate,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            if state.is_null() {
-                return Err("FMUstate pointer is NULL".into());
-            }
-            let data = slice(bytes as *const u8, size, "serializedState")?;
-            let snap = Snapshot::from_bytes(data, inst.guid_hash, inst.values.raw().len())?;
-            inst.store_snapshot(state, snap)
-        })
+    /// `fmi2DeSerializeFMUstate`: refuses bytes that are truncated, from another FMU or corrupt.
+    ///
+    /// # Safety
+    /// `bytes` holds `size` bytes; `state` points to an `fmi2FMUstate`.
+    pub unsafe fn deserialize_fmu_state(
+        &mut self,
+        bytes: *const Byte,
+        size: usize,
+        state: *mut FMUstate,
+    ) -> Outcome {
+        if state.is_null() {
+            return Err("FMUstate pointer is NULL".into());
+        }
+        // SAFETY: as this function.
+        let data = unsafe { slice(bytes as *const u8, size, "serializedState")? };
+        let snap = Snapshot::from_bytes(data, self.guid_hash, self.values.raw().len())?;
+        // SAFETY: as this function.
+        unsafe { self.store_snapshot(state, snap) }
     }
 }

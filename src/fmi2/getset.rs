@@ -76,30 +76,42 @@ pub unsafe fn set<M: Model, T>(
     }
 }
 
-/// The public get and set calls, one entry each: the name, the host's value array, and
-/// [`get`] or [`set`] with the call, its [`Kind`] and the conversion.
-macro_rules! get_set_calls {
+/// The public get and set calls of either version, one entry each: the name, the host's
+/// value array (FMI 3.0: and its length `nValues`, which must equal the number of value
+/// references: every variable is a scalar), and [`get`] or [`set`] with the version's call,
+/// its [`Kind`] and the conversion. The invoking module imports its version's `Call` and its
+/// C types.
+#[doc(hidden)]
+#[macro_export]
+macro_rules! __get_set_calls {
     ($(
         $(#[$doc:meta])*
-        $name:ident($value:ty) = $how:ident($call:ident, $kind:ident, $conv:expr);
+        $name:ident($value:ty $(, $n_values:ident)?) = $how:ident($call:ident, $kind:expr, $conv:expr);
     )*) => {$(
         $(#[$doc])*
         ///
         /// # Safety
         /// As [`entry`]; arrays hold `n` elements.
         pub unsafe fn $name<M: Model>(
-            c: Component,
+            c: $crate::fmi2::types::Component,
             vr: *const ValueReference,
             n: usize,
             value: $value,
+            $($n_values: usize,)?
         ) -> Status {
+            $(
+                if let Err(why) = $crate::fmi2::runtime::scalars(n, $n_values) {
+                    // SAFETY: as this function.
+                    return unsafe { entry::<M, _>(c, Call::$call, |_| Err(why)) };
+                }
+            )?
             // SAFETY: as this function.
             unsafe { $how::<M, _>(c, Call::$call, vr, n, value, $kind, $conv) }
         }
     )*};
 }
 
-get_set_calls! {
+crate::__get_set_calls! {
     /// `fmi2GetReal`.
     get_real(*mut Real) = get(GetReal, REAL, |x| x);
     /// `fmi2GetInteger` (Integer and Enumeration variables).
@@ -122,6 +134,18 @@ get_set_calls! {
     });
     /// `fmi2SetString`: the models have no String variables.
     set_string(*const FmiString) = set(SetString, STRING, |v| vec![0.0; v.len()].into());
+}
+
+/// Refuses an FMI 3.0 array of `n_values` values for `nvr` value references unless they are
+/// equal: every variable is a scalar.
+pub fn scalars(nvr: usize, n_values: usize) -> Result<(), String> {
+    if n_values == nvr {
+        Ok(())
+    } else {
+        Err(format!(
+            "nValues = {n_values} but nValueReferences = {nvr}: every variable of this FMU is a scalar"
+        ))
+    }
 }
 
 /// A call whose capability flag is false: logged and refused.

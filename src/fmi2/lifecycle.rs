@@ -86,7 +86,7 @@ pub unsafe fn instantiate<M: Model>(
     _visible: Boolean,
     logging_on: Boolean,
 ) -> Component {
-    let result = catch_unwind(AssertUnwindSafe(|| {
+    instantiating::<M>("fmi2Instantiate", || {
         if functions.is_null() {
             eprintln!(
                 "{}: fmi2Instantiate: callback functions are NULL; refused",
@@ -146,10 +146,15 @@ pub unsafe fn instantiate<M: Model>(
                 std::ptr::null_mut()
             }
         }
-    }));
-    result.unwrap_or_else(|p| {
+    })
+}
+
+/// An instantiation through either FMI version (`call` names it) with its panics caught: a
+/// panic gives NULL and a line on standard error (the host's logger may be what failed).
+pub fn instantiating<M: Model>(call: &str, f: impl FnOnce() -> Component) -> Component {
+    catch_unwind(AssertUnwindSafe(f)).unwrap_or_else(|p| {
         eprintln!(
-            "{}: fmi2Instantiate: internal error: {}",
+            "{}: {call}: internal error: {}",
             M::IDENTIFIER,
             panic_text(&*p)
         );
@@ -272,76 +277,37 @@ pub unsafe fn set_debug_logging_as<M: Model, C: Api>(
     }
 }
 
-/// `fmi2SetupExperiment`.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn setup_experiment<M: Model>(
-    c: Component,
-    _tol_defined: Boolean,
-    _tol: f64,
-    start: f64,
-    stop_defined: Boolean,
-    stop: f64,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, Call::SetupExperiment, |inst| {
-            inst.setup_experiment(start, (stop_defined != FALSE).then_some(stop))
-        })
-    }
-}
-
-/// `fmi2EnterInitializationMode`.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn enter_initialization_mode<M: Model>(c: Component) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, Call::EnterInitializationMode, |inst| {
-            inst.enter_initialization_mode()
-        })
-    }
-}
-
-/// `fmi2ExitInitializationMode`: the parameters are final; a set the mechanism cannot work with
-/// is refused here, naming the parameter, and the instance stays in initialization mode so the
-/// host can correct it.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn exit_initialization_mode<M: Model>(c: Component) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, Call::ExitInitializationMode, |inst| {
-            inst.exit_initialization_mode()
-        })
-    }
-}
-
-/// `fmi2Terminate`.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn terminate<M: Model>(c: Component) -> Status {
-    // SAFETY: as entry.
-    unsafe { entry::<M, _>(c, Call::Terminate, |inst| inst.terminate()) }
-}
-
-/// `fmi2Reset`: back to a freshly instantiated state (start values, no experiment).
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn reset<M: Model>(c: Component) -> Status {
-    // SAFETY: as entry.
-    unsafe { entry::<M, _>(c, Call::Reset, |inst| inst.reset()) }
-}
-
 /// The life of an instance, the same through either FMI version.
 impl<M: Model> Instance<M> {
-    /// The experiment's start and stop time (`fmi2SetupExperiment`, the arguments of
-    /// `fmi3EnterInitializationMode`).
+    /// `fmi2SetupExperiment` (`B` the version's Boolean): the start and stop time; the
+    /// tolerance is not used (the elastodynamic level has its own, `solver.tolerance`).
+    pub fn experiment<B: PartialEq + From<bool>>(
+        &mut self,
+        _tolerance_defined: B,
+        _tolerance: f64,
+        start: f64,
+        stop_defined: B,
+        stop: f64,
+    ) -> Outcome {
+        let stop_defined = stop_defined != B::from(false);
+        self.setup_experiment(start, stop_defined.then_some(stop))
+    }
+
+    /// `fmi3EnterInitializationMode`: the experiment, as [`Instance::experiment`], then
+    /// initialization mode; a bad start or stop time changes nothing.
+    pub fn experiment_and_initialization<B: PartialEq + From<bool>>(
+        &mut self,
+        tolerance_defined: B,
+        tolerance: f64,
+        start: f64,
+        stop_defined: B,
+        stop: f64,
+    ) -> Outcome {
+        self.experiment(tolerance_defined, tolerance, start, stop_defined, stop)?;
+        self.enter_initialization_mode()
+    }
+
+    /// The experiment's start and stop time.
     pub fn setup_experiment(&mut self, start: f64, stop: Option<f64>) -> Outcome {
         if !start.is_finite() {
             return Err(format!("startTime = {start} is not finite"));

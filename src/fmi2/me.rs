@@ -43,259 +43,198 @@ fn named_states<M: Model>(x: &[f64]) -> String {
         .join(", ")
 }
 
-/// A function of the states returned non-finite values: where the model has no finite value
-/// at the states the host set (a Newton iterate far off the motion, a lever outside the
-/// linkage), `fmi2Discard` (FMI 2.0: "a function is outside of its domain": the host should
-/// retry with a smaller step), logged with the states and the first value named. `Ok` if all
-/// are finite.
-fn discard_non_finite<M: Model>(
-    inst: &mut Instance<M>,
-    call: impl Api,
-    values: &[f64],
-    name: impl Fn(usize) -> String,
-) -> Status {
-    let Some(i) = values.iter().position(|v| !v.is_finite()) else {
-        return Status::Ok;
-    };
-    let mut x = vec![0.0; M::STATES];
-    let model = inst.model.as_mut().expect("prepared");
-    model.me_states(&inst.values, inst.time, &mut x);
-    let msg = format!(
-        "{}{call:?}: {} = {} at t = {} is not finite: the model has no finite value at the states {} (outside its domain); a smaller step is needed",
-        call.prefix(),
-        name(i),
-        values[i],
-        inst.time,
-        named_states::<M>(&x)
-    );
-    inst.logger.emit(Status::Discard, "logStatusDiscard", &msg);
-    Status::Discard
-}
-
-/// `fmi2EnterEventMode`.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn enter_event_mode<M: Model, C: Api>(c: Component, call: C) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            inst.me.mode = Mode::Event;
-            Ok(Status::Ok)
-        })
+impl<M: Model> Instance<M> {
+    /// A function of the states returned non-finite values: where the model has no finite
+    /// value at the states the host set (a Newton iterate far off the motion, a lever outside
+    /// the linkage), `fmi2Discard` (FMI 2.0: "a function is outside of its domain": the host
+    /// should retry with a smaller step), logged with the states and the first value named.
+    /// `Ok` if all are finite.
+    fn discard_non_finite(
+        &mut self,
+        call: impl Api,
+        values: &[f64],
+        name: impl Fn(usize) -> String,
+    ) -> Status {
+        let Some(i) = values.iter().position(|v| !v.is_finite()) else {
+            return Status::Ok;
+        };
+        // prepared: the values came from the model
+        let x = self.me_states().unwrap_or_default();
+        let msg = format!(
+            "{}{call:?}: {} = {} at t = {} is not finite: the model has no finite value at the states {} (outside its domain); a smaller step is needed",
+            call.prefix(),
+            name(i),
+            values[i],
+            self.time,
+            named_states::<M>(&x)
+        );
+        self.logger.emit(Status::Discard, "logStatusDiscard", &msg);
+        Status::Discard
     }
-}
 
-/// `fmi2NewDiscreteStates`: the model switches its discrete modes at the event.
-///
-/// # Safety
-/// As [`entry`]; `info` points to an `fmi2EventInfo`.
-pub unsafe fn new_discrete_states<M: Model>(c: Component, info: *mut EventInfo) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, Call::NewDiscreteStates, |inst| {
-            if info.is_null() {
-                return Err("fmi2EventInfo pointer is NULL".into());
-            }
-            inst.me_event()?;
-            // no new discrete states, no termination, no state change, no time event
-            *info = EventInfo::default();
-            Ok(Status::Ok)
-        })
+    /// `fmi2NewDiscreteStates`: the model switches its discrete modes at the event.
+    ///
+    /// # Safety
+    /// `info` points to an `fmi2EventInfo` (checked for NULL).
+    pub unsafe fn new_discrete_states(&mut self, info: *mut EventInfo) -> Outcome {
+        if info.is_null() {
+            return Err("fmi2EventInfo pointer is NULL".into());
+        }
+        self.me_event()?;
+        // no new discrete states, no termination, no state change, no time event
+        // SAFETY: as this function.
+        unsafe { *info = EventInfo::default() };
+        Ok(Status::Ok)
     }
-}
 
-/// `fmi2EnterContinuousTimeMode`.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn enter_continuous_time_mode<M: Model, C: Api>(c: Component, call: C) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            inst.me.mode = Mode::ContinuousTime;
-            Ok(Status::Ok)
-        })
-    }
-}
-
-/// `fmi2CompletedIntegratorStep` and `fmi3CompletedIntegratorStep` (`call`; `B` the version's
-/// Boolean): never asks for an event or the end.
-///
-/// # Safety
-/// As [`entry`]; the two flags point to a Boolean each.
-pub unsafe fn completed_integrator_step<M: Model, B: From<bool>>(
-    c: Component,
-    call: impl Api,
-    _no_set_prior: B,
-    enter_event_mode: *mut B,
-    terminate: *mut B,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            if enter_event_mode.is_null() || terminate.is_null() {
-                return Err("a result pointer is NULL".into());
-            }
-            inst.completed_step()?;
+    /// `fmi2CompletedIntegratorStep` and `fmi3CompletedIntegratorStep` (`B` the version's
+    /// Boolean): never asks for an event or the end.
+    ///
+    /// # Safety
+    /// The two flags point to a Boolean each (checked for NULL).
+    pub unsafe fn completed_integrator_step<B: From<bool>>(
+        &mut self,
+        _no_set_prior: B,
+        enter_event_mode: *mut B,
+        terminate: *mut B,
+    ) -> Outcome {
+        if enter_event_mode.is_null() || terminate.is_null() {
+            return Err("a result pointer is NULL".into());
+        }
+        self.completed_step()?;
+        // SAFETY: as this function.
+        unsafe {
             *enter_event_mode = B::from(false);
             *terminate = B::from(false);
-            Ok(Status::Ok)
-        })
+        }
+        Ok(Status::Ok)
     }
-}
 
-/// `fmi2SetTime`.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn set_time<M: Model, C: Api>(c: Component, call: C, t: Real) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            if !t.is_finite() {
-                return Err(format!("time {t} is not finite"));
-            }
-            inst.time = t;
-            inst.dirty = true;
-            Ok(Status::Ok)
-        })
+    /// `fmi2SetTime`.
+    pub fn set_time(&mut self, t: Real) -> Outcome {
+        if !t.is_finite() {
+            return Err(format!("time {t} is not finite"));
+        }
+        self.time = t;
+        self.dirty = true;
+        Ok(Status::Ok)
     }
-}
 
-/// `fmi2SetContinuousStates`.
-///
-/// # Safety
-/// As [`entry`]; `x` holds `nx` reals.
-pub unsafe fn set_continuous_states<M: Model, C: Api>(
-    c: Component,
-    call: C,
-    x: *const Real,
-    nx: usize,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            count(nx, "nx", M::STATES)?;
-            let x = slice(x, nx, "x")?;
-            // refused before anything reads it: the model keeps its states
-            if let Some(i) = x.iter().position(|v| !v.is_finite()) {
-                return Err(format!(
-                    "{} = {} is not finite; the states are kept ({})",
-                    crate::model::state_names::<M::Var>()[i],
-                    x[i],
-                    named_states::<M>(&inst.me_states()?)
-                ));
-            }
-            inst.prepared()?;
-            let model = inst.model.as_mut().expect("prepared");
-            model.me_set_states(&inst.values, inst.time, x);
-            inst.dirty = true;
-            Ok(Status::Ok)
-        })
+    /// `fmi2SetContinuousStates`.
+    ///
+    /// # Safety
+    /// `x` holds `nx` reals.
+    pub unsafe fn set_continuous_states(&mut self, x: *const Real, nx: usize) -> Outcome {
+        count(nx, "nx", M::STATES)?;
+        // SAFETY: as this function.
+        let x = unsafe { slice(x, nx, "x")? };
+        // refused before anything reads it: the model keeps its states
+        if let Some(i) = x.iter().position(|v| !v.is_finite()) {
+            return Err(format!(
+                "{} = {} is not finite; the states are kept ({})",
+                crate::model::state_names::<M::Var>()[i],
+                x[i],
+                named_states::<M>(&self.me_states()?)
+            ));
+        }
+        self.prepared()?;
+        let model = self.model.as_mut().expect("prepared");
+        model.me_set_states(&self.values, self.time, x);
+        self.dirty = true;
+        Ok(Status::Ok)
     }
-}
 
-/// `fmi2GetDerivatives`.
-///
-/// # Safety
-/// As [`entry`]; `dx` holds `nx` reals.
-pub unsafe fn get_derivatives<M: Model, C: Api>(
-    c: Component,
-    call: C,
-    dx: *mut Real,
-    nx: usize,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            count(nx, "nx", M::STATES)?;
-            let dx = slice_mut(dx, nx, "derivatives")?;
-            inst.prepared()?;
-            let model = inst.model.as_mut().expect("prepared");
-            model.me_derivatives(&inst.values, inst.time, dx);
-            let names = crate::model::state_names::<M::Var>();
-            Ok(discard_non_finite(inst, call, dx, |i| {
-                format!("der({})", names[i])
-            }))
-        })
+    /// `fmi2GetDerivatives`.
+    ///
+    /// # Safety
+    /// `dx` holds `nx` reals.
+    pub unsafe fn get_derivatives(&mut self, call: impl Api, dx: *mut Real, nx: usize) -> Outcome {
+        count(nx, "nx", M::STATES)?;
+        // SAFETY: as this function.
+        let dx = unsafe { slice_mut(dx, nx, "derivatives")? };
+        self.model_fill(dx, M::me_derivatives)?;
+        let names = crate::model::state_names::<M::Var>();
+        Ok(self.discard_non_finite(call, dx, |i| format!("der({})", names[i])))
     }
-}
 
-/// `fmi2GetEventIndicators`.
-///
-/// # Safety
-/// As [`entry`]; `z` holds `ni` reals.
-pub unsafe fn get_event_indicators<M: Model, C: Api>(
-    c: Component,
-    call: C,
-    z: *mut Real,
-    ni: usize,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            count(ni, "ni", M::EVENT_INDICATORS)?;
-            let z = slice_mut(z, ni, "eventIndicators")?;
-            inst.prepared()?;
-            let model = inst.model.as_mut().expect("prepared");
-            model.me_event_indicators(&inst.values, inst.time, z);
-            Ok(discard_non_finite(inst, call, z, |i| {
-                format!("event indicator {i}")
-            }))
-        })
+    /// `fmi2GetEventIndicators`.
+    ///
+    /// # Safety
+    /// `z` holds `ni` reals.
+    pub unsafe fn get_event_indicators(
+        &mut self,
+        call: impl Api,
+        z: *mut Real,
+        ni: usize,
+    ) -> Outcome {
+        count(ni, "ni", M::EVENT_INDICATORS)?;
+        // SAFETY: as this function.
+        let z = unsafe { slice_mut(z, ni, "eventIndicators")? };
+        self.model_fill(z, M::me_event_indicators)?;
+        Ok(self.discard_non_finite(call, z, |i| format!("event indicator {i}")))
     }
-}
 
-/// `fmi2GetContinuousStates`.
-///
-/// # Safety
-/// As [`entry`]; `x` holds `nx` reals.
-pub unsafe fn get_continuous_states<M: Model, C: Api>(
-    c: Component,
-    call: C,
-    x: *mut Real,
-    nx: usize,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |inst| {
-            count(nx, "nx", M::STATES)?;
-            let x = slice_mut(x, nx, "x")?;
-            x.copy_from_slice(&inst.me_states()?);
-            Ok(Status::Ok)
-        })
+    /// `fmi2GetContinuousStates`.
+    ///
+    /// # Safety
+    /// `x` holds `nx` reals.
+    pub unsafe fn get_continuous_states(&mut self, x: *mut Real, nx: usize) -> Outcome {
+        count(nx, "nx", M::STATES)?;
+        // SAFETY: as this function.
+        self.model_fill(unsafe { slice_mut(x, nx, "x")? }, M::me_states)?;
+        Ok(Status::Ok)
     }
-}
 
-/// `fmi2GetNominalsOfContinuousStates`: 1 for every state.
-///
-/// # Safety
-/// As [`entry`]; `x` holds `nx` reals.
-pub unsafe fn get_nominals<M: Model, C: Api>(
-    c: Component,
-    call: C,
-    x: *mut Real,
-    nx: usize,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, call, |_| {
-            count(nx, "nx", M::STATES)?;
-            slice_mut(x, nx, "x_nominal")?.fill(1.0);
-            Ok(Status::Ok)
-        })
+    /// `fmi2GetNominalsOfContinuousStates`: 1 for every state.
+    ///
+    /// # Safety
+    /// `x` holds `nx` reals.
+    pub unsafe fn get_nominals(&mut self, x: *mut Real, nx: usize) -> Outcome {
+        count(nx, "nx", M::STATES)?;
+        // SAFETY: as this function.
+        unsafe { slice_mut(x, nx, "x_nominal")? }.fill(1.0);
+        Ok(Status::Ok)
     }
-}
 
-impl<M: Model> Instance<M> {
+    /// Into Event Mode (FMI 2.0 and FMI 3.0 Model Exchange; FMI 3.0 Co-Simulation for a host
+    /// that said at instantiation it uses Event Mode).
+    pub fn enter_event_mode(&mut self) -> Outcome {
+        if !(self.me.is_me || self.event_mode_used) {
+            return Err("eventModeUsed was false at instantiation".into());
+        }
+        self.me.mode = Mode::Event;
+        Ok(Status::Ok)
+    }
+
+    /// Out of Event Mode: Model Exchange's continuous-time mode, FMI 3.0 Co-Simulation's Step
+    /// Mode.
+    pub fn enter_continuous_time_mode(&mut self) -> Outcome {
+        self.me.mode = Mode::ContinuousTime;
+        Ok(Status::Ok)
+    }
+
     /// The model's event indicators now.
     pub fn event_indicators(&mut self) -> Result<Vec<f64>, String> {
-        self.prepared()?;
         let mut z = vec![0.0; M::EVENT_INDICATORS];
-        let model = self.model.as_mut().expect("prepared");
-        model.me_event_indicators(&self.values, self.time, &mut z);
+        self.model_fill(&mut z, M::me_event_indicators)?;
         Ok(z)
+    }
+
+    /// The prepared model's numbers `f` writes into `out` at the instance's values and time
+    /// (its states, derivatives or event indicators).
+    fn model_fill(
+        &mut self,
+        out: &mut [f64],
+        f: impl FnOnce(&mut M, &Values<M::Var>, f64, &mut [f64]),
+    ) -> Result<(), String> {
+        self.prepared()?;
+        f(
+            self.model.as_mut().expect("prepared"),
+            &self.values,
+            self.time,
+            out,
+        );
+        Ok(())
     }
 
     /// The model's event at this instant (FMI 2.0's `fmi2NewDiscreteStates`, FMI 3.0's
@@ -319,10 +258,8 @@ impl<M: Model> Instance<M> {
 
     /// The model's continuous states.
     fn me_states(&mut self) -> Result<Vec<f64>, String> {
-        self.prepared()?;
         let mut x = vec![0.0; M::STATES];
-        let model = self.model.as_mut().expect("prepared");
-        model.me_states(&self.values, self.time, &mut x);
+        self.model_fill(&mut x, M::me_states)?;
         Ok(x)
     }
 }

@@ -66,19 +66,6 @@ macro_rules! export_fmu {
                     logging_on: Boolean,
                 ) -> Component => rt::instantiate_c;
                 fmi2FreeInstance(c: Component) => rt::free_instance;
-                fmi2SetupExperiment(
-                    c: Component,
-                    tol_defined: Boolean,
-                    tol: Real,
-                    start: Real,
-                    stop_defined: Boolean,
-                    stop: Real,
-                ) -> Status => rt::setup_experiment;
-                fmi2EnterInitializationMode(c: Component)
-                    -> Status => rt::enter_initialization_mode;
-                fmi2ExitInitializationMode(c: Component) -> Status => rt::exit_initialization_mode;
-                fmi2Terminate(c: Component) -> Status => rt::terminate;
-                fmi2Reset(c: Component) -> Status => rt::reset;
                 fmi2SetRealInputDerivatives(
                     c: Component,
                     vr: *const ValueReference,
@@ -94,24 +81,35 @@ macro_rules! export_fmu {
                     -> Status => rt::get_boolean_status;
             }
 
-            // the FMU-state calls, each told which call it is
-            $crate::__fmi2_forward! { M; with_call:
-                fmi2GetFMUstate(c: Component, s: *mut FMUstate) -> Status
-                    => rt::get_fmu_state[GetFMUstate];
-                fmi2SetFMUstate(c: Component, s: FMUstate) -> Status
-                    => rt::set_fmu_state[SetFMUstate];
-                fmi2FreeFMUstate(c: Component, s: *mut FMUstate) -> Status
-                    => rt::free_fmu_state[FreeFMUstate];
-                fmi2SerializedFMUstateSize(c: Component, s: FMUstate, size: *mut usize)
-                    -> Status => rt::serialized_fmu_state_size[SerializedFMUstateSize];
-                fmi2SerializeFMUstate(c: Component, s: FMUstate, bytes: *mut Byte, size: usize)
-                    -> Status => rt::serialize_fmu_state[SerializeFMUstate];
-                fmi2DeSerializeFMUstate(
+            // the calls that are one method of the instance
+            $crate::__fmi2_forward! { M; method:
+                fmi2SetupExperiment(
                     c: Component,
-                    bytes: *const Byte,
-                    size: usize,
-                    s: *mut FMUstate,
-                ) -> Status => rt::deserialize_fmu_state[DeSerializeFMUstate];
+                    tol_defined: Boolean,
+                    tol: Real,
+                    start: Real,
+                    stop_defined: Boolean,
+                    stop: Real,
+                ) => experiment[SetupExperiment];
+                fmi2EnterInitializationMode(c: Component)
+                    => enter_initialization_mode[EnterInitializationMode];
+                fmi2ExitInitializationMode(c: Component)
+                    => exit_initialization_mode[ExitInitializationMode];
+                fmi2Terminate(c: Component) => terminate[Terminate];
+                fmi2Reset(c: Component) => reset[Reset];
+                fmi2EnterEventMode(c: Component) => enter_event_mode[EnterEventMode];
+                fmi2EnterContinuousTimeMode(c: Component)
+                    => enter_continuous_time_mode[EnterContinuousTimeMode];
+            }
+
+            // the FMU-state calls
+            $crate::__fmi2_forward! { M; fmu_state:
+                fmi2GetFMUstate[GetFMUstate],
+                fmi2SetFMUstate[SetFMUstate],
+                fmi2FreeFMUstate[FreeFMUstate],
+                fmi2SerializedFMUstateSize[SerializedFMUstateSize],
+                fmi2SerializeFMUstate[SerializeFMUstate],
+                fmi2DeSerializeFMUstate[DeSerializeFMUstate],
             }
 
             // the get and set calls, each (component, value references, n, values)
@@ -152,31 +150,18 @@ macro_rules! export_fmu {
             }
 
             // ---- Model Exchange (runtime::me); refused on a Co-Simulation instance
-            $crate::__fmi2_forward! { M;
+            $crate::__fmi2_forward! { M; method:
                 fmi2NewDiscreteStates(c: Component, info: *mut rt::me::EventInfo)
-                    -> Status => rt::me::new_discrete_states;
+                    => new_discrete_states[NewDiscreteStates];
             }
-            $crate::__fmi2_forward! { M; with_call:
-                fmi2EnterEventMode(c: Component) -> Status => rt::me::enter_event_mode[EnterEventMode];
-                fmi2EnterContinuousTimeMode(c: Component)
-                    -> Status => rt::me::enter_continuous_time_mode[EnterContinuousTimeMode];
-                fmi2CompletedIntegratorStep(
-                    c: Component,
-                    no_set_prior: Boolean,
-                    enter_event_mode: *mut Boolean,
-                    terminate: *mut Boolean,
-                ) -> Status => rt::me::completed_integrator_step[CompletedIntegratorStep];
-                fmi2SetTime(c: Component, t: Real) -> Status => rt::me::set_time[SetTime];
-                fmi2SetContinuousStates(c: Component, x: *const Real, nx: usize)
-                    -> Status => rt::me::set_continuous_states[SetContinuousStates];
-                fmi2GetDerivatives(c: Component, dx: *mut Real, nx: usize)
-                    -> Status => rt::me::get_derivatives[GetDerivatives];
-                fmi2GetEventIndicators(c: Component, z: *mut Real, ni: usize)
-                    -> Status => rt::me::get_event_indicators[GetEventIndicators];
-                fmi2GetContinuousStates(c: Component, x: *mut Real, nx: usize)
-                    -> Status => rt::me::get_continuous_states[GetContinuousStates];
-                fmi2GetNominalsOfContinuousStates(c: Component, x: *mut Real, nx: usize)
-                    -> Status => rt::me::get_nominals[GetNominalsOfContinuousStates];
+            $crate::__fmi2_forward! { M; me(Boolean):
+                fmi2CompletedIntegratorStep[CompletedIntegratorStep],
+                fmi2SetTime[SetTime],
+                fmi2SetContinuousStates[SetContinuousStates],
+                fmi2GetDerivatives[GetDerivatives],
+                fmi2GetEventIndicators[GetEventIndicators],
+                fmi2GetContinuousStates[GetContinuousStates],
+                fmi2GetNominalsOfContinuousStates[GetNominalsOfContinuousStates],
             }
         }
     };
@@ -184,22 +169,73 @@ macro_rules! export_fmu {
 
 /// For [`crate::export_fmu!`]: `extern "C"` functions, each passing its arguments on, in
 /// order, to the runtime function named after `=>`, for the model `$m`. After `get_set:`, the
-/// calls of the get/set signature, named with the type of their value array only; after
-/// `with_call:`, calls whose runtime function is told which call it serves (`f[Call]`: the
-/// component, then `Call::Call` of the version whose `Call` the invoking module imports, then
-/// the other arguments).
+/// calls of the get/set signature, named with the type of their value array only. After
+/// `method:`, calls that are one [`runtime::Instance`] method (`method[Call]`), run through the
+/// entry wrapper as `Call::Call` of the version whose `Call` the invoking module imports, with
+/// the arguments after the component; after `with_call:`, the same, the method told the call
+/// first.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __fmi2_forward {
-    ($m:ty; with_call: $(
-        $name:ident($c:ident: $ct:ty $(, $arg:ident: $t:ty)* $(,)?) -> $ret:ty
-            => $($f:ident)::+[$call:ident];
+    ($m:ty; method: $(
+        $name:ident($c:ident: $ct:ty $(, $arg:ident: $t:ty)* $(,)?) => $method:ident[$call:ident];
     )*) => {$(
         #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $name($c: $ct $(, $arg: $t)*) -> $ret {
-            unsafe { $($f)::+::<$m, _>($c, Call::$call $(, $arg)*) }
+        pub unsafe extern "C" fn $name($c: $ct $(, $arg: $t)*) -> $crate::fmi2::types::Status {
+            unsafe {
+                $crate::fmi2::runtime::entry::<$m, _>($c, Call::$call, |i| i.$method($($arg),*))
+            }
         }
     )*};
+    ($m:ty; with_call: $(
+        $name:ident($c:ident: $ct:ty $(, $arg:ident: $t:ty)* $(,)?) => $method:ident[$call:ident];
+    )*) => {$(
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name($c: $ct $(, $arg: $t)*) -> $crate::fmi2::types::Status {
+            unsafe {
+                $crate::fmi2::runtime::entry::<$m, _>($c, Call::$call, |i| {
+                    i.$method(Call::$call $(, $arg)*)
+                })
+            }
+        }
+    )*};
+    // the FMU-state calls, the same in FMI 2.0 and FMI 3.0 but for their names
+    ($m:ty; fmu_state:
+        $get:ident[$cget:ident], $set:ident[$cset:ident], $free:ident[$cfree:ident],
+        $size:ident[$csize:ident], $ser:ident[$cser:ident], $de:ident[$cde:ident] $(,)?
+    ) => {
+        $crate::__fmi2_forward! { $m; method:
+            $get(c: $crate::fmi2::types::Component, s: *mut $crate::fmi2::types::FMUstate) => get_fmu_state[$cget];
+            $set(c: $crate::fmi2::types::Component, s: $crate::fmi2::types::FMUstate) => set_fmu_state[$cset];
+            $free(c: $crate::fmi2::types::Component, s: *mut $crate::fmi2::types::FMUstate) => free_fmu_state[$cfree];
+            $size(c: $crate::fmi2::types::Component, s: $crate::fmi2::types::FMUstate, size: *mut usize)
+                => serialized_fmu_state_size[$csize];
+            $ser(c: $crate::fmi2::types::Component, s: $crate::fmi2::types::FMUstate, bytes: *mut $crate::fmi2::types::Byte, size: usize)
+                => serialize_fmu_state[$cser];
+            $de(c: $crate::fmi2::types::Component, bytes: *const $crate::fmi2::types::Byte, size: usize, s: *mut $crate::fmi2::types::FMUstate)
+                => deserialize_fmu_state[$cde];
+        }
+    };
+    // the Model Exchange calls of the continuous-time mode, the same in FMI 2.0 and FMI 3.0
+    // but for their names and the Boolean
+    ($m:ty; me($boolean:ty):
+        $completed:ident[$ccompleted:ident], $time:ident[$ctime:ident],
+        $set_x:ident[$cset_x:ident], $der:ident[$cder:ident], $ind:ident[$cind:ident],
+        $get_x:ident[$cget_x:ident], $nominals:ident[$cnominals:ident] $(,)?
+    ) => {
+        $crate::__fmi2_forward! { $m; method:
+            $completed(c: $crate::fmi2::types::Component, no_prior: $boolean, event: *mut $boolean, end: *mut $boolean)
+                => completed_integrator_step[$ccompleted];
+            $time(c: $crate::fmi2::types::Component, t: f64) => set_time[$ctime];
+            $set_x(c: $crate::fmi2::types::Component, x: *const f64, n: usize) => set_continuous_states[$cset_x];
+            $get_x(c: $crate::fmi2::types::Component, x: *mut f64, n: usize) => get_continuous_states[$cget_x];
+            $nominals(c: $crate::fmi2::types::Component, x: *mut f64, n: usize) => get_nominals[$cnominals];
+        }
+        $crate::__fmi2_forward! { $m; with_call:
+            $der(c: $crate::fmi2::types::Component, dx: *mut f64, n: usize) => get_derivatives[$cder];
+            $ind(c: $crate::fmi2::types::Component, z: *mut f64, n: usize) => get_event_indicators[$cind];
+        }
+    };
     ($m:ty; get_set: $($name:ident($value:ty) => $($f:ident)::+;)*) => {
         $crate::__fmi2_forward! { $m; $(
             $name(

@@ -38,7 +38,6 @@ pub mod me;
 mod snapshot;
 
 pub use cs::*;
-pub use fmu_state::*;
 pub use getset::*;
 pub use lifecycle::*;
 pub use logger::Logger;

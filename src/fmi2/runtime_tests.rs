@@ -118,8 +118,14 @@ fn tiny() -> Component {
 #[track_caller]
 unsafe fn initialize(c: Component) {
     unsafe {
-        assert_eq!(enter_initialization_mode::<Tiny>(c), Status::Ok);
-        assert_eq!(exit_initialization_mode::<Tiny>(c), Status::Ok);
+        let enter = entry::<Tiny, _>(c, Call::EnterInitializationMode, |i| {
+            i.enter_initialization_mode()
+        });
+        assert_eq!(enter, Status::Ok);
+        let exit = entry::<Tiny, _>(c, Call::ExitInitializationMode, |i| {
+            i.exit_initialization_mode()
+        });
+        assert_eq!(exit, Status::Ok);
     }
 }
 
@@ -154,7 +160,7 @@ fn a_panic_in_the_model_is_caught_at_the_boundary() {
         );
         // in the error state only what FMI 2.0 allows works; reset brings it back
         assert_eq!(do_step::<Tiny>(c, 0.0, 0.1, FALSE), Status::Error);
-        assert_eq!(reset::<Tiny>(c), Status::Ok);
+        assert_eq!(entry::<Tiny, _>(c, Call::Reset, |i| i.reset()), Status::Ok);
         initialize(c);
         assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Ok);
         assert_eq!(y, 0.0, "reset restored the start values");
@@ -169,10 +175,8 @@ fn a_discarded_step_keeps_the_time_and_the_instance_restorable() {
         initialize(c);
         assert_eq!(do_step::<Tiny>(c, 0.0, 0.1, TRUE), Status::Ok);
         let mut saved: FMUstate = std::ptr::null_mut();
-        assert_eq!(
-            get_fmu_state::<Tiny, _>(c, Call::GetFMUstate, &mut saved),
-            Status::Ok
-        );
+        let status = entry::<Tiny, _>(c, Call::GetFMUstate, |i| i.get_fmu_state(&mut saved));
+        assert_eq!(status, Status::Ok);
         // the model cannot complete the next step (as a solver that gives up)
         let inst = instance(c);
         inst.values.set_flag(TV::fail, true);
@@ -192,17 +196,13 @@ fn a_discarded_step_keeps_the_time_and_the_instance_restorable() {
         assert_eq!(get_real::<Tiny>(c, vr.as_ptr(), 1, &mut y), Status::Ok);
         assert_eq!(do_step::<Tiny>(c, 0.1, 0.05, TRUE), Status::Error);
         // restorable: the saved state is StepComplete again, and the run goes on
-        assert_eq!(
-            set_fmu_state::<Tiny, _>(c, Call::SetFMUstate, saved),
-            Status::Ok
-        );
+        let status = entry::<Tiny, _>(c, Call::SetFMUstate, |i| i.set_fmu_state(saved));
+        assert_eq!(status, Status::Ok);
         assert_eq!(inst.state, State::StepComplete);
         assert!(!inst.values.flag(TV::fail));
         assert_eq!(do_step::<Tiny>(c, 0.1, 0.05, TRUE), Status::Ok);
-        assert_eq!(
-            free_fmu_state::<Tiny, _>(c, Call::FreeFMUstate, &mut saved),
-            Status::Ok
-        );
+        let status = entry::<Tiny, _>(c, Call::FreeFMUstate, |i| i.free_fmu_state(&mut saved));
+        assert_eq!(status, Status::Ok);
         free_instance::<Tiny>(c);
     }
 }

@@ -1,17 +1,16 @@
 //! The FMI 3.0 calls over the shared runtime ([`crate::fmi2::runtime`]): instantiation,
-//! initialization with the experiment, the typed get and set calls, `fmi3DoStep`. The FMU-state
-//! calls are the runtime's own, told which call they serve. Each is one [`entry`] with this
-//! version's [`Call`], so the state machine of [`super::state`] decides what is legal.
+//! initialization with the experiment, the typed get and set calls, `fmi3DoStep`. The FMU-state,
+//! mode and Model Exchange calls are the runtime's instance methods, exported as the FMI 3.0
+//! calls they serve. Each is one [`entry`] with this version's [`Call`], so the state machine
+//! of [`super::state`] decides what is legal.
 
 use super::state::Call;
 use super::types::*;
-use crate::fmi2::runtime::me::Mode;
 use crate::fmi2::runtime::{
-    Kind, Logger, c_str, create, entry, get, panic_text, set, slice, slice_mut,
+    Kind, Logger, c_str, create, entry, get, instantiating, scalars, set, slice, slice_mut,
 };
 use crate::model::{Model, VarType};
 use std::borrow::Cow;
-use std::panic::{AssertUnwindSafe, catch_unwind};
 use std::path::PathBuf;
 
 /// What an `fmi3Instantiate*` call asks for, besides the model.
@@ -37,7 +36,7 @@ unsafe fn instantiate<M: Model>(
     request: Request,
 ) -> Instance {
     let call = format!("fmi3Instantiate{}", request.kind);
-    let result = catch_unwind(AssertUnwindSafe(|| {
+    instantiating::<M>(&call, || {
         // SAFETY: NULL or valid C strings, per the standard.
         let (name, token, resources) =
             unsafe { (c_str(instance_name), c_str(token), c_str(resource_path)) };
@@ -74,14 +73,6 @@ unsafe fn instantiate<M: Model>(
             }
             Err((logger, why)) => refused(logger, why.replace("GUID", "instantiationToken")),
         }
-    }));
-    result.unwrap_or_else(|p| {
-        eprintln!(
-            "{}: {call}: internal error: {}",
-            M::IDENTIFIER,
-            panic_text(&*p)
-        );
-        std::ptr::null_mut()
     })
 }
 
@@ -170,59 +161,6 @@ pub unsafe fn instantiate_scheduled_execution<M: Model>(
     std::ptr::null_mut()
 }
 
-/// `fmi3EnterInitializationMode`: the experiment (FMI 2.0's `fmi2SetupExperiment`), then
-/// initialization mode; a bad start or stop time changes nothing.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn enter_initialization_mode<M: Model>(
-    c: Instance,
-    _tolerance_defined: Boolean,
-    _tolerance: Float64,
-    start: Float64,
-    stop_defined: Boolean,
-    stop: Float64,
-) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, Call::EnterInitializationMode, |inst| {
-            inst.setup_experiment(start, (stop_defined != FALSE).then_some(stop))?;
-            inst.enter_initialization_mode()
-        })
-    }
-}
-
-/// `fmi3ExitInitializationMode`: into Event Mode if the host uses it, else Step Mode.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn exit_initialization_mode<M: Model>(c: Instance) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, Call::ExitInitializationMode, |inst| {
-            inst.exit_initialization_mode()
-        })
-    }
-}
-
-/// `fmi3Terminate`.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn terminate<M: Model>(c: Instance) -> Status {
-    // SAFETY: as entry.
-    unsafe { entry::<M, _>(c, Call::Terminate, |inst| inst.terminate()) }
-}
-
-/// `fmi3Reset`.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn reset<M: Model>(c: Instance) -> Status {
-    // SAFETY: as entry.
-    unsafe { entry::<M, _>(c, Call::Reset, |inst| inst.reset()) }
-}
-
 /// `fmi3SetDebugLogging`.
 ///
 /// # Safety
@@ -305,23 +243,6 @@ pub unsafe fn do_step<M: Model>(
                 );
             }
             Ok(status)
-        })
-    }
-}
-
-/// `fmi3EnterEventMode`: from Step Mode, for a host that uses Event Mode.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn enter_event_mode<M: Model>(c: Instance) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, Call::EnterEventMode, |inst| {
-            if !(inst.me.is_me || inst.event_mode_used) {
-                return Err("eventModeUsed was false at instantiation".into());
-            }
-            inst.me.mode = Mode::Event;
-            Ok(Status::Ok)
         })
     }
 }
@@ -442,20 +363,6 @@ fn lists_indicators<M: Model>(inst: &crate::fmi2::runtime::Instance<M>) -> bool 
             .is_none_or(|t| t.variables.iter().any(|(_, v)| v.derivative.is_some()))
 }
 
-/// `fmi3EnterStepMode`: from Event Mode back to Step Mode.
-///
-/// # Safety
-/// As [`entry`].
-pub unsafe fn enter_step_mode<M: Model>(c: Instance) -> Status {
-    // SAFETY: as entry.
-    unsafe {
-        entry::<M, _>(c, Call::EnterStepMode, |inst| {
-            inst.me.mode = Mode::ContinuousTime;
-            Ok(Status::Ok)
-        })
-    }
-}
-
 /// The FMI 3.0 value types the models have, and those they do not (no variable has their
 /// access bit, so a call of theirs is refused naming the variable's type).
 pub mod kinds {
@@ -474,95 +381,57 @@ pub mod kinds {
     }
 }
 
-/// Refuses `nValues` other than `nvr`: every variable is a scalar.
-fn scalars(nvr: usize, n_values: usize) -> Result<(), String> {
-    if n_values == nvr {
-        Ok(())
-    } else {
-        Err(format!(
-            "nValues = {n_values} but nValueReferences = {nvr}: every variable of this FMU is a scalar"
-        ))
-    }
-}
-
-/// The typed get and set calls: (instance, value references, nvr, values, nValues).
-macro_rules! typed_calls {
-    ($(
-        $(#[$doc:meta])*
-        $name:ident($value:ty) = $how:ident($call:ident, $kind:expr, $conv:expr);
-    )*) => {$(
-        $(#[$doc])*
-        ///
-        /// # Safety
-        /// As [`entry`]; arrays hold `nvr` elements.
-        pub unsafe fn $name<M: Model>(
-            c: Instance,
-            vr: *const ValueReference,
-            nvr: usize,
-            values: $value,
-            n_values: usize,
-        ) -> Status {
-            if let Err(why) = scalars(nvr, n_values) {
-                // SAFETY: as this function.
-                return unsafe { entry::<M, _>(c, Call::$call, |_| Err(why)) };
-            }
-            // SAFETY: as this function.
-            unsafe { $how::<M, _>(c, Call::$call, vr, nvr, values, $kind, $conv) }
-        }
-    )*};
-}
-
-typed_calls! {
+crate::__get_set_calls! {
     /// `fmi3GetFloat64` of the model's variables ([`get_float64`]).
-    get_float64_of_model(*mut Float64) = get(GetFloat64, kinds::FLOAT64, |x| x);
+    get_float64_of_model(*mut Float64, n_values) = get(GetFloat64, kinds::FLOAT64, |x| x);
     /// `fmi3GetInt32` (Integer variables).
-    get_int32(*mut Int32) = get(GetInt32, kinds::INT32, |x| x as Int32);
+    get_int32(*mut Int32, n_values) = get(GetInt32, kinds::INT32, |x| x as Int32);
     /// `fmi3GetInt64` (Enumeration variables).
-    get_int64(*mut Int64) = get(GetInt64, kinds::INT64, |x| x as Int64);
+    get_int64(*mut Int64, n_values) = get(GetInt64, kinds::INT64, |x| x as Int64);
     /// `fmi3GetBoolean`.
-    get_boolean(*mut Boolean) = get(GetBoolean, kinds::BOOLEAN, |x| Boolean::from(x != 0.0));
+    get_boolean(*mut Boolean, n_values) = get(GetBoolean, kinds::BOOLEAN, |x| Boolean::from(x != 0.0));
     /// `fmi3GetFloat32`: no variable has this type.
-    get_float32(*mut Float32) = get(GetFloat32, kinds::none("Float32"), |_| 0.0);
+    get_float32(*mut Float32, n_values) = get(GetFloat32, kinds::none("Float32"), |_| 0.0);
     /// `fmi3GetInt8`: no variable has this type.
-    get_int8(*mut Int8) = get(GetInt8, kinds::none("Int8"), |_| 0);
+    get_int8(*mut Int8, n_values) = get(GetInt8, kinds::none("Int8"), |_| 0);
     /// `fmi3GetUInt8`: no variable has this type.
-    get_uint8(*mut UInt8) = get(GetUInt8, kinds::none("UInt8"), |_| 0);
+    get_uint8(*mut UInt8, n_values) = get(GetUInt8, kinds::none("UInt8"), |_| 0);
     /// `fmi3GetInt16`: no variable has this type.
-    get_int16(*mut Int16) = get(GetInt16, kinds::none("Int16"), |_| 0);
+    get_int16(*mut Int16, n_values) = get(GetInt16, kinds::none("Int16"), |_| 0);
     /// `fmi3GetUInt16`: no variable has this type.
-    get_uint16(*mut UInt16) = get(GetUInt16, kinds::none("UInt16"), |_| 0);
+    get_uint16(*mut UInt16, n_values) = get(GetUInt16, kinds::none("UInt16"), |_| 0);
     /// `fmi3GetUInt32`: no variable has this type.
-    get_uint32(*mut UInt32) = get(GetUInt32, kinds::none("UInt32"), |_| 0);
+    get_uint32(*mut UInt32, n_values) = get(GetUInt32, kinds::none("UInt32"), |_| 0);
     /// `fmi3GetUInt64`: no variable has this type.
-    get_uint64(*mut UInt64) = get(GetUInt64, kinds::none("UInt64"), |_| 0);
+    get_uint64(*mut UInt64, n_values) = get(GetUInt64, kinds::none("UInt64"), |_| 0);
     /// `fmi3GetString`: no variable has this type.
-    get_string(*mut FmiString) = get(GetString, kinds::none("String"), |_| std::ptr::null());
+    get_string(*mut FmiString, n_values) = get(GetString, kinds::none("String"), |_| std::ptr::null());
     /// `fmi3SetFloat64`: non-finite values are refused and the previous values kept.
-    set_float64(*const Float64) = set(SetFloat64, kinds::FLOAT64, |v| v.into());
+    set_float64(*const Float64, n_values) = set(SetFloat64, kinds::FLOAT64, |v| v.into());
     /// `fmi3SetInt32` (Integer variables).
-    set_int32(*const Int32) = set(SetInt32, kinds::INT32, |v| to_f64(v, |&x| x.into()));
+    set_int32(*const Int32, n_values) = set(SetInt32, kinds::INT32, |v| to_f64(v, |&x| x.into()));
     /// `fmi3SetInt64` (Enumeration variables; a value that is no item is refused).
-    set_int64(*const Int64) = set(SetInt64, kinds::INT64, |v| to_f64(v, |&x| x as f64));
+    set_int64(*const Int64, n_values) = set(SetInt64, kinds::INT64, |v| to_f64(v, |&x| x as f64));
     /// `fmi3SetBoolean`.
-    set_boolean(*const Boolean) = set(SetBoolean, kinds::BOOLEAN, |v| {
+    set_boolean(*const Boolean, n_values) = set(SetBoolean, kinds::BOOLEAN, |v| {
         to_f64(v, |&x| if x != FALSE { 1.0 } else { 0.0 })
     });
     /// `fmi3SetFloat32`: no variable has this type.
-    set_float32(*const Float32) = set(SetFloat32, kinds::none("Float32"), zeros);
+    set_float32(*const Float32, n_values) = set(SetFloat32, kinds::none("Float32"), zeros);
     /// `fmi3SetInt8`: no variable has this type.
-    set_int8(*const Int8) = set(SetInt8, kinds::none("Int8"), zeros);
+    set_int8(*const Int8, n_values) = set(SetInt8, kinds::none("Int8"), zeros);
     /// `fmi3SetUInt8`: no variable has this type.
-    set_uint8(*const UInt8) = set(SetUInt8, kinds::none("UInt8"), zeros);
+    set_uint8(*const UInt8, n_values) = set(SetUInt8, kinds::none("UInt8"), zeros);
     /// `fmi3SetInt16`: no variable has this type.
-    set_int16(*const Int16) = set(SetInt16, kinds::none("Int16"), zeros);
+    set_int16(*const Int16, n_values) = set(SetInt16, kinds::none("Int16"), zeros);
     /// `fmi3SetUInt16`: no variable has this type.
-    set_uint16(*const UInt16) = set(SetUInt16, kinds::none("UInt16"), zeros);
+    set_uint16(*const UInt16, n_values) = set(SetUInt16, kinds::none("UInt16"), zeros);
     /// `fmi3SetUInt32`: no variable has this type.
-    set_uint32(*const UInt32) = set(SetUInt32, kinds::none("UInt32"), zeros);
+    set_uint32(*const UInt32, n_values) = set(SetUInt32, kinds::none("UInt32"), zeros);
     /// `fmi3SetUInt64`: no variable has this type.
-    set_uint64(*const UInt64) = set(SetUInt64, kinds::none("UInt64"), zeros);
+    set_uint64(*const UInt64, n_values) = set(SetUInt64, kinds::none("UInt64"), zeros);
     /// `fmi3SetString`: no variable has this type.
-    set_string(*const FmiString) = set(SetString, kinds::none("String"), zeros);
+    set_string(*const FmiString, n_values) = set(SetString, kinds::none("String"), zeros);
 }
 
 fn to_f64<T>(v: &[T], f: impl Fn(&T) -> f64) -> Cow<'_, [f64]> {

@@ -43,17 +43,6 @@ macro_rules! __export_fmi3 {
                     update: IntermediateUpdateCallback,
                 ) -> Instance => rt::instantiate_co_simulation;
                 fmi3FreeInstance(c: Instance) => rt::free_instance;
-                fmi3EnterInitializationMode(
-                    c: Instance,
-                    tol_defined: Boolean,
-                    tol: Float64,
-                    start: Float64,
-                    stop_defined: Boolean,
-                    stop: Float64,
-                ) -> Status => rt::enter_initialization_mode;
-                fmi3ExitInitializationMode(c: Instance) -> Status => rt::exit_initialization_mode;
-                fmi3Terminate(c: Instance) -> Status => rt::terminate;
-                fmi3Reset(c: Instance) -> Status => rt::reset;
                 fmi3DoStep(
                     c: Instance,
                     t: Float64,
@@ -64,8 +53,6 @@ macro_rules! __export_fmi3 {
                     early: *mut Boolean,
                     last: *mut Float64,
                 ) -> Status => rt::do_step;
-                fmi3EnterEventMode(c: Instance) -> Status => rt::enter_event_mode;
-                fmi3EnterStepMode(c: Instance) -> Status => rt::enter_step_mode;
                 fmi3UpdateDiscreteStates(
                     c: Instance,
                     update: *mut Boolean,
@@ -103,27 +90,34 @@ macro_rules! __export_fmi3 {
                     log: LogMessageCallback,
                 ) -> Instance => rt::instantiate_model_exchange;
             }
-            // Model Exchange: the shared runtime's calls, told which FMI 3.0 call they serve
-            $crate::__fmi2_forward! { M; with_call:
-                fmi3EnterContinuousTimeMode(c: Instance) -> Status
-                    => shared::me::enter_continuous_time_mode[EnterContinuousTimeMode];
-                fmi3CompletedIntegratorStep(
+            // the calls that are one method of the shared runtime's instance
+            $crate::__fmi2_forward! { M; method:
+                fmi3EnterInitializationMode(
                     c: Instance,
-                    no_prior: Boolean,
-                    enter_event_mode: *mut Boolean,
-                    terminate: *mut Boolean,
-                ) -> Status => shared::me::completed_integrator_step[CompletedIntegratorStep];
-                fmi3SetTime(c: Instance, t: Float64) -> Status => shared::me::set_time[SetTime];
-                fmi3SetContinuousStates(c: Instance, x: *const Float64, n: usize) -> Status
-                    => shared::me::set_continuous_states[SetContinuousStates];
-                fmi3GetContinuousStateDerivatives(c: Instance, dx: *mut Float64, n: usize) -> Status
-                    => shared::me::get_derivatives[GetContinuousStateDerivatives];
-                fmi3GetEventIndicators(c: Instance, z: *mut Float64, n: usize) -> Status
-                    => shared::me::get_event_indicators[GetEventIndicators];
-                fmi3GetContinuousStates(c: Instance, x: *mut Float64, n: usize) -> Status
-                    => shared::me::get_continuous_states[GetContinuousStates];
-                fmi3GetNominalsOfContinuousStates(c: Instance, x: *mut Float64, n: usize) -> Status
-                    => shared::me::get_nominals[GetNominalsOfContinuousStates];
+                    tol_defined: Boolean,
+                    tol: Float64,
+                    start: Float64,
+                    stop_defined: Boolean,
+                    stop: Float64,
+                ) => experiment_and_initialization[EnterInitializationMode];
+                fmi3ExitInitializationMode(c: Instance)
+                    => exit_initialization_mode[ExitInitializationMode];
+                fmi3Terminate(c: Instance) => terminate[Terminate];
+                fmi3Reset(c: Instance) => reset[Reset];
+                fmi3EnterEventMode(c: Instance) => enter_event_mode[EnterEventMode];
+                fmi3EnterStepMode(c: Instance) => enter_continuous_time_mode[EnterStepMode];
+                fmi3EnterContinuousTimeMode(c: Instance)
+                    => enter_continuous_time_mode[EnterContinuousTimeMode];
+            }
+            // Model Exchange: the shared runtime's calls, as the FMI 3.0 calls they serve
+            $crate::__fmi2_forward! { M; me(Boolean):
+                fmi3CompletedIntegratorStep[CompletedIntegratorStep],
+                fmi3SetTime[SetTime],
+                fmi3SetContinuousStates[SetContinuousStates],
+                fmi3GetContinuousStateDerivatives[GetContinuousStateDerivatives],
+                fmi3GetEventIndicators[GetEventIndicators],
+                fmi3GetContinuousStates[GetContinuousStates],
+                fmi3GetNominalsOfContinuousStates[GetNominalsOfContinuousStates],
             }
             #[unsafe(no_mangle)]
             pub unsafe extern "C" fn fmi3GetNumberOfContinuousStates(
@@ -155,25 +149,14 @@ macro_rules! __export_fmi3 {
                 unsafe { rt::instantiate_scheduled_execution::<M>(name, env, log) }
             }
 
-            // the FMU-state calls: the shared runtime's, told which call they serve
-            $crate::__fmi2_forward! { M; with_call:
-                fmi3GetFMUState(c: Instance, s: *mut FMUState) -> Status => shared::get_fmu_state[GetFMUState];
-                fmi3SetFMUState(c: Instance, s: FMUState) -> Status => shared::set_fmu_state[SetFMUState];
-                fmi3FreeFMUState(c: Instance, s: *mut FMUState) -> Status => shared::free_fmu_state[FreeFMUState];
-                fmi3SerializedFMUStateSize(c: Instance, s: FMUState, size: *mut usize) -> Status
-                    => shared::serialized_fmu_state_size[SerializedFMUStateSize];
-                fmi3SerializeFMUState(
-                    c: Instance,
-                    s: FMUState,
-                    bytes: *mut $crate::fmi2::types::Byte,
-                    size: usize,
-                ) -> Status => shared::serialize_fmu_state[SerializeFMUState];
-                fmi3DeserializeFMUState(
-                    c: Instance,
-                    bytes: *const $crate::fmi2::types::Byte,
-                    size: usize,
-                    s: *mut FMUState,
-                ) -> Status => shared::deserialize_fmu_state[DeserializeFMUState];
+            // the FMU-state calls: the shared runtime's, as the FMI 3.0 calls they serve
+            $crate::__fmi2_forward! { M; fmu_state:
+                fmi3GetFMUState[GetFMUState],
+                fmi3SetFMUState[SetFMUState],
+                fmi3FreeFMUState[FreeFMUState],
+                fmi3SerializedFMUStateSize[SerializedFMUStateSize],
+                fmi3SerializeFMUState[SerializeFMUState],
+                fmi3DeserializeFMUState[DeserializeFMUState],
             }
 
             // the typed get and set calls: (instance, value references, nvr, values, nValues)

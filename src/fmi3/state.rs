@@ -94,15 +94,6 @@ pub const EVENT_MODE: u16 = 1 << 8;
 /// Step Mode: the runtime's `StepComplete` (outside Event Mode).
 const STEP: u16 = StepComplete as u16;
 
-/// Every state but Fatal.
-const ANY: u16 = mask(&[
-    Instantiated,
-    InitializationMode,
-    StepComplete,
-    StepFailed,
-    Terminated,
-    Error,
-]) | EVENT_MODE;
 /// Where values can be read: from initialization on (and in Error, for diagnosis).
 const READ: u16 = mask(&[
     InitializationMode,
@@ -111,6 +102,8 @@ const READ: u16 = mask(&[
     Terminated,
     Error,
 ]) | EVENT_MODE;
+/// Every state but Fatal.
+const ANY: u16 = READ | Instantiated as u16;
 /// Where values can be set.
 const SET: u16 = mask(&[Instantiated, InitializationMode, StepComplete, Terminated]) | EVENT_MODE;
 
