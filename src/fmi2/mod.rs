@@ -263,6 +263,10 @@ macro_rules! __fmi2_forward {
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __fmi2_unsupported {
+    // calls of one signature (`alike (arguments)`), each refused with its reason
+    ($m:ty; alike $args:tt: $($name:ident = $call:ident, $why:literal;)*) => {
+        $crate::__fmi2_unsupported! { $m; $($name $args = $call, $why;)* }
+    };
     ($m:ty; $(
         $name:ident($($arg:ident: $t:ty),* $(,)?) = $call:ident, $why:literal;
     )*) => {$(

@@ -220,30 +220,39 @@ macro_rules! __export_fmi3 {
                     _n: usize,
                 ) = GetVariableDependencies,
                     "the dependencies are in modelDescription.xml's ModelStructure";
-                fmi3GetDirectionalDerivative(
-                    _unknowns: *const ValueReference,
-                    _n_unknowns: usize,
-                    _knowns: *const ValueReference,
-                    _n_knowns: usize,
-                    _seed: *const Float64,
-                    _n_seed: usize,
-                    _sensitivity: *mut Float64,
-                    _n_sensitivity: usize,
-                ) = GetDirectionalDerivative, "providesDirectionalDerivative is false";
-                fmi3GetAdjointDerivative(
-                    _unknowns: *const ValueReference,
-                    _n_unknowns: usize,
-                    _knowns: *const ValueReference,
-                    _n_knowns: usize,
-                    _seed: *const Float64,
-                    _n_seed: usize,
-                    _sensitivity: *mut Float64,
-                    _n_sensitivity: usize,
-                ) = GetAdjointDerivative, "providesAdjointDerivatives is false";
                 fmi3EnterConfigurationMode() = EnterConfigurationMode,
                     "this FMU has no structural parameters";
                 fmi3ExitConfigurationMode() = ExitConfigurationMode,
                     "this FMU has no structural parameters";
+                fmi3EvaluateDiscreteStates() = EvaluateDiscreteStates,
+                    "providesEvaluateDiscreteStates is false";
+                fmi3GetOutputDerivatives(
+                    _vr: *const ValueReference,
+                    _n: usize,
+                    _orders: *const Int32,
+                    _v: *mut Float64,
+                    _nv: usize,
+                ) = GetOutputDerivatives, "maxOutputDerivativeOrder is 0";
+                fmi3ActivateModelPartition(_clock: ValueReference, _t: Float64)
+                    = ActivateModelPartition, "Scheduled Execution is not offered";
+            }
+            $crate::__fmi2_unsupported! { M; alike (
+                _unknowns: *const ValueReference,
+                _n_unknowns: usize,
+                _knowns: *const ValueReference,
+                _n_knowns: usize,
+                _seed: *const Float64,
+                _n_seed: usize,
+                _sensitivity: *mut Float64,
+                _n_sensitivity: usize,
+            ):
+                fmi3GetDirectionalDerivative = GetDirectionalDerivative,
+                    "providesDirectionalDerivatives is false";
+                fmi3GetAdjointDerivative = GetAdjointDerivative,
+                    "providesAdjointDerivatives is false";
+            }
+            // the clock calls: this FMU has no clocks
+            $crate::__fmi2_unsupported! { M;
                 fmi3GetIntervalDecimal(
                     _vr: *const ValueReference,
                     _n: usize,
@@ -265,36 +274,23 @@ macro_rules! __export_fmi3 {
                     _counters: *mut UInt64,
                     _resolutions: *mut UInt64,
                 ) = GetShiftFraction, "this FMU has no clocks";
-                fmi3SetIntervalDecimal(
-                    _vr: *const ValueReference,
-                    _n: usize,
-                    _intervals: *const Float64,
-                ) = SetIntervalDecimal, "this FMU has no clocks";
-                fmi3SetIntervalFraction(
-                    _vr: *const ValueReference,
-                    _n: usize,
-                    _counters: *const UInt64,
-                    _resolutions: *const UInt64,
-                ) = SetIntervalFraction, "this FMU has no clocks";
-                fmi3SetShiftDecimal(_vr: *const ValueReference, _n: usize, _shifts: *const Float64)
-                    = SetShiftDecimal, "this FMU has no clocks";
-                fmi3SetShiftFraction(
-                    _vr: *const ValueReference,
-                    _n: usize,
-                    _counters: *const UInt64,
-                    _resolutions: *const UInt64,
-                ) = SetShiftFraction, "this FMU has no clocks";
-                fmi3EvaluateDiscreteStates() = EvaluateDiscreteStates,
-                    "providesEvaluateDiscreteStates is false";
-                fmi3GetOutputDerivatives(
-                    _vr: *const ValueReference,
-                    _n: usize,
-                    _orders: *const Int32,
-                    _v: *mut Float64,
-                    _nv: usize,
-                ) = GetOutputDerivatives, "maxOutputDerivativeOrder is 0";
-                fmi3ActivateModelPartition(_clock: ValueReference, _t: Float64)
-                    = ActivateModelPartition, "Scheduled Execution is not offered";
+            }
+            $crate::__fmi2_unsupported! { M; alike (
+                _vr: *const ValueReference,
+                _n: usize,
+                _values: *const Float64,
+            ):
+                fmi3SetIntervalDecimal = SetIntervalDecimal, "this FMU has no clocks";
+                fmi3SetShiftDecimal = SetShiftDecimal, "this FMU has no clocks";
+            }
+            $crate::__fmi2_unsupported! { M; alike (
+                _vr: *const ValueReference,
+                _n: usize,
+                _counters: *const UInt64,
+                _resolutions: *const UInt64,
+            ):
+                fmi3SetIntervalFraction = SetIntervalFraction, "this FMU has no clocks";
+                fmi3SetShiftFraction = SetShiftFraction, "this FMU has no clocks";
             }
         }
     };

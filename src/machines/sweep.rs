@@ -17,7 +17,7 @@
 
 use super::{simulate, startup_time, steady, variables_of};
 use crate::model::{Causality, Var};
-use crate::scene::{SceneError, line_of, nearest};
+use crate::scene::{SceneError, line_of, named, nearest};
 use crate::ssp::Machine;
 use crate::sweep::plan::{Length, Measure, Metric, Plan, QUANTITIES, Quantity, StepSize, Swept};
 use crate::sweep::read::{
@@ -171,20 +171,8 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
                 "delta, w_mean, w_min, w_max, tau_peak, tau_rms or startup",
             )?,
         )?;
-        let Some(&(_, quantity, unit)) = QUANTITIES.iter().find(|x| x.0 == q) else {
-            return Err(at(
-                &key,
-                &span,
-                format!(
-                    "unknown quantity {q:?}; valid: {}",
-                    QUANTITIES
-                        .iter()
-                        .map(|x| x.0)
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                ),
-            ));
-        };
+        let &(_, quantity, unit) =
+            named(QUANTITIES, |x| x.0, "quantity", &q).map_err(|why| at(&key, &span, why))?;
         let turns = match mt.get("turns") {
             None => 1.0,
             Some(item) => {

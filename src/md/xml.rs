@@ -41,18 +41,52 @@ struct Fmd {
     model_exchange: Option<ModelExch>,
     #[serde(rename = "CoSimulation")]
     co_simulation: CoSim,
+    #[serde(flatten)]
+    body: Body<Types, ModelVariables, ModelStructure>,
+}
+
+/// The elements of `fmiModelDescription` after the interfaces, in both versions' order, each
+/// version with its own type definitions `T`, variables `V` and model structure `S`.
+#[derive(Serialize)]
+pub(super) struct Body<T: Serialize + Empty, V: Serialize, S: Serialize> {
     #[serde(rename = "UnitDefinitions")]
-    units: Units,
-    #[serde(rename = "TypeDefinitions", skip_serializing_if = "Types::is_empty")]
-    types: Types,
+    pub units: Units,
+    #[serde(rename = "TypeDefinitions", skip_serializing_if = "Empty::is_empty")]
+    pub types: T,
     #[serde(rename = "LogCategories")]
-    log_categories: LogCats,
+    pub log_categories: LogCats,
     #[serde(rename = "DefaultExperiment")]
-    experiment: DefaultExperiment,
+    pub experiment: DefaultExperiment,
     #[serde(rename = "ModelVariables")]
-    variables: ModelVariables,
+    pub variables: V,
     #[serde(rename = "ModelStructure")]
-    structure: ModelStructure,
+    pub structure: S,
+}
+
+impl<T: Serialize + Empty, V: Serialize, S: Serialize> Body<T, V, S> {
+    /// What both versions state alike (units, log categories, experiment) with the version's
+    /// types, variables and structure.
+    pub(super) fn new(
+        info: &ModelInfo,
+        vars: &[(u32, &Var)],
+        types: T,
+        variables: V,
+        structure: S,
+    ) -> Self {
+        Body {
+            units: units_of(vars),
+            types,
+            log_categories: log_categories(),
+            experiment: default_experiment(info),
+            variables,
+            structure,
+        }
+    }
+}
+
+/// Type definitions that may have nothing to declare (the element is then left out).
+pub(super) trait Empty {
+    fn is_empty(&self) -> bool;
 }
 
 /// The attributes of `fmiModelDescription` after the model's name and GUID, the same in FMI 2.0
@@ -186,7 +220,7 @@ struct Types {
     simple: Vec<SimpleType>,
 }
 
-impl Types {
+impl Empty for Types {
     fn is_empty(&self) -> bool {
         self.simple.is_empty()
     }
@@ -472,11 +506,54 @@ pub(super) fn default_experiment(info: &ModelInfo) -> DefaultExperiment {
     }
 }
 
+/// The model structure the declarations give, as positions in the listed variables: both
+/// versions write it, FMI 2.0 by 1-based index, FMI 3.0 by value reference.
+pub(super) struct Structure {
+    /// Each output, with the variables it depends on (those listed, in declaration order).
+    pub outputs: Vec<(usize, Vec<usize>)>,
+    /// The state derivatives of Model Exchange (their dependencies are not declared: any
+    /// state, any input).
+    pub derivatives: Vec<usize>,
+    /// What initialization computes: outputs and locals with an approximate or calculated
+    /// start, and the calculated parameters.
+    pub initial: Vec<usize>,
+}
+
+impl Structure {
+    pub(super) fn of(vars: &[(u32, &Var)]) -> Structure {
+        let position = |vr: u32| vars.iter().position(|(r, _)| *r == vr);
+        let positions = |keep: &dyn Fn(&Var) -> bool| -> Vec<usize> {
+            (0..vars.len()).filter(|&i| keep(vars[i].1)).collect()
+        };
+        Structure {
+            outputs: positions(&|v| v.causality == Causality::Output)
+                .into_iter()
+                .map(|i| {
+                    (
+                        i,
+                        vars[i]
+                            .1
+                            .depends
+                            .iter()
+                            .filter_map(|&d| position(d))
+                            .collect(),
+                    )
+                })
+                .collect(),
+            derivatives: positions(&|v| v.derivative.is_some()),
+            initial: positions(&|v| {
+                (matches!(v.causality, Causality::Output | Causality::Local)
+                    && matches!(v.initial, Some(Initial::Approx | Initial::Calculated)))
+                    || v.causality == Causality::CalculatedParameter
+            }),
+        }
+    }
+}
+
 /// The description with this GUID, dated [`VERSION_DATE`] ([`stamp`] sets a build's date).
 fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
     // Value reference -> 1-based index in ModelVariables.
     let index_of = |vr: u32| vars.iter().position(|(r, _)| *r == vr).map(|p| p + 1);
-    let units = units_of(vars);
     let plain: Vec<Var> = vars.iter().map(|(_, v)| (*v).clone()).collect();
     let types = enum_types(&plain)
         .into_iter()
@@ -497,46 +574,24 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             },
         })
         .collect();
-    let outputs = vars
-        .iter()
-        .enumerate()
-        .filter(|(_, (_, v))| v.causality == Causality::Output)
-        .map(|(i, (_, v))| {
-            let deps: Vec<String> = v
-                .depends
-                .iter()
-                .filter_map(|&d| index_of(d))
-                .map(|k| k.to_string())
-                .collect();
-            Unknown {
-                index: i + 1,
-                dependencies: Some(deps.join(" ")),
-            }
+    let structure = Structure::of(vars);
+    let unknown = |i: usize, dependencies: Option<String>| Unknown {
+        index: i + 1,
+        dependencies,
+    };
+    let outputs = (structure.outputs.iter())
+        .map(|(i, deps)| {
+            let deps: Vec<String> = deps.iter().map(|k| (k + 1).to_string()).collect();
+            unknown(*i, Some(deps.join(" ")))
         })
         .collect();
-    let initial = vars
+    let initial = structure
+        .initial
         .iter()
-        .enumerate()
-        .filter(|(_, (_, v))| {
-            (matches!(v.causality, Causality::Output | Causality::Local)
-                && matches!(v.initial, Some(Initial::Approx | Initial::Calculated)))
-                || (v.causality == Causality::CalculatedParameter)
-        })
-        .map(|(i, _)| Unknown {
-            index: i + 1,
-            dependencies: None,
-        })
+        .map(|&i| unknown(i, None))
         .collect();
-    // Model Exchange: state derivatives (their dependencies are not declared: any state, any
-    // input).
-    let derivatives: Vec<Unknown> = vars
-        .iter()
-        .enumerate()
-        .filter(|(_, (_, v))| v.derivative.is_some())
-        .map(|(i, _)| Unknown {
-            index: i + 1,
-            dependencies: None,
-        })
+    let derivatives: Vec<Unknown> = (structure.derivatives.iter())
+        .map(|&i| unknown(i, None))
         .collect();
     Fmd {
         fmi_version: "2.0",
@@ -563,23 +618,23 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             async_run: false,
             capabilities: CAPABILITIES,
         },
-        units,
-        types: Types { simple: types },
-        log_categories: log_categories(),
-        experiment: default_experiment(info),
-        variables: ModelVariables {
-            vars: vars
-                .iter()
-                .map(|(vr, v)| scalar_variable(*vr, v, index_of))
-                .collect(),
-        },
-        structure: ModelStructure {
-            outputs: Unknowns { unknown: outputs },
-            derivatives: (!derivatives.is_empty()).then_some(Unknowns {
-                unknown: derivatives,
-            }),
-            initial: Unknowns { unknown: initial },
-        },
+        body: Body::new(
+            info,
+            vars,
+            Types { simple: types },
+            ModelVariables {
+                vars: (vars.iter())
+                    .map(|(vr, v)| scalar_variable(*vr, v, index_of))
+                    .collect(),
+            },
+            ModelStructure {
+                outputs: Unknowns { unknown: outputs },
+                derivatives: (!derivatives.is_empty()).then_some(Unknowns {
+                    unknown: derivatives,
+                }),
+                initial: Unknowns { unknown: initial },
+            },
+        ),
     }
 }
 

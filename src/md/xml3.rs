@@ -6,11 +6,10 @@
 
 use super::guid::guid;
 use super::xml::{
-    DefaultExperiment, Header, LogCats, Units, causality_str, default_experiment, enum_types,
-    header, initial_str, log_categories, units_of, variability_str,
+    Body, Empty, Header, Structure, causality_str, enum_types, header, initial_str, variability_str,
 };
 use super::{ModelInfo, fmt_real};
-use crate::model::{Causality, Initial, Model, Var, VarType};
+use crate::model::{Model, Var, VarType};
 use serde::Serialize;
 
 #[derive(Serialize)]
@@ -28,18 +27,8 @@ struct Fmd {
     model_exchange: Option<ModelExch>,
     #[serde(rename = "CoSimulation")]
     co_simulation: CoSim,
-    #[serde(rename = "UnitDefinitions")]
-    units: Units,
-    #[serde(rename = "TypeDefinitions", skip_serializing_if = "Types::is_empty")]
-    types: Types,
-    #[serde(rename = "LogCategories")]
-    log_categories: LogCats,
-    #[serde(rename = "DefaultExperiment")]
-    experiment: DefaultExperiment,
-    #[serde(rename = "ModelVariables")]
-    variables: ModelVariables,
-    #[serde(rename = "ModelStructure")]
-    structure: ModelStructure,
+    #[serde(flatten)]
+    body: Body<Types, ModelVariables, ModelStructure>,
 }
 
 /// The Co-Simulation interface: variable steps, FMU state, Event Mode, and a step that may
@@ -115,7 +104,7 @@ struct Types {
     enumerations: Vec<EnumerationType>,
 }
 
-impl Types {
+impl Empty for Types {
     fn is_empty(&self) -> bool {
         self.floats.is_empty() && self.enumerations.is_empty()
     }
@@ -336,31 +325,30 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
             derivative: None,
         }));
     }
-    let unknown = |vr: u32, dependencies: Option<String>| Unknown { vr, dependencies };
-    let outputs = (vars.iter())
-        .filter(|(_, v)| v.causality == Causality::Output)
-        .map(|(vr, v)| {
-            let deps: Vec<String> = (v.depends.iter())
-                .filter(|d| vars.iter().any(|(r, _)| r == *d))
-                .map(|d| d.to_string())
-                .collect();
-            unknown(*vr, Some(deps.join(" ")))
+    let structure = Structure::of(vars);
+    let unknown = |i: usize, dependencies: Option<String>| Unknown {
+        vr: vars[i].0,
+        dependencies,
+    };
+    let outputs = (structure.outputs.iter())
+        .map(|(i, deps)| {
+            let deps: Vec<String> = deps.iter().map(|&k| vars[k].0.to_string()).collect();
+            unknown(*i, Some(deps.join(" ")))
         })
         .collect();
-    let derivatives = (vars.iter())
-        .filter(|(_, v)| v.derivative.is_some())
-        .map(|(vr, _)| unknown(*vr, None))
+    let derivatives = (structure.derivatives.iter())
+        .map(|&i| unknown(i, None))
         .collect();
-    let initial = (vars.iter())
-        .filter(|(_, v)| {
-            (matches!(v.causality, Causality::Output | Causality::Local)
-                && matches!(v.initial, Some(Initial::Approx | Initial::Calculated)))
-                || v.causality == Causality::CalculatedParameter
-        })
-        .map(|(vr, _)| unknown(*vr, None))
+    let initial = structure
+        .initial
+        .iter()
+        .map(|&i| unknown(i, None))
         .collect();
     let event_indicators = (0..indicators)
-        .map(|k| unknown(time_vr + 1 + k, None))
+        .map(|k| Unknown {
+            vr: time_vr + 1 + k,
+            dependencies: None,
+        })
         .collect();
     Fmd {
         fmi_version: "3.0",
@@ -381,20 +369,21 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
             early_return: false,
             event_mode: true,
         },
-        units: units_of(vars),
-        types: Types {
-            floats,
-            enumerations,
-        },
-        log_categories: log_categories(),
-        experiment: default_experiment(info),
-        variables: ModelVariables { vars: variables },
-        structure: ModelStructure {
-            outputs,
-            derivatives,
-            initial,
-            event_indicators,
-        },
+        body: Body::new(
+            info,
+            vars,
+            Types {
+                floats,
+                enumerations,
+            },
+            ModelVariables { vars: variables },
+            ModelStructure {
+                outputs,
+                derivatives,
+                initial,
+                event_indicators,
+            },
+        ),
     }
 }
 

@@ -295,6 +295,20 @@ fn distance(a: &str, b: &str) -> usize {
     prev[b.len()]
 }
 
+/// The entry of `table` whose name (`name_of`) is `name`, else the message "unknown `what`
+/// "name"; valid: a, b, c" (scene and sweep files: a level, a quantity, a statistic).
+pub fn named<'a, T>(
+    table: &'a [T],
+    name_of: impl Fn(&T) -> &str,
+    what: &str,
+    name: &str,
+) -> Result<&'a T, String> {
+    table.iter().find(|x| name_of(x) == name).ok_or_else(|| {
+        let valid: Vec<&str> = table.iter().map(&name_of).collect();
+        format!("unknown {what} {name:?}; valid: {}", valid.join(", "))
+    })
+}
+
 /// "did you mean a, b, c?" (the nearest names), or every valid name when there are few.
 pub fn nearest(word: &str, valid: &[&str]) -> String {
     if valid.len() <= 8 {
@@ -362,25 +376,9 @@ impl Scene {
             None => (None, 0..0),
             Some(item) => {
                 let (fid, span) = root.string("fidelity", item)?;
-                let f = FIDELITIES
-                    .iter()
-                    .find(|(n, _)| *n == fid.as_str())
-                    .map(|(_, f)| *f)
-                    .ok_or_else(|| {
-                        at(
-                            "fidelity",
-                            span.clone(),
-                            format!(
-                                "unknown fidelity {fid:?}; valid: {}",
-                                FIDELITIES
-                                    .iter()
-                                    .map(|f| f.0)
-                                    .collect::<Vec<_>>()
-                                    .join(", ")
-                            ),
-                        )
-                    })?;
-                (Some(f), span)
+                let f = named(FIDELITIES, |f| f.0, "fidelity", &fid)
+                    .map_err(|why| at("fidelity", span.clone(), why))?;
+                (Some(f.1), span)
             }
         };
         let outputs_item = root.require("outputs", "an array of output names")?;

@@ -42,19 +42,10 @@ const D5: f64 = 701980252875.0 / 199316789632.0;
 const D6: f64 = -1453857185.0 / 822651844.0;
 const D7: f64 = 69997945.0 / 29380423.0;
 
-/// Dormand–Prince's continuous extension of order 4 at `θ ∈ [0, 1]` of a step of `h` from
-/// `(y, f0)` to `(y1, f1)`, its stages in `d5` (Hairer's `CONTD5`).
-#[allow(clippy::too_many_arguments)]
-pub(super) fn dense(
-    y: &[f64],
-    f0: &[f64],
-    y1: &[f64],
-    f1: &[f64],
-    d5: &[f64],
-    h: f64,
-    theta: f64,
-    out: &mut [f64],
-) {
+/// Dormand–Prince's continuous extension of order 4 at `θ ∈ [0, 1]` of a step, its stages in
+/// `d5` (Hairer's `CONTD5`).
+pub(super) fn dense(e: &Ends, d5: &[f64], theta: f64, out: &mut [f64]) {
+    let Ends { y, f0, y1, f1, h } = *e;
     let theta1 = 1.0 - theta;
     for i in 0..y.len() {
         let ydiff = y1[i] - y[i];
@@ -65,15 +56,14 @@ pub(super) fn dense(
 }
 
 /// Cubic Hermite interpolation of the state at `t0 + s`, `s ∈ [0, h]`.
-pub(super) fn hermite(
-    y0: &[f64],
-    f0: &[f64],
-    y1: &[f64],
-    f1: &[f64],
-    h: f64,
-    s: f64,
-    out: &mut [f64],
-) {
+pub(super) fn hermite(e: &Ends, s: f64, out: &mut [f64]) {
+    let Ends {
+        y: y0,
+        f0,
+        y1,
+        f1,
+        h,
+    } = *e;
     let th = s / h;
     let h00 = (1.0 + 2.0 * th) * (1.0 - th) * (1.0 - th);
     let h10 = th * (1.0 - th) * (1.0 - th);

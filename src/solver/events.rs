@@ -44,7 +44,17 @@ impl Integrator {
                 } else {
                     0.5 * (lo + hi)
                 };
-                att.interpolate(y, f0, y1, f1, hs, mid, &mut yt);
+                att.interpolate(
+                    &Ends {
+                        y,
+                        f0,
+                        y1,
+                        f1,
+                        h: hs,
+                    },
+                    mid,
+                    &mut yt,
+                );
                 sys.events_held(t + mid, &yt, g0, &mut gt);
                 if !event_between(g0[i], gt[i]) {
                     lo = mid;

@@ -342,25 +342,27 @@ struct Attempt {
     dopri_d5: Option<[f64; MAX_DIM]>,
 }
 
+/// A step's two ends, what its interpolants start from: the state and its derivative at the
+/// start (`y`, `f0`) and at the end (`y1`, `f1`) of a step of `h`.
+#[derive(Clone, Copy)]
+struct Ends<'a> {
+    y: &'a [f64],
+    f0: &'a [f64],
+    y1: &'a [f64],
+    f1: &'a [f64],
+    h: f64,
+}
+
 impl Attempt {
-    /// The state at `t + s`, `s ∈ [0, h]`, on the attempt's interpolant from `(y, f0)` to its
-    /// end `(y1, f1)`: Dormand–Prince's continuous extension of order 4 (Hairer's `CONTD5`),
-    /// Radau IIA's collocation polynomial (`CONTR5`), else (rk4) the cubic Hermite.
-    #[allow(clippy::too_many_arguments)]
-    fn interpolate(
-        &self,
-        y: &[f64],
-        f0: &[f64],
-        y1: &[f64],
-        f1: &[f64],
-        h: f64,
-        s: f64,
-        out: &mut [f64],
-    ) {
+    /// The state at `t + s`, `s ∈ [0, h]`, on the attempt's interpolant between the step's
+    /// ends: Dormand–Prince's continuous extension of order 4 (Hairer's `CONTD5`), Radau IIA's
+    /// collocation polynomial (`CONTR5`), else (rk4) the cubic Hermite.
+    fn interpolate(&self, e: &Ends, s: f64, out: &mut [f64]) {
+        let (y1, h) = (e.y1, e.h);
         match (&self.dopri_d5, &self.radau) {
-            (Some(d5), _) => dopri::dense(y, f0, y1, f1, d5, h, s / h, out),
+            (Some(d5), _) => dopri::dense(e, d5, s / h, out),
             (None, Some(r)) => radau::dense(&r.z, y1, s / h, out),
-            (None, None) => hermite(y, f0, y1, f1, h, s, out),
+            (None, None) => hermite(e, s, out),
         }
     }
 }
@@ -700,7 +702,14 @@ impl Integrator {
                 } else if rate[0].is_nan() {
                     // a first step, without the rates that limit it (or a fixed step, which they
                     // do not limit): the interpolant's middle
-                    att.interpolate(y, f0, y1, f1, hs, 0.5 * hs, yt);
+                    let ends = Ends {
+                        y,
+                        f0,
+                        y1,
+                        f1,
+                        h: hs,
+                    };
+                    att.interpolate(&ends, 0.5 * hs, yt);
                     sys.events_held(t + 0.5 * hs, yt, g0, gt);
                     if crossed(g0, gt) {
                         seen = Some(0.5 * hs);

@@ -566,14 +566,21 @@ fn the_methods_dense_outputs_follow_the_solution_inside_a_step() {
             .attempt(stepper, at, h, &mut y1, &mut f1, &mut Stats::default())
             .unwrap();
         let mut end = [0.0; 2];
-        att.interpolate(&y, &f0, &y1, &f1, h, h, &mut end);
+        let ends = Ends {
+            y: &y,
+            f0: &f0,
+            y1: &y1,
+            f1: &f1,
+            h,
+        };
+        att.interpolate(&ends, h, &mut end);
         assert!((end[0] - y1[0]).abs() < 1e-14, "{stepper:?} end");
-        att.interpolate(&y, &f0, &y1, &f1, h, 0.0, &mut end);
+        att.interpolate(&ends, 0.0, &mut end);
         assert!((end[0] - y[0]).abs() < 1e-14, "{stepper:?} start");
         for theta in [0.25, 0.5, 0.75] {
             let (mut a, mut b) = ([0.0; 2], [0.0; 2]);
-            att.interpolate(&y, &f0, &y1, &f1, h, theta * h, &mut a);
-            hermite(&y, &f0, &y1, &f1, h, theta * h, &mut b);
+            att.interpolate(&ends, theta * h, &mut a);
+            hermite(&ends, theta * h, &mut b);
             let x = exact(&o, theta * h);
             let (dense, cubic, at_end) = (
                 (a[0] - x).abs(),

@@ -30,7 +30,7 @@ use super::read::{
 use crate::model::shaft;
 use crate::model::{Causality, Model, Values, VarSet, check_bounds};
 use crate::scene::{
-    FIDELITIES, Scene, SceneError, fidelity_name, levels_of, line_of, nearest, value_of,
+    FIDELITIES, Scene, SceneError, fidelity_name, levels_of, line_of, named, nearest, value_of,
 };
 use std::ops::Range;
 
@@ -124,20 +124,8 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
                 format!("{} has no fidelity levels", M::IDENTIFIER),
             ));
         }
-        let names: Vec<&str> = FIDELITIES.iter().map(|f| f.0).collect();
-        fidelity = Some(
-            FIDELITIES
-                .iter()
-                .find(|x| x.0 == f)
-                .map(|x| x.1)
-                .ok_or_else(|| {
-                    at(
-                        "fidelity",
-                        &span,
-                        format!("unknown level {f:?}; valid: {}", names.join(", ")),
-                    )
-                })?,
-        );
+        let level = named(FIDELITIES, |f| f.0, "level", &f);
+        fidelity = Some(level.map_err(|why| at("fidelity", &span, why))?.1);
     }
 
     // fixed parameters: the scene's, then the file's
@@ -369,20 +357,9 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
                 "max, min, ptp, rms, mean, last, any, rises or increase",
             )?,
         )?;
-        let stat = STATS
-            .iter()
-            .find(|s| s.0 == stat)
-            .map(|s| s.1)
-            .ok_or_else(|| {
-                at(
-                    &key,
-                    &span,
-                    format!(
-                        "unknown stat {stat:?}; valid: {}",
-                        STATS.iter().map(|s| s.0).collect::<Vec<_>>().join(", ")
-                    ),
-                )
-            })?;
+        let stat = named(STATS, |s| s.0, "stat", &stat)
+            .map_err(|why| at(&key, &span, why))?
+            .1;
         let over = match mt.get("over") {
             None if driven => Over::LastTurn,
             None => Over::Run,
