@@ -19,6 +19,19 @@ pub struct Map {
     pub z: Vec<Vec<f64>>,
 }
 
+/// A chart on `area` with its margins left, right, top and bottom.
+fn chart_on<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, plotters::coord::Shift>,
+    [left, right, top, bottom]: [u32; 4],
+) -> ChartBuilder<'a, 'a, DB> {
+    let mut b = ChartBuilder::on(area);
+    b.margin_left(left)
+        .margin_right(right)
+        .margin_top(top)
+        .margin_bottom(bottom);
+    b
+}
+
 /// Viridis at 9 stops (matplotlib's table), linear between them.
 const VIRIDIS: [(u8, u8, u8); 9] = [
     (68, 1, 84),
@@ -115,11 +128,7 @@ pub fn render_map_png(m: &Map) -> Result<Vec<u8>, String> {
         let (main, bar) = area.split_horizontally(s(640));
         let (x0, x1) = (xe[0].min(xe[xe.len() - 1]), xe[0].max(xe[xe.len() - 1]));
         let (y0, y1) = (ye[0].min(ye[ye.len() - 1]), ye[0].max(ye[ye.len() - 1]));
-        let mut chart = ChartBuilder::on(&main)
-            .margin_left(s(12))
-            .margin_right(s(12))
-            .margin_top(s(4))
-            .margin_bottom(s(10))
+        let mut chart = chart_on(&main, [s(12), s(12), s(4), s(10)])
             .x_label_area_size(s(52))
             .y_label_area_size(s(84))
             .build_cartesian_2d(x0..x1, y0..y1)
@@ -163,11 +172,7 @@ pub fn render_map_png(m: &Map) -> Result<Vec<u8>, String> {
             }
         }
         // the color bar: the scale of z
-        let mut cb = ChartBuilder::on(&bar)
-            .margin_left(s(4))
-            .margin_right(s(20))
-            .margin_top(s(4))
-            .margin_bottom(s(62))
+        let mut cb = chart_on(&bar, [s(4), s(20), s(4), s(62)])
             .y_label_area_size(s(96))
             .build_cartesian_2d(0.0..1.0, lo..hi)
             .map_err(err)?;

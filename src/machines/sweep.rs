@@ -100,9 +100,7 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
     };
     let mut fixed: Vec<(&'static str, &'static str, f64)> = Vec::new();
     if let Some(t) = root.table("fixed", "fixed.")? {
-        for (k, v) in in_file_order(t.table) {
-            let name = k.get_ref().to_string();
-            let key = format!("fixed.{name:?}");
+        for (name, key, (k, v)) in in_file_order(t.table, "fixed") {
             let (c, var) = param(&key, &name, &k.span())?;
             let x = value_for(text, &key, var, v)?;
             fixed.push((c, var.name, x));
@@ -112,9 +110,7 @@ pub fn parse(text: &str, machine: Machine) -> Result<Plan, SceneError> {
     let mut targets = Vec::new();
     let mut axes = Vec::new();
     if let Some(t) = root.table("swept", "swept.")? {
-        for (k, v) in in_file_order(t.table) {
-            let name = k.get_ref().to_string();
-            let key = format!("swept.{name:?}");
+        for (name, key, (k, v)) in in_file_order(t.table, "swept") {
             let (c, var) = param(&key, &name, &k.span())?;
             if fixed.iter().any(|f| f.0 == c && f.1 == var.name) {
                 return Err(at(

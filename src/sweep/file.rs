@@ -147,10 +147,8 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
         }
     }
     if let Some(t) = root.table("fixed", "fixed.")? {
-        for (k, v) in in_file_order(t.table) {
-            let key = format!("fixed.{:?}", k.get_ref());
-            let name = k.get_ref().as_ref();
-            let vr = param(&key, name, &k.span())?;
+        for (name, key, (k, v)) in in_file_order(t.table, "fixed") {
+            let vr = param(&key, &name, &k.span())?;
             let x = value_for(text, &key, &table[vr as usize], v)?;
             set_fixed(vr, x);
         }
@@ -171,9 +169,7 @@ pub fn parse<M: Model>(text: &str, scene_text: Option<&str>) -> Result<Plan, Sce
     let mut swept = Vec::new();
     let mut axes = Vec::new();
     if let Some(t) = root.table("swept", "swept.")? {
-        for (k, v) in in_file_order(t.table) {
-            let name = k.get_ref().to_string();
-            let key = format!("swept.{name:?}");
+        for (name, key, (k, v)) in in_file_order(t.table, "swept") {
             let vr = if name == SPEED {
                 if !driven {
                     return Err(at(

@@ -94,12 +94,21 @@ pub(crate) type Entry<'a, 'i> = (
     &'a toml::Spanned<DeValue<'i>>,
 );
 
-/// A table's entries in the order the file writes them (the parser's table is sorted by key):
-/// the swept parameters' order decides which varies fastest and the columns' order.
-pub(crate) fn in_file_order<'a, 'i>(t: &'a DeTable<'i>) -> Vec<Entry<'a, 'i>> {
+/// The entries of the table `section` in the order the file writes them (the parser's table is
+/// sorted by key: the swept parameters' order decides which varies fastest and the columns'
+/// order), each with its name and its key as the messages name it (`section."name"`).
+pub(crate) fn in_file_order<'a, 'i>(
+    t: &'a DeTable<'i>,
+    section: &str,
+) -> Vec<(String, String, Entry<'a, 'i>)> {
     let mut e: Vec<Entry> = t.iter().collect();
     e.sort_by_key(|(k, _)| k.span().start);
-    e
+    (e.into_iter())
+        .map(|(k, v)| {
+            let name = k.get_ref().to_string();
+            (name.clone(), format!("{section}.{name:?}"), (k, v))
+        })
+        .collect()
 }
 
 /// The design of a sweep file: its swept axes and its `[sampling]`, checked (a random axis needs
@@ -411,9 +420,7 @@ pub(crate) fn metric_tables<'a, 'i>(
         )
     })?;
     let mut out = Vec::new();
-    for (k, v) in in_file_order(m.table) {
-        let name = k.get_ref().to_string();
-        let key = format!("metrics.{name:?}");
+    for (name, key, (k, v)) in in_file_order(m.table, "metrics") {
         if swept.iter().any(|s| s.name == name)
             || ["run", "warnings", "warning", "error"].contains(&name.as_str())
         {
