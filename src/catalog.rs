@@ -103,19 +103,10 @@ pub fn tailor(scene: &Scene) -> Result<(Entry, Tailored), SceneError> {
 
 /// The `.fmu` (bytes) tailored to a scene text, and its modelIdentifier: the mechanism's own
 /// binaries (`binaries(identifier)` gives its cdylib for every platform built), the tailored
-/// description and documentation, and the scene in `resources/scene.toml`, which the binary reads at `fmi2Instantiate`.
-pub fn scene_fmu(
-    text: &str,
-    binaries: &dyn Fn(&str) -> Result<crate::package::Binaries, String>,
-    date: &str,
-) -> Result<(String, Vec<u8>), String> {
-    scene_fmu_of(text, binaries, date, crate::package::Fmi::V2, None)
-}
-
-/// [`scene_fmu`] as an FMU of FMI version `fmi` (the same binary, scene and documentation; the
-/// description of that version), with its reference results (FMI-LS-REF) if `inputs` gives
-/// the mechanism's cross-check inputs (`<Model>_in.csv`): the scene's default experiment on
-/// the inputs the scene lists ([`scene_reference`]).
+/// description of FMI version `fmi` and documentation, and the scene in `resources/scene.toml`,
+/// which the binary reads at instantiation; with its reference results (FMI-LS-REF) if
+/// `inputs` gives the mechanism's cross-check inputs (`<Model>_in.csv`): the scene's default
+/// experiment on the inputs the scene lists ([`scene_reference`]).
 pub fn scene_fmu_of(
     text: &str,
     binaries: &dyn Fn(&str) -> Result<crate::package::Binaries, String>,

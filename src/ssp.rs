@@ -469,17 +469,28 @@ pub const OMS_NAMESPACE: &str =
 
 /// The `.ssp` archive: `SystemStructure.ssd` and `resources/<id>.fmu`, the FMU [`tailored`] to
 /// each component, its binaries the catalog FMU's, read by `binaries(id)` (`id` the catalog
-/// modelIdentifier; one library per platform built), `date` their `generationDateAndTime`. Reproducible: fixed order and
+/// modelIdentifier; one library per platform built), with its reference results (FMI-LS-REF:
+/// the component's default experiment on its mechanism's cross-check inputs, `inputs(id)`, the
+/// text of `<id>_in.csv`), `date` their `generationDateAndTime`. Reproducible: fixed order and
 /// timestamps.
 pub fn package(
     m: &Machine,
     binaries: &dyn Fn(&str) -> Result<crate::package::Binaries, String>,
+    inputs: &dyn Fn(&str) -> Result<String, String>,
     date: &str,
 ) -> Result<Vec<u8>, String> {
     let ssd = ssd(m)?;
     let mut fmus = Vec::new();
     for c in &m.components {
-        fmus.push(catalog::scene_fmu(&scene_text(m, c), binaries, date)?);
+        let csv = inputs(c.fmu)?;
+        let v2 = crate::package::Fmi::V2;
+        fmus.push(catalog::scene_fmu_of(
+            &scene_text(m, c),
+            binaries,
+            date,
+            v2,
+            Some(&csv),
+        )?);
     }
     fmus.sort_by(|a, b| a.0.cmp(&b.0));
     let mut zip = ZipWriter::new(std::io::Cursor::new(Vec::new()));
@@ -654,9 +665,13 @@ mod tests {
                 id.as_bytes().to_vec(),
             )])
         };
+        let inputs = |id: &str| {
+            let p = format!("{}/fmus/{id}/{id}_in.csv", env!("CARGO_MANIFEST_DIR"));
+            std::fs::read_to_string(&p).map_err(|e| format!("{p}: {e}"))
+        };
         let date = crate::md::VERSION_DATE;
-        let a = package(&m, &fake, date).unwrap();
-        assert_eq!(a, package(&m, &fake, date).unwrap());
+        let a = package(&m, &fake, &inputs, date).unwrap();
+        assert_eq!(a, package(&m, &fake, &inputs, date).unwrap());
         let names = crate::package::entry_names(&a);
         let mut z = zip::ZipArchive::new(std::io::Cursor::new(a)).unwrap();
         assert_eq!(
@@ -692,5 +707,12 @@ mod tests {
         )
         .unwrap();
         assert_eq!(scene, scene_text(&m, &m.components[0]));
+        // and its reference results, of the FMU itself (FMI-LS-REF)
+        let refs = "extra/org.fmi-standard.fmi-ls-ref";
+        let out = format!("{refs}/MainShaft_ThreeKnifeTrimmer_drive_out.csv");
+        let mut csv = String::new();
+        std::io::Read::read_to_string(&mut fmu.by_name(&out).unwrap(), &mut csv).unwrap();
+        assert!(csv.lines().count() > 10, "{csv}");
+        assert!(fmu.by_name(&format!("{refs}/fmi-ls-manifest.xml")).is_ok());
     }
 }

@@ -398,9 +398,14 @@ fn ssp(fmus: &Option<PathBuf>, out: &Option<PathBuf>) -> Result<(), String> {
         })?;
         package::binaries_in(&bytes, id).map_err(|e| format!("{}: {e}", p.display()))
     };
+    // a mechanism's cross-check inputs, for the reference results inside each FMU
+    let inputs = |id: &str| -> Result<String, String> {
+        let p = place::root()?.join(format!("fmus/{id}/{id}_in.csv"));
+        std::fs::read_to_string(&p).map_err(|e| format!("{}: {e}", p.display()))
+    };
     let (date, _) = place::generation_date()?;
     for m in bindery_fmu::ssp::machines() {
-        let bytes = bindery_fmu::ssp::package(&m, &binaries, &date)?;
+        let bytes = bindery_fmu::ssp::package(&m, &binaries, &inputs, &date)?;
         let path = out.join(format!("{}.ssp", m.name));
         std::fs::write(&path, &bytes).map_err(|e| format!("{}: {e}", path.display()))?;
         eprintln!("wrote {} ({} bytes)", path.display(), bytes.len());

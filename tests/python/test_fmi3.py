@@ -444,34 +444,40 @@ def test_fmi_sim_runs_the_fmi3_main_shaft_in_model_exchange(tmp_path):
             columns_close(result[name], reference[name], rtol=case.rel_tol, name=name)
 
 
+def assert_reference_inside(path: Path, tmp_path: Path):
+    """The FMU at `path` carries reference results (FMI-LS-REF: its default experiment on the
+    inputs it lists, none with a constant-speed drive; every Real output it lists), and FMPy's
+    run of the FMU over those inputs gives them bit for bit."""
+    import zipfile
+    ident = path.stem
+    with zipfile.ZipFile(path) as z:
+        names = z.namelist()
+        for f in ("fmi-ls-manifest.xml", f"{ident}_out.csv", f"{ident}_in.csv"):
+            assert f"{LS_REF}/{f}" in names, (path, f)
+            (tmp_path / f).write_bytes(z.read(f"{LS_REF}/{f}"))
+    inside = read_csv(str(tmp_path / f"{ident}_out.csv"))
+    columns = [n for n in inside.dtype.names if n != "time"]
+    assert columns, path
+    ex = Extracted.of(path)
+    de = ex.md.defaultExperiment
+    stimuli = read_csv(str(tmp_path / f"{ident}_in.csv"))
+    kw = dict(start_time=float(de.startTime), stop_time=float(de.stopTime),
+              output_interval=float(de.stepSize), output=columns, fmi_type="CoSimulation")
+    if len(stimuli.dtype.names) > 1:
+        kw["input"] = stimuli
+    host = ex.simulate(**kw)
+    assert len(inside) == len(host)
+    for n in columns:
+        a, b = np.asarray(inside[n], dtype=float), np.asarray(host[n], dtype=float)
+        assert np.array_equal(a.view(np.uint64), b.view(np.uint64)), f"{ident} {n}"
+
+
 @pytest.mark.parametrize("scene", SCENES)
 def test_reference_results_inside_the_scene_fmus(scene, tmp_path):
     """A scene's FMUs (FMI 2.0 and 3.0) carry reference results too: the scene's default
-    experiment on the mechanism's cross-check inputs the scene lists (none with a constant-speed
-    drive), every Real output it lists; FMPy's run of the FMU over those inputs gives them bit
-    for bit."""
-    import zipfile
+    experiment on the mechanism's cross-check inputs the scene lists; FMPy reproduces them."""
     for path in _scene_fmus(scene):
-        ident = path.stem
-        with zipfile.ZipFile(path) as z:
-            names = z.namelist()
-            for f in ("fmi-ls-manifest.xml", f"{ident}_out.csv", f"{ident}_in.csv"):
-                assert f"{LS_REF}/{f}" in names, (path, f)
-                (tmp_path / f).write_bytes(z.read(f"{LS_REF}/{f}"))
-        inside = read_csv(str(tmp_path / f"{ident}_out.csv"))
-        columns = [n for n in inside.dtype.names if n != "time"]
-        ex = Extracted.of(path)
-        de = ex.md.defaultExperiment
-        stimuli = read_csv(str(tmp_path / f"{ident}_in.csv"))
-        kw = dict(start_time=float(de.startTime), stop_time=float(de.stopTime),
-                  output_interval=float(de.stepSize), output=columns, fmi_type="CoSimulation")
-        if len(stimuli.dtype.names) > 1:
-            kw["input"] = stimuli
-        host = ex.simulate(**kw)
-        assert len(inside) == len(host)
-        for n in columns:
-            a, b = np.asarray(inside[n], dtype=float), np.asarray(host[n], dtype=float)
-            assert np.array_equal(a.view(np.uint64), b.view(np.uint64)), f"{ident} {n}"
+        assert_reference_inside(path, tmp_path)
 
 
 @pytest.mark.parametrize("scene", SCENES)
