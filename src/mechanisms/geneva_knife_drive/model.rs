@@ -63,8 +63,11 @@ crate::model_variables! {
         cross_tau = Var::output("cross.tau", "N.m", "Torque on the cross shaft (gear 3), with mesh losses and cross inertia (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         geneva_F = Var::output("geneva.F", "N", "Contact force between roller and slot flank, cross.tau/rho (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         // ---- elastodynamic level (dynamics.md)
-        elastic_k = Var::parameter("elastic.k", 5e7, "N/m", "Stiffness of the drive chain between the rigid knife position and the knife (elastodynamic level; assumption)").min(1.0).max(1e16).feeds(stage::ELASTIC),
-        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the drive chain, c = 2*zeta*sqrt(k*m_s) (elastodynamic level; assumption)").min(0.0).max(10.0).feeds(stage::ELASTIC),
+        @with crate::chain_variables { spring(stage::ELASTIC;
+            5e7,
+            "Stiffness of the drive chain between the rigid knife position and the knife (elastodynamic level; assumption)",
+            "Damping ratio of the drive chain, c = 2*zeta*sqrt(k*m_s) (elastodynamic level; assumption)",
+        ) },
         @with crate::chain_variables { solver(stage::ELASTIC) },
         knife_s_kin = Var::output("knife.s_kin", "m", "Rigid reference position of the knife s(phi) (elastodynamic level; equals knife.s at the others)").depends(ON_PHI),
         elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the drive chain knife.s_kin - knife.s (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
@@ -72,10 +75,10 @@ crate::model_variables! {
         dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) chain force, of the last complete driver turn (the running one until a turn is complete), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
         @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
-        @with crate::chain_variables { states(stage::ELASTIC;
-            elastic_x = ("elastic.x", "m", "State: knife position x, down positive (elastodynamic level)") => der_elastic_x "m/s",
-            elastic_xd = ("elastic.xd", "m/s", "State: knife velocity (elastodynamic level)") => der_elastic_xd "m/s2",
-            elastic_W = ("elastic.W", "J", "State: work done on knife and chain spring by drive, gravity, cutting, friction and damping (for the energy balance)") => der_elastic_W "W",
+        @with crate::chain_variables { states(stage::ELASTIC, length;
+            "State: knife position x, down positive (elastodynamic level)",
+            "State: knife velocity (elastodynamic level)",
+            "State: work done on knife and chain spring by drive, gravity, cutting, friction and damping (for the energy balance)",
         ) },
         // ---- events (FMI 3.0 early return)
         knife_in_stack = Var::bool_output("knife.in_stack", "True while the knife cuts: descending through the stack, cut.s_start <= knife.s <= cut.s_end (elastodynamic level: while the stack resists, knife.F_cut > 0): it rises at the cut's start and falls at the cut-through").depends(ON_PHI_W).event(),
