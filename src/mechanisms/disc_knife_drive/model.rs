@@ -280,19 +280,17 @@ impl Model for DiscKnifeDrive {
         v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
             let f = p.kinetostatics(&k);
-            let r = shaft::reduce_at(f.shaft_tau, s.a, |a| {
-                p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau
-            });
-            shaft::set_reduced(v, r);
             Self::write_forces(v, &f);
             v[V::rod_F_kin] = f.rod_f;
             self.warn_locked(f.locked, &k, time, log);
-            f.shaft_tau
+            Some(f.shaft_tau)
         } else {
-            shaft::set_reduced(v, shaft::Reduced::default());
-            0.0
+            None
         };
-        shaft::set_outputs(v, tau, s.w);
+        let p = &self.params;
+        shaft::set_rigid_torque(v, &s, tau, |a| {
+            p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau
+        });
     }
 }
 

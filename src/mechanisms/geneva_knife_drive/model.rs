@@ -267,13 +267,9 @@ impl Model for GenevaKnifeDrive {
         v[V::elastic_deflection] = 0.0;
         v[V::elastic_F] = 0.0;
         v[V::dyn_factor] = 1.0;
-        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
+        let kinetostatic = shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES);
+        let tau = kinetostatic.then(|| {
             let f = p.kinetostatics(&k, s.w, s.a);
-            let r = shaft::reduce_at(f.shaft_tau, s.a, |a| {
-                p.kinetostatics(&p.at_shaft_accel(&k, s.w, a), s.w, a)
-                    .shaft_tau
-            });
-            shaft::set_reduced(v, r);
             v[V::knife_F_cut] = f.f_cut;
             v[V::knife_F_inertia] = f.f_inertia;
             v[V::rod_F] = f.rod_f;
@@ -282,11 +278,11 @@ impl Model for GenevaKnifeDrive {
             v[V::cross_tau] = f.cross_tau;
             v[V::geneva_F] = f.geneva_f;
             f.shaft_tau
-        } else {
-            shaft::set_reduced(v, shaft::Reduced::default());
-            0.0
-        };
-        shaft::set_outputs(v, tau, s.w);
+        });
+        shaft::set_rigid_torque(v, &s, tau, |a| {
+            p.kinetostatics(&p.at_shaft_accel(&k, s.w, a), s.w, a)
+                .shaft_tau
+        });
     }
 }
 

@@ -432,10 +432,6 @@ impl Model for Perforators {
         v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS) {
             let f = d.forces_with(&k, v.wants(stage::HERTZ));
-            let r = shaft::reduce_at(f.tau, st.a, |a| {
-                d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau
-            });
-            shaft::set_reduced(v, r);
             v[V::pierce_Q_out] = f.pierce_q;
             v[V::perforators_F_inertia] = f.f_inertia;
             v[V::rod_F] = f.rod_f;
@@ -448,13 +444,14 @@ impl Model for Perforators {
                 self.state.lost_step || f.roller_f < 0.0,
             );
             v[V::roller_F_margin] = self.state.margin(f.roller_f);
-            f.tau
+            Some(f.tau)
         } else {
             v.set_flag(V::roller_lost_contact, false);
-            shaft::set_reduced(v, shaft::Reduced::default());
-            0.0
+            None
         };
-        shaft::set_outputs(v, tau, st.w);
+        shaft::set_rigid_torque(v, &st, tau, |a| {
+            d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau
+        });
     }
 
     /// The lift-offs of the unfinished turn are reported.

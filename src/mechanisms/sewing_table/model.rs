@@ -407,18 +407,14 @@ impl Model for SewingTable {
                 }
             }
         };
-        let r = match (kinetostatic, p.kind) {
-            (false, _) => shaft::Reduced::default(),
-            (true, Kind::Translating) => shaft::reduce_at(tau, st.a, |a| {
+        // at the kinematic level every branch gives no torque
+        shaft::set_rigid_torque(v, &st, kinetostatic.then_some(tau), |a| match p.kind {
+            Kind::Translating => {
                 p.forces_with(&p.kinematics(st.phi, st.w, a), a, f_ext, false)
                     .tau
-            }),
-            (true, Kind::Rocking) => shaft::reduce_at(tau, st.a, |a| {
-                p.rocking_tau(&p.rocking(st.phi, st.w, a), a, f_ext)
-            }),
-        };
-        shaft::set_reduced(v, r);
-        shaft::set_outputs(v, tau, st.w);
+            }
+            Kind::Rocking => p.rocking_tau(&p.rocking(st.phi, st.w, a), a, f_ext),
+        });
     }
 }
 
