@@ -1,14 +1,14 @@
 //! The GenevaKnifeDrive FMU: its variables, declared once, and the glue from them to
 //! [`super::physics`] (`../shared/spec/geneva-knife-drive.md`).
 
-use super::elastic::{KnifeOde, Point};
+use super::elastic::{KnifeMemory, KnifeOde, Point};
 use super::physics::{Kinematics, Params};
 use crate::mechanics::SpringDamper;
 use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::ChainOde;
-use crate::solver::chain::{self, Chain, ChainModel, Peaks};
+use crate::solver::chain::{self, Chain, ChainModel};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
@@ -99,17 +99,6 @@ struct KnifeChain {
     spring: SpringDamper,
 }
 
-crate::chain_memory! {
-    /// What [`KnifeOde`] tracks between steps.
-    #[derive(Clone, Debug, PartialEq)]
-    struct KnifeMemory {
-        /// Of the driver turns: peak |F_el| and peak |F_rigid|, K_d.
-        peaks: Peaks,
-        /// The stack is cut through in this stroke.
-        cut_done: bool,
-    }
-}
-
 /// What the elastodynamic level carries between steps.
 type Dynamic = Chain<KnifeChain>;
 
@@ -129,23 +118,19 @@ impl ChainModel for KnifeChain {
         _: &Values<V>,
         m: &KnifeMemory,
     ) -> KnifeOde<'a> {
-        let peaks = Cell::new(m.peaks);
         KnifeOde {
             p,
             geneva: p.geneva(),
             spring: self.spring,
             path,
-            peaks,
-            cut_done: Cell::new(m.cut_done),
+            memory: Cell::new(*m),
         }
     }
     fn start(ode: &KnifeOde, path: &ShaftPath, m: &mut KnifeMemory) {
-        m.peaks = Peaks::new(ode.cycle(path.t0));
-        m.cut_done = false;
+        *m = KnifeMemory::new(ode.cycle(path.t0));
     }
     fn absorb(ode: &KnifeOde, m: &mut KnifeMemory) {
-        m.peaks = ode.peaks.get();
-        m.cut_done = ode.cut_done.get();
+        *m = ode.memory.get();
     }
     /// A deflection beyond the knife's stroke: the chain is too soft to drive the knife.
     fn non_physical(&self, ode: &KnifeOde, t: f64, y: &[f64; 3]) -> Option<String> {
@@ -213,14 +198,10 @@ impl Model for GenevaKnifeDrive {
         params.validate()?;
         let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
             let spring = KnifeOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]);
-            let memory = KnifeMemory {
-                peaks: Peaks::new(0.0),
-                cut_done: false,
-            };
             Chain::new(
                 KnifeChain { spring },
                 Integrator::new(chain::solver_settings(v)),
-                memory,
+                KnifeMemory::new(0.0),
             )
         });
         Ok(GenevaKnifeDrive {

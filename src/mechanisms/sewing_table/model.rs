@@ -1,7 +1,7 @@
 //! The SewingTable FMU: its variables, declared once, and the glue from them to
 //! [`super::physics`] (`../shared/spec/sewing-table.md`).
 
-use super::elastic::TableOde;
+use super::elastic::{TableMemory, TableOde};
 use super::physics::{Kind, Params};
 use crate::mechanics::SpringDamper;
 use crate::mechanics::hertz::Roller;
@@ -138,17 +138,6 @@ struct TableChain {
     gap: f64,
 }
 
-crate::chain_memory! {
-    /// What [`TableOde`] tracks between steps.
-    #[derive(Clone, Debug, PartialEq)]
-    struct TableMemory {
-        peaks: Peaks,
-        liftoffs: f64 [Count],
-        impact: f64,
-        landed: bool,
-    }
-}
-
 /// What the elastodynamic level carries between steps.
 type Dynamic = Chain<TableChain>;
 
@@ -168,27 +157,20 @@ impl ChainModel for TableChain {
         v: &Values<V>,
         m: &TableMemory,
     ) -> TableOde<'a> {
-        let peaks = Cell::new(m.peaks);
         TableOde {
             p,
             spring: self.spring,
             gap: self.gap,
             f_ext: v[V::table_F_ext],
             path,
-            peaks,
-            liftoffs: Cell::new(m.liftoffs),
-            impact: Cell::new(m.impact),
-            landed: Cell::new(m.landed),
+            memory: Cell::new(*m),
         }
     }
     fn start(_: &TableOde, path: &ShaftPath, m: &mut TableMemory) {
         m.peaks.turn = (path.cycle(path.t0), 0.0, 0.0);
     }
     fn absorb(ode: &TableOde, m: &mut TableMemory) {
-        m.peaks = ode.peaks.get();
-        m.liftoffs = ode.liftoffs.get();
-        m.impact = ode.impact.get();
-        m.landed = ode.landed.get();
+        *m = ode.memory.get();
     }
     /// A deflection beyond the table's travel: the chain is too soft to drive the table.
     fn non_physical(&self, ode: &TableOde, t: f64, y: &[f64; 3]) -> Option<String> {
