@@ -161,9 +161,10 @@ macro_rules! chain_access {
     };
 }
 
-/// Inside `impl OdeSystem for` a chain's ODE: its dimension (3) and the right-hand side of
+/// Inside `impl OdeSystem for` a chain's ODE: its dimension (3), the right-hand side of
 /// `y = [x, ẋ, W]` ([`crate::solver::chain::ChainOde`]): `ẋ`, then the acceleration and the
-/// power the expressions after `=>` read off the chain's point `pt` at `(t, y)`.
+/// power the expressions after `=>` read off the chain's point `pt` at `(t, y)`, and the error
+/// norm without `W` (a work kept for the energy balance).
 #[macro_export]
 macro_rules! chain_rhs {
     ($pt:ident => $xdd:expr, $power:expr) => {
@@ -175,6 +176,9 @@ macro_rules! chain_rhs {
             dy[0] = y[1];
             dy[1] = $xdd;
             dy[2] = $power;
+        }
+        fn error_weight(&self, i: usize) -> f64 {
+            if i == 2 { 0.0 } else { 1.0 }
         }
     };
 }
