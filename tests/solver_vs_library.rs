@@ -13,7 +13,7 @@
 
 mod common;
 
-use bindery_fmu::mechanisms::geneva_knife_drive::elastic::KnifeOde;
+use bindery_fmu::mechanisms::geneva_knife_drive::elastic::{KnifeMemory, KnifeOde};
 use bindery_fmu::mechanisms::geneva_knife_drive::physics::Params;
 use bindery_fmu::solver::chain::ChainOde;
 use bindery_fmu::solver::{Method, Settings, ShaftPath};
@@ -27,8 +27,7 @@ fn ode(p: &Params, k: f64, zeta: f64) -> KnifeOde<'_> {
         geneva: p.geneva(),
         spring: KnifeOde::spring(p, k, zeta),
         path: ShaftPath::new(0.0, 0.0, std::f64::consts::PI, 0.0),
-        peaks: Cell::new(bindery_fmu::solver::chain::Peaks::new(0.0)),
-        cut_done: Cell::new(false),
+        memory: Cell::new(KnifeMemory::new(0.0)),
     }
 }
 

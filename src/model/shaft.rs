@@ -423,6 +423,23 @@ pub fn set_reduced<V: VarSet>(values: &mut Values<V>, r: Reduced) {
     raw[TAU0 as usize] = r.tau0;
 }
 
+/// The shaft outputs of a rigid level at the shaft state `s`: at the kinetostatic level `tau`,
+/// the torque at the actual acceleration, and its split by [`reduce_at`] with `torque_at`, the
+/// torque at another acceleration; at the kinematic level (`None`) no torque and no split.
+pub fn set_rigid_torque<V: VarSet>(
+    values: &mut Values<V>,
+    s: &ShaftState,
+    tau: Option<f64>,
+    torque_at: impl FnMut(f64) -> f64,
+) {
+    let r = match tau {
+        Some(tau) => reduce_at(tau, s.a, torque_at),
+        None => Reduced::default(),
+    };
+    set_reduced(values, r);
+    set_outputs(values, tau.unwrap_or(0.0), s.w);
+}
+
 /// The shaft's motion inside a communication step, extrapolated from its state at the step's
 /// start: `φ(t0 + τ) = φ0 + ω0·τ + ε0·τ²/2` (or the input derivatives a host set, which are the
 /// same Taylor coefficients).

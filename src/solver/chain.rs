@@ -4,7 +4,7 @@
 //! Exchange).
 //!
 //! A mechanism implements [`ChainModel`]: its ODE (an [`OdeSystem`] that carries its
-//! bookkeeping, peaks of the chain force, K_d, contact counters..., in `Cell`s), how that
+//! bookkeeping, peaks of the chain force, K_d, contact counters..., in a `Cell`), how that
 //! bookkeeping (the [`ChainModel::Memory`]) starts, is read back from the ODE and is laid out in
 //! the FMU state snapshot, and what it does at events and steps where the common pattern does not
 //! fit. [`Chain`] holds what every mechanism carries between steps (integrator, states, initial
@@ -17,7 +17,7 @@
 //! done on the chain by everything but its spring, for the energy balance `E − E0 − W`.
 //!
 //! A new mechanism with a compliant chain:
-//! 1. its ODE in `elastic.rs`: an [`OdeSystem`] on `y` with its bookkeeping in `Cell`s (a
+//! 1. its ODE in `elastic.rs`: an [`OdeSystem`] on `y` with its bookkeeping in a `Cell` (a
 //!    dynamic factor: [`Peaks::track`] in `on_step`, [`Peaks`] in the memory);
 //! 2. a struct of the chain's constants implementing [`ChainModel`]: the ODE from them and the
 //!    memory, how the memory starts and is read back and how many numbers it takes in the
@@ -70,7 +70,7 @@ pub trait ChainModel: Clone + Debug {
     /// The mechanism's physics the ODE borrows.
     type Physics: 'static;
     /// What the ODE tracks between steps besides the states (peaks, K_d, contact counters),
-    /// copied into the ODE's `Cell`s and read back from them ([`ChainModel::absorb`]).
+    /// copied into the ODE's `Cell` and read back from it ([`ChainModel::absorb`]).
     /// It is saved in the FMU state as its [`Saved`] numbers.
     type Memory: Clone + Debug + PartialEq + Saved;
     /// The ODE of one communication step (or of one Model Exchange call).
@@ -732,12 +732,11 @@ mod tests {
 
     #[test]
     fn peaks_and_dyn_factor() {
-        let peaks = Cell::new(Peaks::new(0.0));
-        Peaks::track(&peaks, 0.0, 2.0, 1.0);
-        Peaks::track(&peaks, 0.0, 1.0, 4.0);
-        assert_eq!(peaks.get().dyn_factor(), 0.5);
-        Peaks::track(&peaks, 1.0, 3.0, 1.0);
-        let p = peaks.get();
+        let mut p = Peaks::new(0.0);
+        p.track(0.0, 2.0, 1.0);
+        p.track(0.0, 1.0, 4.0);
+        assert_eq!(p.dyn_factor(), 0.5);
+        p.track(1.0, 3.0, 1.0);
         assert_eq!((p.turn, p.k_d, p.dyn_factor()), ((1.0, 3.0, 1.0), 0.5, 0.5));
         let mut saved = Vec::new();
         p.save(&mut saved);

@@ -271,6 +271,20 @@ pub mod vars {
             "Accepted integration steps since initialization: in Co-Simulation those of the FMU's integrator inside fmi2DoStep, in Model Exchange the host's (its fmi2CompletedIntegratorStep calls); 0 where nothing is integrated (below the elastodynamic level)",
         )
     }
+    /// `elastic.k`: the stiffness of a chain that is a spring with viscous damping
+    /// ([`crate::mechanics::SpringDamper`]), default `k` N/m, what the spring is in `description`.
+    pub fn stiffness(k: f64, description: &'static str) -> Var {
+        Var::parameter("elastic.k", k, "N/m", description)
+            .min(1.0)
+            .max(1e16)
+    }
+    /// `elastic.zeta`: the damping ratio of that spring (default 5 % of critical), its reference
+    /// mass in `description`.
+    pub fn damping_ratio(description: &'static str) -> Var {
+        Var::parameter("elastic.zeta", 0.05, "", description)
+            .min(0.0)
+            .max(10.0)
+    }
     /// `elastic.E_residual`.
     pub fn e_residual() -> Var {
         Var::output(

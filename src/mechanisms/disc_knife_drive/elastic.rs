@@ -519,7 +519,10 @@ impl OdeSystem for RodOde<'_> {
         let f_rigid = self.p.kinetostatics(&r.kin).rod_f.abs();
         let f_el = ev.force.abs();
         let cyc = self.path.cycle(t);
-        Peaks::track(&self.peaks, cyc, f_el, f_rigid);
+        self.peaks.update(|mut p| {
+            p.track(cyc, f_el, f_rigid);
+            p
+        });
     }
 }
 

@@ -69,8 +69,11 @@ crate::model_variables! {
         pinD_F = Var::output("pinD.F", "N", "Magnitude of the hinge force at D, slider 7 - holder (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         sliders_locked = Var::bool_output("sliders.locked", "True where Coulomb friction self-locks a slider (no unique force solution; slider 7: |tan(beta + alpha)| < support.mu); forces are then computed without friction (kinetostatic level)").depends(ON_PHI_W).needs(stage::FORCES),
         // ---- elastodynamic level (dynamics.md: rod compliance between crank pin and slider 5)
-        elastic_k = Var::parameter("elastic.k", 2e8, "N/m", "Axial stiffness of rod 4 between crank pin B and slider 5 with its pin bearings (elastodynamic level; assumption: steel shank of 60 mm2 over l2 = 38 mm, EA/l2 = 3.3e8 N/m, in series with two pin bearings of 1e9 N/m)").min(1.0).max(1e16).feeds(stage::ELASTIC),
-        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the rod, c = 2*zeta*sqrt(k*M_ref), M_ref the reduced mass of the chain behind the rod at the outer dead centre (elastodynamic level; assumption)").min(0.0).max(10.0).feeds(stage::ELASTIC),
+        @with crate::chain_variables { spring(stage::ELASTIC;
+            2e8,
+            "Axial stiffness of rod 4 between crank pin B and slider 5 with its pin bearings (elastodynamic level; assumption: steel shank of 60 mm2 over l2 = 38 mm, EA/l2 = 3.3e8 N/m, in series with two pin bearings of 1e9 N/m)",
+            "Damping ratio of the rod, c = 2*zeta*sqrt(k*M_ref), M_ref the reduced mass of the chain behind the rod at the outer dead centre (elastodynamic level; assumption)",
+        ) },
         @with crate::chain_variables { solver(stage::ELASTIC) },
         slider_x_kin = Var::output("slider.x_kin", "m", "Rigid reference position x_C(phi) of slider 5 (elastodynamic level; equals slider.x at the others)").depends(ON_PHI),
         elastic_deflection = Var::output("elastic.deflection", "m", "Shortening of rod 4, rigid rod length - |C - B| (elastodynamic level; 0 at the others)").depends(ON_PHI).needs(stage::ELASTIC),
@@ -79,10 +82,10 @@ crate::model_variables! {
         dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak |elastic.F| over the peak kinetostatic rod force, of the last complete shaft turn (the running one until a turn is complete), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level, 1 at the others)")).needs(stage::ELASTIC),
         @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
-        @with crate::chain_variables { states(stage::ELASTIC;
-            elastic_x = ("elastic.x", "m", "State: position x of slider 5 along its guide (elastodynamic level)") => der_elastic_x "m/s",
-            elastic_xd = ("elastic.xd", "m/s", "State: velocity of slider 5 (elastodynamic level)") => der_elastic_xd "m/s2",
-            elastic_W = ("elastic.W", "J", "State: work done on the chain behind the rod and on the rod spring by crank pin, cutting, friction, damping and weights (for the energy balance)") => der_elastic_W "W",
+        @with crate::chain_variables { states(stage::ELASTIC, length;
+            "State: position x of slider 5 along its guide (elastodynamic level)",
+            "State: velocity of slider 5 (elastodynamic level)",
+            "State: work done on the chain behind the rod and on the rod spring by crank pin, cutting, friction, damping and weights (for the energy balance)",
         ) },
     }
 }
@@ -277,19 +280,17 @@ impl Model for DiscKnifeDrive {
         v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
             let f = p.kinetostatics(&k);
-            let r = shaft::reduce_at(f.shaft_tau, s.a, |a| {
-                p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau
-            });
-            shaft::set_reduced(v, r);
             Self::write_forces(v, &f);
             v[V::rod_F_kin] = f.rod_f;
             self.warn_locked(f.locked, &k, time, log);
-            f.shaft_tau
+            Some(f.shaft_tau)
         } else {
-            shaft::set_reduced(v, shaft::Reduced::default());
-            0.0
+            None
         };
-        shaft::set_outputs(v, tau, s.w);
+        let p = &self.params;
+        shaft::set_rigid_torque(v, &s, tau, |a| {
+            p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau
+        });
     }
 }
 

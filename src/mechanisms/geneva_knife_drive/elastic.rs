@@ -40,11 +40,30 @@ pub struct KnifeOde<'a> {
     /// The chain's stiffness and damping.
     pub spring: SpringDamper,
     pub path: ShaftPath,
-    /// Peak tracking over accepted steps and the dynamic factor of the last complete turn.
-    pub peaks: Cell<Peaks>,
-    /// The stack is cut through in this stroke (set at cut-through, cleared when the knife
-    /// rises back above `cut.s_start`): no cutting resistance.
-    pub cut_done: Cell<bool>,
+    /// What it tracks over accepted steps and events.
+    pub memory: Cell<KnifeMemory>,
+}
+
+crate::chain_memory! {
+    /// What [`KnifeOde`] tracks between steps.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct KnifeMemory {
+        /// Of the driver turns: peak |F_el| and peak |F_rigid|, K_d.
+        pub peaks: Peaks,
+        /// The stack is cut through in this stroke (set at cut-through, cleared when the knife
+        /// rises back above `cut.s_start`): no cutting resistance.
+        pub cut_done: bool,
+    }
+}
+
+impl KnifeMemory {
+    /// Nothing tracked yet, in driver turn `turn`, the stack not cut.
+    pub fn new(turn: f64) -> KnifeMemory {
+        KnifeMemory {
+            peaks: Peaks::new(turn),
+            cut_done: false,
+        }
+    }
 }
 
 /// Everything at one instant.
@@ -113,7 +132,7 @@ impl KnifeOde<'_> {
 
     /// Is the knife in the uncut stack?
     fn in_stack(&self, x: f64) -> bool {
-        !self.cut_done.get() && x >= self.p.cut_s_start && x <= self.p.cut_s_end
+        !self.memory.get().cut_done && x >= self.p.cut_s_start && x <= self.p.cut_s_end
     }
 
     /// Cutting resistance at the elastic position and velocity, with the drive force
@@ -218,19 +237,20 @@ impl OdeSystem for KnifeOde<'_> {
         g[7] = kin.v;
     }
     fn on_event(&self, _t: f64, _y: &[f64], before: &[f64], after: &[f64]) {
+        let mut m = self.memory.get();
         if before[4] < 0.0 && after[4] >= 0.0 {
-            self.cut_done.set(true); // cut through
+            m.cut_done = true; // cut through
         }
         if before[2] > 0.0 && after[2] <= 0.0 {
-            self.cut_done.set(false); // back above the stack: the next one comes
+            m.cut_done = false; // back above the stack: the next one comes
         }
-    }
-    fn error_weight(&self, i: usize) -> f64 {
-        if i == 2 { 0.0 } else { 1.0 }
+        self.memory.set(m);
     }
     fn on_step(&self, t: f64, y: &[f64]) {
         let pt = self.point(t, y);
         let cyc = self.cycle(t);
-        Peaks::track(&self.peaks, cyc, pt.f_el.abs(), pt.f_rigid.abs());
+        let mut m = self.memory.get();
+        m.peaks.track(cyc, pt.f_el.abs(), pt.f_rigid.abs());
+        self.memory.set(m);
     }
 }

@@ -1,14 +1,14 @@
 //! The GenevaKnifeDrive FMU: its variables, declared once, and the glue from them to
 //! [`super::physics`] (`../shared/spec/geneva-knife-drive.md`).
 
-use super::elastic::{KnifeOde, Point};
+use super::elastic::{KnifeMemory, KnifeOde, Point};
 use super::physics::{Kinematics, Params};
 use crate::mechanics::SpringDamper;
 use crate::mechanics::geneva::Geneva;
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::ChainOde;
-use crate::solver::chain::{self, Chain, ChainModel, Peaks};
+use crate::solver::chain::{self, Chain, ChainModel};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
@@ -63,8 +63,11 @@ crate::model_variables! {
         cross_tau = Var::output("cross.tau", "N.m", "Torque on the cross shaft (gear 3), with mesh losses and cross inertia (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         geneva_F = Var::output("geneva.F", "N", "Contact force between roller and slot flank, cross.tau/rho (kinetostatic level)").depends(ON_ALL).needs(stage::FORCES),
         // ---- elastodynamic level (dynamics.md)
-        elastic_k = Var::parameter("elastic.k", 5e7, "N/m", "Stiffness of the drive chain between the rigid knife position and the knife (elastodynamic level; assumption)").min(1.0).max(1e16).feeds(stage::ELASTIC),
-        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the drive chain, c = 2*zeta*sqrt(k*m_s) (elastodynamic level; assumption)").min(0.0).max(10.0).feeds(stage::ELASTIC),
+        @with crate::chain_variables { spring(stage::ELASTIC;
+            5e7,
+            "Stiffness of the drive chain between the rigid knife position and the knife (elastodynamic level; assumption)",
+            "Damping ratio of the drive chain, c = 2*zeta*sqrt(k*m_s) (elastodynamic level; assumption)",
+        ) },
         @with crate::chain_variables { solver(stage::ELASTIC) },
         knife_s_kin = Var::output("knife.s_kin", "m", "Rigid reference position of the knife s(phi) (elastodynamic level; equals knife.s at the others)").depends(ON_PHI),
         elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the drive chain knife.s_kin - knife.s (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
@@ -72,10 +75,10 @@ crate::model_variables! {
         dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) chain force, of the last complete driver turn (the running one until a turn is complete), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
         @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
-        @with crate::chain_variables { states(stage::ELASTIC;
-            elastic_x = ("elastic.x", "m", "State: knife position x, down positive (elastodynamic level)") => der_elastic_x "m/s",
-            elastic_xd = ("elastic.xd", "m/s", "State: knife velocity (elastodynamic level)") => der_elastic_xd "m/s2",
-            elastic_W = ("elastic.W", "J", "State: work done on knife and chain spring by drive, gravity, cutting, friction and damping (for the energy balance)") => der_elastic_W "W",
+        @with crate::chain_variables { states(stage::ELASTIC, length;
+            "State: knife position x, down positive (elastodynamic level)",
+            "State: knife velocity (elastodynamic level)",
+            "State: work done on knife and chain spring by drive, gravity, cutting, friction and damping (for the energy balance)",
         ) },
         // ---- events (FMI 3.0 early return)
         knife_in_stack = Var::bool_output("knife.in_stack", "True while the knife cuts: descending through the stack, cut.s_start <= knife.s <= cut.s_end (elastodynamic level: while the stack resists, knife.F_cut > 0): it rises at the cut's start and falls at the cut-through").depends(ON_PHI_W).event(),
@@ -94,17 +97,6 @@ pub struct GenevaKnifeDrive {
 #[derive(Clone, Debug, PartialEq)]
 struct KnifeChain {
     spring: SpringDamper,
-}
-
-crate::chain_memory! {
-    /// What [`KnifeOde`] tracks between steps.
-    #[derive(Clone, Debug, PartialEq)]
-    struct KnifeMemory {
-        /// Of the driver turns: peak |F_el| and peak |F_rigid|, K_d.
-        peaks: Peaks,
-        /// The stack is cut through in this stroke.
-        cut_done: bool,
-    }
 }
 
 /// What the elastodynamic level carries between steps.
@@ -126,23 +118,19 @@ impl ChainModel for KnifeChain {
         _: &Values<V>,
         m: &KnifeMemory,
     ) -> KnifeOde<'a> {
-        let peaks = Cell::new(m.peaks);
         KnifeOde {
             p,
             geneva: p.geneva(),
             spring: self.spring,
             path,
-            peaks,
-            cut_done: Cell::new(m.cut_done),
+            memory: Cell::new(*m),
         }
     }
     fn start(ode: &KnifeOde, path: &ShaftPath, m: &mut KnifeMemory) {
-        m.peaks = Peaks::new(ode.cycle(path.t0));
-        m.cut_done = false;
+        *m = KnifeMemory::new(ode.cycle(path.t0));
     }
     fn absorb(ode: &KnifeOde, m: &mut KnifeMemory) {
-        m.peaks = ode.peaks.get();
-        m.cut_done = ode.cut_done.get();
+        *m = ode.memory.get();
     }
     /// A deflection beyond the knife's stroke: the chain is too soft to drive the knife.
     fn non_physical(&self, ode: &KnifeOde, t: f64, y: &[f64; 3]) -> Option<String> {
@@ -210,14 +198,10 @@ impl Model for GenevaKnifeDrive {
         params.validate()?;
         let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
             let spring = KnifeOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]);
-            let memory = KnifeMemory {
-                peaks: Peaks::new(0.0),
-                cut_done: false,
-            };
             Chain::new(
                 KnifeChain { spring },
                 Integrator::new(chain::solver_settings(v)),
-                memory,
+                KnifeMemory::new(0.0),
             )
         });
         Ok(GenevaKnifeDrive {
@@ -264,13 +248,9 @@ impl Model for GenevaKnifeDrive {
         v[V::elastic_deflection] = 0.0;
         v[V::elastic_F] = 0.0;
         v[V::dyn_factor] = 1.0;
-        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
+        let kinetostatic = shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES);
+        let tau = kinetostatic.then(|| {
             let f = p.kinetostatics(&k, s.w, s.a);
-            let r = shaft::reduce_at(f.shaft_tau, s.a, |a| {
-                p.kinetostatics(&p.at_shaft_accel(&k, s.w, a), s.w, a)
-                    .shaft_tau
-            });
-            shaft::set_reduced(v, r);
             v[V::knife_F_cut] = f.f_cut;
             v[V::knife_F_inertia] = f.f_inertia;
             v[V::rod_F] = f.rod_f;
@@ -279,11 +259,11 @@ impl Model for GenevaKnifeDrive {
             v[V::cross_tau] = f.cross_tau;
             v[V::geneva_F] = f.geneva_f;
             f.shaft_tau
-        } else {
-            shaft::set_reduced(v, shaft::Reduced::default());
-            0.0
-        };
-        shaft::set_outputs(v, tau, s.w);
+        });
+        shaft::set_rigid_torque(v, &s, tau, |a| {
+            p.kinetostatics(&p.at_shaft_accel(&k, s.w, a), s.w, a)
+                .shaft_tau
+        });
     }
 }
 

@@ -50,15 +50,6 @@ elastodynamic level: the paper gives no compliance of the links.</p>"#;
 
 const RPM: f64 = PI / 30.0;
 
-fn drive(timing: Timing) -> Drive {
-    Params {
-        timing,
-        ..Params::default()
-    }
-    .drive()
-    .expect("the defaults assemble")
-}
-
 /// The chain at bar position `s`: the links as one polyline, mm.
 fn chain_at(d: &Drive, s: f64) -> Vec<(f64, f64)> {
     let q = d.pose(s).expect("the defaults assemble");
@@ -100,7 +91,10 @@ pub fn beta_study() -> Vec<(f64, f64)> {
 
 /// Figures with the default parameters at 100 rpm.
 pub fn figures() -> Vec<Figure> {
-    let (d, own) = (drive(Timing::Perforators), drive(Timing::Own));
+    let (d, own) = (
+        Drive::default_with(Timing::Perforators),
+        Drive::default_with(Timing::Own),
+    );
     let perforators = PerforatorsParams::default()
         .drive()
         .expect("the defaults assemble");

@@ -275,10 +275,6 @@ impl Model for LegacyNeedleDrive {
         write_kinematics(v, &k);
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS) {
             let f = d.forces(&k, st.a, v.wants(stage::HERTZ));
-            let r = shaft::reduce_at(f.tau, st.a, |a| {
-                d.forces(&d.kinematics(st.phi, st.w, a), a, false).tau
-            });
-            shaft::set_reduced(v, r);
             v[V::load_Q] = f.q_b;
             v[V::pierce_Q_out] = f.q_t;
             v[V::perforators_F_inertia] = f.f_inertia;
@@ -296,13 +292,14 @@ impl Model for LegacyNeedleDrive {
                 self.state.lost_step || f.lost_contact,
             );
             v[V::roller_F_margin] = self.state.margin(d.contact_force(st.phi, st.w, st.a));
-            f.tau
+            Some(f.tau)
         } else {
             v.set_flag(V::roller_lost_contact, false);
-            shaft::set_reduced(v, shaft::Reduced::default());
-            0.0
+            None
         };
-        shaft::set_outputs(v, tau, st.w);
+        shaft::set_rigid_torque(v, &st, tau, |a| {
+            d.forces(&d.kinematics(st.phi, st.w, a), a, false).tau
+        });
     }
 
     /// The lift-offs of the unfinished turn are reported.

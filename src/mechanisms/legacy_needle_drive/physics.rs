@@ -373,6 +373,17 @@ impl Params {
 }
 
 impl Drive {
+    /// The drive of the default parameters with the needle timing `timing` (the figures' and
+    /// the tests' drives).
+    pub fn default_with(timing: Timing) -> Drive {
+        Params {
+            timing,
+            ..Params::default()
+        }
+        .drive()
+        .expect("the defaults assemble")
+    }
+
     /// The chain at bar position `s` (any dual number): `Err((loop, h²))` where a loop does not
     /// assemble.
     pub fn pose<T: DualNum<Primitive = f64> + Copy>(

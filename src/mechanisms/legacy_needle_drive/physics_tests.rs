@@ -6,15 +6,6 @@ use crate::mechanisms::assert_printed;
 
 const W100: f64 = 100.0 * TAU / 60.0;
 
-fn drive(timing: Timing) -> Drive {
-    Params {
-        timing,
-        ..Params::default()
-    }
-    .drive()
-    .unwrap()
-}
-
 /// No friction anywhere: guide and hinges.
 fn frictionless(timing: Timing) -> Drive {
     let mut p = Params {
@@ -37,7 +28,7 @@ fn reference_values_at_four_shaft_angles() {
         (Timing::Own, 1.45, [17.2993, 0.86526, -9.6724, 61.5372, -27.594, 0.10349, 28.7824, 28.7836, 25.0292, 39.5556, 38.6478, 86.856, 4.86808, 4.75636]),
     ];
     for (timing, phi, r) in rows {
-        let (d, d0) = (drive(timing), frictionless(timing));
+        let (d, d0) = (Drive::default_with(timing), frictionless(timing));
         let k = d.kinematics(phi, W100, 0.0);
         let f = d.forces(&k, 0.0, true);
         let f0 = d0.forces(&d0.kinematics(phi, W100, 0.0), 0.0, true);
@@ -76,7 +67,7 @@ fn reference_values_at_four_shaft_angles() {
 
 #[test]
 fn reference_geometry_and_the_angles_of_the_force_chain() {
-    let d = drive(Timing::Perforators);
+    let d = Drive::default_with(Timing::Perforators);
     assert_printed(d.psi_low.to_degrees(), 49.9332, 4);
     assert_printed(d.psi_high.to_degrees(), 70.0906, 4);
     assert_printed(d.r0, 0.117390, 6);
@@ -102,7 +93,7 @@ fn reference_geometry_and_the_angles_of_the_force_chain() {
     ] {
         assert_printed(x, r, 6);
     }
-    let o = drive(Timing::Own);
+    let o = Drive::default_with(Timing::Own);
     // The spec prints 57.484 N; its profile, rising: Q·(s/S − s_in)/(mid − s_in) with s =
     // 17.2993168 mm, S = 30 mm, s_in = 0.55, mid = 0.65, Q = 22 kgf gives 57.4832 N.
     let k = o.kinematics(1.45, W100, 0.0);
@@ -158,7 +149,7 @@ fn frictionless_cam_force_is_virtual_work_and_power_balances() {
 #[test]
 fn friction_only_dissipates() {
     for timing in [Timing::Perforators, Timing::Own] {
-        let d = drive(timing);
+        let d = Drive::default_with(timing);
         let mut lost = 0.0;
         for phi in turn(1440) {
             let k = d.kinematics(phi, W100, 0.0);
@@ -177,7 +168,7 @@ fn friction_only_dissipates() {
 #[test]
 fn derivatives_match_finite_differences() {
     for timing in [Timing::Perforators, Timing::Own] {
-        let d = drive(timing);
+        let d = Drive::default_with(timing);
         let h = 1e-5;
         for phi in turn(97) {
             let k = d.kinematics(phi, 1.0, 0.0);
@@ -228,7 +219,7 @@ fn derivatives_match_finite_differences() {
 
 #[test]
 fn the_needle_curve_is_the_perforators_one() {
-    let d = drive(Timing::Perforators);
+    let d = Drive::default_with(Timing::Perforators);
     let perforators = crate::mechanisms::perforators::physics::Params::default()
         .drive()
         .unwrap();

@@ -482,9 +482,6 @@ impl OdeSystem for LeverOde<'_> {
         }
         self.track.set(tr);
     }
-    fn error_weight(&self, i: usize) -> f64 {
-        if i == 2 { 0.0 } else { 1.0 }
-    }
     fn on_step(&self, t: f64, y: &[f64]) {
         let pt = self.point(t, y);
         let mut tr = self.track.get();

@@ -130,10 +130,10 @@ crate::model_variables! {
         contact_F_impact = Var::output("contact.F_impact", "N", concat!("Largest contact force in the first compression after a landing of the roller, taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
         @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
-        @with crate::chain_variables { states(stage::ELASTIC;
-            elastic_q = ("elastic.q", "rad", "State: lever deflection from its rigid rotation, lever.gamma_kin - lever.gamma (elastodynamic level)") => der_elastic_q "rad/s",
-            elastic_qd = ("elastic.qd", "rad/s", "State: rate of the lever deflection (elastodynamic level)") => der_elastic_qd "rad/s2",
-            elastic_W = ("elastic.W", "J", "State: work of friction, piercing, table inertia, contact damping and the moving ramp (for the energy balance)") => der_elastic_W "W",
+        @with crate::chain_variables { states(stage::ELASTIC, angle;
+            "State: lever deflection from its rigid rotation, lever.gamma_kin - lever.gamma (elastodynamic level)",
+            "State: rate of the lever deflection (elastodynamic level)",
+            "State: work of friction, piercing, table inertia, contact damping and the moving ramp (for the energy balance)",
         ) },
         // ---- the linkage as made (tolerance studies): the ramp is cut for the design
         made_d_rod = Var::parameter("made.d_rod", 0.0, "m", "Rod length as made minus its design length synth.lambda1*synth.unit (a manufacturing deviation: the ramp stays cut for the design, the needles' travel follows the made linkage)").min(-0.005).max(0.005),
@@ -432,10 +432,6 @@ impl Model for Perforators {
         v[V::dyn_factor] = 1.0;
         let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS) {
             let f = d.forces_with(&k, v.wants(stage::HERTZ));
-            let r = shaft::reduce_at(f.tau, st.a, |a| {
-                d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau
-            });
-            shaft::set_reduced(v, r);
             v[V::pierce_Q_out] = f.pierce_q;
             v[V::perforators_F_inertia] = f.f_inertia;
             v[V::rod_F] = f.rod_f;
@@ -448,13 +444,14 @@ impl Model for Perforators {
                 self.state.lost_step || f.roller_f < 0.0,
             );
             v[V::roller_F_margin] = self.state.margin(f.roller_f);
-            f.tau
+            Some(f.tau)
         } else {
             v.set_flag(V::roller_lost_contact, false);
-            shaft::set_reduced(v, shaft::Reduced::default());
-            0.0
+            None
         };
-        shaft::set_outputs(v, tau, st.w);
+        shaft::set_rigid_torque(v, &st, tau, |a| {
+            d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau
+        });
     }
 
     /// The lift-offs of the unfinished turn are reported.

@@ -32,14 +32,23 @@ pub struct TableOde<'a> {
     pub gap: f64,
     pub f_ext: f64,
     pub path: ShaftPath,
-    /// Peak tracking over accepted steps and the dynamic factor of the last complete turn.
-    pub peaks: Cell<Peaks>,
-    /// Lift-offs so far.
-    pub liftoffs: Cell<f64>,
-    /// Largest contact force after a landing, N.
-    pub impact: Cell<f64>,
-    /// Between a landing and the next lift-off.
-    pub landed: Cell<bool>,
+    /// What it tracks over accepted steps and events.
+    pub memory: Cell<TableMemory>,
+}
+
+crate::chain_memory! {
+    /// What [`TableOde`] tracks between steps.
+    #[derive(Clone, Copy, Debug, PartialEq)]
+    pub struct TableMemory {
+        /// Peak tracking over accepted steps and the dynamic factor of the last complete turn.
+        pub peaks: Peaks,
+        /// Lift-offs so far.
+        pub liftoffs: f64 [Count],
+        /// Largest contact force after a landing, N.
+        pub impact: f64,
+        /// Between a landing and the next lift-off.
+        pub landed: bool,
+    }
 }
 
 /// Everything at one instant.
@@ -184,24 +193,25 @@ impl OdeSystem for TableOde<'_> {
             return;
         }
         let in_contact = |g: &[f64]| g[4] > 0.0 || g[5] < 0.0;
+        let mut m = self.memory.get();
         match (in_contact(before), in_contact(after)) {
             (true, false) => {
-                self.liftoffs.set(self.liftoffs.get() + 1.0);
-                self.landed.set(false);
+                m.liftoffs += 1.0;
+                m.landed = false;
             }
-            (false, true) => self.landed.set(true),
+            (false, true) => m.landed = true,
             _ => {}
         }
-    }
-    fn error_weight(&self, i: usize) -> f64 {
-        if i == 2 { 0.0 } else { 1.0 }
+        self.memory.set(m);
     }
     fn on_step(&self, t: f64, y: &[f64]) {
         let pt = self.point(t, y);
-        if self.landed.get() {
-            self.impact.set(self.impact.get().max(pt.f_c.abs()));
+        let mut m = self.memory.get();
+        if m.landed {
+            m.impact = m.impact.max(pt.f_c.abs());
         }
         let cyc = self.path.cycle(t);
-        Peaks::track(&self.peaks, cyc, pt.f_c.abs(), pt.f_rigid.abs());
+        m.peaks.track(cyc, pt.f_c.abs(), pt.f_rigid.abs());
+        self.memory.set(m);
     }
 }

@@ -1,7 +1,7 @@
 //! The SewingTable FMU: its variables, declared once, and the glue from them to
 //! [`super::physics`] (`../shared/spec/sewing-table.md`).
 
-use super::elastic::TableOde;
+use super::elastic::{TableMemory, TableOde};
 use super::physics::{Kind, Params};
 use crate::mechanics::SpringDamper;
 use crate::mechanics::hertz::Roller;
@@ -105,8 +105,11 @@ crate::model_variables! {
         rocking_y = Var::output("rocking.y", "m", "Rocking table's saddle: vertical displacement from loading, up positive").depends(ON_PHI).needs(stage::ROCKING),
         rocking_M_inertia = Var::output("rocking.M_inertia", "N.m", "Rocking table's inertia torque -J*beta'' about its axis").depends(ON_ALL).needs(stage::ROCKING.or(stage::FORCES)),
         // ---- elastodynamic level (dynamics.md; translating table)
-        elastic_k = Var::parameter("elastic.k", 1e7, "N/m", "Stiffness of the cam-follower chain between the rigid table position and the table (elastodynamic level; assumption)").min(1.0).max(1e16).feeds(stage::ELASTIC),
-        elastic_zeta = Var::parameter("elastic.zeta", 0.05, "", "Damping ratio of the follower chain, c = 2*zeta*sqrt(k*m) (elastodynamic level; assumption)").min(0.0).max(10.0).feeds(stage::ELASTIC),
+        @with crate::chain_variables { spring(stage::ELASTIC;
+            1e7,
+            "Stiffness of the cam-follower chain between the rigid table position and the table (elastodynamic level; assumption)",
+            "Damping ratio of the follower chain, c = 2*zeta*sqrt(k*m) (elastodynamic level; assumption)",
+        ) },
         cam_clearance = Var::parameter("cam.clearance", 0.0, "m", "Play of the roller in the cam slot (total); with play the roller crosses it and impacts the other flank (elastodynamic level)").min(0.0).feeds(stage::ELASTIC),
         @with crate::chain_variables { solver(stage::ELASTIC) },
         table_x_kin = Var::output("table.x_kin", "m", "Rigid reference position of the table (elastodynamic level; equals table.x at the others)").depends(ON_PHI),
@@ -117,10 +120,10 @@ crate::model_variables! {
         contact_F_impact = Var::output("contact.F_impact", "N", concat!("Largest cam force after a landing of the roller on a flank, taken ", crate::at_accepted_steps!(), " (with play; elastodynamic level)")).needs(stage::ELASTIC),
         @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
-        @with crate::chain_variables { states(stage::ELASTIC;
-            elastic_x = ("elastic.x", "m", "State: table position x (elastodynamic level)") => der_elastic_x "m/s",
-            elastic_xd = ("elastic.xd", "m/s", "State: table velocity (elastodynamic level)") => der_elastic_xd "m/s2",
-            elastic_W = ("elastic.W", "J", "State: work done on table and follower spring by cam, guides, damping and table.F_ext (for the energy balance)") => der_elastic_W "W",
+        @with crate::chain_variables { states(stage::ELASTIC, length;
+            "State: table position x (elastodynamic level)",
+            "State: table velocity (elastodynamic level)",
+            "State: work done on table and follower spring by cam, guides, damping and table.F_ext (for the energy balance)",
         ) },
         // ---- events (FMI 3.0 early return)
         contact_open = Var::bool_output("contact.open", "True while the roller crosses the slot's play, off both flanks: it rises when the roller leaves a flank, falls when it lands on one (elastodynamic level with cam.clearance; false otherwise)").needs(stage::ELASTIC).event(),
@@ -133,17 +136,6 @@ struct TableChain {
     spring: SpringDamper,
     /// Half the slot's clearance, m.
     gap: f64,
-}
-
-crate::chain_memory! {
-    /// What [`TableOde`] tracks between steps.
-    #[derive(Clone, Debug, PartialEq)]
-    struct TableMemory {
-        peaks: Peaks,
-        liftoffs: f64 [Count],
-        impact: f64,
-        landed: bool,
-    }
 }
 
 /// What the elastodynamic level carries between steps.
@@ -165,27 +157,20 @@ impl ChainModel for TableChain {
         v: &Values<V>,
         m: &TableMemory,
     ) -> TableOde<'a> {
-        let peaks = Cell::new(m.peaks);
         TableOde {
             p,
             spring: self.spring,
             gap: self.gap,
             f_ext: v[V::table_F_ext],
             path,
-            peaks,
-            liftoffs: Cell::new(m.liftoffs),
-            impact: Cell::new(m.impact),
-            landed: Cell::new(m.landed),
+            memory: Cell::new(*m),
         }
     }
     fn start(_: &TableOde, path: &ShaftPath, m: &mut TableMemory) {
         m.peaks.turn = (path.cycle(path.t0), 0.0, 0.0);
     }
     fn absorb(ode: &TableOde, m: &mut TableMemory) {
-        m.peaks = ode.peaks.get();
-        m.liftoffs = ode.liftoffs.get();
-        m.impact = ode.impact.get();
-        m.landed = ode.landed.get();
+        *m = ode.memory.get();
     }
     /// A deflection beyond the table's travel: the chain is too soft to drive the table.
     fn non_physical(&self, ode: &TableOde, t: f64, y: &[f64; 3]) -> Option<String> {
@@ -404,18 +389,14 @@ impl Model for SewingTable {
                 }
             }
         };
-        let r = match (kinetostatic, p.kind) {
-            (false, _) => shaft::Reduced::default(),
-            (true, Kind::Translating) => shaft::reduce_at(tau, st.a, |a| {
+        // at the kinematic level every branch gives no torque
+        shaft::set_rigid_torque(v, &st, kinetostatic.then_some(tau), |a| match p.kind {
+            Kind::Translating => {
                 p.forces_with(&p.kinematics(st.phi, st.w, a), a, f_ext, false)
                     .tau
-            }),
-            (true, Kind::Rocking) => shaft::reduce_at(tau, st.a, |a| {
-                p.rocking_tau(&p.rocking(st.phi, st.w, a), a, f_ext)
-            }),
-        };
-        shaft::set_reduced(v, r);
-        shaft::set_outputs(v, tau, st.w);
+            }
+            Kind::Rocking => p.rocking_tau(&p.rocking(st.phi, st.w, a), a, f_ext),
+        });
     }
 }
 

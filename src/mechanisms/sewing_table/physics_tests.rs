@@ -1,32 +1,24 @@
 //! Tests of `physics.rs`.
 
 use super::*;
+use crate::mechanisms::assert_printed;
 use approx::assert_abs_diff_eq;
 use std::f64::consts::TAU;
-
-/// `x` printed with `decimals` digits equals `printed`.
-fn printed(x: f64, printed: f64, decimals: i32) {
-    let half = 0.5 * 10f64.powi(-decimals);
-    assert!(
-        (x - printed).abs() <= half + 1e-12,
-        "{x} does not print as {printed}"
-    );
-}
 
 const W100: f64 = 100.0 * PI / 30.0;
 
 #[test]
 fn paper_synthesis_numbers() {
     let s = Params::default().synthesis();
-    printed(s.alpha1.to_degrees(), 5.22, 2);
-    printed(s.a1a2, 3.82, 2);
-    printed(s.k1, 10.83, 2);
-    printed(s.k2, 9.95, 2);
-    printed(s.alpha3.to_degrees(), 64.78, 2);
-    printed(s.k0, 0.88, 2);
-    printed(s.l2, 3.72, 2);
+    assert_printed(s.alpha1.to_degrees(), 5.22, 2);
+    assert_printed(s.a1a2, 3.82, 2);
+    assert_printed(s.k1, 10.83, 2);
+    assert_printed(s.k2, 9.95, 2);
+    assert_printed(s.alpha3.to_degrees(), 64.78, 2);
+    assert_printed(s.k0, 0.88, 2);
+    assert_printed(s.l2, 3.72, 2);
     // table.stroke = l2·unit = 0.11152 m
-    printed(Params::default().stroke(), 0.11152, 5);
+    assert_printed(Params::default().stroke(), 0.11152, 5);
 }
 
 #[test]
@@ -39,8 +31,8 @@ fn rocking_saddle_geometry_against_the_synthesis() {
     let end = p.rocking(p.forward + 0.1, 0.0, 0.0);
     let chord = (end.x.powi(2) + end.y.powi(2)).sqrt() / p.unit;
     assert_abs_diff_eq!(chord, p.synthesis().a1a2, epsilon = 1e-12);
-    printed(end.x / p.unit, 3.686, 3);
-    printed(end.y / p.unit, 1.003, 3);
+    assert_printed(end.x / p.unit, 3.686, 3);
+    assert_printed(end.y / p.unit, 1.003, 3);
     let start = p.rocking(p.forward + p.dwell_sew + p.ret + 0.1, 0.0, 0.0);
     assert_eq!((start.x, start.y), (0.0, 0.0));
 }
@@ -49,14 +41,14 @@ fn rocking_saddle_geometry_against_the_synthesis() {
 fn spec_reference_values_at_100_rpm() {
     let p = Params::default();
     let k = p.kinematics(0.5, W100, 0.0);
-    printed(k.c.x, 0.024560, 6);
-    printed(k.v, 1.29297, 5);
-    printed(k.a, 30.4377, 4);
+    assert_printed(k.c.x, 0.024560, 6);
+    assert_printed(k.v, 1.29297, 5);
+    assert_printed(k.a, 30.4377, 4);
     assert_eq!(k.c.phase, Phase::Forward);
     let k = p.kinematics(1.0, W100, 0.0);
-    printed(k.c.x, 0.094756, 6);
-    printed(k.v, 1.07433, 5);
-    printed(k.a, -35.5847, 4);
+    assert_printed(k.c.x, 0.094756, 6);
+    assert_printed(k.v, 1.07433, 5);
+    assert_printed(k.a, -35.5847, 4);
 }
 
 #[test]

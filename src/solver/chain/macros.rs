@@ -10,9 +10,39 @@
 /// - `results(STAGE)`: `elastic.E_residual` and `solver.steps` (outputs needing the stage);
 ///   `steps` alone: `solver.steps` of a model without stages;
 /// - `states(STAGE; x = ("elastic.x", "m", "State: ...") => der_x "m/s", ...)`: the continuous
-///   states (locals needing the stage) and then their derivatives `der(<name>)`, in order.
+///   states (locals needing the stage) and then their derivatives `der(<name>)`, in order;
+/// - `states(STAGE, length; "x ...", "xd ...", "W ...")`: the states `y = [x, ẋ, W]` of a chain
+///   whose coordinate is a length (`elastic.x` m, `elastic.xd` m/s, `elastic.W` J), described;
+///   `states(STAGE, angle; ..)`: of one whose coordinate is an angle (`elastic.q` rad,
+///   `elastic.qd` rad/s, `elastic.W` J);
+/// - `spring(STAGE; k, "k ...", "zeta ...")`: `elastic.k` (default `k`) and `elastic.zeta` of a
+///   chain that is a spring-damper ([`crate::solver::vars::stiffness`],
+///   [`crate::solver::vars::damping_ratio`]), described, feeding the stage.
 #[macro_export]
 macro_rules! chain_variables {
+    (@callback $head:tt $done:tt { states($s:expr, $coordinate:ident; $x:literal, $xd:literal, $w:literal $(,)?) } $( $rest:tt )*) => {
+        $crate::chain_variables!(@$coordinate (@states $head $done $s, $x $xd $w) $( $rest )*);
+    };
+    // the names and units of a chain's coordinate and its rate, and of their derivatives
+    (@length ($( $then:tt )*) $( $rest:tt )*) => {
+        $crate::chain_variables!($( $then )* [elastic_x "elastic.x" "m" der_elastic_x "m/s", elastic_xd "elastic.xd" "m/s" der_elastic_xd "m/s2"] $( $rest )*);
+    };
+    (@angle ($( $then:tt )*) $( $rest:tt )*) => {
+        $crate::chain_variables!($( $then )* [elastic_q "elastic.q" "rad" der_elastic_q "rad/s", elastic_qd "elastic.qd" "rad/s" der_elastic_qd "rad/s2"] $( $rest )*);
+    };
+    (@states $head:tt $done:tt $s:expr, $x:literal $xd:literal $w:literal [$x_id:ident $x_name:literal $x_unit:literal $dx_id:ident $dx_unit:literal, $xd_id:ident $xd_name:literal $xd_unit:literal $dxd_id:ident $dxd_unit:literal] $( $rest:tt )*) => {
+        $crate::chain_variables!(@callback $head $done { states($s;
+            $x_id = ($x_name, $x_unit, $x) => $dx_id $dx_unit,
+            $xd_id = ($xd_name, $xd_unit, $xd) => $dxd_id $dxd_unit,
+            elastic_W = ("elastic.W", "J", $w) => der_elastic_W "W",
+        ) } $( $rest )*);
+    };
+    (@callback $head:tt [ $( $done:tt )* ] { spring($s:expr; $k:expr, $dk:literal, $dz:literal $(,)?) } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            (elastic_k = $crate::solver::vars::stiffness($k, $dk).feeds($s))
+            (elastic_zeta = $crate::solver::vars::damping_ratio($dz).feeds($s))
+        ] $( $rest )*);
+    };
     (@callback $head:tt [ $( $done:tt )* ] { solver($( $s:expr )?) } $( $rest:tt )*) => {
         $crate::model_variables!(@munch $head [ $( $done )*
             (solver_method = $crate::solver::vars::method() $( .feeds($s) )?)
@@ -131,9 +161,10 @@ macro_rules! chain_access {
     };
 }
 
-/// Inside `impl OdeSystem for` a chain's ODE: its dimension (3) and the right-hand side of
+/// Inside `impl OdeSystem for` a chain's ODE: its dimension (3), the right-hand side of
 /// `y = [x, ẋ, W]` ([`crate::solver::chain::ChainOde`]): `ẋ`, then the acceleration and the
-/// power the expressions after `=>` read off the chain's point `pt` at `(t, y)`.
+/// power the expressions after `=>` read off the chain's point `pt` at `(t, y)`, and the error
+/// norm without `W` (a work kept for the energy balance).
 #[macro_export]
 macro_rules! chain_rhs {
     ($pt:ident => $xdd:expr, $power:expr) => {
@@ -145,6 +176,9 @@ macro_rules! chain_rhs {
             dy[0] = y[1];
             dy[1] = $xdd;
             dy[2] = $power;
+        }
+        fn error_weight(&self, i: usize) -> f64 {
+            if i == 2 { 0.0 } else { 1.0 }
         }
     };
 }

@@ -3,7 +3,6 @@
 //! the dynamic factor's [`Peaks`].
 
 use crate::model::saved::Rule;
-use std::cell::Cell;
 
 /// A part of a chain's memory in the FMU state: [`Saved::LEN`] numbers.
 pub trait Saved: Sized {
@@ -95,7 +94,7 @@ macro_rules! chain_memory {
 }
 
 /// The dynamic-factor bookkeeping of a chain over shaft turns ([`Peaks::track`]), carried
-/// between steps (the ODE holds it in a `Cell`).
+/// between steps (the ODE holds it, with the rest of its memory, in a `Cell`).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Peaks {
     /// (turn, peak dynamic force, peak rigid force) of the running turn.
@@ -114,10 +113,10 @@ impl Peaks {
     }
 
     /// An accepted step in turn `cycle` with chain force `f_dyn` and rigid (kinetostatic)
-    /// force `f_rigid` (magnitudes), in the ODE's cell: the running turn's peaks grow; at a new
-    /// turn K_d becomes the ratio of the finished turn's peaks.
-    pub fn track(cell: &Cell<Peaks>, cycle: f64, f_dyn: f64, f_rigid: f64) {
-        let mut p = cell.get();
+    /// force `f_rigid` (magnitudes): the running turn's peaks grow; at a new turn K_d becomes
+    /// the ratio of the finished turn's peaks.
+    pub fn track(&mut self, cycle: f64, f_dyn: f64, f_rigid: f64) {
+        let p = self;
         let (c0, pd, pr) = p.turn;
         if cycle != c0 {
             if pr > 0.0 {
@@ -127,7 +126,6 @@ impl Peaks {
         } else {
             p.turn = (c0, pd.max(f_dyn), pr.max(f_rigid));
         }
-        cell.set(p);
     }
 
     /// The dynamic factor K_d to report: that of the last complete turn, or before one is

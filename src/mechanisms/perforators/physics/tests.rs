@@ -1,16 +1,9 @@
 use super::*;
+use crate::mechanisms::assert_printed;
 use approx::assert_abs_diff_eq;
 use std::f64::consts::PI;
 
 const W100: f64 = 100.0 * PI / 30.0;
-
-fn printed(x: f64, printed: f64, decimals: i32) {
-    let half = 0.5 * 10f64.powi(-decimals);
-    assert!(
-        (x - printed).abs() <= half + 1e-12,
-        "{x} does not print as {printed}"
-    );
-}
 
 fn drive(mode: Mode) -> Drive {
     Params {
@@ -33,10 +26,10 @@ fn frictionless() -> Params {
 #[test]
 fn paper_synthesis_numbers() {
     let s = Params::default().synthesis();
-    printed(s.nu.to_degrees(), 28.79, 2);
-    printed(s.gamma_sum.to_degrees(), 28.93, 2);
-    printed(s.s_sum, 0.7023, 4);
-    printed(s.s_sum * 30.0, 21.07, 2);
+    assert_printed(s.nu.to_degrees(), 28.79, 2);
+    assert_printed(s.gamma_sum.to_degrees(), 28.93, 2);
+    assert_printed(s.s_sum, 0.7023, 4);
+    assert_printed(s.s_sum * 30.0, 21.07, 2);
     // eq. (2) is the exact rod angle at the lowest position
     let p = Params::default();
     assert_abs_diff_eq!(p.carriage(0.0).sin_nu.asin(), s.nu, epsilon = 1e-14);
@@ -47,18 +40,18 @@ fn paper_approximation_error() {
     let d = drive(Mode::Paper);
     let e = drive(Mode::Exact);
     // the exact linkage with the paper's swing: 1.0228 units, 30.68 mm, +2.3 %
-    printed(d.stroke / d.p.unit, 1.0228, 4);
-    printed(1000.0 * d.stroke, 30.68, 2);
-    printed(100.0 * d.stroke_error(), 2.3, 1);
+    assert_printed(d.stroke / d.p.unit, 1.0228, 4);
+    assert_printed(1000.0 * d.stroke, 30.68, 2);
+    assert_printed(100.0 * d.stroke_error(), 2.3, 1);
     assert_abs_diff_eq!(d.stroke_error(), e.stroke_error(), epsilon = 1e-15);
     // the rod ends 1.65 deg off the carriage line
-    printed(
+    assert_printed(
         d.p.carriage(d.gamma_paper).sin_nu.asin().to_degrees(),
         1.65,
         2,
     );
     // the swing giving exactly lambda_S
-    printed(e.gamma_exact.to_degrees(), 28.27, 2);
+    assert_printed(e.gamma_exact.to_degrees(), 28.27, 2);
     assert_abs_diff_eq!(e.stroke, 0.030, epsilon = 1e-12);
     assert_eq!(d.gamma_sw, d.gamma_paper);
     assert_eq!(e.gamma_sw, e.gamma_exact);
@@ -73,10 +66,10 @@ fn spec_reference_values() {
     ] {
         let d = drive(mode);
         let (g, _, _, s, _, _) = d.gamma_of_x(x_frac * d.cyc.h);
-        printed(1000.0 * s, s_mm, 3);
-        printed(g.to_degrees(), g_deg, 3);
+        assert_printed(1000.0 * s, s_mm, 3);
+        assert_printed(g.to_degrees(), g_deg, 3);
         let l4 = d.p.lambda4 * d.p.unit;
-        printed(
+        assert_printed(
             1000.0 * l4 * (d.p.gamma1.cos() - (d.p.gamma1 + g).cos()),
             rise_mm,
             3,
@@ -230,7 +223,7 @@ fn piercing_load_profile() {
     let d = drive(Mode::Exact);
     let s = d.stroke;
     let q = d.p.pierce_q;
-    printed(q, 215.75, 2);
+    assert_printed(q, 215.75, 2);
     assert_eq!(d.pierce_load(0.5 * s, 1.0, 0), 0.0);
     assert_abs_diff_eq!(d.pierce_load(0.65 * s, 1.0, 0), q, epsilon = 1e-9);
     assert_abs_diff_eq!(d.pierce_load(0.75 * s, 1.0, 0), 0.15 * q, epsilon = 1e-9);
