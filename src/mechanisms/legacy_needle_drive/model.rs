@@ -64,15 +64,9 @@ crate::model_variables! {
         cycle_forward = needles::cycle_forward(),
         cycle_phi0 = needles::cycle_phi0(),
         law_forward = needles::law_forward(),
-        travel_rise_fraction = needles::rise_fraction(),
-        law_rise = needles::law_rise(),
-        law_fall = needles::law_fall(),
-        // ---- loads (eq. 1) and friction
-        pierce_Q = needles::pierce_q(stage::LOADS),
-        pierce_s_in = needles::pierce_s_in(stage::LOADS),
-        pierce_s_out = needles::pierce_s_out(stage::LOADS),
-        pierce_k_f = needles::pierce_k_f(stage::LOADS),
-        perf_m = needles::perf_m(stage::LOADS),
+        // the needle curve over the travel, the piercing load and the needles' mass (eq. 1)
+        @with crate::needle_variables { law_and_loads(stage::LOADS) },
+        // ---- further loads (eq. 1) and friction
         load_Kd = Var::parameter("load.Kd", 1.0, "", "Dynamic factor K_d on the bar's inertia force, eq. (1) (assumption)").min(0.0).feeds(stage::LOADS),
         load_F = Var::parameter("load.F", 0.0, "N", "Further friction load on the bar against its rise, eq. (1) (assumption)").feeds(stage::LOADS),
         load_P_spring = Var::parameter("load.P_spring", 0.0, "N", "Spring load on the bar against its rise, eq. (1) (assumption)").feeds(stage::LOADS),

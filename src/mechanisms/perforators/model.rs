@@ -64,16 +64,8 @@ crate::model_variables! {
         cycle_phi0 = needles::cycle_phi0(),
         law_forward = needles::law_forward(),
         law_return = Var::enum_parameter("law.return", &MOTION_LAW, "cycloidal", "Table law of the return travel (as SewingTable)"),
-        // ---- needle law over the travel
-        travel_rise_fraction = needles::rise_fraction(),
-        law_rise = needles::law_rise(),
-        law_fall = needles::law_fall(),
-        // ---- loads and masses
-        pierce_Q = needles::pierce_q(stage::LOADS),
-        pierce_s_in = needles::pierce_s_in(stage::LOADS),
-        pierce_s_out = needles::pierce_s_out(stage::LOADS),
-        pierce_k_f = needles::pierce_k_f(stage::LOADS),
-        perf_m = needles::perf_m(stage::LOADS),
+        // ---- needle law over the travel; loads and masses
+        @with crate::needle_variables { law_and_loads(stage::LOADS) },
         guide_mu = needles::guide_mu(stage::LOADS),
         lever_J = Var::parameter("lever.J", 0.002, "kg.m2", "Lever's moment of inertia about its pivot (assumption)").min(0.0).feeds(stage::LOADS),
         spring_M0 = Var::parameter("spring.M0", 6.0, "N.m", "Spring moment on the lever in the lowest position (assumption)").min(0.0).feeds(stage::LOADS),

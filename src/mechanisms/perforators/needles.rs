@@ -6,6 +6,26 @@
 use crate::mechanisms::sewing_table::model::MOTION_LAW;
 use crate::model::{Stages, Var};
 
+/// For `@with crate::needle_variables { law_and_loads(LOADS) }` in a `model_variables!` block:
+/// the needle curve over the travel (`travel.rise_fraction`, `law.rise`, `law.fall`) and the
+/// piercing load and the needles' mass (`pierce.*`, `perf.m`, feeding the stages `LOADS`), in
+/// this order: the run of declarations both needle models list alike.
+#[macro_export]
+macro_rules! needle_variables {
+    (@callback $head:tt [ $( $done:tt )* ] { law_and_loads($loads:expr) } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            (travel_rise_fraction = $crate::mechanisms::perforators::needles::rise_fraction())
+            (law_rise = $crate::mechanisms::perforators::needles::law_rise())
+            (law_fall = $crate::mechanisms::perforators::needles::law_fall())
+            (pierce_Q = $crate::mechanisms::perforators::needles::pierce_q($loads))
+            (pierce_s_in = $crate::mechanisms::perforators::needles::pierce_s_in($loads))
+            (pierce_s_out = $crate::mechanisms::perforators::needles::pierce_s_out($loads))
+            (pierce_k_f = $crate::mechanisms::perforators::needles::pierce_k_f($loads))
+            (perf_m = $crate::mechanisms::perforators::needles::perf_m($loads))
+        ] $( $rest )*);
+    };
+}
+
 /// `cycle.forward`.
 pub fn cycle_forward() -> Var {
     Var::parameter(
