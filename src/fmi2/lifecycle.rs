@@ -280,7 +280,7 @@ pub unsafe fn set_debug_logging_as<M: Model, C: Api>(
 /// The life of an instance, the same through either FMI version.
 impl<M: Model> Instance<M> {
     /// `fmi2SetupExperiment` (`B` the version's Boolean): the start and stop time; the
-    /// tolerance is not used (the elastodynamic level has its own, `solver.tolerance`).
+    /// tolerance is not used (the elastodynamic level has its own: `solver.rtol`, `solver.atol`).
     pub fn experiment<B: PartialEq + From<bool>>(
         &mut self,
         _tolerance_defined: B,
