@@ -298,9 +298,10 @@ macro_rules! __export_fmi3 {
 
 /// For [`crate::__export_fmi3!`]: `extern "C"` functions passing their arguments on to the
 /// runtime function after `=>`, for the model `$m`. After `typed:`, the typed get/set calls
-/// (named with their value array's type). (The calls told which call they serve go through
-/// [`crate::__fmi2_forward!`]'s `with_call:`, the unsupported ones through
-/// [`crate::__fmi2_unsupported!`], with FMI 3.0's `Call` in scope.)
+/// (named with their value array's type). (The calls that are one method of the runtime's
+/// instance go through [`crate::__fmi2_forward!`]'s `method:`, `with_call:`, `fmu_state:` and
+/// `me(..):`, the unsupported ones through [`crate::__fmi2_unsupported!`], with FMI 3.0's `Call`
+/// in scope.)
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __fmi3_forward {
