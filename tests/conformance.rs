@@ -56,16 +56,8 @@ fn is_mechanism(e: &Entry) -> bool {
     .is_some()
 }
 
-/// Every state of the co-simulation state machine that a bindery FMU can be in. (StepCanceled
-/// needs an asynchronous step and Fatal is never entered: neither is reachable.)
-const STATES: [State; 6] = [
-    State::Instantiated,
-    State::InitializationMode,
-    State::StepComplete,
-    State::StepFailed,
-    State::Terminated,
-    State::Error,
-];
+/// Every state of the co-simulation state machine that a bindery FMU can be in.
+const STATES: [State; 6] = REACHABLE_STATES;
 
 /// The serialized state of `probe`, an initialized instance, with its state code replaced:
 /// how a host gets an instance into StepFailed or Error without a failing model (the runtime

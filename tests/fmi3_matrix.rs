@@ -388,15 +388,9 @@ fn rows() -> Vec<(&'static str, Call, Invoke)> {
     ]
 }
 
-/// The states an FMI 3.0 Co-Simulation instance of these FMUs can be in.
-const STATES: [State; 6] = [
-    State::Instantiated,
-    State::InitializationMode,
-    State::StepComplete,
-    State::StepFailed,
-    State::Terminated,
-    State::Error,
-];
+/// The states an FMI 3.0 Co-Simulation instance of these FMUs can be in: the runtime's, for
+/// either version.
+const STATES: [State; 6] = common::REACHABLE_STATES;
 
 /// Drives a fresh instance into `state`: by legal calls, or (Step Discarded, Error) by
 /// restoring a serialized state whose state code says so.

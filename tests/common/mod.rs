@@ -21,6 +21,21 @@ use std::fmt::Debug;
 use std::path::PathBuf;
 use std::sync::Mutex;
 
+/// The runtime's Co-Simulation states a bindery FMU can be in (either FMI version; FMI 3.0's
+/// Event Mode is a mode beside them). StepCanceled needs an asynchronous step and Fatal is never
+/// entered: neither is reachable.
+pub const REACHABLE_STATES: [bindery_fmu::fmi2::state::State; 6] = {
+    use bindery_fmu::fmi2::state::State;
+    [
+        State::Instantiated,
+        State::InitializationMode,
+        State::StepComplete,
+        State::StepFailed,
+        State::Terminated,
+        State::Error,
+    ]
+};
+
 /// Every FMI 2.0 common and co-simulation function.
 pub const FMI2_CS_FUNCTIONS: &[&str] = &[
     "fmi2GetTypesPlatform",

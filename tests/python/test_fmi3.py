@@ -89,17 +89,23 @@ def test_fmi3_equals_fmi2_bit_for_bit(model, level):
         assert np.array_equal(a.view(np.uint64), b.view(np.uint64)), f"{name}: {a[a != b][:3]} vs {b[a != b][:3]}"
 
 
-@pytest.mark.parametrize("model", MODELS)
-def test_fmi_sim_runs_the_fmi3_fmu(model, tmp_path):
-    """fmi-sim's FMI 3.0 Co-Simulation of the cross-check inputs agrees with FMPy's (the same
-    FMU) to the cross-check tolerance, as for FMI 2.0 in test_fmi_sim.py."""
+def fmi_sim_case(model: str, interface: str):
+    """fmi-sim (installed), the model's FMI 3.0 FMU, its fmi-sim case over the cross-check
+    inputs and experiment in `interface`, and the outputs it records."""
     fmi_sim()
     paths = cross_check_paths(model)
     opt = read_ref_opt_file(str(paths["opt"]))
     path = fmu3(model)
     ex = Extracted.of(path)
-    case = Case(path, "CoSimulation", {}, paths["in"], opt["StopTime"], opt["StepSize"], opt["RelTol"])
-    outputs = ex.outputs(types=("Float64", "Int32", "Boolean"))
+    case = Case(path, interface, {}, paths["in"], opt["StopTime"], opt["StepSize"], opt["RelTol"])
+    return ex, case, ex.outputs(types=("Float64", "Int32", "Boolean"))
+
+
+@pytest.mark.parametrize("model", MODELS)
+def test_fmi_sim_runs_the_fmi3_fmu(model, tmp_path):
+    """fmi-sim's FMI 3.0 Co-Simulation of the cross-check inputs agrees with FMPy's (the same
+    FMU) to the cross-check tolerance, as for FMI 2.0 in test_fmi_sim.py."""
+    ex, case, outputs = fmi_sim_case(model, "CoSimulation")
     result = run_fmi_sim(case, tmp_path / "out.csv")
     assert sorted(n for n in result if n != "time") == sorted(outputs), "fmi-sim records other columns"
     reference = ex.simulate(start_time=0.0, stop_time=case.stop, output_interval=case.step,
@@ -427,14 +433,7 @@ def test_fmi3_model_exchange_equals_fmi2(model):
 def test_fmi_sim_runs_the_fmi3_main_shaft_in_model_exchange(tmp_path):
     """fmi-sim's FMI 3.0 Model Exchange (forward Euler) of MainShaft, whose states move at its
     only level, agrees with FMPy's Euler run of the same FMU to the cross-check tolerance."""
-    fmi_sim()
-    model = "MainShaft"
-    paths = cross_check_paths(model)
-    opt = read_ref_opt_file(str(paths["opt"]))
-    path = fmu3(model)
-    ex = Extracted.of(path)
-    case = Case(path, "ModelExchange", {}, paths["in"], opt["StopTime"], opt["StepSize"], opt["RelTol"])
-    outputs = ex.outputs(types=("Float64", "Int32", "Boolean"))
+    ex, case, outputs = fmi_sim_case("MainShaft", "ModelExchange")
     from test_fmi_sim import last_row_per_time
     result = last_row_per_time(run_fmi_sim(case, tmp_path / "out.csv"))
     reference = run_fmpy(ex, case, outputs)
