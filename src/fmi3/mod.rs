@@ -25,7 +25,7 @@ macro_rules! __export_fmi3 {
             pub extern "C" fn fmi3GetVersion() -> FmiString {
                 VERSION.as_ptr()
             }
-            $crate::__fmi3_forward! { M;
+            $crate::__fmi2_forward! { M;
                 fmi3SetDebugLogging(c: Instance, on: Boolean, n: usize, cats: *const FmiString)
                     -> Status => rt::set_debug_logging;
                 fmi3InstantiateCoSimulation(
@@ -79,7 +79,7 @@ macro_rules! __export_fmi3 {
                     nv: usize,
                 ) -> Status => rt::set_binary;
             }
-            $crate::__fmi3_forward! { M;
+            $crate::__fmi2_forward! { M;
                 fmi3InstantiateModelExchange(
                     name: FmiString,
                     token: FmiString,
@@ -296,17 +296,16 @@ macro_rules! __export_fmi3 {
     };
 }
 
-/// For [`crate::__export_fmi3!`]: `extern "C"` functions passing their arguments on to the
-/// runtime function after `=>`, for the model `$m`. After `typed:`, the typed get/set calls
-/// (named with their value array's type). (The calls that are one method of the runtime's
-/// instance go through [`crate::__fmi2_forward!`]'s `method:`, `with_call:`, `fmu_state:` and
-/// `me(..):`, the unsupported ones through [`crate::__fmi2_unsupported!`], with FMI 3.0's `Call`
-/// in scope.)
+/// For [`crate::__export_fmi3!`]: FMI 3.0's typed get/set calls (named with their value array's
+/// type, with `nValues`) as `extern "C"` functions passing their arguments on to the runtime
+/// function after `=>`, for the model `$m`. Every other FMI 3.0 call is made by
+/// [`crate::__fmi2_forward!`] (its plain list, `method:`, `with_call:`, `fmu_state:` and
+/// `me(..):`) or [`crate::__fmi2_unsupported!`], with FMI 3.0's `Call` in scope.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __fmi3_forward {
     ($m:ty; typed: $($name:ident($value:ty) => $($f:ident)::+;)*) => {
-        $crate::__fmi3_forward! { $m; $(
+        $crate::__fmi2_forward! { $m; $(
             $name(
                 c: $crate::fmi3::types::Instance,
                 vr: *const $crate::fmi3::types::ValueReference,
@@ -316,12 +315,4 @@ macro_rules! __fmi3_forward {
             ) -> $crate::fmi3::types::Status => $($f)::+;
         )* }
     };
-    ($m:ty; $(
-        $name:ident($($arg:ident: $t:ty),* $(,)?) $(-> $ret:ty)? => $($f:ident)::+;
-    )*) => {$(
-        #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $name($($arg: $t),*) $(-> $ret)? {
-            unsafe { $($f)::+::<$m>($($arg),*) }
-        }
-    )*};
 }
