@@ -155,11 +155,17 @@ fn stiffness_from_1e4_to_1e12_and_damping_0_to_1() {
             // the stiffest rods over the wedge only (to 187.6°): their reference is dear
             let window = if k >= 1e12 { 0.007 } else { 0.012 };
             // an undamped 1e10..1e12 N/m rod rings after the wedge at up to 7e5 rad/s: its
-            // peak is the least determined quantity of the matrix
-            let force_tol = if k >= 1e10 {
-                if zeta < 1.0 { 1e-2 } else { 1e-3 }
-            } else {
-                1e-4
+            // peak is the least determined quantity of the matrix. At 1e12 N/m the ring's
+            // deflection (some 8e-9 m) is below the absolute tolerance Radau IIA controls
+            // (atol 1e-9 m at rtol 1e-6, 1e-8 m after Hairer's transformation), which leaves its
+            // peak force free by atol*k, 12 % of it or more: where the steps fall decides (auto at
+            // rtol 1e-6: 7 % over the reference undamped, 3 % at zeta 0.01). At 1e10 N/m the same
+            // bound is 0.1 %
+            let force_tol = match (k, zeta < 1.0) {
+                (1e12.., true) => 0.1,
+                (1e10.., true) => 1e-2,
+                (1e10.., false) => 1e-3,
+                _ => 1e-4,
             };
             match check(c, window, 1e-7, force_tol) {
                 Ok(()) => assert!(k >= 1e8, "{c:?}"),
