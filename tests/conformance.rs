@@ -162,13 +162,14 @@ fn n_indicators(e: &Entry) -> usize {
 }
 
 /// Calls whose capability flag is false: refused with "not supported" in every state.
-/// (`fmi2SetRealInputDerivatives` works where `canInterpolateInputs` is true.)
+/// (`fmi2SetRealInputDerivatives` works where `canInterpolateInputs` is true,
+/// `fmi2GetDirectionalDerivative` where `providesDirectionalDerivative` is.)
 fn unsupported(call: Call, e: &Entry) -> bool {
     (call == Call::SetRealInputDerivatives && !(e.info)().can_interpolate_inputs)
+        || (call == Call::GetDirectionalDerivative && !(e.info)().partials)
         || matches!(
             call,
-            Call::GetDirectionalDerivative
-                | Call::GetRealOutputDerivatives
+            Call::GetRealOutputDerivatives
                 | Call::CancelStep
                 | Call::GetStatus
                 | Call::GetIntegerStatus

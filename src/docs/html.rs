@@ -651,6 +651,7 @@ mod tests {
             can_interpolate_inputs: false,
             terminals: &[],
             variables: 0,
+            partials: false,
         }
     }
 

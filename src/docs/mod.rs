@@ -241,6 +241,7 @@ mod tests {
             can_interpolate_inputs: false,
             terminals: &[],
             variables: 0,
+            partials: false,
         };
         let v = Var::output("y", "m", "out");
         let fig = |f: &str| Figure {

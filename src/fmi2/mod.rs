@@ -95,6 +95,15 @@ macro_rules! export_fmu {
                     => enter_initialization_mode[EnterInitializationMode];
                 fmi2ExitInitializationMode(c: Component)
                     => exit_initialization_mode[ExitInitializationMode];
+                fmi2GetDirectionalDerivative(
+                    c: Component,
+                    unknown: *const ValueReference,
+                    nu: usize,
+                    known: *const ValueReference,
+                    nk: usize,
+                    dv_known: *const Real,
+                    dv_unknown: *mut Real,
+                ) => directional_derivative[GetDirectionalDerivative];
                 fmi2Terminate(c: Component) => terminate[Terminate];
                 fmi2Reset(c: Component) => reset[Reset];
                 fmi2EnterEventMode(c: Component) => enter_event_mode[EnterEventMode];
@@ -126,14 +135,6 @@ macro_rules! export_fmu {
 
             // the calls whose capability flag is false: logged and refused (rt::unsupported)
             $crate::__fmi2_unsupported! { M;
-                fmi2GetDirectionalDerivative(
-                    _unknown: *const ValueReference,
-                    _nu: usize,
-                    _known: *const ValueReference,
-                    _nk: usize,
-                    _dv_known: *const Real,
-                    _dv_unknown: *mut Real,
-                ) = GetDirectionalDerivative, "providesDirectionalDerivative is false";
                 fmi2GetRealOutputDerivatives(
                     _vr: *const ValueReference,
                     _n: usize,
@@ -173,7 +174,8 @@ macro_rules! export_fmu {
 /// `method:`, calls that are one [`runtime::Instance`] method (`method[Call]`), run through the
 /// entry wrapper as `Call::Call` of the version whose `Call` the invoking module imports, with
 /// the arguments after the component; after `with_call:`, the same, the method told the call
-/// first.
+/// first. After `alike (signature) -> R:`, calls of one signature, each passing leading
+/// arguments of its own before the call's.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __fmi2_forward {
@@ -234,6 +236,18 @@ macro_rules! __fmi2_forward {
         $crate::__fmi2_forward! { $m; with_call:
             $der(c: $crate::fmi2::types::Component, dx: *mut f64, n: usize) => get_derivatives[$cder];
             $ind(c: $crate::fmi2::types::Component, z: *mut f64, n: usize) => get_event_indicators[$cind];
+        }
+    };
+    ($m:ty; alike $args:tt -> $ret:ty: $(
+        $name:ident => $($f:ident)::+($($lead:expr),*);
+    )*) => {$(
+        $crate::__fmi2_forward! { $m; one $name $args -> $ret => $($f)::+($($lead),*) }
+    )*};
+    ($m:ty; one $name:ident ($($arg:ident: $t:ty),* $(,)?) -> $ret:ty
+        => $($f:ident)::+($($lead:expr),*)) => {
+        #[unsafe(no_mangle)]
+        pub unsafe extern "C" fn $name($($arg: $t),*) -> $ret {
+            unsafe { $($f)::+::<$m>($($lead,)* $($arg),*) }
         }
     };
     ($m:ty; get_set: $($name:ident($value:ty) => $($f:ident)::+;)*) => {

@@ -34,6 +34,8 @@ mod lifecycle;
 mod logger;
 #[path = "me.rs"]
 pub mod me;
+#[path = "partials.rs"]
+mod partials;
 #[path = "snapshot.rs"]
 mod snapshot;
 

@@ -514,3 +514,52 @@ unsafe fn get_typeless<M: Model, T>(
         })
     }
 }
+
+/// `fmi3GetDirectionalDerivative` (`adjoint` false) and `fmi3GetAdjointDerivative` (true): the
+/// runtime's exact partial derivatives ([`crate::fmi2::runtime::Instance::partials_along`]).
+/// A directional derivative's seed has one value per known and its sensitivity one per
+/// unknown; an adjoint's the other way round.
+///
+/// # Safety
+/// As [`entry`]; the arrays hold the elements their counts say (checked for NULL).
+#[allow(clippy::too_many_arguments)]
+pub unsafe fn partial_derivative<M: Model>(
+    adjoint: bool,
+    c: Instance,
+    unknowns: *const ValueReference,
+    n_unknowns: usize,
+    knowns: *const ValueReference,
+    n_knowns: usize,
+    seed: *const Float64,
+    n_seed: usize,
+    sensitivity: *mut Float64,
+    n_sensitivity: usize,
+) -> Status {
+    let (call, n_in, n_out, what) = if adjoint {
+        let what = ("nSeed = nUnknowns", "nSensitivity = nKnowns");
+        (Call::GetAdjointDerivative, n_unknowns, n_knowns, what)
+    } else {
+        let what = ("nSeed = nKnowns", "nSensitivity = nUnknowns");
+        (Call::GetDirectionalDerivative, n_knowns, n_unknowns, what)
+    };
+    // SAFETY: as entry.
+    unsafe {
+        entry::<M, _>(c, call, |inst| {
+            for (n, expected, rule) in [(n_seed, n_in, what.0), (n_sensitivity, n_out, what.1)] {
+                if n != expected {
+                    return Err(format!("{rule} is required; got {n} for {expected}"));
+                }
+            }
+            let u = slice(unknowns, n_unknowns, "unknowns")?;
+            let k = slice(knowns, n_knowns, "knowns")?;
+            let s = slice(seed, n_seed, "seed")?;
+            let o = slice_mut(sensitivity, n_sensitivity, "sensitivity")?;
+            if adjoint {
+                inst.adjoint_along(u, k, s, o)?;
+            } else {
+                inst.partials_along(u, k, s, o)?;
+            }
+            Ok(Status::Ok)
+        })
+    }
+}

@@ -236,20 +236,20 @@ macro_rules! __export_fmi3 {
                 fmi3ActivateModelPartition(_clock: ValueReference, _t: Float64)
                     = ActivateModelPartition, "Scheduled Execution is not offered";
             }
-            $crate::__fmi2_unsupported! { M; alike (
-                _unknowns: *const ValueReference,
-                _n_unknowns: usize,
-                _knowns: *const ValueReference,
-                _n_knowns: usize,
-                _seed: *const Float64,
-                _n_seed: usize,
-                _sensitivity: *mut Float64,
-                _n_sensitivity: usize,
-            ):
-                fmi3GetDirectionalDerivative = GetDirectionalDerivative,
-                    "providesDirectionalDerivatives is false";
-                fmi3GetAdjointDerivative = GetAdjointDerivative,
-                    "providesAdjointDerivatives is false";
+            // the partial derivatives: directional, and adjoint from as many directions
+            $crate::__fmi2_forward! { M; alike (
+                c: Instance,
+                unknowns: *const ValueReference,
+                n_unknowns: usize,
+                knowns: *const ValueReference,
+                n_knowns: usize,
+                seed: *const Float64,
+                n_seed: usize,
+                sensitivity: *mut Float64,
+                n_sensitivity: usize,
+            ) -> Status:
+                fmi3GetDirectionalDerivative => rt::partial_derivative(false);
+                fmi3GetAdjointDerivative => rt::partial_derivative(true);
             }
             // the clock calls: this FMU has no clocks
             $crate::__fmi2_unsupported! { M;

@@ -122,6 +122,7 @@ pub fn guid(info: &ModelInfo, vars: &[(u32, &Var)]) -> String {
         // not in the FMI 2.0 description: the FMI 3.0 terminals name variables it states
         terminals: _,
         variables: _,
+        partials,
     } = info;
     for s in [identifier, model_name, description] {
         h.str(s);
@@ -132,6 +133,10 @@ pub fn guid(info: &ModelInfo, vars: &[(u32, &Var)]) -> String {
     h.opt_f64(*tolerance);
     h.u64(*event_indicators as u64);
     h.u64(*can_interpolate_inputs as u64);
+    // hashed where offered only: the GUIDs of the FMUs without stay as they were
+    if *partials {
+        h.str("providesDirectionalDerivative");
+    }
     h.u64(vars.len() as u64);
     for &(vr, v) in vars {
         let Var {

@@ -95,6 +95,9 @@ pub struct ModelInfo {
     /// The number of the model's variables (a tailored FMU lists some): FMI 3.0's independent
     /// variable `time` has this value reference, its event indicators the next ones.
     pub variables: u32,
+    /// Exact partial derivatives ([`Model::PARTIALS`]): directional (FMI 2.0 and 3.0) and
+    /// adjoint (FMI 3.0).
+    pub partials: bool,
 }
 
 impl ModelInfo {
@@ -109,6 +112,7 @@ impl ModelInfo {
             can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS,
             terminals: M::TERMINALS,
             variables: <M::Var as crate::model::VarSet>::table().len() as u32,
+            partials: M::PARTIALS,
         }
     }
 }

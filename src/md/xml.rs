@@ -140,13 +140,17 @@ struct Capabilities {
     directional_derivative: bool,
 }
 
-const CAPABILITIES: Capabilities = Capabilities {
-    once_per_process: false,
-    no_memory_functions: true,
-    get_set_state: true,
-    serialize_state: true,
-    directional_derivative: false,
-};
+impl Capabilities {
+    fn of(info: &ModelInfo) -> Self {
+        Capabilities {
+            once_per_process: false,
+            no_memory_functions: true,
+            get_set_state: true,
+            serialize_state: true,
+            directional_derivative: info.partials,
+        }
+    }
+}
 
 #[derive(Serialize)]
 struct ModelExch {
@@ -607,7 +611,7 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             model_identifier: info.identifier.to_string(),
             needs_execution_tool: false,
             completed_step_not_needed: false,
-            capabilities: CAPABILITIES,
+            capabilities: Capabilities::of(info),
         }),
         co_simulation: CoSim {
             model_identifier: info.identifier.to_string(),
@@ -616,7 +620,7 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
             interpolate_inputs: info.can_interpolate_inputs,
             max_output_derivative_order: 0,
             async_run: false,
-            capabilities: CAPABILITIES,
+            capabilities: Capabilities::of(info),
         },
         body: Body::new(
             info,

@@ -79,8 +79,8 @@ impl Interface {
             once_per_process: false,
             get_set_state: true,
             serialize_state: true,
-            directional: false,
-            adjoint: false,
+            directional: info.partials,
+            adjoint: info.partials,
         }
     }
 }

@@ -24,6 +24,12 @@ pub mod slider_crank;
 pub mod slider_line;
 
 use std::f64::consts::TAU;
+
+/// A number the mechanics computes with: `f64`, or a dual number (`num_dual`) whose dual part
+/// carries a derivative along (the FMUs' exact partial derivatives). For `f64` the generic
+/// functions make the same operations in the same order as plain `f64` code.
+pub trait Scalar: num_dual::DualNum<Primitive = f64> + Copy {}
+impl<T: num_dual::DualNum<Primitive = f64> + Copy> Scalar for T {}
 use std::fmt;
 
 /// Standard gravity g, m/s² (used by every mechanism's weights).

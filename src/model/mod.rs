@@ -15,6 +15,7 @@
 //!
 //! Nothing here knows FFI: a model is plain Rust and is tested as such.
 
+pub mod partials;
 pub mod saved;
 pub mod shaft;
 pub mod units;
@@ -159,6 +160,23 @@ pub trait Model: Dynamics<<Self as Model>::Var> + Sized + Send + 'static {
     /// The run ends (`fmi2Terminate`): what the model gathered and has not reported yet (the
     /// warnings of an unfinished shaft turn) is logged. Default: nothing.
     fn finish(&mut self, _values: &Values<Self::Var>, _log: &mut dyn Log) {}
+
+    /// Exact partial derivatives: FMI 2.0's `providesDirectionalDerivative`, FMI 3.0's
+    /// directional and adjoint derivatives ([`partials`]). Default: not offered.
+    const PARTIALS: bool = false;
+
+    /// Every output and state derivative of the model at time `time`, as dual numbers whose
+    /// dual part is the derivative along the direction `at` seeds over the knowns (inputs; in
+    /// Model Exchange also the continuous states, read with [`partials::Seeded::own`]):
+    /// `put(v, x)` for each. Called on a prepared model, only where [`Model::PARTIALS`].
+    fn partials(
+        &mut self,
+        _at: &partials::Seeded<Self::Var>,
+        _time: f64,
+        _put: &mut dyn FnMut(Self::Var, partials::Dual64),
+    ) -> Result<(), String> {
+        Err("this FMU offers no partial derivatives".into())
+    }
 }
 
 /// The optional dynamics part of a model: what it integrates and carries between calls (the

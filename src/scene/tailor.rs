@@ -422,6 +422,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
         can_interpolate_inputs: M::CAN_INTERPOLATE_INPUTS && exposed[shaft::PHI as usize],
         terminals: M::TERMINALS,
         variables: <M::Var as crate::model::VarSet>::table().len() as u32,
+        partials: M::PARTIALS,
     };
     let refs: Vec<(u32, &Var)> = variables.iter().map(|(vr, v)| (*vr, v)).collect();
     let guid = md::guid::guid(&info, &refs);

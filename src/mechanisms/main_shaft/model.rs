@@ -2,7 +2,8 @@
 //! [`super::physics`]. It drives the shaft the mechanism FMUs are driven by: `shaft.phi`,
 //! `shaft.w`, `shaft.a` are its outputs, the load its inputs.
 
-use super::physics::{Load, Motor, Params, Point};
+use super::physics::{Load, Motor, Params};
+use crate::model::partials::{Dual64, Scalar, Seeded};
 use crate::model::shaft::Terminal;
 use crate::model::{Dynamics, Experiment, Log, Model, Outcome, ParamError, Values};
 use crate::solver::{Integrator, Memory, Method, OdeSystem, Settings};
@@ -111,11 +112,34 @@ impl MainShaft {
 
     /// The load inputs.
     pub fn load(v: &Values<V>) -> Load {
+        Self::load_of(|var| v[var])
+    }
+
+    /// The load from the inputs as `get` reads them (plain, or seeded for partial derivatives).
+    fn load_of<T: Scalar>(get: impl Fn(V) -> T) -> Load<T> {
         Load {
-            tau: v[V::load_tau],
-            tau0: v[V::load1_tau0] + v[V::load2_tau0] + v[V::load3_tau0],
-            j_red: v[V::load1_J_red] + v[V::load2_J_red] + v[V::load3_J_red],
+            tau: get(V::load_tau),
+            tau0: get(V::load1_tau0) + get(V::load2_tau0) + get(V::load3_tau0),
+            j_red: get(V::load1_J_red) + get(V::load2_J_red) + get(V::load3_J_red),
         }
+    }
+
+    /// Every output at the state `y = [φ, ω]` under `load`, as `put(variable, value)`: the one
+    /// source of the outputs ([`Model::evaluate`], `f64`) and of their exact partial derivatives
+    /// ([`Model::partials`], dual numbers). `shaft.w` and `shaft.a` are also the state
+    /// derivatives of Model Exchange.
+    fn outputs<T: Scalar>(p: &Params, y: [T; 2], load: &Load<T>, mut put: impl FnMut(V, T)) {
+        let [phi, w] = y;
+        let pt = p.solve(w, load);
+        put(V::shaft_phi, phi);
+        put(V::shaft_w, w);
+        put(V::shaft_a, pt.eps);
+        put(V::shaft_tau_load, pt.load_tau);
+        put(V::motor_tau, pt.motor_tau);
+        put(V::motor_w, pt.motor_w);
+        put(V::motor_s, pt.slip);
+        put(V::motor_P, pt.motor_tau * pt.motor_w);
+        put(V::bearing_tau, pt.friction);
     }
 
     /// `[φ, ω]` now.
@@ -190,26 +214,25 @@ impl Model for MainShaft {
     }
 
     fn evaluate(&mut self, v: &mut Values<V>, _time: f64, _log: &mut dyn Log) {
-        let [phi, w] = self.y;
-        let pt = self.params.point(w, &Self::load(v)).unwrap_or(Point {
-            // a non-positive total inertia: no acceleration can be solved (do_step says why)
-            eps: f64::NAN,
-            load_tau: f64::NAN,
-            ..Point::default()
-        });
-        let m = self.params.motor;
-        let motor_w = self.params.gear_i * w;
-        let motor_tau = m.torque(motor_w);
-        v[V::shaft_phi] = phi;
-        v[V::shaft_w] = w;
-        v[V::shaft_a] = pt.eps;
-        v[V::shaft_tau_load] = pt.load_tau;
-        v[V::motor_tau] = motor_tau;
-        v[V::motor_w] = motor_w;
-        v[V::motor_s] = m.slip(motor_w);
-        v[V::motor_P] = motor_tau * motor_w;
-        v[V::bearing_tau] = self.params.friction(w);
+        let load = Self::load(v);
+        Self::outputs(&self.params, self.y, &load, |var, x| v[var] = x);
         v[V::solver_steps] = self.integ.mem.stats.steps as f64;
+    }
+
+    const PARTIALS: bool = true;
+
+    fn partials(
+        &mut self,
+        at: &Seeded<V>,
+        _time: f64,
+        put: &mut dyn FnMut(V, Dual64),
+    ) -> Result<(), String> {
+        let y = [
+            at.own(V::shaft_phi, self.y[0]),
+            at.own(V::shaft_w, self.y[1]),
+        ];
+        Self::outputs(&self.params, y, &Self::load_of(|v| at.get(v)), put);
+        Ok(())
     }
 }
 

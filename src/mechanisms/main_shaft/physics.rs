@@ -14,7 +14,7 @@
 //! co-simulation stable when their inertia is large against the flywheel's: the plain coupling
 //! `J·ε_{n+1} = M − τ(ε_n)` has the loop gain `−J_red/J` whatever the step.
 
-use crate::mechanics::{ParamError, check_positive};
+use crate::mechanics::{ParamError, Scalar, check_positive};
 
 /// Induction motor data (rated values from a catalogue; every default is an assumption).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -70,19 +70,19 @@ impl Motor {
     }
 
     /// Slip at motor speed `w`: `s = (ω_0 − ω)/ω_0`.
-    pub fn slip(&self, w: f64) -> f64 {
+    pub fn slip<T: Scalar>(&self, w: T) -> T {
         let w0 = self.w_sync();
-        (w0 - w) / w0
+        (T::from(w0) - w) / w0
     }
 
     /// Motor torque at motor speed `w`, N·m: Kloss's formula
     /// `M = 2·M_k/(s/s_k + s_k/s) = 2·M_k·s·s_k/(s² + s_k²)` (steady-state torque–speed
     /// characteristic of an induction motor with the stator resistance neglected; it holds for
     /// any slip, also generating `s < 0` and braking `s > 1`).
-    pub fn torque(&self, w: f64) -> f64 {
+    pub fn torque<T: Scalar>(&self, w: T) -> T {
         let s = self.slip(w);
         let sk = self.s_break();
-        2.0 * self.tau_break() * s * sk / (s * s + sk * sk)
+        T::from(2.0 * self.tau_break()) * s * sk / (s * s + sk * sk)
     }
 
     /// Checks the data.
@@ -140,32 +140,32 @@ impl Default for Params {
 
 /// The loads acting on the shaft during a step (held over it).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Load {
+pub struct Load<T = f64> {
     /// A load torque given as a whole, `τ_load`, N·m.
-    pub tau: f64,
+    pub tau: T,
     /// `Σ τ0,k`, N·m.
-    pub tau0: f64,
+    pub tau0: T,
     /// `Σ J_red,k`, kg·m².
-    pub j_red: f64,
+    pub j_red: T,
 }
 
 /// Everything at one instant.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Point {
-    /// Main-shaft acceleration ε, rad/s².
-    pub eps: f64,
+pub struct Point<T = f64> {
+    /// Main-shaft acceleration ε, rad/s² (NaN where the total inertia is not positive).
+    pub eps: T,
     /// Motor speed, rad/s.
-    pub motor_w: f64,
+    pub motor_w: T,
     /// Slip.
-    pub slip: f64,
+    pub slip: T,
     /// Motor torque at the motor shaft, N·m.
-    pub motor_tau: f64,
+    pub motor_tau: T,
     /// Bearing friction torque, N·m.
-    pub friction: f64,
+    pub friction: T,
     /// The load's torque at the shaft, `τ_load + Σ τ0,k + Σ J_red,k·ε`, N·m.
-    pub load_tau: f64,
+    pub load_tau: T,
     /// Moment of inertia the acceleration is solved with, kg·m².
-    pub j_total: f64,
+    pub j_total: T,
 }
 
 impl Params {
@@ -207,8 +207,8 @@ impl Params {
 
     /// Bearing friction at shaft speed `w`: `M_c·tanh(ω/ω_s) + c·ω` (Coulomb, smoothed, and
     /// viscous), N·m.
-    pub fn friction(&self, w: f64) -> f64 {
-        self.bearing_tau_c * (w / self.bearing_w_s).tanh() + self.bearing_c * w
+    pub fn friction<T: Scalar>(&self, w: T) -> T {
+        (w / self.bearing_w_s).tanh() * self.bearing_tau_c + w * self.bearing_c
     }
 
     /// The shaft's acceleration and what goes with it at shaft speed `w` under `load`.
@@ -220,11 +220,22 @@ impl Params {
                 "total moment of inertia fly.J + gear.i^2*motor.J + sum of load*.J_red = {j_total} kg.m2 is not positive"
             ));
         }
-        let motor_w = self.gear_i * w;
+        Ok(self.solve(w, load))
+    }
+
+    /// [`Params::point`] for any [`Scalar`], with a NaN acceleration (and load torque) where
+    /// the total inertia is not positive.
+    pub fn solve<T: Scalar>(&self, w: T, load: &Load<T>) -> Point<T> {
+        let j_total = load.j_red + self.j_drive();
+        let motor_w = w * self.gear_i;
         let motor_tau = self.motor.torque(motor_w);
         let friction = self.friction(w);
-        let eps = (self.gear_i * motor_tau - friction - load.tau - load.tau0) / j_total;
-        Ok(Point {
+        let eps = if j_total.re() > 0.0 {
+            (motor_tau * self.gear_i - friction - load.tau - load.tau0) / j_total
+        } else {
+            T::from(f64::NAN)
+        };
+        Point {
             eps,
             motor_w,
             slip: self.motor.slip(motor_w),
@@ -232,7 +243,7 @@ impl Params {
             friction,
             load_tau: load.tau + load.tau0 + load.j_red * eps,
             j_total,
-        })
+        }
     }
 
     /// Steady speed of the shaft under a constant load torque `tau` (no acceleration):

@@ -1,0 +1,391 @@
+//! Exact partial derivatives through the C ABI, for every FMU that offers them
+//! (`providesDirectionalDerivative`): FMI 2.0's `fmi2GetDirectionalDerivative` in
+//! Co-Simulation (the knowns: the Real inputs) and Model Exchange (also the continuous states,
+//! the unknowns also the state derivatives), and FMI 3.0's directional and adjoint derivatives,
+//! against central finite differences of the same FMU's values; and the refusals: a known that
+//! is no input or state, an unknown that is no continuous output or derivative, a NaN seed, an
+//! FMU that offers none.
+
+mod common;
+
+use bindery_fmu::catalog::{self, Entry};
+use bindery_fmu::fmi2::types::*;
+use bindery_fmu::model::{Causality, VarType, Variability};
+use common::*;
+
+type DirDer = unsafe extern "C" fn(
+    Component,
+    *const ValueReference,
+    usize,
+    *const ValueReference,
+    usize,
+    *const Real,
+    *mut Real,
+) -> Status;
+
+fn directional(s: &Slave, unknowns: &[u32], knowns: &[u32], seed: &[f64]) -> (Status, Vec<f64>) {
+    let mut out = vec![f64::NAN; unknowns.len()];
+    // SAFETY: the FMI function with arrays of the lengths it is told.
+    let st = unsafe {
+        s.fmu.sym::<DirDer>("fmi2GetDirectionalDerivative")(
+            s.c,
+            unknowns.as_ptr(),
+            unknowns.len(),
+            knowns.as_ptr(),
+            knowns.len(),
+            seed.as_ptr(),
+            out.as_mut_ptr(),
+        )
+    };
+    (st, out)
+}
+
+fn offering() -> Vec<Entry> {
+    catalog::all()
+        .into_iter()
+        .filter(|e| (e.info)().partials)
+        .collect()
+}
+
+/// The Real inputs and the continuous Real outputs of `e`.
+fn inputs_and_outputs(e: &Entry) -> (Vec<u32>, Vec<u32>) {
+    let vars = (e.variables)();
+    let real = |v: &bindery_fmu::model::Var| matches!(v.ty, VarType::Real);
+    let inputs = vars
+        .iter()
+        .filter(|(_, v)| v.causality == Causality::Input && real(v))
+        .map(|(vr, _)| *vr)
+        .collect();
+    let outputs = vars
+        .iter()
+        .filter(|(_, v)| {
+            v.causality == Causality::Output && real(v) && v.variability == Variability::Continuous
+        })
+        .map(|(vr, _)| *vr)
+        .collect();
+    (inputs, outputs)
+}
+
+/// Central differences of `f` (the unknowns' values) along the known `i` of `x0`, step `h`.
+fn central(x0: &[f64], i: usize, h: f64, f: &mut dyn FnMut(&[f64]) -> Vec<f64>) -> Vec<f64> {
+    let (mut a, mut b) = (x0.to_vec(), x0.to_vec());
+    a[i] += h;
+    b[i] -= h;
+    let (fa, fb) = (f(&a), f(&b));
+    fa.iter()
+        .zip(&fb)
+        .map(|(p, m)| (p - m) / (2.0 * h))
+        .collect()
+}
+
+/// The exact column against the central difference: within 1e-6 of the column's scale (the
+/// differences' own error, h² times the third derivative, and rounding, stays below that at
+/// the steps used).
+fn assert_column(what: &str, exact: &[f64], fd: &[f64], names: &[&str]) {
+    for ((x, d), n) in exact.iter().zip(fd).zip(names) {
+        let scale = x.abs().max(d.abs()).max(1e-3);
+        assert!(
+            (x - d).abs() <= 1e-6 * scale,
+            "{what}: d {n}: exact {x:e}, central difference {d:e}"
+        );
+    }
+}
+
+fn names(e: &Entry, vrs: &[u32]) -> Vec<&'static str> {
+    let vars = (e.variables)();
+    vrs.iter().map(|&r| vars[r as usize].1.name).collect()
+}
+
+/// Inputs away from zero: a load on the shaft, an inertia, a force.
+fn excite(x0: &mut [f64]) {
+    for (i, x) in x0.iter_mut().enumerate() {
+        if *x == 0.0 {
+            *x = 3.0 + i as f64;
+        }
+    }
+}
+
+#[test]
+fn co_simulation_partials_equal_central_differences_of_the_outputs() {
+    let list = offering();
+    assert!(!list.is_empty(), "no FMU offers partial derivatives");
+    for e in &list {
+        let (inputs, outputs) = inputs_and_outputs(e);
+        let f = Fmu::of(e);
+        let s = f.initialized("cs");
+        let (st, mut x0) = s.get_real(&inputs);
+        s.ok(st, "fmi2GetReal inputs");
+        excite(&mut x0);
+        s.ok(s.set_real(&inputs, &x0), "fmi2SetReal");
+        // a few steps: the drive turning, its state away from the start
+        for k in 0..50 {
+            s.ok(s.do_step(k as f64 * 1e-2, 1e-2), "fmi2DoStep");
+        }
+        let out_names = names(e, &outputs);
+        for (i, &k) in inputs.iter().enumerate() {
+            let (st, exact) = directional(&s, &outputs, &[k], &[1.0]);
+            s.ok(st, "fmi2GetDirectionalDerivative");
+            let h = 1e-5 * x0[i].abs().max(1.0);
+            let fd = central(&x0, i, h, &mut |x| {
+                s.ok(s.set_real(&inputs, x), "fmi2SetReal");
+                let (st, y) = s.get_real(&outputs);
+                s.ok(st, "fmi2GetReal");
+                y
+            });
+            s.ok(s.set_real(&inputs, &x0), "fmi2SetReal");
+            let what = format!("{} CS, known {}", e.identifier, names(e, &[k])[0]);
+            assert_column(&what, &exact, &fd, &out_names);
+        }
+        // a direction over all knowns at once is the sum of the columns (linear in the seed)
+        let seed: Vec<f64> = (0..inputs.len()).map(|i| 0.5 + i as f64).collect();
+        let (st, along) = directional(&s, &outputs, &inputs, &seed);
+        s.ok(st, "fmi2GetDirectionalDerivative");
+        let mut sum = vec![0.0; outputs.len()];
+        for (i, &k) in inputs.iter().enumerate() {
+            let (_, col) = directional(&s, &outputs, &[k], &[1.0]);
+            for (a, c) in sum.iter_mut().zip(col) {
+                *a += seed[i] * c;
+            }
+        }
+        for (a, b) in along.iter().zip(&sum) {
+            assert!((a - b).abs() <= 1e-12 * a.abs().max(1.0), "{a} vs {b}");
+        }
+    }
+}
+
+#[test]
+fn model_exchange_partials_equal_central_differences_of_derivatives_and_outputs() {
+    for e in offering() {
+        let nx = n_states(&e);
+        if nx == 0 {
+            continue;
+        }
+        let vars = (e.variables)();
+        let ders: Vec<u32> = vars
+            .iter()
+            .filter(|(_, v)| v.derivative.is_some())
+            .map(|(vr, _)| *vr)
+            .collect();
+        let states: Vec<u32> = vars.iter().filter_map(|(_, v)| v.derivative).collect();
+        let (inputs, outputs) = inputs_and_outputs(&e);
+        let f = Fmu::of(&e);
+        let s = f.me_instance("me");
+        s.me_start(|_| {});
+        let (_, mut u0) = s.get_real(&inputs);
+        excite(&mut u0);
+        s.ok(s.set_real(&inputs, &u0), "fmi2SetReal");
+        let (st, x) = s.get_array("fmi2GetContinuousStates", nx);
+        s.ok(st, "fmi2GetContinuousStates");
+        // states away from the start: the drive at some speed
+        let x0: Vec<f64> = x
+            .iter()
+            .enumerate()
+            .map(|(i, v)| v + 1.0 + 2.0 * i as f64)
+            .collect();
+        s.ok(s.set_states(&x0), "fmi2SetContinuousStates");
+        let mut unknowns = ders.clone();
+        unknowns.extend(&outputs);
+        let unknown_names = names(&e, &unknowns);
+        let values = |s: &Slave| {
+            let (st, mut v) = s.get_array("fmi2GetDerivatives", nx);
+            s.ok(st, "fmi2GetDerivatives");
+            let (st, y) = s.get_real(&outputs);
+            s.ok(st, "fmi2GetReal");
+            v.extend(y);
+            v
+        };
+        for (i, &k) in states.iter().enumerate() {
+            let (st, exact) = directional(&s, &unknowns, &[k], &[1.0]);
+            s.ok(st, "fmi2GetDirectionalDerivative");
+            let h = 1e-5 * x0[i].abs().max(1.0);
+            let fd = central(&x0, i, h, &mut |x| {
+                s.ok(s.set_states(x), "fmi2SetContinuousStates");
+                values(&s)
+            });
+            s.ok(s.set_states(&x0), "fmi2SetContinuousStates");
+            let what = format!("{} ME, state {}", e.identifier, names(&e, &[k])[0]);
+            assert_column(&what, &exact, &fd, &unknown_names);
+        }
+        for (i, &k) in inputs.iter().enumerate() {
+            let (st, exact) = directional(&s, &unknowns, &[k], &[1.0]);
+            s.ok(st, "fmi2GetDirectionalDerivative");
+            let h = 1e-5 * u0[i].abs().max(1.0);
+            let fd = central(&u0, i, h, &mut |u| {
+                s.ok(s.set_real(&inputs, u), "fmi2SetReal");
+                values(&s)
+            });
+            s.ok(s.set_real(&inputs, &u0), "fmi2SetReal");
+            let what = format!("{} ME, input {}", e.identifier, names(&e, &[k])[0]);
+            assert_column(&what, &exact, &fd, &unknown_names);
+        }
+    }
+}
+
+#[test]
+fn bad_knowns_unknowns_and_seeds_are_refused_and_fmus_without_say_so() {
+    for e in catalog::all() {
+        let (inputs, outputs) = inputs_and_outputs(&e);
+        let f = Fmu::of(&e);
+        let s = f.initialized("cs");
+        let what = e.identifier;
+        if !(e.info)().partials {
+            let (st, _) = directional(&s, &outputs[..1], &inputs[..1], &[1.0]);
+            s.assert_refused(
+                st,
+                "not supported: providesDirectionalDerivative is false",
+                what,
+            );
+            continue;
+        }
+        let vars = (e.variables)();
+        let parameter = vars
+            .iter()
+            .find(|(_, v)| v.causality == Causality::Parameter)
+            .map(|(vr, _)| *vr)
+            .unwrap();
+        let (st, _) = directional(&s, &outputs[..1], &[parameter], &[1.0]);
+        s.assert_refused(st, "is no known of a partial derivative", what);
+        // in Co-Simulation a state is no known
+        if let Some(state) = vars.iter().find_map(|(_, v)| v.derivative)
+            && !inputs.contains(&state)
+        {
+            let (st, _) = directional(&s, &outputs[..1], &[state], &[1.0]);
+            s.assert_refused(st, "the knowns are the Real inputs", what);
+        }
+        let (st, _) = directional(&s, &[parameter], &inputs[..1], &[1.0]);
+        s.assert_refused(st, "is no unknown of a partial derivative", what);
+        let (st, _) = directional(&s, &outputs[..1], &[u32::MAX], &[1.0]);
+        s.assert_refused(st, "unknown value reference", what);
+        let (st, _) = directional(&s, &outputs[..1], &inputs[..1], &[f64::NAN]);
+        s.assert_refused(st, "not finite", what);
+        // NULL arrays with counts
+        // SAFETY: the FMI function; the NULL pointers are what is tested.
+        let st = unsafe {
+            s.fmu.sym::<DirDer>("fmi2GetDirectionalDerivative")(
+                s.c,
+                std::ptr::null(),
+                1,
+                inputs.as_ptr(),
+                1,
+                [1.0].as_ptr(),
+                [0.0].as_mut_ptr(),
+            )
+        };
+        s.assert_refused(st, "NULL", what);
+        // and the instance goes on
+        let (st, _) = directional(&s, &outputs, &inputs, &vec![1.0; inputs.len()]);
+        s.ok(st, "fmi2GetDirectionalDerivative after the refusals");
+    }
+}
+
+/// FMI 3.0: `fmi3GetDirectionalDerivative` gives the same columns as FMI 2.0's at the same
+/// point, and `fmi3GetAdjointDerivative` the rows of the same Jacobian (its transpose); the
+/// counts are checked.
+mod fmi3 {
+    use super::common::fmi3::*;
+    use super::{inputs_and_outputs, offering};
+    use bindery_fmu::fmi3::types::*;
+    use libloading::Symbol;
+
+    type Partial = unsafe extern "C" fn(
+        Instance,
+        *const ValueReference,
+        usize,
+        *const ValueReference,
+        usize,
+        *const Float64,
+        usize,
+        *mut Float64,
+        usize,
+    ) -> Status;
+
+    fn partial(
+        s: &Inst3,
+        name: &str,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        n_out: usize,
+    ) -> (Status, Vec<f64>) {
+        let f: Symbol<Partial> = s.fmu.sym(name);
+        let mut out = vec![f64::NAN; n_out];
+        // SAFETY: the FMI function with arrays of the lengths it is told.
+        let st = unsafe {
+            f(
+                s.c,
+                unknowns.as_ptr(),
+                unknowns.len(),
+                knowns.as_ptr(),
+                knowns.len(),
+                seed.as_ptr(),
+                seed.len(),
+                out.as_mut_ptr(),
+                n_out,
+            )
+        };
+        (st, out)
+    }
+
+    #[test]
+    fn directional_and_adjoint_derivatives_are_one_jacobian() {
+        for e in offering() {
+            let (inputs, outputs) = inputs_and_outputs(&e);
+            let f = Fmu3::of(&e);
+            let s = f.instance("cs3");
+            s.ok(s.init(), "initialization");
+            let (_, mut u0) = s.get::<f64>("fmi3GetFloat64", &inputs);
+            super::excite(&mut u0);
+            s.ok(s.set("fmi3SetFloat64", &inputs, &u0), "fmi3SetFloat64");
+            for k in 0..20 {
+                s.ok(s.do_step(k as f64 * 1e-2, 1e-2).0, "fmi3DoStep");
+            }
+            // the Jacobian by columns (directional) and by rows (adjoint)
+            let mut cols = Vec::new();
+            for &k in &inputs {
+                let (st, c) = partial(
+                    &s,
+                    "fmi3GetDirectionalDerivative",
+                    &outputs,
+                    &[k],
+                    &[1.0],
+                    outputs.len(),
+                );
+                s.ok(st, "fmi3GetDirectionalDerivative");
+                cols.push(c);
+            }
+            for (i, &o) in outputs.iter().enumerate() {
+                let (st, row) = partial(
+                    &s,
+                    "fmi3GetAdjointDerivative",
+                    &[o],
+                    &inputs,
+                    &[1.0],
+                    inputs.len(),
+                );
+                s.ok(st, "fmi3GetAdjointDerivative");
+                for (j, r) in row.iter().enumerate() {
+                    assert_eq!(r.to_bits(), cols[j][i].to_bits(), "{}", e.identifier);
+                }
+            }
+            // wrong counts are refused, naming the rule
+            let (st, _) = partial(
+                &s,
+                "fmi3GetDirectionalDerivative",
+                &outputs,
+                &inputs[..1],
+                &[1.0],
+                1,
+            );
+            s.assert_refused(st, "nSensitivity = nUnknowns", e.identifier);
+            let (st, _) = partial(
+                &s,
+                "fmi3GetAdjointDerivative",
+                &outputs[..1],
+                &inputs,
+                &[1.0, 2.0],
+                inputs.len(),
+            );
+            s.assert_refused(st, "nSeed = nUnknowns", e.identifier);
+        }
+    }
+}
