@@ -1,0 +1,178 @@
+"""Exact partial derivatives through FMPy, a host other than our own: every FMU whose model
+description says providesDirectionalDerivative="true" gives, through FMPy's
+getDirectionalDerivative (FMI 2.0 Co-Simulation and Model Exchange, FMI 3.0 Co-Simulation, and
+FMI 3.0's getAdjointDerivative), the Jacobian that central differences of its own values give;
+the others say in their descriptions that they offer none."""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+import zipfile
+from ctypes import c_double
+
+import numpy as np
+import pytest
+from fmpy import read_model_description
+from fmpy.fmi2 import FMU2Model, FMU2Slave
+from fmpy.fmi3 import FMU3Slave
+
+from harness import FMU_DIR, Extracted, fmu_paths
+
+FMU3_DIR = FMU_DIR / "fmi3"
+
+
+def offering() -> list[str]:
+    return [p.stem for p in fmu_paths()
+            if read_model_description(str(p)).coSimulation.providesDirectionalDerivative]
+
+
+def test_the_descriptions_say_which_fmus_offer_partials():
+    # MainShaft offers them (the drive a system model integrates with its own solver)
+    assert "MainShaft" in offering()
+    for p in fmu_paths():
+        md = read_model_description(str(p))
+        flags = {md.coSimulation.providesDirectionalDerivative}
+        if md.modelExchange is not None:
+            flags.add(md.modelExchange.providesDirectionalDerivative)
+        assert len(flags) == 1, p.stem
+        # FMI 3.0 (read from the XML: FMPy keeps only the adjoint flag of the two)
+        with zipfile.ZipFile(FMU3_DIR / p.name) as z:
+            root = ET.fromstring(z.read("modelDescription.xml"))
+        for tag in ("CoSimulation", "ModelExchange"):
+            for e in root.findall(tag):
+                assert e.get("providesDirectionalDerivatives") == e.get("providesAdjointDerivatives"), p.stem
+                assert (e.get("providesDirectionalDerivatives") == "true") == next(iter(flags)), p.stem
+
+
+def _knowns_unknowns(md):
+    inputs = [v for v in md.modelVariables if v.causality == "input" and v.type in ("Real", "Float64")]
+    outputs = [v for v in md.modelVariables if v.causality == "output" and v.type in ("Real", "Float64")
+               and v.variability == "continuous"]
+    return inputs, outputs
+
+
+def _excited(values):
+    return [v if v != 0.0 else 3.0 + i for i, v in enumerate(values)]
+
+
+def _assert_close(exact, fd, what):
+    exact, fd = np.asarray(exact), np.asarray(fd)
+    scale = np.maximum(np.maximum(np.abs(exact), np.abs(fd)), 1e-3)
+    bad = np.abs(exact - fd) > 1e-6 * scale
+    assert not bad.any(), f"{what}: exact {exact[bad]}, central differences {fd[bad]}"
+
+
+def _central(set_known, get_unknowns, x0, i):
+    h = 1e-5 * max(abs(x0[i]), 1.0)
+    up, down = list(x0), list(x0)
+    up[i] += h
+    down[i] -= h
+    set_known(up)
+    a = np.asarray(get_unknowns())
+    set_known(down)
+    b = np.asarray(get_unknowns())
+    set_known(x0)
+    return (a - b) / (2 * h)
+
+
+@pytest.mark.parametrize("model", offering())
+def test_co_simulation_partials_through_fmpy_equal_central_differences(model):
+    ex = Extracted.of(FMU_DIR / f"{model}.fmu")
+    inputs, outputs = _knowns_unknowns(ex.md)
+    kr = [v.valueReference for v in inputs]
+    ur = [v.valueReference for v in outputs]
+    fmu = FMU2Slave(guid=ex.md.guid, unzipDirectory=ex.dir,
+                    modelIdentifier=ex.md.coSimulation.modelIdentifier, instanceName="cs")
+    fmu.instantiate()
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.exitInitializationMode()
+    x0 = _excited(fmu.getReal(kr))
+    fmu.setReal(kr, x0)
+    for k in range(50):
+        fmu.doStep(currentCommunicationPoint=k * 1e-2, communicationStepSize=1e-2)
+    for i, v in enumerate(inputs):
+        exact = fmu.getDirectionalDerivative(ur, [kr[i]], [1.0])
+        fd = _central(lambda x: fmu.setReal(kr, x), lambda: fmu.getReal(ur), x0, i)
+        _assert_close(exact, fd, f"{model} CS d/d{v.name}")
+    fmu.terminate()
+    fmu.freeInstance()
+
+
+@pytest.mark.parametrize("model", [m for m in offering()
+                                   if read_model_description(str(FMU_DIR / f"{m}.fmu")).modelExchange])
+def test_model_exchange_partials_through_fmpy_equal_central_differences(model):
+    ex = Extracted.of(FMU_DIR / f"{model}.fmu")
+    md = ex.md
+    inputs, outputs = _knowns_unknowns(md)
+    states = [d.variable.derivative for d in md.derivatives]
+    ders = [d.variable for d in md.derivatives]
+    fmu = FMU2Model(guid=md.guid, unzipDirectory=ex.dir,
+                    modelIdentifier=md.modelExchange.modelIdentifier, instanceName="me")
+    fmu.instantiate()
+    fmu.setupExperiment(startTime=0.0)
+    fmu.enterInitializationMode()
+    fmu.exitInitializationMode()
+    fmu.newDiscreteStates()
+    fmu.enterContinuousTimeMode()
+    kr = [v.valueReference for v in inputs]
+    u0 = _excited(fmu.getReal(kr))
+    fmu.setReal(kr, u0)
+    nx = len(states)
+    x = (c_double * nx)()
+    fmu.getContinuousStates(x, nx)
+    x0 = [float(v) + 1.0 + 2.0 * i for i, v in enumerate(x)]
+    fmu.setContinuousStates((c_double * nx)(*x0), nx)
+    unknowns = [d.valueReference for d in ders] + [v.valueReference for v in outputs]
+
+    def values():
+        dx = (c_double * nx)()
+        fmu.getDerivatives(dx, nx)
+        return list(dx) + list(fmu.getReal([v.valueReference for v in outputs]))
+
+    for i, s in enumerate(states):
+        exact = fmu.getDirectionalDerivative(unknowns, [s.valueReference], [1.0])
+        fd = _central(lambda x: fmu.setContinuousStates((c_double * nx)(*x), nx), values, x0, i)
+        _assert_close(exact, fd, f"{model} ME d/d{s.name}")
+    for i, v in enumerate(inputs):
+        exact = fmu.getDirectionalDerivative(unknowns, [kr[i]], [1.0])
+        fd = _central(lambda x: fmu.setReal(kr, x), values, u0, i)
+        _assert_close(exact, fd, f"{model} ME d/d{v.name}")
+    fmu.terminate()
+    fmu.freeInstance()
+
+
+@pytest.mark.parametrize("model", offering())
+def test_fmi3_directional_and_adjoint_derivatives_through_fmpy_are_one_jacobian(model):
+    ex = Extracted.of(FMU3_DIR / f"{model}.fmu")
+    inputs, outputs = _knowns_unknowns(ex.md)
+    kr = [v.valueReference for v in inputs]
+    ur = [v.valueReference for v in outputs]
+    fmu = FMU3Slave(guid=ex.md.instantiationToken, unzipDirectory=ex.dir,
+                    modelIdentifier=ex.md.coSimulation.modelIdentifier, instanceName="cs3")
+    fmu.instantiate()
+    fmu.enterInitializationMode(startTime=0.0)
+    fmu.exitInitializationMode()
+    fmu.setFloat64(kr, _excited(fmu.getFloat64(kr)))
+    for k in range(20):
+        fmu.doStep(currentCommunicationPoint=k * 1e-2, communicationStepSize=1e-2)
+    columns = np.array([fmu.getDirectionalDerivative(ur, [k], [1.0]) for k in kr]).T
+    # (FMPy sizes the sensitivity by the unknowns unless told: FMI 3.0 has one per known)
+    rows = np.array([fmu.getAdjointDerivative([u], kr, [1.0], nSensitivity=len(kr)) for u in ur])
+    assert np.array_equal(columns, rows), model
+    # and FMI 2.0's twin gives the same Jacobian at the same point
+    ex2 = Extracted.of(FMU_DIR / f"{model}.fmu")
+    fmu2 = FMU2Slave(guid=ex2.md.guid, unzipDirectory=ex2.dir,
+                     modelIdentifier=ex2.md.coSimulation.modelIdentifier, instanceName="cs2")
+    fmu2.instantiate()
+    fmu2.setupExperiment(startTime=0.0)
+    fmu2.enterInitializationMode()
+    fmu2.exitInitializationMode()
+    fmu2.setReal(kr, _excited(fmu2.getReal(kr)))
+    for k in range(20):
+        fmu2.doStep(currentCommunicationPoint=k * 1e-2, communicationStepSize=1e-2)
+    columns2 = np.array([fmu2.getDirectionalDerivative(ur, [k], [1.0]) for k in kr]).T
+    assert np.array_equal(columns, columns2), model
+    for f in (fmu, fmu2):
+        f.terminate()
+        f.freeInstance()
