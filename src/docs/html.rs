@@ -394,9 +394,17 @@ pub fn page_html(p: &Page) -> String {
     } else {
         "Co-Simulation"
     };
+    let partials = if info.partials {
+        " It gives exact partial derivatives of its outputs (and state derivatives) with respect \
+         to its inputs (and states): <code>fmi2GetDirectionalDerivative</code>, FMI 3.0's \
+         directional and adjoint derivatives, computed on dual numbers from the formulas of the \
+         outputs themselves."
+    } else {
+        ""
+    };
     let _ = writeln!(
         out,
-        "<p class=\"meta\">{} {interfaces} FMU <code>{}</code>, bindery-fmu {}, license {}.</p>",
+        "<p class=\"meta\">{} {interfaces} FMU <code>{}</code>, bindery-fmu {}, license {}.{partials}</p>",
         crate::package::VERSION_MARK,
         escape(info.identifier),
         env!("CARGO_PKG_VERSION"),
