@@ -22,40 +22,75 @@ impl<M: Model> Instance<M> {
         self.me.is_me && Self::table().iter().any(|v| v.derivative == Some(vr))
     }
 
-    fn check_known(&self, vr: u32) -> Result<(), String> {
+    /// `vr` is a known (`known`) or an unknown of a partial derivative: a Real input or a
+    /// continuous Real output, and in Model Exchange also a continuous state or a state
+    /// derivative.
+    fn check_role(&self, vr: u32, known: bool) -> Result<(), String> {
         let v = self.variable(vr)?;
-        let input = v.causality == Causality::Input && matches!(v.ty, VarType::Real);
-        if input || self.is_state(vr) {
+        let real = matches!(v.ty, VarType::Real);
+        let (ok, role, what, me_too) = if known {
+            let input = real && v.causality == Causality::Input;
+            (
+                input || self.is_state(vr),
+                "known",
+                "Real inputs",
+                "continuous states",
+            )
+        } else {
+            let output = real
+                && v.causality == Causality::Output
+                && v.variability == Variability::Continuous;
+            let derivative = self.me.is_me && v.derivative.is_some();
+            (
+                output || derivative,
+                "unknown",
+                "continuous Real outputs",
+                "state derivatives",
+            )
+        };
+        if ok {
             return Ok(());
         }
+        let also = if self.me.is_me {
+            format!(" and the {me_too}")
+        } else {
+            String::new()
+        };
         Err(format!(
-            "{} is no known of a partial derivative: the knowns are the Real inputs{}",
-            v.name,
-            if self.me.is_me {
-                " and the continuous states"
-            } else {
-                ""
-            }
+            "{} is no {role} of a partial derivative: the {role}s are the {what}{also}",
+            v.name
         ))
     }
 
-    fn check_unknown(&self, vr: u32) -> Result<(), String> {
-        let v = self.variable(vr)?;
-        let output = v.causality == Causality::Output
-            && matches!(v.ty, VarType::Real)
-            && v.variability == Variability::Continuous;
-        if output || (self.me.is_me && v.derivative.is_some()) {
-            return Ok(());
+    /// Before a partial derivative is computed: the FMU offers them (`flag` names the
+    /// capability), every known and unknown is one, and the seed (whose values belong to the
+    /// variables `seed.1`) is finite.
+    fn check_partials(
+        &self,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: (&[f64], &[u32]),
+        flag: &str,
+    ) -> Result<(), String> {
+        if !M::PARTIALS {
+            return Err(format!(
+                "not supported: {flag} is false (this FMU offers no partial derivatives)"
+            ));
         }
-        Err(format!(
-            "{} is no unknown of a partial derivative: the unknowns are the continuous Real outputs{}",
-            v.name,
-            if self.me.is_me {
-                " and the state derivatives"
-            } else {
-                ""
-            }
-        ))
+        for &k in knowns {
+            self.check_role(k, true)?;
+        }
+        for &u in unknowns {
+            self.check_role(u, false)?;
+        }
+        match seed.0.iter().position(|x| !x.is_finite()) {
+            Some(i) => Err(format!(
+                "the seed of {} is {}, not finite",
+                Self::table()[seed.1[i] as usize].name,
+                seed.0[i]
+            )),
+            None => Ok(()),
+        }
     }
 
     /// The derivatives of `unknowns` along the direction `seed` over `knowns`, into `out`
@@ -68,22 +103,12 @@ impl<M: Model> Instance<M> {
         seed: &[f64],
         out: &mut [f64],
     ) -> Result<(), String> {
-        if !M::PARTIALS {
-            return Err("not supported: providesDirectionalDerivative is false (this FMU offers no partial derivatives)".into());
-        }
-        for &k in knowns {
-            self.check_known(k)?;
-        }
-        for &u in unknowns {
-            self.check_unknown(u)?;
-        }
-        if let Some(i) = seed.iter().position(|x| !x.is_finite()) {
-            return Err(format!(
-                "the seed of {} is {}, not finite",
-                Self::table()[knowns[i] as usize].name,
-                seed[i]
-            ));
-        }
+        self.check_partials(
+            unknowns,
+            knowns,
+            (seed, knowns),
+            "providesDirectionalDerivative",
+        )?;
         self.refresh()?;
         let n = Self::table().len();
         let mut s = vec![0.0; n];
@@ -145,22 +170,12 @@ impl<M: Model> Instance<M> {
         seed: &[f64],
         out: &mut [f64],
     ) -> Result<(), String> {
-        if !M::PARTIALS {
-            return Err("not supported: providesAdjointDerivatives is false (this FMU offers no partial derivatives)".into());
-        }
-        for &k in knowns {
-            self.check_known(k)?;
-        }
-        for &u in unknowns {
-            self.check_unknown(u)?;
-        }
-        if let Some(i) = seed.iter().position(|x| !x.is_finite()) {
-            return Err(format!(
-                "the seed of {} is {}, not finite",
-                Self::table()[unknowns[i] as usize].name,
-                seed[i]
-            ));
-        }
+        self.check_partials(
+            unknowns,
+            knowns,
+            (seed, unknowns),
+            "providesAdjointDerivatives",
+        )?;
         let mut column = vec![0.0; unknowns.len()];
         let mut o = vec![0.0; knowns.len()];
         for (j, &k) in knowns.iter().enumerate() {

@@ -75,12 +75,9 @@ def _central(set_known, get_unknowns, x0, i):
     return (a - b) / (2 * h)
 
 
-@pytest.mark.parametrize("model", offering())
-def test_co_simulation_partials_through_fmpy_equal_central_differences(model):
-    ex = Extracted.of(FMU_DIR / f"{model}.fmu")
-    inputs, outputs = _knowns_unknowns(ex.md)
-    kr = [v.valueReference for v in inputs]
-    ur = [v.valueReference for v in outputs]
+def _cs2_turning(ex, kr, steps):
+    """An FMI 2.0 Co-Simulation instance after `steps` steps of 10 ms with its inputs `kr` away
+    from zero (a load on the drive): the instance and those inputs."""
     fmu = FMU2Slave(guid=ex.md.guid, unzipDirectory=ex.dir,
                     modelIdentifier=ex.md.coSimulation.modelIdentifier, instanceName="cs")
     fmu.instantiate()
@@ -89,8 +86,18 @@ def test_co_simulation_partials_through_fmpy_equal_central_differences(model):
     fmu.exitInitializationMode()
     x0 = _excited(fmu.getReal(kr))
     fmu.setReal(kr, x0)
-    for k in range(50):
+    for k in range(steps):
         fmu.doStep(currentCommunicationPoint=k * 1e-2, communicationStepSize=1e-2)
+    return fmu, x0
+
+
+@pytest.mark.parametrize("model", offering())
+def test_co_simulation_partials_through_fmpy_equal_central_differences(model):
+    ex = Extracted.of(FMU_DIR / f"{model}.fmu")
+    inputs, outputs = _knowns_unknowns(ex.md)
+    kr = [v.valueReference for v in inputs]
+    ur = [v.valueReference for v in outputs]
+    fmu, x0 = _cs2_turning(ex, kr, 50)
     for i, v in enumerate(inputs):
         exact = fmu.getDirectionalDerivative(ur, [kr[i]], [1.0])
         fd = _central(lambda x: fmu.setReal(kr, x), lambda: fmu.getReal(ur), x0, i)
@@ -161,16 +168,7 @@ def test_fmi3_directional_and_adjoint_derivatives_through_fmpy_are_one_jacobian(
     rows = np.array([fmu.getAdjointDerivative([u], kr, [1.0], nSensitivity=len(kr)) for u in ur])
     assert np.array_equal(columns, rows), model
     # and FMI 2.0's twin gives the same Jacobian at the same point
-    ex2 = Extracted.of(FMU_DIR / f"{model}.fmu")
-    fmu2 = FMU2Slave(guid=ex2.md.guid, unzipDirectory=ex2.dir,
-                     modelIdentifier=ex2.md.coSimulation.modelIdentifier, instanceName="cs2")
-    fmu2.instantiate()
-    fmu2.setupExperiment(startTime=0.0)
-    fmu2.enterInitializationMode()
-    fmu2.exitInitializationMode()
-    fmu2.setReal(kr, _excited(fmu2.getReal(kr)))
-    for k in range(20):
-        fmu2.doStep(currentCommunicationPoint=k * 1e-2, communicationStepSize=1e-2)
+    fmu2, _ = _cs2_turning(Extracted.of(FMU_DIR / f"{model}.fmu"), kr, 20)
     columns2 = np.array([fmu2.getDirectionalDerivative(ur, [k], [1.0]) for k in kr]).T
     assert np.array_equal(columns, columns2), model
     for f in (fmu, fmu2):
