@@ -93,22 +93,44 @@ impl<M: Model> Instance<M> {
         }
     }
 
-    /// The derivatives of `unknowns` along the direction `seed` over `knowns`, into `out`
-    /// (`out.len() == unknowns.len()`, `seed.len() == knowns.len()`). Every argument is checked
+    /// The partial derivatives of `unknowns` with respect to `knowns`, into `out`. Directional
+    /// (`adjoint` false): along the direction `seed` (one value per known), one value per
+    /// unknown. Adjoint (FMI 3.0): `out[j] = Σ_i seed[i]·∂unknowns[i]/∂knowns[j]` (one seed per
+    /// unknown, one value per known), from one direction per known. Every argument is checked
     /// before the model computes anything; a refused call changes nothing.
-    pub fn partials_along(
+    pub fn partial_derivatives(
+        &mut self,
+        adjoint: bool,
+        unknowns: &[u32],
+        knowns: &[u32],
+        seed: &[f64],
+        out: &mut [f64],
+    ) -> Result<(), String> {
+        let (of, flag) = if adjoint {
+            (unknowns, "providesAdjointDerivatives")
+        } else {
+            (knowns, "providesDirectionalDerivative")
+        };
+        self.check_partials(unknowns, knowns, (seed, of), flag)?;
+        if !adjoint {
+            return self.along(unknowns, knowns, seed, out);
+        }
+        let mut column = vec![0.0; unknowns.len()];
+        for (o, &k) in out.iter_mut().zip(knowns) {
+            self.along(unknowns, &[k], &[1.0], &mut column)?;
+            *o = seed.iter().zip(&column).map(|(s, c)| s * c).sum();
+        }
+        Ok(())
+    }
+
+    /// The derivatives of `unknowns` along `seed` over `knowns` (checked), into `out`.
+    fn along(
         &mut self,
         unknowns: &[u32],
         knowns: &[u32],
         seed: &[f64],
         out: &mut [f64],
     ) -> Result<(), String> {
-        self.check_partials(
-            unknowns,
-            knowns,
-            (seed, knowns),
-            "providesDirectionalDerivative",
-        )?;
         self.refresh()?;
         let n = Self::table().len();
         let mut s = vec![0.0; n];
@@ -157,32 +179,7 @@ impl<M: Model> Instance<M> {
                 slice_mut(dv_unknown, nu, "dvUnknown")?,
             )
         };
-        self.partials_along(u, k, seed, out)?;
+        self.partial_derivatives(false, u, k, seed, out)?;
         Ok(Status::Ok)
-    }
-
-    /// FMI 3.0's adjoint derivatives: `out[j] = Σ_i seed[i]·∂unknowns[i]/∂knowns[j]`, one
-    /// direction per known (`seed.len() == unknowns.len()`, `out.len() == knowns.len()`).
-    pub fn adjoint_along(
-        &mut self,
-        unknowns: &[u32],
-        knowns: &[u32],
-        seed: &[f64],
-        out: &mut [f64],
-    ) -> Result<(), String> {
-        self.check_partials(
-            unknowns,
-            knowns,
-            (seed, unknowns),
-            "providesAdjointDerivatives",
-        )?;
-        let mut column = vec![0.0; unknowns.len()];
-        let mut o = vec![0.0; knowns.len()];
-        for (j, &k) in knowns.iter().enumerate() {
-            self.partials_along(unknowns, &[k], &[1.0], &mut column)?;
-            o[j] = seed.iter().zip(&column).map(|(s, c)| s * c).sum();
-        }
-        out.copy_from_slice(&o);
-        Ok(())
     }
 }

@@ -516,7 +516,7 @@ unsafe fn get_typeless<M: Model, T>(
 }
 
 /// `fmi3GetDirectionalDerivative` (`adjoint` false) and `fmi3GetAdjointDerivative` (true): the
-/// runtime's exact partial derivatives ([`crate::fmi2::runtime::Instance::partials_along`]).
+/// runtime's exact partial derivatives ([`crate::fmi2::runtime::Instance::partial_derivatives`]).
 /// A directional derivative's seed has one value per known and its sensitivity one per
 /// unknown; an adjoint's the other way round.
 ///
@@ -554,11 +554,7 @@ pub unsafe fn partial_derivative<M: Model>(
             let k = slice(knowns, n_knowns, "knowns")?;
             let s = slice(seed, n_seed, "seed")?;
             let o = slice_mut(sensitivity, n_sensitivity, "sensitivity")?;
-            if adjoint {
-                inst.adjoint_along(u, k, s, o)?;
-            } else {
-                inst.partials_along(u, k, s, o)?;
-            }
+            inst.partial_derivatives(adjoint, u, k, s, o)?;
             Ok(Status::Ok)
         })
     }
