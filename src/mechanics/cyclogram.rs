@@ -10,7 +10,7 @@
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
 use crate::mechanics::motion_laws::MotionLaw;
-use crate::mechanics::{ParamError, wrap_angle};
+use crate::mechanics::{ParamError, Scalar, wrap_angle_of};
 use std::f64::consts::TAU;
 
 /// The four phases of a turn (`table.phase` in `sewing-table.md`).
@@ -45,18 +45,19 @@ pub struct Cyclogram {
     pub law_return: MotionLaw,
 }
 
-/// Position of the member at one shaft angle, with derivatives in the shaft angle φ.
+/// Position of the member at one shaft angle, with derivatives in the shaft angle φ (any
+/// [`Scalar`]: `f64`, or dual numbers for the derivatives in the inputs).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct CyclePoint {
+pub struct CyclePoint<T = f64> {
     pub phase: Phase,
     /// Shaft angle since the start of the forward travel, in `[0, 2π)`, rad.
-    pub psi: f64,
+    pub psi: T,
     /// Displacement `x` from the near end.
-    pub x: f64,
+    pub x: T,
     /// `dx/dφ`.
-    pub dx: f64,
+    pub dx: T,
     /// `d²x/dφ²`.
-    pub ddx: f64,
+    pub ddx: T,
 }
 
 impl CyclePoint {
@@ -106,25 +107,25 @@ impl Cyclogram {
 
     /// The member at shaft angle `phi` (any real; 2π-periodic): phase, `x`, `dx/dφ`, `d²x/dφ²`
     /// (`motion-laws.md`: rise `h·L(u)`, fall `h·(1 − L(u))`).
-    pub fn at(&self, phi: f64) -> CyclePoint {
-        let psi = wrap_angle(phi - self.phi0);
+    pub fn at<T: Scalar>(&self, phi: T) -> CyclePoint<T> {
+        let psi = wrap_angle_of(phi - self.phi0);
         let f_end = self.forward;
         let d_end = f_end + self.dwell_far;
         let r_end = d_end + self.ret;
-        let (phase, (x, dx, ddx)) = if psi < f_end {
+        let (phase, (x, dx, ddx)) = if psi.re() < f_end {
             (
                 Phase::Forward,
                 self.law_forward.rise(self.h, self.forward, psi),
             )
-        } else if psi < d_end {
-            (Phase::DwellFar, (self.h, 0.0, 0.0))
-        } else if psi < r_end {
+        } else if psi.re() < d_end {
+            (Phase::DwellFar, (T::from(self.h), T::zero(), T::zero()))
+        } else if psi.re() < r_end {
             (
                 Phase::Return,
                 self.law_return.fall(self.h, self.ret, psi - d_end),
             )
         } else {
-            (Phase::DwellNear, (0.0, 0.0, 0.0))
+            (Phase::DwellNear, (T::zero(), T::zero(), T::zero()))
         };
         CyclePoint {
             phase,

@@ -6,6 +6,7 @@
 //! counter-surface, − for a concave one). The factor 0.418 is `√(1/(2π(1 − ν²)))` for
 //! Poisson's ratio ν = 0.3 (steel on steel).
 
+use crate::mechanics::Scalar;
 use std::fmt;
 
 /// Hertz factor of paper 002 eq. 8 (ν = 0.3).
@@ -58,10 +59,10 @@ pub fn reduced_modulus(e1: f64, e2: f64) -> f64 {
 
 /// Reduced curvature `1/ρ = 1/r1 ± 1/r2` (paper 002, below eq. 8), 1/m. `r2 = ∞` is a flat.
 #[inline]
-pub fn reduced_curvature(r1: f64, r2: f64, surface: Surface) -> f64 {
+pub fn reduced_curvature<T: Scalar>(r1: f64, r2: T, surface: Surface) -> T {
     match surface {
-        Surface::Convex => 1.0 / r1 + 1.0 / r2,
-        Surface::Concave => 1.0 / r1 - 1.0 / r2,
+        Surface::Convex => T::one() / r2 + 1.0 / r1,
+        Surface::Concave => T::from(1.0 / r1) - T::one() / r2,
     }
 }
 
@@ -71,16 +72,16 @@ pub fn reduced_curvature(r1: f64, r2: f64, surface: Surface) -> f64 {
 /// curvature radius `r2` (m, `f64::INFINITY` for a flat) of the given shape; `e1`, `e2` are the
 /// two Young's moduli (Pa). The stress depends on the magnitude of the force (the caller decides
 /// which flank carries it). Errors when `1/ρ ≤ 0` or an input is out of range.
-pub fn line_contact_stress(
-    force: f64,
+pub fn line_contact_stress<T: Scalar>(
+    force: T,
     b: f64,
     e1: f64,
     e2: f64,
     r1: f64,
-    r2: f64,
+    r2: T,
     surface: Surface,
-) -> Result<f64, HertzError> {
-    if !force.is_finite() {
+) -> Result<T, HertzError> {
+    if !force.re().is_finite() {
         return Err(HertzError::InvalidInput("force must be finite"));
     }
     if !(b > 0.0 && b.is_finite()) {
@@ -89,15 +90,17 @@ pub fn line_contact_stress(
     if !(e1 > 0.0 && e2 > 0.0 && e1.is_finite() && e2.is_finite()) {
         return Err(HertzError::InvalidInput("moduli must be positive"));
     }
-    if !(r1 > 0.0 && r1.is_finite() && r2 > 0.0) {
+    if !(r1 > 0.0 && r1.is_finite() && r2.re() > 0.0) {
         return Err(HertzError::InvalidInput("radii must be positive"));
     }
     let inv_rho = reduced_curvature(r1, r2, surface);
-    if inv_rho <= 0.0 {
-        return Err(HertzError::NonPositiveCurvature { inv_rho });
+    if inv_rho.re() <= 0.0 {
+        return Err(HertzError::NonPositiveCurvature {
+            inv_rho: inv_rho.re(),
+        });
     }
     let q = force.abs() / b;
-    Ok(HERTZ_FACTOR * (q * reduced_modulus(e1, e2) * inv_rho).sqrt())
+    Ok((q * reduced_modulus(e1, e2) * inv_rho).sqrt() * HERTZ_FACTOR)
 }
 
 /// A roller on a cam or a ramp: what the Hertz formulas of its line contact take.
@@ -127,9 +130,9 @@ impl Roller {
     /// [`line_contact_stress`] under `force` on a surface of curvature radius `rho` (m, its
     /// magnitude) and shape `surface`; NaN where the formula has no answer (a reduced
     /// curvature not above 0, an input out of range).
-    pub fn stress(&self, force: f64, rho: f64, surface: Surface) -> f64 {
+    pub fn stress<T: Scalar>(&self, force: T, rho: T, surface: Surface) -> T {
         line_contact_stress(force, self.b, self.e_track, self.e, self.r, rho, surface)
-            .unwrap_or(f64::NAN)
+            .unwrap_or(T::from(f64::NAN))
     }
 
     /// [`line_contact_stiffness`] of the roller's contact.

@@ -89,13 +89,13 @@ impl SpringDamper {
 
 /// The dot product of two plane vectors.
 #[inline]
-pub fn dot(a: (f64, f64), b: (f64, f64)) -> f64 {
+pub fn dot<T: Scalar>(a: (T, T), b: (T, T)) -> T {
     a.0 * b.0 + a.1 * b.1
 }
 
 /// The cross product `a × b` of two plane vectors (the z component).
 #[inline]
-pub fn cross(a: (f64, f64), b: (f64, f64)) -> f64 {
+pub fn cross<T: Scalar>(a: (T, T), b: (T, T)) -> T {
     a.0 * b.1 - a.1 * b.0
 }
 
@@ -109,6 +109,42 @@ pub fn cross(a: (f64, f64), b: (f64, f64)) -> f64 {
 pub fn wrap_angle(phi: f64) -> f64 {
     let psi = phi.rem_euclid(TAU);
     if psi >= TAU { 0.0 } else { psi }
+}
+
+/// [`wrap_angle`] for any [`Scalar`]: the reduced angle with the derivative of `phi` (the
+/// whole turns taken out are constant). For `f64` exactly [`wrap_angle`].
+#[inline]
+pub fn wrap_angle_of<T: Scalar>(phi: T) -> T {
+    let psi = wrap_angle(phi.re());
+    if T::NDERIV == 0 {
+        T::from(psi)
+    } else {
+        phi - phi.re() + psi
+    }
+}
+
+/// `√(x² + y²)` for any [`Scalar`]: `f64::hypot` for `f64` (what the plain code computes), the
+/// dual numbers' square root otherwise (the same function: its derivative is
+/// `(x·dx + y·dy)/√(x² + y²)`).
+#[inline]
+pub fn hypot<T: Scalar>(x: T, y: T) -> T {
+    if T::NDERIV == 0 {
+        T::from(x.re().hypot(y.re()))
+    } else {
+        (x * x + y * y).sqrt()
+    }
+}
+
+/// `f64::min(x, m)` for any [`Scalar`] (`m` where `x` is NaN, as `f64::min`).
+#[inline]
+pub fn min_of<T: Scalar>(x: T, m: f64) -> T {
+    if x.re() <= m { x } else { T::from(m) }
+}
+
+/// `f64::max(x, m)` for any [`Scalar`] (`m` where `x` is NaN, as `f64::max`).
+#[inline]
+pub fn max_of<T: Scalar>(x: T, m: f64) -> T {
+    if x.re() >= m { x } else { T::from(m) }
 }
 
 /// A parameter set a mechanism cannot work with: which parameter, its value and the violated

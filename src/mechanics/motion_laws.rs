@@ -5,6 +5,7 @@
 //! stroke and the harmonic law ("K") for their idle stroke; that identification is the spec's
 //! assumption.
 
+use crate::mechanics::Scalar;
 use std::f64::consts::{PI, TAU};
 
 /// A normalized motion law (`motion-laws.md`, table "Normalized motion laws").
@@ -36,29 +37,29 @@ impl MotionLaw {
     /// around a rise). At `u = 0` and `u = 1` exactly the formula is evaluated, so the harmonic
     /// law returns its one-sided `L'' = ±π²/2` there. NaN gives NaN.
     #[inline]
-    pub fn eval(self, u: f64) -> (f64, f64, f64) {
-        if u < 0.0 {
-            return (0.0, 0.0, 0.0);
+    pub fn eval<T: Scalar>(self, u: T) -> (T, T, T) {
+        if u.re() < 0.0 {
+            return (T::zero(), T::zero(), T::zero());
         }
-        if u > 1.0 {
-            return (1.0, 0.0, 0.0);
+        if u.re() > 1.0 {
+            return (T::one(), T::zero(), T::zero());
         }
         match self {
             MotionLaw::Cycloidal => {
-                let (s, c) = (TAU * u).sin_cos();
-                (u - s / TAU, 1.0 - c, TAU * s)
+                let (s, c) = (u * TAU).sin_cos();
+                (u - s / TAU, T::one() - c, s * TAU)
             }
             MotionLaw::Harmonic => {
-                let (s, c) = (PI * u).sin_cos();
-                (0.5 * (1.0 - c), 0.5 * PI * s, 0.5 * PI * PI * c)
+                let (s, c) = (u * PI).sin_cos();
+                ((T::one() - c) * 0.5, s * (0.5 * PI), c * (0.5 * PI * PI))
             }
             MotionLaw::Poly345 => {
                 let u2 = u * u;
                 let u3 = u2 * u;
                 (
-                    u3 * (10.0 + u * (-15.0 + 6.0 * u)),
-                    u2 * (30.0 + u * (-60.0 + 30.0 * u)),
-                    u * (60.0 + u * (-180.0 + 120.0 * u)),
+                    u3 * (u * (u * 6.0 - 15.0) + 10.0),
+                    u2 * (u * (u * 30.0 - 60.0) + 30.0),
+                    u * (u * (u * 120.0 - 180.0) + 60.0),
                 )
             }
         }
@@ -68,21 +69,21 @@ impl MotionLaw {
     /// the rise: `(x, dx/dφ, d²x/dφ²)` with `x = h·L(u)`, `dx/dφ = h·L'(u)/Φ`,
     /// `d²x/dφ² = h·L''(u)/Φ²`, `u = φ/Φ` (`motion-laws.md`).
     #[inline]
-    pub fn rise(self, h: f64, span: f64, phi: f64) -> (f64, f64, f64) {
+    pub fn rise<T: Scalar>(self, h: f64, span: f64, phi: T) -> (T, T, T) {
         debug_assert!(
             span > 0.0,
             "a rise needs a positive phase angle, got {span}"
         );
         let (l, l1, l2) = self.eval(phi / span);
-        (h * l, h * l1 / span, h * l2 / (span * span))
+        (l * h, l1 * h / span, l2 * h / (span * span))
     }
 
     /// A fall of height `h` over the phase angle `span` (> 0), `phi` from the start of the fall:
     /// `x = h·(1 − L(u))` and its derivatives (`motion-laws.md`).
     #[inline]
-    pub fn fall(self, h: f64, span: f64, phi: f64) -> (f64, f64, f64) {
+    pub fn fall<T: Scalar>(self, h: f64, span: f64, phi: T) -> (T, T, T) {
         let (x, dx, ddx) = self.rise(h, span, phi);
-        (h - x, -dx, -ddx)
+        (T::from(h) - x, -dx, -ddx)
     }
 }
 

@@ -9,6 +9,7 @@
 //! steps, so the outputs mean the same in both interfaces.
 
 use crate::digest::TurnDigest;
+use crate::mechanics::Scalar;
 use crate::model::Log;
 use crate::model::saved::Rule;
 use crate::model::shaft::ShaftState;
@@ -148,11 +149,19 @@ impl ContactWatch {
 
     /// `roller.F_margin` with the force `f` now: the last completed turn's smallest force, or
     /// during the first turn the smallest so far and now.
-    pub fn margin(&self, f: f64) -> f64 {
+    ///
+    /// Any [`Scalar`]: for dual numbers the derivative of that formula, 0 where the value is
+    /// a past one, the force's where it is the force now (also where it equals the smallest
+    /// so far).
+    pub fn margin<T: Scalar>(&self, f: T) -> T {
         if self.last_min.is_finite() {
-            self.last_min
+            T::from(self.last_min)
+        } else if T::NDERIV == 0 {
+            T::from(self.cur_min.min(f.re()))
+        } else if self.cur_min.is_nan() || f.re() <= self.cur_min {
+            f
         } else {
-            self.cur_min.min(f)
+            T::from(self.cur_min)
         }
     }
 

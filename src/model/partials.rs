@@ -28,6 +28,12 @@ impl<'a, V: VarSet> Seeded<'a, V> {
         Dual64::new(self.values[v], self.seed(v))
     }
 
+    /// The variable of value reference `vr` now, with its seed ([`Seeded::get`] by value
+    /// reference, as [`super::shaft::state_of`] reads the shaft inputs).
+    pub fn get_vr(&self, vr: u32) -> Dual64 {
+        Dual64::new(self.values.raw()[vr as usize], self.seed[vr as usize])
+    }
+
     /// The variable's seed (0 unless it is a known of the call).
     pub fn seed(&self, v: V) -> f64 {
         self.seed[v.vr() as usize]

@@ -2,6 +2,7 @@
 //! fidelity parameters that [`crate::model_variables!`] puts first in every model (`interface.md`).
 
 use super::{EnumType, Values, Var, VarSet};
+use crate::mechanics::Scalar;
 use std::f64::consts::PI;
 
 /// Value reference of `shaft.phi`.
@@ -187,12 +188,13 @@ pub fn declarations(nominal_rpm: f64) -> Vec<Var> {
     ]
 }
 
-/// The shaft's state at an instant: angle, speed, acceleration.
+/// The shaft's state at an instant: angle, speed, acceleration (any [`Scalar`]: `f64`, or dual
+/// numbers along the inputs for the partial derivatives).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShaftState {
-    pub phi: f64,
-    pub w: f64,
-    pub a: f64,
+pub struct ShaftState<T = f64> {
+    pub phi: T,
+    pub w: T,
+    pub a: T,
 }
 
 /// The shaft state at `time`. In `input` mode the inputs are the shaft's angle, speed and
@@ -204,22 +206,34 @@ pub struct ShaftState {
 /// mechanism is mounted with on a main shaft). In `constant_speed` mode:
 /// `drive.phi0 + drive.n*t`.
 pub fn state<V: VarSet>(values: &Values<V>, time: f64) -> ShaftState {
+    state_of(values, time, |vr| values.raw()[vr as usize])
+}
+
+/// [`state`] with the inputs `shaft.phi`, `shaft.w`, `shaft.a` as `input` reads them by value
+/// reference: plain, or seeded dual numbers whose dual part carries the derivative along the
+/// inputs (the exact partial derivatives, [`super::partials`]). The parameters and the input
+/// derivatives a host set are constants.
+pub fn state_of<V: VarSet, T: Scalar>(
+    values: &Values<V>,
+    time: f64,
+    input: impl Fn(u32) -> T,
+) -> ShaftState<T> {
     let raw = values.raw();
     if raw[MODE as usize] == 2.0 {
-        let w = raw[N as usize];
+        let w = T::from(raw[N as usize]);
         ShaftState {
-            phi: raw[PHI0 as usize] + w * time,
+            phi: w * time + raw[PHI0 as usize],
             w,
-            a: 0.0,
+            a: T::zero(),
         }
     } else if time == values.inputs_at {
         ShaftState {
-            phi: raw[PHI as usize] + raw[PHI0 as usize],
-            w: raw[W as usize],
-            a: raw[A as usize],
+            phi: input(PHI) + raw[PHI0 as usize],
+            w: input(W),
+            a: input(A),
         }
     } else {
-        let p = inputs_path(values);
+        let p = inputs_path_of(values, &input);
         let (_, w, a) = p.at(time);
         ShaftState {
             phi: p.absolute_phi(time),
@@ -235,18 +249,23 @@ pub fn state<V: VarSet>(values: &Values<V>, time: f64) -> ShaftState {
 /// `fmi2SetRealInputDerivatives` (a derivative of order 1 of `shaft.w` is `phi''` too) and
 /// else `shaft.w` and `shaft.a`.
 pub fn inputs_path<V: VarSet>(values: &Values<V>) -> ShaftPath {
+    inputs_path_of(values, &|vr| values.raw()[vr as usize])
+}
+
+/// [`inputs_path`] with the inputs as `input` reads them ([`state_of`]).
+fn inputs_path_of<V: VarSet, T: Scalar>(
+    values: &Values<V>,
+    input: &impl Fn(u32) -> T,
+) -> ShaftPath<T> {
     let raw = values.raw();
-    let w = values.input_derivative(PHI, 1).unwrap_or(raw[W as usize]);
+    let w = values
+        .input_derivative(PHI, 1)
+        .map_or_else(|| input(W), T::from);
     let a = values
         .input_derivative(PHI, 2)
         .or_else(|| values.input_derivative(W, 1))
-        .unwrap_or(raw[A as usize]);
-    ShaftPath::new(
-        values.inputs_at,
-        raw[PHI as usize] + raw[PHI0 as usize],
-        w,
-        a,
-    )
+        .map_or_else(|| input(A), T::from);
+    ShaftPath::new(values.inputs_at, input(PHI) + raw[PHI0 as usize], w, a)
 }
 
 /// The shaft's path over a communication step from `time`, for an integration inside
@@ -365,9 +384,9 @@ fn tau0_var() -> Var {
 /// The split `τ(a) = τ0 + J_red·a` of a shaft torque: `τ0` the torque at zero shaft
 /// acceleration, `J_red` the reduced moment of inertia (kg·m²).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Reduced {
-    pub tau0: f64,
-    pub j_red: f64,
+pub struct Reduced<T = f64> {
+    pub tau0: T,
+    pub j_red: T,
 }
 
 impl Reduced {
@@ -385,11 +404,11 @@ impl Reduced {
 /// (sign of a normal force or of the power flow) between `ε = 0`, `1` and the actual `ε`:
 /// there `J_red` is the secant of the piecewise-affine `τ(ε)` over `[0, 1]` rad/s².
 #[inline]
-pub fn reduce(mut torque_at: impl FnMut(f64) -> f64) -> Reduced {
-    let tau0 = torque_at(0.0);
+pub fn reduce<T: Scalar>(mut torque_at: impl FnMut(T) -> T) -> Reduced<T> {
+    let tau0 = torque_at(T::zero());
     Reduced {
         tau0,
-        j_red: torque_at(1.0) - tau0,
+        j_red: torque_at(T::one()) - tau0,
     }
 }
 
@@ -397,19 +416,21 @@ pub fn reduce(mut torque_at: impl FnMut(f64) -> f64) -> Reduced {
 /// acceleration `a`: one more evaluation instead of two (none more for `tau0` at `a = 0`, the
 /// constant-speed case). For `|a| ≥ 1` rad/s² `J_red` is the secant over `[0, a]`, so
 /// `τ0 + J_red·a` is the actual torque exactly even where friction changes regime; below,
-/// the secant over `[0, 1]` as in [`reduce`] (no division by a small `a`).
+/// the secant over `[0, 1]` as in [`reduce`] (no division by a small `a`). Any [`Scalar`]: a
+/// dual `a` is 0 only with a zero dual part (one seeded along `shaft.a` takes the split of
+/// [`reduce`], whose `τ0` does not depend on `a`, as the values about `a = 0` do).
 #[inline]
-pub fn reduce_at(tau_a: f64, a: f64, mut torque_at: impl FnMut(f64) -> f64) -> Reduced {
-    if a.abs() >= 1.0 {
-        let tau0 = torque_at(0.0);
+pub fn reduce_at<T: Scalar>(tau_a: T, a: T, mut torque_at: impl FnMut(T) -> T) -> Reduced<T> {
+    if a.re().abs() >= 1.0 {
+        let tau0 = torque_at(T::zero());
         Reduced {
             tau0,
             j_red: (tau_a - tau0) / a,
         }
-    } else if a == 0.0 {
+    } else if a == T::zero() {
         Reduced {
             tau0: tau_a,
-            j_red: torque_at(1.0) - tau_a,
+            j_red: torque_at(T::one()) - tau_a,
         }
     } else {
         reduce(torque_at)
@@ -432,33 +453,51 @@ pub fn set_rigid_torque<V: VarSet>(
     tau: Option<f64>,
     torque_at: impl FnMut(f64) -> f64,
 ) {
+    let raw = values.raw_mut();
+    rigid_torque(s, tau, torque_at, |vr, x| raw[vr as usize] = x);
+}
+
+/// [`set_rigid_torque`] for any [`Scalar`], as `put(value reference, value)`: `shaft.J_red`,
+/// `shaft.tau0` ([`reduce_at`]), `shaft.tau` and `shaft.P = shaft.tau*shaft.w`.
+pub fn rigid_torque<T: Scalar>(
+    s: &ShaftState<T>,
+    tau: Option<T>,
+    torque_at: impl FnMut(T) -> T,
+    mut put: impl FnMut(u32, T),
+) {
     let r = match tau {
         Some(tau) => reduce_at(tau, s.a, torque_at),
-        None => Reduced::default(),
+        None => Reduced {
+            tau0: T::zero(),
+            j_red: T::zero(),
+        },
     };
-    set_reduced(values, r);
-    set_outputs(values, tau.unwrap_or(0.0), s.w);
+    put(J_RED, r.j_red);
+    put(TAU0, r.tau0);
+    let tau = tau.unwrap_or(T::zero());
+    put(TAU, tau);
+    put(P, tau * s.w);
 }
 
 /// The shaft's motion inside a communication step, extrapolated from its state at the step's
 /// start: `φ(t0 + τ) = φ0 + ω0·τ + ε0·τ²/2` (or the input derivatives a host set, which are the
 /// same Taylor coefficients).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ShaftPath {
+pub struct ShaftPath<T = f64> {
     pub t0: f64,
     /// The angle at `t0` less `turns` whole turns, in `[0, 2π)`: a shaft angle near 1e9 rad
     /// would otherwise add its rounding noise (1e-7 rad) to every stage of the integrator.
-    pub phi: f64,
-    pub w: f64,
-    pub a: f64,
+    pub phi: T,
+    pub w: T,
+    pub a: T,
     /// Whole turns taken out of the angle.
     pub turns: f64,
 }
 
-impl ShaftPath {
+impl<T: Scalar> ShaftPath<T> {
     /// The path from the shaft state at `t0`.
-    pub fn new(t0: f64, phi: f64, w: f64, a: f64) -> Self {
-        let turns = (phi / std::f64::consts::TAU).floor();
+    pub fn new(t0: f64, phi: T, w: T, a: T) -> Self {
+        let turns = (phi.re() / std::f64::consts::TAU).floor();
         let red = phi - turns * std::f64::consts::TAU;
         ShaftPath {
             t0,
@@ -471,20 +510,20 @@ impl ShaftPath {
 
     /// Index of the shaft turn at time `t` (`floor(φ/2π)`).
     pub fn cycle(&self, t: f64) -> f64 {
-        self.turns + (self.at(t).0 / std::f64::consts::TAU).floor()
+        self.turns + (self.at(t).0.re() / std::f64::consts::TAU).floor()
     }
 
     /// The absolute angle at `t` (with the whole turns).
-    pub fn absolute_phi(&self, t: f64) -> f64 {
+    pub fn absolute_phi(&self, t: f64) -> T {
         self.at(t).0 + self.turns * std::f64::consts::TAU
     }
 
     /// `(φ, ω, ε)` at time `t`.
     #[inline]
-    pub fn at(&self, t: f64) -> (f64, f64, f64) {
+    pub fn at(&self, t: f64) -> (T, T, T) {
         let tau = t - self.t0;
         (
-            self.phi + self.w * tau + 0.5 * self.a * tau * tau,
+            self.phi + self.w * tau + self.a * 0.5 * tau * tau,
             self.w + self.a * tau,
             self.a,
         )

@@ -7,16 +7,17 @@
 //! each step as the Perforators' ramp force is ([`ContactWatch`]): with a spring-closed cam a
 //! pull is a lift-off, flagged and warned once per turn.
 
-use super::physics::{Closure, Drive, Kinematics, Params, Timing};
+use super::physics::{Closure, Drive, Forces, Kinematics, Params, Timing};
 use crate::digest::TurnDigest;
 use crate::mechanics::hertz::Roller;
-use crate::mechanics::wrap_angle;
+use crate::mechanics::{min_of, wrap_angle};
 use crate::mechanisms::contact_watch::{ContactWatch, WatchedContact, times};
 use crate::mechanisms::perforators::needles;
 use crate::mechanisms::perforators::physics::Params as NeedleParams;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
-use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
+use crate::model::partials::{Dual64, Scalar, Seeded};
+use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, Outcome, ParamError, Stage, Values};
 
 crate::stages! {
@@ -120,11 +121,7 @@ crate::model_variables! {
 /// with a groove the loaded flank's, which never pulls.
 impl WatchedContact for Drive {
     fn contact_force(&self, phi: f64, w: f64, a: f64) -> f64 {
-        let f = self.forces(&self.kinematics(phi, w, a), a, false).p_kr;
-        match self.p.closure {
-            Closure::Groove => f.abs(),
-            Closure::Spring => f,
-        }
+        Drive::contact_force(self, phi, w, a)
     }
     fn turn_start(&self) -> f64 {
         self.p.needles.table.phi0
@@ -219,20 +216,101 @@ impl LegacyNeedleDrive {
     }
 }
 
+/// The outputs of the kinetostatic force chain (eqs. 1-8; with `roller.F_margin`): held (not
+/// computed) at the kinematic level.
+const FORCE_OUTPUTS: [V; 12] = [
+    V::load_Q,
+    V::pierce_Q_out,
+    V::perforators_F_inertia,
+    V::rod_F,
+    V::lever3_P_C,
+    V::lever3_P_B,
+    V::fb_F,
+    V::rocker_P_A,
+    V::roller_F,
+    V::roller_sigma_H,
+    V::cam_rho_red,
+    V::roller_F_margin,
+];
+
 /// The chain's positions and rates of a [`Kinematics`].
-fn write_kinematics(v: &mut Values<V>, k: &Kinematics) {
-    v[V::perforators_s] = k.s;
-    v[V::perforators_v] = k.v;
-    v[V::perforators_a] = k.a;
-    v[V::rocker_psi] = k.psi1;
-    v[V::rocker_w] = k.psi1_w;
-    v[V::rocker_a] = k.psi1_a;
-    v[V::lever3_theta] = k.theta_c;
-    v[V::rod_alpha] = k.cos_alpha_sh.min(1.0).acos();
-    v[V::fb_mu] = k.sin_mu.min(1.0).asin();
-    v[V::fb_delta_psi] = k.sin_delta_psi.min(1.0).asin();
-    v[V::cam_theta] = k.alpha;
-    v[V::cam_rho] = k.rho_p;
+fn write_kinematics<T: Scalar>(k: &Kinematics<T>, put: &mut impl FnMut(V, T)) {
+    put(V::perforators_s, k.s);
+    put(V::perforators_v, k.v);
+    put(V::perforators_a, k.a);
+    put(V::rocker_psi, k.psi1);
+    put(V::rocker_w, k.psi1_w);
+    put(V::rocker_a, k.psi1_a);
+    put(V::lever3_theta, k.theta_c);
+    put(V::rod_alpha, min_of(k.cos_alpha_sh, 1.0).acos());
+    put(V::fb_mu, min_of(k.sin_mu, 1.0).asin());
+    put(V::fb_delta_psi, min_of(k.sin_delta_psi, 1.0).asin());
+    put(V::cam_theta, k.alpha);
+    put(V::cam_rho, k.rho_p);
+}
+
+impl LegacyNeedleDrive {
+    /// Does the kinetostatic force chain run (the loads), and with the Hertz stress?
+    fn loads(v: &Values<V>) -> (bool, bool) {
+        (
+            shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS),
+            v.wants(stage::HERTZ),
+        )
+    }
+
+    /// Every continuous Real output at the shaft state `st`, as `put(variable, value)`: the one
+    /// source of the outputs ([`Model::evaluate`], `f64`) and of their exact partial derivatives
+    /// ([`Model::partials`], dual numbers). At the kinetostatic level also the forces, which
+    /// it returns (the Integer and Boolean outputs are [`Model::evaluate`]'s); at the kinematic
+    /// level (`loads` false: [`LegacyNeedleDrive::loads`]) [`FORCE_OUTPUTS`] are not put (held).
+    fn outputs<T: Scalar>(
+        &self,
+        (loads, hertz): (bool, bool),
+        st: &ShaftState<T>,
+        mut put: impl FnMut(V, T),
+    ) -> Option<Forces<T>> {
+        let d = &self.drive;
+        let k = d.kinematics(st.phi, st.w, st.a);
+        write_kinematics(&k, &mut put);
+        let forces = if loads {
+            let f = d.forces(&k, st.a, hertz);
+            put(V::load_Q, f.q_b);
+            put(V::pierce_Q_out, f.q_t);
+            put(V::perforators_F_inertia, f.f_inertia);
+            put(V::rod_F, f.p_sh1);
+            put(V::lever3_P_C, f.p_c);
+            put(V::lever3_P_B, f.p_b);
+            put(V::fb_F, f.p_sh2);
+            put(V::rocker_P_A, f.p_a);
+            put(V::roller_F, f.p_kr);
+            put(V::roller_sigma_H, f.sigma_h);
+            put(V::cam_rho_red, f.rho_red);
+            put(
+                V::roller_F_margin,
+                self.state.margin(d.contact_force(st.phi, st.w, st.a)),
+            );
+            Some(f)
+        } else {
+            None
+        };
+        shaft::rigid_torque(
+            st,
+            forces.map(|f| f.tau),
+            |a| d.forces(&d.kinematics(st.phi, st.w, a), a, false).tau,
+            |vr, x| {
+                put(
+                    match vr {
+                        shaft::J_RED => V::shaft_J_red,
+                        shaft::TAU0 => V::shaft_tau0,
+                        shaft::TAU => V::shaft_tau,
+                        _ => V::shaft_P,
+                    },
+                    x,
+                )
+            },
+        );
+        forces
+    }
 }
 
 impl Model for LegacyNeedleDrive {
@@ -265,35 +343,38 @@ impl Model for LegacyNeedleDrive {
             v[V::perforators_stroke] = d.stroke;
         }
         let st = shaft::state(v, time);
-        let k = d.kinematics(st.phi, st.w, st.a);
-        write_kinematics(v, &k);
-        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS) {
-            let f = d.forces(&k, st.a, v.wants(stage::HERTZ));
-            v[V::load_Q] = f.q_b;
-            v[V::pierce_Q_out] = f.q_t;
-            v[V::perforators_F_inertia] = f.f_inertia;
-            v[V::rod_F] = f.p_sh1;
-            v[V::lever3_P_C] = f.p_c;
-            v[V::lever3_P_B] = f.p_b;
-            v[V::fb_F] = f.p_sh2;
-            v[V::rocker_P_A] = f.p_a;
-            v[V::roller_F] = f.p_kr;
-            v[V::roller_sigma_H] = f.sigma_h;
-            v[V::cam_rho_red] = f.rho_red;
-            v[V::cam_flank] = f64::from(f.flank);
-            v.set_flag(
-                V::roller_lost_contact,
-                self.state.lost_step || f.lost_contact,
-            );
-            v[V::roller_F_margin] = self.state.margin(d.contact_force(st.phi, st.w, st.a));
-            Some(f.tau)
-        } else {
-            v.set_flag(V::roller_lost_contact, false);
-            None
-        };
-        shaft::set_rigid_torque(v, &st, tau, |a| {
-            d.forces(&d.kinematics(st.phi, st.w, a), a, false).tau
-        });
+        let forces = self.outputs(Self::loads(v), &st, |var, x| v[var] = x);
+        match forces {
+            Some(f) => {
+                v[V::cam_flank] = f64::from(f.flank);
+                v.set_flag(
+                    V::roller_lost_contact,
+                    self.state.lost_step || f.lost_contact,
+                );
+            }
+            None => v.set_flag(V::roller_lost_contact, false),
+        }
+    }
+
+    const PARTIALS: bool = true;
+
+    /// The outputs on [`Dual64`] seeded along the inputs (`shaft.phi`, `shaft.w`, `shaft.a`):
+    /// the same [`LegacyNeedleDrive::outputs`]; the forces held at the kinematic level have
+    /// the derivative 0.
+    fn partials(
+        &mut self,
+        at: &Seeded<V>,
+        time: f64,
+        put: &mut dyn FnMut(V, Dual64),
+    ) -> Result<(), String> {
+        let v = at.values();
+        let st = shaft::state_of(v, time, |vr| at.get_vr(vr));
+        if self.outputs(Self::loads(v), &st, &mut *put).is_none() {
+            for var in FORCE_OUTPUTS {
+                put(var, Dual64::from(0.0));
+            }
+        }
+        Ok(())
     }
 
     /// The lift-offs of the unfinished turn are reported.
@@ -322,5 +403,83 @@ impl Dynamics<V> for LegacyNeedleDrive {
     fn restore_state(&mut self, state: &[f64]) -> Result<(), String> {
         self.state = ContactWatch::restore(state, "LegacyNeedleDrive")?;
         Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{NoLog, VarSet};
+
+    /// The exact partial derivatives against central differences of `evaluate` at both levels,
+    /// both timings, a groove and a spring-closed cam, zero and large shaft accelerations, a
+    /// shaft moved on from the inputs' instant and the constant-speed drive (tests/partials.rs
+    /// checks the default FMU over the C ABI).
+    #[test]
+    fn partials_equal_central_differences() {
+        let knowns = [V::shaft_phi, V::shaft_w, V::shaft_a];
+        let outs: Vec<usize> = V::table()
+            .iter()
+            .enumerate()
+            .filter(|(_, var)| {
+                var.causality == crate::model::Causality::Output
+                    && matches!(var.ty, crate::model::VarType::Real)
+            })
+            .map(|(vr, _)| vr)
+            .collect();
+        for (level, timing, closure, mode, phi, w, a, time) in [
+            (2.0, 1.0, 1.0, 1.0, 1.3, 10.0, 0.0, 0.0),
+            (2.0, 1.0, 1.0, 1.0, 1.3, 10.0, 3.0, 0.0),
+            (2.0, 2.0, 2.0, 1.0, 1.2, 9.0, 0.4, 0.0),
+            (2.0, 1.0, 1.0, 1.0, 1.4, 11.0, -2.0, 0.01),
+            (1.0, 1.0, 1.0, 1.0, 1.3, 10.0, 0.5, 0.0),
+            (2.0, 1.0, 1.0, 2.0, 1.3, 10.0, 0.5, 0.12),
+        ] {
+            let mut v = Values::<V>::start();
+            v[V::model_fidelity] = level;
+            v[V::needle_timing] = timing;
+            v[V::cam_closure] = closure;
+            v[V::drive_mode] = mode;
+            let mut m = LegacyNeedleDrive::prepare(&v).unwrap();
+            let x0 = [phi, w, a];
+            let eval = |x: &[f64; 3], m: &mut LegacyNeedleDrive| {
+                let mut v = v.clone();
+                for (k, xi) in knowns.iter().zip(x) {
+                    v[*k] = *xi;
+                }
+                m.evaluate(&mut v, time, &mut NoLog);
+                outs.iter().map(|o| v.raw()[*o]).collect::<Vec<f64>>()
+            };
+            for (i, k) in knowns.iter().enumerate() {
+                let mut base = v.clone();
+                for (kk, xi) in knowns.iter().zip(&x0) {
+                    base[*kk] = *xi;
+                }
+                let mut seed = vec![0.0; V::table().len()];
+                seed[k.vr() as usize] = 1.0;
+                let mut exact = vec![f64::NAN; V::table().len()];
+                m.partials(&Seeded::new(&base, &seed), time, &mut |o, x| {
+                    exact[o.vr() as usize] = x.eps
+                })
+                .unwrap();
+                let h = 1e-6 * x0[i].abs().max(1.0);
+                let (mut xp, mut xm) = (x0, x0);
+                xp[i] += h;
+                xm[i] -= h;
+                let (yp, ym) = (eval(&xp, &mut m), eval(&xm, &mut m));
+                for (j, o) in outs.iter().enumerate() {
+                    let fd = (yp[j] - ym[j]) / (2.0 * h);
+                    let ex = exact[*o];
+                    assert!(
+                        // the differences' rounding: 1e-14 of the output over h
+                        (ex - fd).abs()
+                            <= 1e-6 * fd.abs().max(1.0) + 1e-14 * yp[j].abs().max(ym[j].abs()) / h,
+                        "level {level} timing {timing} closure {closure} mode {mode} a {a}: d {} / d {}: exact {ex}, central {fd}",
+                        V::table()[*o].name,
+                        V::table()[k.vr() as usize].name,
+                    );
+                }
+            }
+        }
     }
 }

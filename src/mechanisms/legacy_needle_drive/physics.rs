@@ -23,10 +23,11 @@ use crate::mechanics::hertz::Roller;
 use crate::mechanics::hertz::Surface;
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::{
-    ParamError, STANDARD_GRAVITY, check_finite, check_non_negative, check_positive, cross, dot, sgn,
+    ParamError, STANDARD_GRAVITY, Scalar, check_finite, check_non_negative, check_positive, cross,
+    dot, hypot, max_of, sgn,
 };
 use crate::mechanisms::perforators::physics::{Drive as NeedleCurve, Params as NeedleParams};
-use num_dual::{Dual2_64, Dual64, DualNum};
+use num_dual::{Dual, Dual2, Dual64, DualNum};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 crate::fmi_enum! {
@@ -151,63 +152,63 @@ pub struct Pose<T> {
     pub psi1: T,
 }
 
-/// Kinematics at one shaft state.
+/// Kinematics at one shaft state (any [`Scalar`]: `f64`, or dual numbers along the inputs).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Kinematics {
+pub struct Kinematics<T = f64> {
     /// `perforators.s` (0 = lowest), `ds/dφ`, `d²s/dφ²`, `perforators.v`, `perforators.a`.
-    pub s: f64,
-    pub s_d: f64,
-    pub s_dd: f64,
-    pub v: f64,
-    pub a: f64,
+    pub s: T,
+    pub s_d: T,
+    pub s_dd: T,
+    pub v: T,
+    pub a: T,
     /// `rocker.psi` ψ1, ψ1' = dψ1/dφ, ψ1'', `rocker.w`, `rocker.a`, dψ1/ds (1/m).
-    pub psi1: f64,
-    pub psi1_d: f64,
-    pub psi1_dd: f64,
-    pub psi1_w: f64,
-    pub psi1_a: f64,
-    pub psi1_s: f64,
+    pub psi1: T,
+    pub psi1_d: T,
+    pub psi1_dd: T,
+    pub psi1_w: T,
+    pub psi1_a: T,
+    pub psi1_s: T,
     /// `lever3.theta` θ_C, the direction of O3C.
-    pub theta_c: f64,
+    pub theta_c: T,
     /// `cam.theta` α, the cam's pressure angle (< 0 while the rocker turns with the cam).
-    pub alpha: f64,
+    pub alpha: T,
     /// `cam.rho` ρ_p, the pitch curve's curvature radius (> 0 convex).
-    pub rho_p: f64,
+    pub rho_p: T,
     /// The paper's angles as the sines and cosines of the vector form (every factor ≥ 0):
     /// cos α_sh = |e_CD·u_g|, sin(γ + α_sh) = |e_O3C × e_CD|, sin μ = |e_AB × e_O3B|,
     /// sin(δ − ψ) = |e_O2A × e_AB|.
-    pub cos_alpha_sh: f64,
-    pub sin_gamma: f64,
-    pub sin_mu: f64,
-    pub sin_delta_psi: f64,
+    pub cos_alpha_sh: T,
+    pub sin_gamma: T,
+    pub sin_mu: T,
+    pub sin_delta_psi: T,
 }
 
 /// Forces at one shaft state (kinetostatic level, one branch unless said).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Forces {
+pub struct Forces<T = f64> {
     /// `pierce.Q_T`: the piercing load Q_T (while the needles rise), ≥ 0.
-    pub q_t: f64,
+    pub q_t: T,
     /// `perforators.F_inertia`: −K_d·m·a, the bar's inertia force along u_g.
-    pub f_inertia: f64,
+    pub f_inertia: T,
     /// `load.Q` Q_b: the load one branch carries along −u_g (eq. 1 over n).
-    pub q_b: f64,
+    pub q_b: T,
     /// `rod.F` P_sh1 (eq. 2), `lever3.P_C` (3), `lever3.P_B` (4), `fb.F` P_sh2 (5),
     /// `rocker.P_A` (6), `roller.F` P_kr (7).
-    pub p_sh1: f64,
-    pub p_c: f64,
-    pub p_b: f64,
-    pub p_sh2: f64,
-    pub p_a: f64,
-    pub p_kr: f64,
+    pub p_sh1: T,
+    pub p_c: T,
+    pub p_b: T,
+    pub p_sh2: T,
+    pub p_a: T,
+    pub p_kr: T,
     /// `roller.sigma_H` (eq. 8), Pa; `cam.rho_red` ρ_red, m; `cam.flank` (+1 the flank that
     /// raises the needles, −1 the other).
-    pub sigma_h: f64,
-    pub rho_red: f64,
+    pub sigma_h: T,
+    pub rho_red: T,
     pub flank: i32,
     /// The spring cannot hold the roller: it would have to pull (`cam.closure = spring`).
     pub lost_contact: bool,
     /// `shaft.tau`: the torque on the cam shaft, all branches, N·m.
-    pub tau: f64,
+    pub tau: T,
 }
 
 /// Everything fixed for a run.
@@ -242,14 +243,20 @@ pub struct Drive {
 }
 
 /// Unit vector from `p` to `q`.
-fn unit(p: [f64; 2], q: [f64; 2]) -> (f64, f64) {
+fn unit<T: Scalar>(p: [T; 2], q: [T; 2]) -> (T, T) {
     let d = [q[0] - p[0], q[1] - p[1]];
-    let n = d[0].hypot(d[1]);
+    let n = hypot(d[0], d[1]);
     (d[0] / n, d[1] / n)
 }
 
-fn re<T: DualNum<Primitive = f64>>(x: &[T; 2]) -> [f64; 2] {
-    [x[0].re(), x[1].re()]
+/// A point of a [`Pose`] on second-order dual numbers without its φ-derivatives.
+fn re<T: Scalar>(x: &[Dual2<T>; 2]) -> [T; 2] {
+    [x[0].re, x[1].re]
+}
+
+/// A fixed point as any [`Scalar`].
+fn lift<T: Scalar>(x: [f64; 2]) -> [T; 2] {
+    [T::from(x[0]), T::from(x[1])]
 }
 
 impl Params {
@@ -478,13 +485,13 @@ impl Drive {
         )
     }
 
-    /// The needle law: `(s, ds/dφ, d²s/dφ²)` at shaft angle `phi`.
-    pub fn needle(&self, phi: f64) -> (f64, f64, f64) {
+    /// The needle law: `(s, ds/dφ, d²s/dφ²)` at shaft angle `phi` (any [`Scalar`]).
+    pub fn needle<T: Scalar>(&self, phi: T) -> (T, T, T) {
         match self.p.timing {
             Timing::Perforators => {
                 let c = self.curve.cyc.at(phi);
                 if c.phase != Phase::Forward {
-                    return (0.0, 0.0, 0.0);
+                    return (T::zero(), T::zero(), T::zero());
                 }
                 let (s, sx, sxx) = self.curve.needle_law(c.x);
                 (s, sx * c.dx, sxx * c.dx * c.dx + sx * c.ddx)
@@ -496,14 +503,16 @@ impl Drive {
         }
     }
 
-    /// Kinematics at shaft angle `phi`, speed `w`, acceleration `eps`.
-    pub fn kinematics(&self, phi: f64, w: f64, eps: f64) -> Kinematics {
+    /// Kinematics at shaft angle `phi`, speed `w`, acceleration `eps` (any [`Scalar`]: the
+    /// same operations for `f64` and for the dual numbers of the partial derivatives). The
+    /// chain runs on second-order dual numbers over `T` seeded with `(s, s', s'')`.
+    pub fn kinematics<T: Scalar>(&self, phi: T, w: T, eps: T) -> Kinematics<T> {
         let (s, s_d, s_dd) = self.needle(phi);
         let pose = self
-            .pose(Dual2_64::new(s, s_d, s_dd))
+            .pose(Dual2::new(s, s_d, s_dd))
             .expect("every bar position of the stroke assembles (checked at initialization)");
         let psi_s = self
-            .pose(Dual64::new(s, 1.0))
+            .pose(Dual::new(s, T::one()))
             .expect("checked at initialization")
             .psi1
             .eps;
@@ -511,15 +520,17 @@ impl Drive {
         let beta = self.p.beta;
         let (sp, cp) = psi1.sin_cos();
         // pressure angle (instant centre on O1O2), and the pitch curve's curvature radius
-        let u = beta * (1.0 - psi1_d);
+        let u = (T::one() - psi1_d) * beta;
         let alpha = ((u - cp) / sp).atan();
-        let n = 1.0 - 2.0 * u * cp + u * u;
-        let rho_p = self.p.l_k * n * n.sqrt()
-            / (n - u * u * psi1_d + u * psi1_d * cp - beta * psi1_dd * sp);
+        let n = T::one() - u * 2.0 * cp + u * u;
+        let rho_p = n * self.p.l_k * n.sqrt()
+            / (n - u * u * psi1_d + u * psi1_d * cp - psi1_dd * beta * sp);
         let [d, c, b, a] = [re(&pose.d), re(&pose.c), re(&pose.b), re(&pose.a)];
-        let (e_cd, e_o3c) = (unit(c, d), unit(self.p.o3, c));
-        let (e_ab, e_o3b, e_o2a) = (unit(a, b), unit(self.p.o3, b), unit(self.o2, a));
+        let (o3, o2) = (lift(self.p.o3), lift(self.o2));
+        let (e_cd, e_o3c) = (unit(c, d), unit(o3, c));
+        let (e_ab, e_o3b, e_o2a) = (unit(a, b), unit(o3, b), unit(o2, a));
         let o3c = [c[0] - self.p.o3[0], c[1] - self.p.o3[1]];
+        let u_g = (T::from(self.u_g[0]), T::from(self.u_g[1]));
         Kinematics {
             s,
             s_d,
@@ -535,7 +546,7 @@ impl Drive {
             theta_c: o3c[1].atan2(o3c[0]),
             alpha,
             rho_p,
-            cos_alpha_sh: dot(e_cd, (self.u_g[0], self.u_g[1])).abs(),
+            cos_alpha_sh: dot(e_cd, u_g).abs(),
             sin_gamma: cross(e_o3c, e_cd).abs(),
             sin_mu: cross(e_ab, e_o3b).abs(),
             sin_delta_psi: cross(e_o2a, e_ab).abs(),
@@ -543,54 +554,54 @@ impl Drive {
     }
 
     /// The piercing load Q_T: the Perforators' profile while the needles rise, 0 otherwise.
-    pub fn pierce_load(&self, k: &Kinematics) -> f64 {
-        if k.v > 0.0 {
+    pub fn pierce_load<T: Scalar>(&self, k: &Kinematics<T>) -> T {
+        if k.v.re() > 0.0 {
             self.curve.pierce_load(k.s, k.v, Phase::Forward as i32)
         } else {
-            0.0
+            T::zero()
         }
     }
 
-    /// Forces, eqs. (1)-(8), for kinematics `k` at shaft acceleration `eps`; with `hertz`
-    /// false the contact stress is not computed (0).
-    pub fn forces(&self, k: &Kinematics, eps: f64, hertz: bool) -> Forces {
+    /// Forces, eqs. (1)-(8), for kinematics `k` at shaft acceleration `eps` (any [`Scalar`]);
+    /// with `hertz` false the contact stress is not computed (0).
+    pub fn forces<T: Scalar>(&self, k: &Kinematics<T>, eps: T, hertz: bool) -> Forces<T> {
         let p = &self.p;
         let np = &p.needles;
         let q_t = self.pierce_load(k);
-        let f_inertia = -p.k_d * np.perf_m * k.a;
+        let f_inertia = k.a * (-p.k_d * np.perf_m);
         // eq. (1), one branch's share, along −u_g
         let q_b = (q_t + p.load_f + np.perf_m * STANDARD_GRAVITY * self.u_g[1] - f_inertia
             + p.p_spring)
             / p.n;
         // friction against the motion: +1 the cam drives, −1 the load drives
-        let sigma = sgn(q_b * k.v);
-        let sin_alpha_sh = (1.0 - k.cos_alpha_sh * k.cos_alpha_sh).max(0.0).sqrt();
-        let guide = k.cos_alpha_sh - sigma * np.guide_mu * sin_alpha_sh;
+        let sigma = sgn(q_b.re() * k.v.re());
+        let sin_alpha_sh = max_of(T::one() - k.cos_alpha_sh * k.cos_alpha_sh, 0.0).sqrt();
+        let guide = k.cos_alpha_sh - sin_alpha_sh * (sigma * np.guide_mu);
         let (e_c, e_o3, e_b, e_a, e_o2) =
             (self.eps_c, self.eps_c, self.eps_b, self.eps_a, self.eps_a);
         let (cos_alpha, g, sdp) = (k.alpha.cos(), k.sin_gamma, k.sin_delta_psi);
         let p_sh1 = q_b / guide;
         let p_c = q_b * g / (guide - sigma * (e_c + e_o3));
-        let p_b = q_b * p.r_k * g / (p.b * (guide - sigma * (e_c + e_o3 + e_b)));
-        let p_sh2 = q_b * p.r_k * g / (p.b * (guide * k.sin_mu - sigma * (e_o3 + e_b + e_c)));
+        let p_b = q_b * p.r_k * g / ((guide - sigma * (e_c + e_o3 + e_b)) * p.b);
+        let p_sh2 = q_b * p.r_k * g / ((guide * k.sin_mu - sigma * (e_o3 + e_b + e_c)) * p.b);
         let p_a = p_sh2 * sdp;
         let f_pr = e_o3 + e_b + e_o2 + e_c + e_a;
         let p_kr = q_b * p.r * p.r_k * g * sdp
-            / (p.b * self.l * (guide * k.sin_mu * cos_alpha - sigma * f_pr));
+            / ((guide * k.sin_mu * cos_alpha - sigma * f_pr) * (p.b * self.l));
         // eq. (8) on the loaded flank: the working one at ρ_p − r, the other at ρ_p + r
-        let flank = if p_kr < 0.0 { -1.0 } else { 1.0 };
-        let lost_contact = p.closure == Closure::Spring && p_kr < 0.0;
+        let flank = if p_kr.re() < 0.0 { -1.0 } else { 1.0 };
+        let lost_contact = p.closure == Closure::Spring && p_kr.re() < 0.0;
         let rho_flank = (k.rho_p - flank * p.roller.r) * flank;
-        let surface = if rho_flank > 0.0 {
+        let surface = if rho_flank.re() > 0.0 {
             Surface::Convex
         } else {
             Surface::Concave
         };
-        let inv_rho = 1.0 / p.roller.r + 1.0 / rho_flank;
-        let sigma_h = if hertz && p_kr != 0.0 && !lost_contact {
+        let inv_rho = T::one() / rho_flank + 1.0 / p.roller.r;
+        let sigma_h = if hertz && p_kr.re() != 0.0 && !lost_contact {
             p.roller.stress(p_kr, rho_flank.abs(), surface)
         } else {
-            0.0
+            T::zero()
         };
         Forces {
             q_t,
@@ -603,10 +614,20 @@ impl Drive {
             p_a,
             p_kr,
             sigma_h,
-            rho_red: 1.0 / inv_rho,
+            rho_red: T::one() / inv_rho,
             flank: flank as i32,
             lost_contact,
-            tau: p.n * p_kr * self.l * cos_alpha * k.psi1_d * self.psi_sense + p.cam_j * eps,
+            tau: p_kr * p.n * self.l * cos_alpha * k.psi1_d * self.psi_sense + eps * p.cam_j,
+        }
+    }
+
+    /// The cam force the contact watch follows (`roller.F_margin`), any [`Scalar`]: one
+    /// branch's P_kr (eq. 7); with a groove the loaded flank's, `|P_kr|`, which never pulls.
+    pub fn contact_force<T: Scalar>(&self, phi: T, w: T, a: T) -> T {
+        let f = self.forces(&self.kinematics(phi, w, a), a, false).p_kr;
+        match self.p.closure {
+            Closure::Groove => f.abs(),
+            Closure::Spring => f,
         }
     }
 

@@ -26,7 +26,7 @@ use crate::mechanics::hertz::Roller;
 use crate::mechanics::hertz::Surface;
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::slider_line::SliderLine;
-use crate::mechanics::{ParamError, STANDARD_GRAVITY, cross, dot, sgn};
+use crate::mechanics::{ParamError, STANDARD_GRAVITY, Scalar, cross, dot, sgn};
 use crate::mechanisms::sewing_table::physics::Params as TableParams;
 use std::f64::consts::{FRAC_PI_2, TAU};
 
@@ -447,10 +447,10 @@ impl Drive {
     }
 
     /// The needles' law over the table travel: `(s_p, ds_p/dx_t, d²s_p/dx_t²)`.
-    pub fn needle_law(&self, x_t: f64) -> (f64, f64, f64) {
+    pub fn needle_law<T: Scalar>(&self, x_t: T) -> (T, T, T) {
         let h = self.cyc.h;
         let rh = self.p.rise_fraction * h;
-        if x_t <= rh {
+        if x_t.re() <= rh {
             self.p.law_rise.rise(self.stroke, rh, x_t)
         } else {
             self.p.law_fall.fall(self.stroke, h - rh, x_t - rh)
@@ -591,28 +591,28 @@ impl Drive {
     /// Piercing load magnitude (`perforators.md`): forward travel only; rising: 0 below s_in,
     /// linear to Q at the middle of [s_in, s_out], linear to k_f·Q at s_out, k_f·Q above; falling:
     /// k_f·Q while above s_in.
-    pub fn pierce_load(&self, s: f64, v: f64, phase: i32) -> f64 {
+    pub fn pierce_load<T: Scalar>(&self, s: T, v: T, phase: i32) -> T {
         if phase != Phase::Forward as i32 || self.stroke <= 0.0 {
-            return 0.0;
+            return T::zero();
         }
         let p = &self.p;
         let q = s / self.stroke;
         let (si, so) = (p.pierce_s_in, p.pierce_s_out);
         let mid = 0.5 * (si + so);
-        if v > 0.0 {
-            if q <= si {
-                0.0
-            } else if q <= mid {
-                p.pierce_q * (q - si) / (mid - si)
-            } else if q <= so {
-                p.pierce_q * (1.0 - (1.0 - p.pierce_k_f) * (q - mid) / (so - mid))
+        if v.re() > 0.0 {
+            if q.re() <= si {
+                T::zero()
+            } else if q.re() <= mid {
+                (q - si) * p.pierce_q / (mid - si)
+            } else if q.re() <= so {
+                (T::one() - (q - mid) * (1.0 - p.pierce_k_f) / (so - mid)) * p.pierce_q
             } else {
-                p.pierce_k_f * p.pierce_q
+                T::from(p.pierce_k_f * p.pierce_q)
             }
-        } else if v < 0.0 && q > si {
-            p.pierce_k_f * p.pierce_q
+        } else if v.re() < 0.0 && q.re() > si {
+            T::from(p.pierce_k_f * p.pierce_q)
         } else {
-            0.0
+            T::zero()
         }
     }
 
