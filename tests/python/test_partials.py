@@ -27,8 +27,8 @@ def offering() -> list[str]:
 
 
 def test_the_descriptions_say_which_fmus_offer_partials():
-    # MainShaft offers them (the drive a system model integrates with its own solver)
-    assert "MainShaft" in offering()
+    # the drive a system model integrates with its own solver, and the legacy needle drive
+    assert {"MainShaft", "LegacyNeedleDrive"} <= set(offering())
     for p in fmu_paths():
         md = read_model_description(str(p))
         flags = {md.coSimulation.providesDirectionalDerivative}
