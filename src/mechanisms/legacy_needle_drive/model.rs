@@ -216,22 +216,23 @@ impl LegacyNeedleDrive {
     }
 }
 
-/// The outputs of the kinetostatic force chain (eqs. 1-8; with `roller.F_margin`): held (not
-/// computed) at the kinematic level.
-const FORCE_OUTPUTS: [V; 12] = [
-    V::load_Q,
-    V::pierce_Q_out,
-    V::perforators_F_inertia,
-    V::rod_F,
-    V::lever3_P_C,
-    V::lever3_P_B,
-    V::fb_F,
-    V::rocker_P_A,
-    V::roller_F,
-    V::roller_sigma_H,
-    V::cam_rho_red,
-    V::roller_F_margin,
-];
+/// The outputs of the kinetostatic force chain (eqs. 1-8) with their values in `f`: put at the
+/// kinetostatic level, held (with `roller.F_margin`) at the kinematic level.
+fn force_outputs<T: Scalar>(f: &Forces<T>) -> [(V, T); 11] {
+    [
+        (V::load_Q, f.q_b),
+        (V::pierce_Q_out, f.q_t),
+        (V::perforators_F_inertia, f.f_inertia),
+        (V::rod_F, f.p_sh1),
+        (V::lever3_P_C, f.p_c),
+        (V::lever3_P_B, f.p_b),
+        (V::fb_F, f.p_sh2),
+        (V::rocker_P_A, f.p_a),
+        (V::roller_F, f.p_kr),
+        (V::roller_sigma_H, f.sigma_h),
+        (V::cam_rho_red, f.rho_red),
+    ]
+}
 
 /// The chain's positions and rates of a [`Kinematics`].
 fn write_kinematics<T: Scalar>(k: &Kinematics<T>, put: &mut impl FnMut(V, T)) {
@@ -262,7 +263,7 @@ impl LegacyNeedleDrive {
     /// source of the outputs ([`Model::evaluate`], `f64`) and of their exact partial derivatives
     /// ([`Model::partials`], dual numbers). At the kinetostatic level also the forces, which
     /// it returns (the Integer and Boolean outputs are [`Model::evaluate`]'s); at the kinematic
-    /// level (`loads` false: [`LegacyNeedleDrive::loads`]) [`FORCE_OUTPUTS`] are not put (held).
+    /// level (`loads` false: [`LegacyNeedleDrive::loads`]) [`force_outputs`] and `roller.F_margin` are not put (held).
     fn outputs<T: Scalar>(
         &self,
         (loads, hertz): (bool, bool),
@@ -274,17 +275,9 @@ impl LegacyNeedleDrive {
         write_kinematics(&k, &mut put);
         let forces = if loads {
             let f = d.forces(&k, st.a, hertz);
-            put(V::load_Q, f.q_b);
-            put(V::pierce_Q_out, f.q_t);
-            put(V::perforators_F_inertia, f.f_inertia);
-            put(V::rod_F, f.p_sh1);
-            put(V::lever3_P_C, f.p_c);
-            put(V::lever3_P_B, f.p_b);
-            put(V::fb_F, f.p_sh2);
-            put(V::rocker_P_A, f.p_a);
-            put(V::roller_F, f.p_kr);
-            put(V::roller_sigma_H, f.sigma_h);
-            put(V::cam_rho_red, f.rho_red);
+            for (var, x) in force_outputs(&f) {
+                put(var, x);
+            }
             put(
                 V::roller_F_margin,
                 self.state.margin(d.contact_force(st.phi, st.w, st.a)),
@@ -370,7 +363,8 @@ impl Model for LegacyNeedleDrive {
         let v = at.values();
         let st = shaft::state_of(v, time, |vr| at.get_vr(vr));
         if self.outputs(Self::loads(v), &st, &mut *put).is_none() {
-            for var in FORCE_OUTPUTS {
+            let held = force_outputs(&Forces::<f64>::default()).map(|(var, _)| var);
+            for var in held.into_iter().chain([V::roller_F_margin]) {
                 put(var, Dual64::from(0.0));
             }
         }
