@@ -96,6 +96,38 @@ fn names(e: &Entry, vrs: &[u32]) -> Vec<&'static str> {
     vrs.iter().map(|&r| vars[r as usize].1.name).collect()
 }
 
+/// The fidelity levels `e` runs at (`model.fidelity`: 1 kinematic, 2 kinetostatic, 3
+/// elastodynamic; those its parameters refuse are left out), `None` for an FMU without the
+/// parameter; each with the Integer start value that selects it.
+fn levels(e: &Entry) -> Vec<Option<(u32, i32)>> {
+    let vars = (e.variables)();
+    let Some(vr) = vars
+        .iter()
+        .find(|(_, v)| v.name == "model.fidelity")
+        .map(|(vr, _)| *vr)
+    else {
+        return vec![None];
+    };
+    let f = Fmu::of(e);
+    (1..=3)
+        .filter(|&level| {
+            let s = f.slave("level");
+            s.ok(s.setup(0.0, None), "fmi2SetupExperiment");
+            s.ok(s.set_integer(&[vr], &[level]), "fmi2SetInteger model.fidelity");
+            s.init() == Status::Ok
+        })
+        .map(|level| Some((vr, level)))
+        .collect()
+}
+
+/// `e`'s name at `level` (for messages).
+fn at_level(e: &Entry, level: Option<(u32, i32)>) -> String {
+    match level {
+        Some((_, l)) => format!("{} at model.fidelity = {l}", e.identifier),
+        None => e.identifier.to_string(),
+    }
+}
+
 /// Inputs away from zero: a load on the shaft, an inertia, a force.
 fn excite(x0: &mut [f64]) {
     for (i, x) in x0.iter_mut().enumerate() {
@@ -109,10 +141,17 @@ fn excite(x0: &mut [f64]) {
 fn co_simulation_partials_equal_central_differences_of_the_outputs() {
     let list = offering();
     assert!(!list.is_empty(), "no FMU offers partial derivatives");
-    for e in &list {
+    for (e, level) in list.iter().flat_map(|e| levels(e).into_iter().map(move |l| (e, l))) {
         let (inputs, outputs) = inputs_and_outputs(e);
         let f = Fmu::of(e);
-        let s = f.initialized("cs");
+        let integers: Vec<_> = level.into_iter().collect();
+        let s = f.started(
+            "cs",
+            &Start {
+                integers: &integers,
+                ..Start::default()
+            },
+        );
         let (st, mut x0) = s.get_real(&inputs);
         s.ok(st, "fmi2GetReal inputs");
         excite(&mut x0);
@@ -133,7 +172,7 @@ fn co_simulation_partials_equal_central_differences_of_the_outputs() {
                 y
             });
             s.ok(s.set_real(&inputs, &x0), "fmi2SetReal");
-            let what = format!("{} CS, known {}", e.identifier, names(e, &[k])[0]);
+            let what = format!("{} CS, known {}", at_level(e, level), names(e, &[k])[0]);
             assert_column(&what, &exact, &fd, &out_names);
         }
         // a direction over all knowns at once is the sum of the columns (linear in the seed)
@@ -155,8 +194,9 @@ fn co_simulation_partials_equal_central_differences_of_the_outputs() {
 
 #[test]
 fn model_exchange_partials_equal_central_differences_of_derivatives_and_outputs() {
-    for e in offering() {
-        let nx = n_states(&e);
+    let list = offering();
+    for (e, level) in list.iter().flat_map(|e| levels(e).into_iter().map(move |l| (e, l))) {
+        let nx = n_states(e);
         if nx == 0 {
             continue;
         }
@@ -167,10 +207,14 @@ fn model_exchange_partials_equal_central_differences_of_derivatives_and_outputs(
             .map(|(vr, _)| *vr)
             .collect();
         let states: Vec<u32> = vars.iter().filter_map(|(_, v)| v.derivative).collect();
-        let (inputs, outputs) = inputs_and_outputs(&e);
-        let f = Fmu::of(&e);
+        let (inputs, outputs) = inputs_and_outputs(e);
+        let f = Fmu::of(e);
         let s = f.me_instance("me");
-        s.me_start(|_| {});
+        s.me_start(|s| {
+            if let Some((vr, l)) = level {
+                s.ok(s.set_integer(&[vr], &[l]), "fmi2SetInteger model.fidelity");
+            }
+        });
         let (_, mut u0) = s.get_real(&inputs);
         excite(&mut u0);
         s.ok(s.set_real(&inputs, &u0), "fmi2SetReal");
@@ -185,7 +229,7 @@ fn model_exchange_partials_equal_central_differences_of_derivatives_and_outputs(
         s.ok(s.set_states(&x0), "fmi2SetContinuousStates");
         let mut unknowns = ders.clone();
         unknowns.extend(&outputs);
-        let unknown_names = names(&e, &unknowns);
+        let unknown_names = names(e, &unknowns);
         let values = |s: &Slave| {
             let (st, mut v) = s.get_array("fmi2GetDerivatives", nx);
             s.ok(st, "fmi2GetDerivatives");
@@ -203,7 +247,7 @@ fn model_exchange_partials_equal_central_differences_of_derivatives_and_outputs(
                 values(&s)
             });
             s.ok(s.set_states(&x0), "fmi2SetContinuousStates");
-            let what = format!("{} ME, state {}", e.identifier, names(&e, &[k])[0]);
+            let what = format!("{} ME, state {}", at_level(e, level), names(e, &[k])[0]);
             assert_column(&what, &exact, &fd, &unknown_names);
         }
         for (i, &k) in inputs.iter().enumerate() {
@@ -215,7 +259,7 @@ fn model_exchange_partials_equal_central_differences_of_derivatives_and_outputs(
                 values(&s)
             });
             s.ok(s.set_real(&inputs, &u0), "fmi2SetReal");
-            let what = format!("{} ME, input {}", e.identifier, names(&e, &[k])[0]);
+            let what = format!("{} ME, input {}", at_level(e, level), names(e, &[k])[0]);
             assert_column(&what, &exact, &fd, &unknown_names);
         }
     }
