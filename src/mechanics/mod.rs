@@ -74,16 +74,16 @@ impl SpringDamper {
         }
     }
 
-    /// Force `k·δ + c·δ̇` at the deflection `delta` and its rate.
+    /// Force `k·δ + c·δ̇` at the deflection `delta` and its rate (any [`Scalar`]).
     #[inline]
-    pub fn force(&self, delta: f64, rate: f64) -> f64 {
-        self.k * delta + self.c * rate
+    pub fn force<T: Scalar>(&self, delta: T, rate: T) -> T {
+        delta * self.k + rate * self.c
     }
 
-    /// Energy `½·k·δ²` of the spring at the deflection `delta`.
+    /// Energy `½·k·δ²` of the spring at the deflection `delta` (any [`Scalar`]).
     #[inline]
-    pub fn energy(&self, delta: f64) -> f64 {
-        0.5 * self.k * delta * delta
+    pub fn energy<T: Scalar>(&self, delta: T) -> T {
+        delta * (0.5 * self.k) * delta
     }
 }
 
