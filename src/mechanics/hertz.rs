@@ -158,24 +158,25 @@ pub fn line_contact_stiffness(b: f64, e1: f64, e2: f64) -> f64 {
 }
 
 /// Force of the Hertz line contact at penetration `pen` (m): `K·pen^(10/9)`, 0 when `pen ≤ 0`
-/// (the contact cannot pull); with `dF/dpen`.
+/// (the contact cannot pull); with `dF/dpen` (any [`Scalar`]).
 #[inline]
-pub fn line_contact_force(k: f64, pen: f64) -> (f64, f64) {
-    if pen > 0.0 {
+pub fn line_contact_force<T: Scalar>(k: f64, pen: T) -> (T, T) {
+    if pen.re() > 0.0 {
         let p19 = pen.powf(1.0 / 9.0);
-        (k * pen * p19, 10.0 / 9.0 * k * p19)
+        (pen * k * p19, p19 * (10.0 / 9.0 * k))
     } else {
-        (0.0, 0.0)
+        (T::zero(), T::zero())
     }
 }
 
-/// Elastic energy stored in the Hertz line contact at penetration `pen`: `9/19·K·pen^(19/9)`, J.
+/// Elastic energy stored in the Hertz line contact at penetration `pen`: `9/19·K·pen^(19/9)`, J
+/// (any [`Scalar`]).
 #[inline]
-pub fn line_contact_energy(k: f64, pen: f64) -> f64 {
-    if pen > 0.0 {
-        9.0 / 19.0 * k * pen.powf(19.0 / 9.0)
+pub fn line_contact_energy<T: Scalar>(k: f64, pen: T) -> T {
+    if pen.re() > 0.0 {
+        pen.powf(19.0 / 9.0) * (9.0 / 19.0 * k)
     } else {
-        0.0
+        T::zero()
     }
 }
 
