@@ -60,9 +60,15 @@ pub fn reduced_modulus(e1: f64, e2: f64) -> f64 {
 /// Reduced curvature `1/ρ = 1/r1 ± 1/r2` (paper 002, below eq. 8), 1/m. `r2 = ∞` is a flat.
 #[inline]
 pub fn reduced_curvature<T: Scalar>(r1: f64, r2: T, surface: Surface) -> T {
+    // a flat (r2 infinite, over a whole stretch): 1/r2 = 0 with the derivative 0
+    let inv_r2 = if r2.re().is_infinite() {
+        T::from(1.0 / r2.re())
+    } else {
+        T::one() / r2
+    };
     match surface {
-        Surface::Convex => T::one() / r2 + 1.0 / r1,
-        Surface::Concave => T::from(1.0 / r1) - T::one() / r2,
+        Surface::Convex => inv_r2 + 1.0 / r1,
+        Surface::Concave => T::from(1.0 / r1) - inv_r2,
     }
 }
 
