@@ -375,7 +375,7 @@ impl LeverOde<'_> {
         let mut q = pen / arm_r;
         for _ in 0..3 {
             let (r, r1, _) = p.roller(rigid.gamma - q);
-            q = q - (dot(n, (rr.0 - r.0, rr.1 - r.1)) - pen) / dot(n, r1);
+            q -= (dot(n, (rr.0 - r.0, rr.1 - r.1)) - pen) / dot(n, r1);
         }
         let (_, r1, _) = p.roller(rigid.gamma - q);
         let arm = dot(n, r1);

@@ -519,7 +519,14 @@ impl Drive {
         let tc = dot(t, c2);
         let dt = ((c2.0 - t.0 * tc) / len, (c2.1 - t.1 * tc) / len);
         let n_x = (dt.1, -dt.0);
-        let rho_pitch = len * len * len / cross(c1, c2).abs();
+        let bend = cross(c1, c2).abs();
+        // a straight stretch (the table's dwells): the radius is infinite all along it, with
+        // the derivative 0
+        let rho_pitch = if bend.re() == 0.0 {
+            T::from(len.re() * len.re() * len.re() / bend.re())
+        } else {
+            len * len * len / bend
+        };
         let valley = dot(c2, n).re() > 0.0;
         if valley {
             (n, -(rho_pitch + self.p.roller.r), false, n_x)
