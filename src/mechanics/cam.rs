@@ -4,6 +4,8 @@
 //! The pitch curve (path of the roller centre) in polar form is `r(φ) = R0 + x(φ)` for a follower
 //! on a line through the cam axis (`e = 0`), `x` the follower's displacement law.
 
+use crate::mechanics::Scalar;
+
 /// Curvature radius of a polar curve `r(φ)`:
 /// `ρ = (r² + r'²)^{3/2}/(r² + 2r'² − r·r'')` (`sewing-table.md`, ρpitch), derivatives in φ.
 ///
@@ -32,22 +34,22 @@ pub fn pitch_curvature_radius(r0: f64, x: f64, dx: f64, ddx: f64) -> f64 {
 /// `ρ = −|P'|³/(P' × P'')`: positive where convex (seen from the cam axis), as
 /// [`polar_curvature_radius`].
 #[inline]
-pub fn offset_pitch_curvature_radius(r0: f64, e: f64, x: f64, dx: f64, ddx: f64) -> f64 {
-    let y = (r0 * r0 - e * e).sqrt() + x;
+pub fn offset_pitch_curvature_radius<T: Scalar>(r0: f64, e: f64, x: T, dx: T, ddx: T) -> T {
+    let y = x + (r0 * r0 - e * e).sqrt();
     // V1 = Q' − K·Q with Q = (e, y), Q' = (0, dx), K·Q = (−y, e)
     let v1 = (y, dx - e);
     // V2 = Q'' − 2K·Q' − Q with Q'' = (0, ddx), K·Q' = (−dx, 0)
-    let v2 = (2.0 * dx - e, ddx - y);
+    let v2 = (dx * 2.0 - e, ddx - y);
     let n = v1.0 * v1.0 + v1.1 * v1.1;
     -(n * n.sqrt()) / (v1.0 * v2.1 - v1.1 * v2.0)
 }
 
 /// Pressure angle of a translating roller follower with offset `e` on a cam of base (pitch)
 /// radius `R0` (`sewing-table.md`): `θp = atan((dx/dφ − e)/(√(R0² − e²) + x))`, rad.
-/// Needs `|e| < R0`.
+/// Needs `|e| < R0`. Any [`Scalar`] law, as [`offset_pitch_curvature_radius`].
 #[inline]
-pub fn pressure_angle(r0: f64, e: f64, x: f64, dx: f64) -> f64 {
-    ((dx - e) / ((r0 * r0 - e * e).sqrt() + x)).atan()
+pub fn pressure_angle<T: Scalar>(r0: f64, e: f64, x: T, dx: T) -> T {
+    ((dx - e) / (x + (r0 * r0 - e * e).sqrt())).atan()
 }
 
 #[cfg(test)]
@@ -115,7 +117,7 @@ mod tests {
             epsilon = 1e-15
         );
         // Archimedean spiral r = R0 + c·φ, e = 0: tan θp = r'/r (angle of the normal to the radius).
-        let c = 0.02;
+        let c: f64 = 0.02;
         for phi in [0.0, 1.0, 2.5] {
             let th = pressure_angle(r0, 0.0, c * phi, c);
             assert_abs_diff_eq!(th.tan(), c / (r0 + c * phi), epsilon = 1e-15);

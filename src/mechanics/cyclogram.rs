@@ -60,9 +60,10 @@ pub struct CyclePoint<T = f64> {
     pub ddx: T,
 }
 
-impl CyclePoint {
-    /// Velocity `v = x'·ω` and acceleration `a = x''·ω² + x'·ε` (chain rule, `interface.md`).
-    pub fn motion(&self, w: f64, eps: f64) -> (f64, f64) {
+impl<T: Scalar> CyclePoint<T> {
+    /// Velocity `v = x'·ω` and acceleration `a = x''·ω² + x'·ε` (chain rule, `interface.md`;
+    /// any [`Scalar`]).
+    pub fn motion(&self, w: T, eps: T) -> (T, T) {
         (self.dx * w, self.ddx * w * w + self.dx * eps)
     }
 }

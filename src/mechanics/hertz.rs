@@ -60,9 +60,15 @@ pub fn reduced_modulus(e1: f64, e2: f64) -> f64 {
 /// Reduced curvature `1/ρ = 1/r1 ± 1/r2` (paper 002, below eq. 8), 1/m. `r2 = ∞` is a flat.
 #[inline]
 pub fn reduced_curvature<T: Scalar>(r1: f64, r2: T, surface: Surface) -> T {
+    // a flat (r2 infinite, over a whole stretch): 1/r2 = 0 with the derivative 0
+    let inv_r2 = if r2.re().is_infinite() {
+        T::from(1.0 / r2.re())
+    } else {
+        T::one() / r2
+    };
     match surface {
-        Surface::Convex => T::one() / r2 + 1.0 / r1,
-        Surface::Concave => T::from(1.0 / r1) - T::one() / r2,
+        Surface::Convex => inv_r2 + 1.0 / r1,
+        Surface::Concave => T::from(1.0 / r1) - inv_r2,
     }
 }
 
@@ -158,24 +164,25 @@ pub fn line_contact_stiffness(b: f64, e1: f64, e2: f64) -> f64 {
 }
 
 /// Force of the Hertz line contact at penetration `pen` (m): `K·pen^(10/9)`, 0 when `pen ≤ 0`
-/// (the contact cannot pull); with `dF/dpen`.
+/// (the contact cannot pull); with `dF/dpen` (any [`Scalar`]).
 #[inline]
-pub fn line_contact_force(k: f64, pen: f64) -> (f64, f64) {
-    if pen > 0.0 {
+pub fn line_contact_force<T: Scalar>(k: f64, pen: T) -> (T, T) {
+    if pen.re() > 0.0 {
         let p19 = pen.powf(1.0 / 9.0);
-        (k * pen * p19, 10.0 / 9.0 * k * p19)
+        (pen * k * p19, p19 * (10.0 / 9.0 * k))
     } else {
-        (0.0, 0.0)
+        (T::zero(), T::zero())
     }
 }
 
-/// Elastic energy stored in the Hertz line contact at penetration `pen`: `9/19·K·pen^(19/9)`, J.
+/// Elastic energy stored in the Hertz line contact at penetration `pen`: `9/19·K·pen^(19/9)`, J
+/// (any [`Scalar`]).
 #[inline]
-pub fn line_contact_energy(k: f64, pen: f64) -> f64 {
-    if pen > 0.0 {
-        9.0 / 19.0 * k * pen.powf(19.0 / 9.0)
+pub fn line_contact_energy<T: Scalar>(k: f64, pen: T) -> T {
+    if pen.re() > 0.0 {
+        pen.powf(19.0 / 9.0) * (9.0 / 19.0 * k)
     } else {
-        0.0
+        T::zero()
     }
 }
 

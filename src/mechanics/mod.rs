@@ -147,6 +147,20 @@ pub fn max_of<T: Scalar>(x: T, m: f64) -> T {
     if x.re() >= m { x } else { T::from(m) }
 }
 
+/// `f64::clamp(x, lo, hi)` for any [`Scalar`] (NaN stays NaN, as `f64::clamp`): the bound
+/// where `x` lies beyond it, with the derivative 0 there.
+#[inline]
+pub fn clamp_of<T: Scalar>(x: T, lo: f64, hi: f64) -> T {
+    debug_assert!(lo <= hi);
+    if x.re() < lo {
+        T::from(lo)
+    } else if x.re() > hi {
+        T::from(hi)
+    } else {
+        x
+    }
+}
+
 /// A parameter set a mechanism cannot work with: which parameter, its value and the violated
 /// condition (`interface.md`: refused at `fmi2ExitInitializationMode` with one log line).
 ///

@@ -13,7 +13,7 @@
 // `!(x > 0.0)` is deliberate throughout: a NaN parameter fails the check too.
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::dot;
+use super::{Scalar, dot};
 
 /// The line and the link.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -26,19 +26,26 @@ pub struct SliderLine {
     pub alpha: f64,
 }
 
-/// Slider position and link angle for a joint position and its derivatives in a parameter q.
+/// Slider position and link angle for a joint position and its derivatives in a parameter q
+/// (any [`Scalar`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct SliderPose {
+pub struct SliderPose<T = f64> {
     /// `s`, position of B along `u`.
-    pub s: f64,
+    pub s: T,
     /// `ds/dq`.
-    pub ds: f64,
+    pub ds: T,
     /// `d²s/dq²`.
-    pub dds: f64,
+    pub dds: T,
     /// `sin ν = (e − n·A)/l`.
-    pub sin_nu: f64,
+    pub sin_nu: T,
     /// `cos ν = √(l² − (e − n·A)²)/l`.
-    pub cos_nu: f64,
+    pub cos_nu: T,
+}
+
+/// A plane vector of `f64` as one of `T`.
+#[inline]
+fn of<T: Scalar>(x: (f64, f64)) -> (T, T) {
+    (T::from(x.0), T::from(x.1))
 }
 
 impl SliderLine {
@@ -52,19 +59,20 @@ impl SliderLine {
         (-self.alpha.sin(), self.alpha.cos())
     }
 
-    /// The slider B at position `s`.
-    pub fn b(&self, s: f64) -> (f64, f64) {
+    /// The slider B at position `s` (any [`Scalar`]).
+    pub fn b<T: Scalar>(&self, s: T) -> (T, T) {
         let (n, u) = (self.n(), self.u());
-        (self.e * n.0 + s * u.0, self.e * n.1 + s * u.1)
+        (s * u.0 + self.e * n.0, s * u.1 + self.e * n.1)
     }
 
     /// `s` and its derivatives for a joint at `a` moving with `a1 = dA/dq`, `a2 = d²A/dq²`:
     /// `s = u·A + c`, `c = √(l² − p²)`, `p = e − n·A`; `s' = u·A' + p·(n·A')/c`;
     /// `s'' = u·A'' + (p·(n·A'') − (n·A')²)/c − p²·(n·A')²/c³`. NaN if the link cannot reach.
-    pub fn pose(&self, a: (f64, f64), a1: (f64, f64), a2: (f64, f64)) -> SliderPose {
-        let (n, u) = (self.n(), self.u());
-        let p = self.e - dot(n, a);
-        let c = (self.l * self.l - p * p).sqrt();
+    /// Any [`Scalar`], with the same floating-point operations for `f64`.
+    pub fn pose<T: Scalar>(&self, a: (T, T), a1: (T, T), a2: (T, T)) -> SliderPose<T> {
+        let (n, u) = (of(self.n()), of(self.u()));
+        let p = T::from(self.e) - dot(n, a);
+        let c = (T::from(self.l * self.l) - p * p).sqrt();
         let m = dot(n, a1);
         let m2 = dot(n, a2);
         SliderPose {
@@ -78,18 +86,18 @@ impl SliderLine {
 
     /// Inverse for a joint on the circle `|A| = r`: the joint A for the slider at `s`, on the
     /// branch `sign` (±1: which side of the line from the origin to B). `None` if the circles do
-    /// not meet.
-    pub fn joint_on_circle(&self, r: f64, s: f64, sign: f64) -> Option<(f64, f64)> {
+    /// not meet. Any [`Scalar`] `s` (the branch decided on the real part).
+    pub fn joint_on_circle<T: Scalar>(&self, r: f64, s: T, sign: f64) -> Option<(T, T)> {
         let b = self.b(s);
         let d = dot(b, b).sqrt();
-        let a = (r * r - self.l * self.l + d * d) / (2.0 * d);
-        let h2 = r * r - a * a;
-        if !(h2 >= 0.0) {
+        let a = (d * d + (r * r - self.l * self.l)) / (d * 2.0);
+        let h2 = T::from(r * r) - a * a;
+        if !(h2.re() >= 0.0) {
             return None;
         }
         let h = h2.sqrt();
         let (bx, by) = (b.0 / d, b.1 / d);
-        Some((a * bx - sign * h * by, a * by + sign * h * bx))
+        Some((a * bx - h * sign * by, a * by + h * sign * bx))
     }
 
     /// Which branch a joint position lies on: the sign of `B × A` (for [`Self::joint_on_circle`]).

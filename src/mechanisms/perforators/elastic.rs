@@ -38,7 +38,7 @@
 
 use super::physics::{Drive, Forces, Kinematics};
 use crate::mechanics::hertz::{line_contact_energy, line_contact_force};
-use crate::mechanics::{STANDARD_GRAVITY, dot, sgn};
+use crate::mechanics::{STANDARD_GRAVITY, Scalar, dot, max_of, sgn};
 use crate::solver::chain::ChainOde;
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
@@ -71,29 +71,29 @@ impl Contact {
         Contact { law, k, c }
     }
 
-    /// Elastic force at penetration δ and its slope.
+    /// Elastic force at penetration δ and its slope (any [`Scalar`]).
     #[inline]
-    pub fn elastic(&self, pen: f64) -> (f64, f64) {
+    pub fn elastic<T: Scalar>(&self, pen: T) -> (T, T) {
         match self.law {
             ContactLaw::Hertz => line_contact_force(self.k, pen),
-            ContactLaw::Linear if pen > 0.0 => (self.k * pen, self.k),
-            ContactLaw::Linear => (0.0, 0.0),
+            ContactLaw::Linear if pen.re() > 0.0 => (pen * self.k, T::from(self.k)),
+            ContactLaw::Linear => (T::zero(), T::zero()),
         }
     }
 
-    /// Elastic energy at penetration δ.
-    pub fn energy(&self, pen: f64) -> f64 {
+    /// Elastic energy at penetration δ (any [`Scalar`]).
+    pub fn energy<T: Scalar>(&self, pen: T) -> T {
         match self.law {
             ContactLaw::Hertz => line_contact_energy(self.k, pen),
-            ContactLaw::Linear if pen > 0.0 => 0.5 * self.k * pen * pen,
-            ContactLaw::Linear => 0.0,
+            ContactLaw::Linear if pen.re() > 0.0 => pen * (0.5 * self.k) * pen,
+            ContactLaw::Linear => T::zero(),
         }
     }
 
-    /// Penetration at which the elastic force is `f` (≥ 0).
-    pub fn penetration_of(&self, f: f64) -> f64 {
-        if !(f > 0.0 && self.k > 0.0) {
-            return 0.0;
+    /// Penetration at which the elastic force is `f` (≥ 0; any [`Scalar`]).
+    pub fn penetration_of<T: Scalar>(&self, f: T) -> T {
+        if !(f.re() > 0.0 && self.k > 0.0) {
+            return T::zero();
         }
         match self.law {
             ContactLaw::Hertz => (f / self.k).powf(0.9),
@@ -171,39 +171,40 @@ pub struct LeverOde<'a> {
     pub out_of_range: Cell<f64>,
 }
 
-/// Everything at one instant.
+/// Everything at one instant (any [`Scalar`]: `f64` in the ODE, dual numbers for the exact
+/// partial derivatives).
 #[derive(Clone, Copy, Debug)]
-pub struct Point {
+pub struct Point<T = f64> {
     /// Rigid kinematics (the reference) at the shaft state.
-    pub rigid: Kinematics,
+    pub rigid: Kinematics<T>,
     /// Kinematics of the elastic lever (table motion as the rigid one).
-    pub kin: Kinematics,
+    pub kin: Kinematics<T>,
     /// Forces of the kinetostatic balance at the elastic state, with the dynamic contact force.
-    pub forces: Forces,
+    pub forces: Forces<T>,
     /// Penetration δ, m, and its rate, m/s.
-    pub pen: f64,
-    pub pen_d: f64,
+    pub pen: T,
+    pub pen_d: T,
     /// Elastic contact force F_el(δ), its slope, the force before the clamp, the contact force.
-    pub f_el: f64,
-    pub k_c: f64,
-    pub f_pre: f64,
-    pub f_c: f64,
+    pub f_el: T,
+    pub k_c: T,
+    pub f_pre: T,
+    pub f_c: T,
     /// Lever arms of the normal at the elastic and the rigid lever angle, m.
-    pub arm: f64,
-    pub arm_r: f64,
+    pub arm: T,
+    pub arm_r: T,
     /// Reduced inertia J + m·s'², kg·m².
-    pub j_eff: f64,
+    pub j_eff: T,
     /// `∂Δγ̈/∂F_c` of the balance (friction included), rad/(s²·N).
-    pub ga_fc: f64,
+    pub ga_fc: T,
     /// dW/dt, W.
-    pub power: f64,
+    pub power: T,
 }
 
 impl LeverOde<'_> {
-    /// Reduced inertia at lever angle Δγ.
-    pub fn j_eff(d: &Drive, g: f64) -> f64 {
+    /// Reduced inertia at lever angle Δγ (any [`Scalar`]).
+    pub fn j_eff<T: Scalar>(d: &Drive, g: T) -> T {
         let ds = d.made.carriage(g).ds;
-        d.p.lever_j + d.p.perf_m * ds * ds
+        ds * d.p.perf_m * ds + d.p.lever_j
     }
 
     /// The lever angles the linkage works in: from the lowest position down and up to where the
@@ -236,7 +237,7 @@ impl LeverOde<'_> {
     }
 
     /// The kinematics of the elastic lever at Δγ, Δγ̇, Δγ̈ on the table of `rigid`.
-    fn kin_at(&self, rigid: &Kinematics, g: f64, gw: f64, ga: f64) -> Kinematics {
+    fn kin_at<T: Scalar>(&self, rigid: &Kinematics<T>, g: T, gw: T, ga: T) -> Kinematics<T> {
         let p = &self.d.p;
         let pose = self.d.made.carriage(g);
         let (_, r1, _) = p.roller(g);
@@ -251,13 +252,15 @@ impl LeverOde<'_> {
             gamma_w: gw,
             gamma_a: ga,
             nu: pose.sin_nu.asin(),
-            rise: l4 * (p.gamma1.cos() - (p.gamma1 + g).cos()),
+            rise: (T::from(p.gamma1.cos()) - (g + p.gamma1).cos()) * l4,
             theta: (tr.0 * n.1 - tr.1 * n.0).atan2(dot(tr, n)),
             ..*rigid
         }
     }
 
-    pub fn point_at(&self, rigid: &Kinematics, y: &[f64]) -> Point {
+    /// The lever at the rigid motion `rigid` and the states `y` (any [`Scalar`]: the contact,
+    /// the clamp, the friction's directions and the secant steps decided on the real parts).
+    pub fn point_at<T: Scalar>(&self, rigid: &Kinematics<T>, y: &[T]) -> Point<T> {
         let d = self.d;
         let p = &d.p;
         let (g, gw) = (rigid.gamma - y[0], rigid.gamma_w - y[1]);
@@ -270,20 +273,20 @@ impl LeverOde<'_> {
         let n_t = (rigid.normal_x.0 * rigid.v_t, rigid.normal_x.1 * rigid.v_t);
         let pen_d = dot(n_t, (rr.0 - r.0, rr.1 - r.1)) + arm_r * rigid.gamma_w - arm * gw;
         let (f_el, k_c) = self.contact.elastic(pen);
-        let f_pre = if pen > 0.0 {
-            f_el + self.contact.c * pen_d
+        let f_pre = if pen.re() > 0.0 {
+            f_el + pen_d * self.contact.c
         } else {
-            0.0
+            T::zero()
         };
-        let f_c = f_pre.max(0.0);
+        let f_c = max_of(f_pre, 0.0);
         // directions of friction and piercing from the rigid motion
-        let sv = sgn(rigid.v);
-        let sw = sgn(rigid.gamma_w);
+        let sv = sgn(rigid.v.re());
+        let sw = sgn(rigid.gamma_w.re());
         let j_eff = Self::j_eff(d, g);
-        let outside = !(g >= self.range.0 && g <= self.range.1);
+        let outside = !(g.re() >= self.range.0 && g.re() <= self.range.1);
         // the balance is affine in the lever acceleration but for the friction's corners:
         // a Newton step with the frictionless slope J_eff/a, then secant steps
-        let resid = |ga: f64| {
+        let resid = |ga: T| {
             let k = self.kin_at(rigid, g, gw, ga);
             let f = d.forces_dir(&k, sv, sw);
             (f.roller_f - f_c, k, f)
@@ -291,17 +294,20 @@ impl LeverOde<'_> {
         let a0 = rigid.gamma_a;
         let (r0, mut kin, mut forces) = resid(a0);
         let mut ga_fc = arm / j_eff;
-        if r0 != 0.0 && r0.is_finite() {
+        if r0.re() != 0.0 && r0.re().is_finite() {
             let (mut a0, mut r0) = (a0, r0);
             let mut a1 = a0 - r0 * ga_fc;
             for _ in 0..4 {
                 let (r1, k1, f1) = resid(a1);
                 kin = k1;
                 forces = f1;
-                if r1 != r0 && r1.is_finite() {
+                if r1.re() != r0.re() && r1.re().is_finite() {
                     ga_fc = (a1 - a0) / (r1 - r0);
                 }
-                if r1.abs() <= 1e-12 * f_c.max(1.0) || r1 == r0 || !r1.is_finite() {
+                if r1.re().abs() <= 1e-12 * f_c.re().max(1.0)
+                    || r1.re() == r0.re()
+                    || !r1.re().is_finite()
+                {
                     break;
                 }
                 let a2 = a1 - r1 * ga_fc;
@@ -313,14 +319,14 @@ impl LeverOde<'_> {
             // no position of the linkage: the integrator meets a non-finite derivative and
             // fails the step; the model names the angle
             if self.out_of_range.get().is_nan() {
-                self.out_of_range.set(g);
+                self.out_of_range.set(g.re());
             }
-            kin.gamma_a = f64::NAN;
+            kin.gamma_a = T::from(f64::NAN);
         }
         let (sa, _) = p.alpha.sin_cos();
         let ds = d.made.carriage(g).ds;
-        let q_fr = forces.joint_m - ds * (forces.pierce_q + p.guide_mu * forces.guide_n) * sv;
-        let power = gw * (q_fr - p.perf_m * ds * rigid.a_t * sa)
+        let q_fr = forces.joint_m - ds * (forces.pierce_q + forces.guide_n * p.guide_mu) * sv;
+        let power = gw * (q_fr - ds * p.perf_m * rigid.a_t * sa)
             + (f_c - f_el) * arm * gw
             + f_el * (pen_d + arm * gw);
         Point {
@@ -341,9 +347,39 @@ impl LeverOde<'_> {
         }
     }
 
-    /// Kinetostatic (rigid) contact force at time t.
-    pub fn rigid_force(&self, rigid: &Kinematics) -> f64 {
+    /// Kinetostatic (rigid) contact force at time t (any [`Scalar`]).
+    pub fn rigid_force<T: Scalar>(&self, rigid: &Kinematics<T>) -> T {
         self.d.forces(rigid).roller_f
+    }
+
+    /// [`ChainOde::energy`] at a point, any [`Scalar`].
+    pub fn energy_of<T: Scalar>(&self, pt: &Point<T>) -> T {
+        let p = &self.d.p;
+        let g = pt.kin.gamma;
+        pt.j_eff * 0.5 * pt.kin.gamma_w * pt.kin.gamma_w
+            + g * p.spring_m0
+            + g * (0.5 * p.spring_kt) * g
+            + pt.kin.s * (p.perf_m * STANDARD_GRAVITY * p.alpha.cos())
+            + self.contact.energy(pt.pen)
+    }
+
+    /// [`ChainOde::initial_state`] on the rigid motion `rigid`, any [`Scalar`].
+    pub fn initial_state_at<T: Scalar>(&self, rigid: &Kinematics<T>) -> [T; 3] {
+        let f = self.d.forces(rigid).roller_f;
+        let pen = self.contact.penetration_of(f);
+        let p = &self.d.p;
+        let n = rigid.normal;
+        let (rr, rr1, _) = p.roller(rigid.gamma);
+        let arm_r = dot(n, rr1);
+        // Newton on n·(R(Δγ_r) − R(Δγ_r − q)) = δ
+        let mut q = pen / arm_r;
+        for _ in 0..3 {
+            let (r, r1, _) = p.roller(rigid.gamma - q);
+            q -= (dot(n, (rr.0 - r.0, rr.1 - r.1)) - pen) / dot(n, r1);
+        }
+        let (_, r1, _) = p.roller(rigid.gamma - q);
+        let arm = dot(n, r1);
+        [q, rigid.gamma_w * (T::one() - arm_r / arm), T::zero()]
     }
 
     fn boundaries(&self) -> [f64; 4] {
@@ -376,34 +412,14 @@ impl ChainOde for LeverOde<'_> {
     }
     /// Energy of lever, carriage, spring 13, weight and contact, table frame, J.
     fn energy(&self, pt: &Point) -> f64 {
-        let p = &self.d.p;
-        let g = pt.kin.gamma;
-        0.5 * pt.j_eff * pt.kin.gamma_w * pt.kin.gamma_w
-            + p.spring_m0 * g
-            + 0.5 * p.spring_kt * g * g
-            + p.perf_m * STANDARD_GRAVITY * p.alpha.cos() * pt.kin.s
-            + self.contact.energy(pt.pen)
+        self.energy_of(pt)
     }
     /// The lever in equilibrium on its rigid motion at time t: pressed in by the kinetostatic
     /// contact force (on the ramp without force if that is negative), at the rigid normal speed.
     fn initial_state(&self, t: f64) -> [f64; 3] {
         let (phi, w, a) = self.path.at(t);
         let rigid = self.d.kinematics(phi, w, a);
-        let f = self.d.forces(&rigid).roller_f;
-        let pen = self.contact.penetration_of(f);
-        let p = &self.d.p;
-        let n = rigid.normal;
-        let (rr, rr1, _) = p.roller(rigid.gamma);
-        let arm_r = dot(n, rr1);
-        // Newton on n·(R(Δγ_r) − R(Δγ_r − q)) = δ
-        let mut q = pen / arm_r;
-        for _ in 0..3 {
-            let (r, r1, _) = p.roller(rigid.gamma - q);
-            q -= (dot(n, (rr.0 - r.0, rr.1 - r.1)) - pen) / dot(n, r1);
-        }
-        let (_, r1, _) = p.roller(rigid.gamma - q);
-        let arm = dot(n, r1);
-        [q, rigid.gamma_w * (1.0 - arm_r / arm), 0.0]
+        self.initial_state_at(&rigid)
     }
 }
 

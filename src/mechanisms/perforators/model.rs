@@ -16,12 +16,13 @@ use super::physics::{Drive, Kinematics, Made, Mode, Params};
 use crate::digest::TurnDigest;
 use crate::mechanics::cyclogram::Phase;
 use crate::mechanics::hertz::Roller;
+use crate::mechanics::{clamp_of, max_of, min_of};
 use crate::mechanisms::contact_watch::{ContactWatch, WatchedContact, times};
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
-use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
+use crate::model::partials::{Dual64, Scalar, Seeded};
+use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, Outcome, ParamError, Stage, Values};
-use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel, Saved};
 use crate::solver::{Integrator, OdeSystem, ShaftPath};
 use std::cell::Cell;
@@ -170,17 +171,75 @@ impl WatchedContact for Drive {
     }
 }
 
-/// The linkage's positions and rates of a [`Kinematics`] (both levels write them).
-fn write_kinematics(v: &mut Values<V>, k: &Kinematics) {
-    v[V::perforators_s] = k.s;
-    v[V::perforators_v] = k.v;
-    v[V::perforators_a] = k.a;
-    v[V::lever_gamma] = k.gamma;
-    v[V::lever_w] = k.gamma_w;
-    v[V::lever_a] = k.gamma_a;
-    v[V::rod_nu] = k.nu;
-    v[V::roller_rise] = k.rise;
-    v[V::ramp_theta] = k.theta;
+/// The linkage's positions and rates of a [`Kinematics`] (every level puts them).
+fn write_kinematics<T: Scalar>(k: &Kinematics<T>, put: &mut impl FnMut(V, T)) {
+    put(V::perforators_s, k.s);
+    put(V::perforators_v, k.v);
+    put(V::perforators_a, k.a);
+    put(V::lever_gamma, k.gamma);
+    put(V::lever_w, k.gamma_w);
+    put(V::lever_a, k.gamma_a);
+    put(V::rod_nu, k.nu);
+    put(V::roller_rise, k.rise);
+    put(V::ramp_theta, k.theta);
+}
+
+/// The kinetostatic level's forces, held at the kinematic level (with `roller.F_margin`).
+const RIGID_FORCES: [V; 7] = [
+    V::pierce_Q_out,
+    V::perforators_F_inertia,
+    V::rod_F,
+    V::spring_M,
+    V::roller_F,
+    V::roller_sigma_H,
+    V::table_F,
+];
+
+/// The elastodynamic level's outputs and the Model Exchange state derivatives, which the rigid
+/// levels do not write (held; the derivatives are 0 there, as `fmi2GetDerivatives` gives).
+const HELD_BELOW_ELASTIC: [V; 7] = [
+    V::elastic_F,
+    V::roller_F_kin,
+    V::contact_F_impact,
+    V::elastic_E_residual,
+    V::der_elastic_q,
+    V::der_elastic_qd,
+    V::der_elastic_W,
+];
+
+/// What [`Perforators::outputs`] computes besides the kinematics.
+#[derive(Clone, Copy, Debug)]
+struct Wants {
+    /// The kinetostatic level's forces (and the torque).
+    loads: bool,
+    /// The Hertz stress.
+    hertz: bool,
+}
+
+impl Wants {
+    fn of(v: &Values<V>) -> Wants {
+        Wants {
+            loads: shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS),
+            hertz: v.wants(stage::HERTZ),
+        }
+    }
+}
+
+/// The elastodynamic level's part of [`Perforators::outputs`]: the chain's ODE, its states and
+/// the rigid kinematics as a function of the shaft acceleration (at the same angle and speed).
+struct Elastic<'a, T> {
+    ode: &'a LeverOde<'a>,
+    y: [T; 3],
+    a: T,
+    rigid_at: &'a dyn Fn(T) -> Kinematics<T>,
+}
+
+/// What [`Perforators::outputs`] gives `evaluate` for its Boolean outputs.
+struct Discrete {
+    /// The roller off the ramp or not pressing (elastodynamic), pulled (kinetostatic).
+    lost: bool,
+    /// The roller off the ramp (`contact.open`).
+    open: bool,
 }
 
 /// The contact of the elastodynamic level from the `contact.*` parameters.
@@ -286,73 +345,157 @@ impl Perforators {
             && v.wants(stage::WATCH)
     }
 
-    /// Outputs of the elastodynamic level; returns the shaft torque.
-    fn evaluate_dynamic(&self, v: &mut Values<V>, time: f64) -> f64 {
-        let d = self.dynamic.as_ref().expect("elastodynamic level");
-        let ode = d.ode(&self.drive, shaft::path(v, time), v);
-        let y = d.held_state(&ode, time);
-        let pt = ode.point(time, &y);
+    /// Every continuous Real output at the shaft state `st`, as `put(variable, value)`, and at
+    /// the elastodynamic level (`chain`) the state derivatives: the one source of the outputs
+    /// ([`Model::evaluate`], `f64`) and of their exact partial derivatives ([`Model::partials`],
+    /// dual numbers). What a level does not compute is not put (held: [`RIGID_FORCES`] and
+    /// `roller.F_margin` at the kinematic level, [`HELD_BELOW_ELASTIC`] below the elastodynamic
+    /// one).
+    fn outputs<T: Scalar>(
+        &self,
+        w: Wants,
+        st: &ShaftState<T>,
+        chain: Option<Elastic<'_, T>>,
+        mut put: impl FnMut(V, T),
+    ) -> Discrete {
+        let d = &self.drive;
+        let k = d.kinematics(st.phi, st.w, st.a);
+        put(V::lever_gamma_kin, k.gamma);
+        // a flat stretch (the dwells) has an infinite radius: reported as RHO_FLAT
+        put(V::ramp_rho, clamp_of(k.rho, -RHO_FLAT, RHO_FLAT));
+        put(V::table_x, k.x_t);
+        if let (Some(dy), Some(c)) = (self.dynamic.as_ref(), chain) {
+            let (tau, discrete) = self.outputs_dynamic(dy, c, &mut put);
+            put(V::shaft_tau, tau);
+            put(V::shaft_P, tau * st.w);
+            return discrete;
+        }
+        write_kinematics(&k, &mut put);
+        put(V::elastic_deflection, T::zero());
+        put(V::contact_pen, T::zero());
+        put(V::dyn_factor, T::one());
+        let mut lost = false;
+        let tau = if w.loads {
+            let f = d.forces_with(&k, w.hertz);
+            put(V::pierce_Q_out, f.pierce_q);
+            put(V::perforators_F_inertia, f.f_inertia);
+            put(V::rod_F, f.rod_f);
+            put(V::spring_M, f.spring_m);
+            put(V::roller_F, f.roller_f);
+            put(V::roller_sigma_H, f.sigma_h);
+            put(V::table_F, f.table_f);
+            lost = f.roller_f.re() < 0.0;
+            put(V::roller_F_margin, self.state.margin(f.roller_f));
+            Some(f.tau)
+        } else {
+            None
+        };
+        shaft::rigid_torque(
+            st,
+            tau,
+            |a| d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau,
+            |vr, x| {
+                put(
+                    match vr {
+                        shaft::J_RED => V::shaft_J_red,
+                        shaft::TAU0 => V::shaft_tau0,
+                        shaft::TAU => V::shaft_tau,
+                        _ => V::shaft_P,
+                    },
+                    x,
+                )
+            },
+        );
+        Discrete { lost, open: false }
+    }
+
+    /// The elastodynamic level's part of [`Perforators::outputs`] (`shaft.J_red`,
+    /// `shaft.tau0`: the split at the held state, only the shaft acceleration changing);
+    /// returns the shaft torque. `dyn.factor` during the first turn and `roller.F_margin`
+    /// before a turn is complete include the force now (their derivative is that of the
+    /// current value where it is the extreme); `contact.F_impact` and the figures of completed
+    /// turns are constants now (derivative 0).
+    fn outputs_dynamic<T: Scalar>(
+        &self,
+        dy: &Dynamic,
+        c: Elastic<'_, T>,
+        put: &mut impl FnMut(V, T),
+    ) -> (T, Discrete) {
+        let Elastic {
+            ode,
+            y,
+            a,
+            rigid_at,
+        } = c;
+        let pt = ode.point_at(&rigid_at(a), &y);
         let k = &pt.kin;
         let f = &pt.forces;
-        write_kinematics(v, k);
-        v[V::pierce_Q_out] = f.pierce_q;
-        v[V::perforators_F_inertia] = f.f_inertia;
-        v[V::rod_F] = f.rod_f;
-        v[V::spring_M] = f.spring_m;
-        v[V::roller_F] = pt.f_c;
-        v[V::roller_sigma_H] = if pt.f_c > 0.0 && f.roller_f > 0.0 {
-            // Hertz stress grows with the square root of the force
-            f.sigma_h * (pt.f_c / f.roller_f).sqrt()
-        } else {
-            0.0
-        };
-        v[V::table_F] = f.table_f;
-        let lost = !(pt.pen > 0.0 && pt.f_pre > 0.0);
-        v.set_flag(V::roller_lost_contact, d.memory.lost.step || lost);
-        let t = &d.memory.track;
-        v[V::roller_F_margin] = if t.last_min.is_finite() {
-            t.last_min
-        } else {
-            t.peaks.dyn_min.min(pt.f_c)
-        };
-        v[V::elastic_deflection] = y[0];
-        v[V::contact_pen] = pt.pen;
-        v.set_flag(V::contact_open, pt.pen < 0.0);
-        v[V::elastic_F] = pt.f_c;
-        let f_rigid = ode.rigid_force(&pt.rigid);
-        v[V::roller_F_kin] = f_rigid;
-        v[V::dyn_factor] = if t.k_d.is_nan() {
-            let rigid_max = t.peaks.rigid_max.max(f_rigid.abs());
-            if rigid_max > 0.0 {
-                t.peaks.dyn_max.max(pt.f_c) / rigid_max
+        write_kinematics(k, put);
+        put(V::pierce_Q_out, f.pierce_q);
+        put(V::perforators_F_inertia, f.f_inertia);
+        put(V::rod_F, f.rod_f);
+        put(V::spring_M, f.spring_m);
+        put(V::roller_F, pt.f_c);
+        put(
+            V::roller_sigma_H,
+            if pt.f_c.re() > 0.0 && f.roller_f.re() > 0.0 {
+                // Hertz stress grows with the square root of the force
+                f.sigma_h * (pt.f_c / f.roller_f).sqrt()
             } else {
-                1.0
-            }
-        } else {
-            t.k_d
-        };
-        v[V::contact_liftoffs] = t.liftoffs;
-        v[V::contact_F_impact] = t.impact;
-        v[V::elastic_E_residual] = if d.started {
-            ode.energy(&pt) - d.e0 - y[2]
-        } else {
-            0.0
-        };
-        v[V::solver_steps] = d.integ.mem.stats.steps as f64;
-        let states = [V::elastic_q, V::elastic_qd, V::elastic_W];
-        let ders = [V::der_elastic_q, V::der_elastic_qd, V::der_elastic_W];
-        let qdd = pt.rigid.gamma_a - k.gamma_a;
-        chain::write_states(v, states, ders, &y, qdd, pt.power);
-        // the split of shaft.tau at the held state: only the shaft acceleration changes
-        let path = ode.path;
-        let r = shaft::reduce(|a| {
-            d.ode(&self.drive, ShaftPath { a, ..path }, v)
-                .point(time, &y)
-                .forces
-                .tau
-        });
-        shaft::set_reduced(v, r);
-        f.tau
+                T::zero()
+            },
+        );
+        put(V::table_F, f.table_f);
+        let lost = !(pt.pen.re() > 0.0 && pt.f_pre.re() > 0.0);
+        let t = &dy.memory.track;
+        put(
+            V::roller_F_margin,
+            if t.last_min.is_finite() {
+                T::from(t.last_min)
+            } else {
+                min_of(pt.f_c, t.peaks.dyn_min)
+            },
+        );
+        put(V::elastic_deflection, y[0]);
+        put(V::contact_pen, pt.pen);
+        put(V::elastic_F, pt.f_c);
+        let f_rigid = ode.rigid_force(&pt.rigid);
+        put(V::roller_F_kin, f_rigid);
+        put(
+            V::dyn_factor,
+            if t.k_d.is_nan() {
+                let rigid_max = max_of(f_rigid.abs(), t.peaks.rigid_max);
+                if rigid_max.re() > 0.0 {
+                    max_of(pt.f_c, t.peaks.dyn_max) / rigid_max
+                } else {
+                    T::one()
+                }
+            } else {
+                T::from(t.k_d)
+            },
+        );
+        put(V::contact_F_impact, T::from(t.impact));
+        put(
+            V::elastic_E_residual,
+            if dy.started {
+                ode.energy_of(&pt) - dy.e0 - y[2]
+            } else {
+                T::zero()
+            },
+        );
+        put(V::der_elastic_q, y[1]);
+        put(V::der_elastic_qd, pt.rigid.gamma_a - k.gamma_a);
+        put(V::der_elastic_W, pt.power);
+        let r = shaft::reduce(|a| ode.point_at(&rigid_at(a), &y).forces.tau);
+        put(V::shaft_J_red, r.j_red);
+        put(V::shaft_tau0, r.tau0);
+        (
+            f.tau,
+            Discrete {
+                lost: dy.memory.lost.step || lost,
+                open: pt.pen.re() < 0.0,
+            },
+        )
     }
 }
 
@@ -407,43 +550,96 @@ impl Model for Perforators {
         v[V::contact_K_hertz] = Contact::new(d, ContactLaw::Hertz, c.k, c.c).k;
         v[V::contact_m_red] = LeverOde::reduced_mass(d);
         let st = shaft::state(v, time);
-        let k = d.kinematics(st.phi, st.w, st.a);
-        v[V::lever_gamma_kin] = k.gamma;
-        write_kinematics(v, &k);
-        // a flat stretch (the dwells) has an infinite radius: reported as RHO_FLAT
-        v[V::ramp_rho] = k.rho.clamp(-RHO_FLAT, RHO_FLAT);
-        v[V::table_x] = k.x_t;
-        if self.dynamic.is_some() {
-            let tau = self.evaluate_dynamic(v, time);
-            shaft::set_outputs(v, tau, st.w);
-            return;
-        }
-        v[V::elastic_deflection] = 0.0;
-        v[V::contact_pen] = 0.0;
-        v.set_flag(V::contact_open, false);
-        v[V::dyn_factor] = 1.0;
-        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::LOADS) {
-            let f = d.forces_with(&k, v.wants(stage::HERTZ));
-            v[V::pierce_Q_out] = f.pierce_q;
-            v[V::perforators_F_inertia] = f.f_inertia;
-            v[V::rod_F] = f.rod_f;
-            v[V::spring_M] = f.spring_m;
-            v[V::roller_F] = f.roller_f;
-            v[V::roller_sigma_H] = f.sigma_h;
-            v[V::table_F] = f.table_f;
+        let wants = Wants::of(v);
+        let chain = self.dynamic.as_ref().map(|dy| {
+            let ode = dy.ode(d, shaft::path(v, time), v);
+            let y = dy.held_state(&ode, time);
+            (ode, y)
+        });
+        // the rigid motion as the ODE's point takes it: on the step's path, its acceleration `a`
+        let rigid_at = |a: f64| {
+            let path = chain.as_ref().expect("elastodynamic level").0.path;
+            let (phi, w, a) = ShaftPath { a, ..path }.at(time);
+            d.kinematics(phi, w, a)
+        };
+        let elastic = chain.as_ref().map(|(ode, y)| Elastic {
+            ode,
+            y: *y,
+            a: ode.path.a,
+            rigid_at: &rigid_at,
+        });
+        let out = self.outputs(wants, &st, elastic, |var, x| v[var] = x);
+        if let (Some(dy), Some((_, y))) = (self.dynamic.as_ref(), chain.as_ref()) {
+            for (s, x) in [V::elastic_q, V::elastic_qd, V::elastic_W]
+                .into_iter()
+                .zip(y)
+            {
+                v[s] = *x;
+            }
+            v[V::contact_liftoffs] = dy.memory.track.liftoffs;
+            v[V::solver_steps] = dy.integ.mem.stats.steps as f64;
+            v.set_flag(V::roller_lost_contact, out.lost);
+        } else {
             v.set_flag(
                 V::roller_lost_contact,
-                self.state.lost_step || f.roller_f < 0.0,
+                wants.loads && (self.state.lost_step || out.lost),
             );
-            v[V::roller_F_margin] = self.state.margin(f.roller_f);
-            Some(f.tau)
-        } else {
-            v.set_flag(V::roller_lost_contact, false);
-            None
-        };
-        shaft::set_rigid_torque(v, &st, tau, |a| {
-            d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau
+        }
+        v.set_flag(V::contact_open, out.open);
+    }
+
+    const PARTIALS: bool = true;
+
+    /// The outputs (and in Model Exchange the state derivatives) on [`Dual64`] seeded along
+    /// the inputs (`shaft.phi`, `shaft.w`, `shaft.a`) and, at the elastodynamic level, the
+    /// states `elastic.q`, `elastic.qd`, `elastic.W` (knowns in Model Exchange; in
+    /// Co-Simulation their seeds are 0: the held state of the last step is a constant; before
+    /// the first step the state the integration starts from, a function of the inputs): the
+    /// same [`Perforators::outputs`]. What `evaluate` holds at a level has the derivative 0
+    /// ([`RIGID_FORCES`] and `roller.F_margin` at the kinematic level, [`HELD_BELOW_ELASTIC`]).
+    fn partials(
+        &mut self,
+        at: &Seeded<V>,
+        time: f64,
+        put: &mut dyn FnMut(V, Dual64),
+    ) -> Result<(), String> {
+        let v = at.values();
+        let d = &self.drive;
+        let st = shaft::state_of(v, time, |vr| at.get_vr(vr));
+        let wants = Wants::of(v);
+        let rigid_at = |a: Dual64| d.kinematics(st.phi, st.w, a);
+        let chain = self.dynamic.as_ref().map(|dy| {
+            let ode = dy.ode(d, shaft::path(v, time), v);
+            let y = if dy.started {
+                [
+                    at.own(V::elastic_q, dy.y[0]),
+                    at.own(V::elastic_qd, dy.y[1]),
+                    at.own(V::elastic_W, dy.y[2]),
+                ]
+            } else {
+                ode.initial_state_at(&rigid_at(st.a))
+            };
+            (ode, y)
         });
+        let elastic = chain.as_ref().map(|(ode, y)| Elastic {
+            ode,
+            y: *y,
+            a: st.a,
+            rigid_at: &rigid_at,
+        });
+        self.outputs(wants, &st, elastic, &mut *put);
+        if chain.is_none() {
+            let zero = Dual64::from(0.0);
+            for var in HELD_BELOW_ELASTIC {
+                put(var, zero);
+            }
+            if !wants.loads {
+                for var in RIGID_FORCES.into_iter().chain([V::roller_F_margin]) {
+                    put(var, zero);
+                }
+            }
+        }
+        Ok(())
     }
 
     /// The lift-offs of the unfinished turn are reported.

@@ -180,63 +180,67 @@ pub struct Drive {
     pub made_s0: f64,
 }
 
-/// Kinematics at one shaft state.
+/// Kinematics at one shaft state (any [`Scalar`]: `f64`, or dual numbers for the exact partial
+/// derivatives in the inputs).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Kinematics {
+pub struct Kinematics<T = f64> {
     pub phase: i32,
     /// Table position x_t, `dx_t/dφ`, velocity, acceleration.
-    pub x_t: f64,
-    pub x_t_d: f64,
-    pub v_t: f64,
-    pub a_t: f64,
+    pub x_t: T,
+    pub x_t_d: T,
+    pub v_t: T,
+    pub a_t: T,
     /// `perforators.s`, `.v`, `.a`.
-    pub s: f64,
-    pub v: f64,
-    pub a: f64,
+    pub s: T,
+    pub v: T,
+    pub a: T,
     /// `lever.gamma` Δγ, `lever.w`, `lever.a`; `dΔγ/dx_t`, `d²Δγ/dx_t²`.
-    pub gamma: f64,
-    pub gamma_w: f64,
-    pub gamma_a: f64,
-    pub gamma_x: f64,
-    pub gamma_xx: f64,
+    pub gamma: T,
+    pub gamma_w: T,
+    pub gamma_a: T,
+    pub gamma_x: T,
+    pub gamma_xx: T,
     /// `rod.nu`, rad.
-    pub nu: f64,
+    pub nu: T,
     /// `roller.rise`, m.
-    pub rise: f64,
+    pub rise: T,
     /// Ramp: upward unit normal (ground frame), `ramp.theta`, `ramp.rho` (profile, + convex).
-    pub normal: (f64, f64),
+    pub normal: (T, T),
     /// `dn/dx_t` of that normal, 1/m (the elastodynamic level's penetration rate).
-    pub normal_x: (f64, f64),
-    pub theta: f64,
-    pub rho: f64,
+    pub normal_x: (T, T),
+    pub theta: T,
+    pub rho: T,
 }
 
-/// Forces at one shaft state.
+/// Forces at one shaft state (any [`Scalar`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Forces {
+pub struct Forces<T = f64> {
     /// `pierce.Q` (≥ 0, against the needles' motion).
-    pub pierce_q: f64,
+    pub pierce_q: T,
     /// `perforators.F_inertia`.
-    pub f_inertia: f64,
+    pub f_inertia: T,
     /// `rod.F`, compression positive.
-    pub rod_f: f64,
+    pub rod_f: T,
     /// Carriage guide normal force (magnitude).
-    pub guide_n: f64,
+    pub guide_n: T,
     /// `spring.M`.
-    pub spring_m: f64,
+    pub spring_m: T,
     /// Hinge friction moment reduced to the lever.
-    pub joint_m: f64,
+    pub joint_m: T,
     /// `roller.F`: contact force the ramp must push with (< 0: lift-off).
-    pub roller_f: f64,
+    pub roller_f: T,
     /// `roller.sigma_H`.
-    pub sigma_h: f64,
+    pub sigma_h: T,
     /// `table.F`: force on the table along +x_t.
-    pub table_f: f64,
+    pub table_f: T,
     /// `shaft.tau`: the perforators' share at the main shaft, `−table.F·dx_t/dφ`.
-    pub tau: f64,
+    pub tau: T,
 }
 
 const SAMPLES: usize = 2000;
+
+/// A point of a plane curve with its first and second derivatives.
+pub type Vec3<T = f64> = ((T, T), (T, T), (T, T));
 
 impl Params {
     /// Paper 000, eqs. (2)-(4).
@@ -279,22 +283,22 @@ impl Params {
         }
     }
 
-    /// Rod joint A, `dA/dΔγ`, `d²A/dΔγ²`, m.
-    pub fn joint_a(&self, g: f64) -> ((f64, f64), (f64, f64), (f64, f64)) {
+    /// Rod joint A, `dA/dΔγ`, `d²A/dΔγ²`, m (any [`Scalar`]).
+    pub fn joint_a<T: Scalar>(&self, g: T) -> Vec3<T> {
         let r = self.lambda3 * self.unit;
         let (s, c) = (g - self.gamma0).sin_cos();
-        ((r * c, r * s), (-r * s, r * c), (-r * c, -r * s))
+        ((c * r, s * r), (s * -r, c * r), (c * -r, s * -r))
     }
 
-    /// Roller centre R, `dR/dΔγ`, `d²R/dΔγ²` in the lever frame, m.
-    pub fn roller(&self, g: f64) -> ((f64, f64), (f64, f64), (f64, f64)) {
+    /// Roller centre R, `dR/dΔγ`, `d²R/dΔγ²` in the lever frame, m (any [`Scalar`]).
+    pub fn roller<T: Scalar>(&self, g: T) -> Vec3<T> {
         let r = self.lambda4 * self.unit;
-        let (s, c) = (self.gamma1 + g).sin_cos();
-        ((r * s, -r * c), (r * c, r * s), (-r * s, r * c))
+        let (s, c) = (g + self.gamma1).sin_cos();
+        ((s * r, c * -r), (c * r, s * r), (s * -r, c * r))
     }
 
-    /// Carriage position `s(Δγ)` along `u` and its derivatives, m.
-    pub fn carriage(&self, g: f64) -> crate::mechanics::slider_line::SliderPose {
+    /// Carriage position `s(Δγ)` along `u` and its derivatives, m (any [`Scalar`]).
+    pub fn carriage<T: Scalar>(&self, g: T) -> crate::mechanics::slider_line::SliderPose<T> {
         let (a, a1, a2) = self.joint_a(g);
         self.slider_line().pose(a, a1, a2)
     }
@@ -334,7 +338,7 @@ impl Params {
         let s0 = self.carriage(0.0).s;
         let target = self.lambda_s * self.unit;
         // exact swing: s rises monotonically from s(0) until it reaches s0 + λS
-        let (mut lo, mut hi) = (0.0, 0.0);
+        let (mut lo, mut hi) = (0.0f64, 0.0f64);
         let step = 1e-3;
         loop {
             let g = hi + step;
@@ -435,15 +439,20 @@ impl Drive {
         (self.p.carriage(self.gamma_paper).s - self.s0) / (self.p.lambda_s * self.p.unit) - 1.0
     }
 
-    /// Lever angle for a perforator displacement `s_p` (the inverse of `perforators.md`).
-    pub fn gamma_of(&self, s_p: f64) -> f64 {
+    /// Lever angle for a perforator displacement `s_p` (the inverse of `perforators.md`; any
+    /// [`Scalar`]).
+    pub fn gamma_of<T: Scalar>(&self, s_p: T) -> T {
         let a = self
             .line
-            .joint_on_circle(self.p.lambda3 * self.p.unit, self.s0 + s_p, self.branch)
-            .unwrap_or((f64::NAN, f64::NAN));
+            .joint_on_circle(self.p.lambda3 * self.p.unit, s_p + self.s0, self.branch)
+            .unwrap_or((T::from(f64::NAN), T::from(f64::NAN)));
         let g = a.1.atan2(a.0) + self.p.gamma0;
         // keep Δγ continuous through ±π
-        if g > std::f64::consts::PI { g - TAU } else { g }
+        if g.re() > std::f64::consts::PI {
+            g - TAU
+        } else {
+            g
+        }
     }
 
     /// The needles' law over the table travel: `(s_p, ds_p/dx_t, d²s_p/dx_t²)`.
@@ -457,26 +466,27 @@ impl Drive {
         }
     }
 
-    /// Lever angle as a function of the table position: `(Δγ, dΔγ/dx_t, d²Δγ/dx_t²)`.
-    pub fn gamma_of_x(&self, x_t: f64) -> (f64, f64, f64, f64, f64, f64) {
+    /// Lever angle as a function of the table position: `(Δγ, dΔγ/dx_t, d²Δγ/dx_t²)`, and the
+    /// needle law's `(s_p, ds_p/dx_t, d²s_p/dx_t²)` (any [`Scalar`]).
+    pub fn gamma_of_x<T: Scalar>(&self, x_t: T) -> (T, T, T, T, T, T) {
         let (s, sx, sxx) = self.needle_law(x_t);
         let g = self.gamma_of(s);
         let c = self.p.carriage(g);
-        let gs = 1.0 / c.ds;
+        let gs = T::one() / c.ds;
         let gss = -c.dds * gs * gs * gs;
         (g, gs * sx, gss * sx * sx + gs * sxx, s, sx, sxx)
     }
 
     /// Ramp pitch curve in the ground frame (lever frame at loading): `C(x_t) = (−x_t, 0) + R(Δγ)`,
     /// with `C'`, `C''` in x_t.
-    pub fn ramp(&self, x_t: f64) -> ((f64, f64), (f64, f64), (f64, f64)) {
+    pub fn ramp<T: Scalar>(&self, x_t: T) -> Vec3<T> {
         let (g, gx, gxx, ..) = self.gamma_of_x(x_t);
         self.ramp_at(x_t, g, gx, gxx)
     }
 
     /// [`Drive::ramp`] at `x_t` from the lever angle there and its derivatives in `x_t`
     /// ([`Drive::gamma_of_x`], which a caller that has them need not repeat).
-    fn ramp_at(&self, x_t: f64, g: f64, gx: f64, gxx: f64) -> ((f64, f64), (f64, f64), (f64, f64)) {
+    fn ramp_at<T: Scalar>(&self, x_t: T, g: T, gx: T, gxx: T) -> Vec3<T> {
         let (r, r1, r2) = self.p.roller(g);
         (
             (r.0 - x_t, r.1),
@@ -499,16 +509,25 @@ impl Drive {
         self.frame_of(c1, c2)
     }
 
-    /// [`Drive::ramp_frame`] from the pitch curve's first and second derivatives.
-    fn frame_of(&self, c1: (f64, f64), c2: (f64, f64)) -> ((f64, f64), f64, bool, (f64, f64)) {
+    /// [`Drive::ramp_frame`] from the pitch curve's first and second derivatives (any
+    /// [`Scalar`]; valley or hill decided on the real parts).
+    #[allow(clippy::type_complexity)]
+    fn frame_of<T: Scalar>(&self, c1: (T, T), c2: (T, T)) -> ((T, T), T, bool, (T, T)) {
         let len = dot(c1, c1).sqrt();
         let t = (c1.0 / len, c1.1 / len);
         let n = (t.1, -t.0);
         let tc = dot(t, c2);
         let dt = ((c2.0 - t.0 * tc) / len, (c2.1 - t.1 * tc) / len);
         let n_x = (dt.1, -dt.0);
-        let rho_pitch = len * len * len / cross(c1, c2).abs();
-        let valley = dot(c2, n) > 0.0;
+        let bend = cross(c1, c2).abs();
+        // a straight stretch (the table's dwells): the radius is infinite all along it, with
+        // the derivative 0
+        let rho_pitch = if bend.re() == 0.0 {
+            T::from(len.re() * len.re() * len.re() / bend.re())
+        } else {
+            len * len * len / bend
+        };
+        let valley = dot(c2, n).re() > 0.0;
         if valley {
             (n, -(rho_pitch + self.p.roller.r), false, n_x)
         } else {
@@ -542,9 +561,9 @@ impl Drive {
         Ok(())
     }
 
-    /// Kinematics at shaft angle `phi`, speed `w`, acceleration `eps`.
-    pub fn kinematics(&self, phi: f64, w: f64, eps: f64) -> Kinematics {
-        let c: CyclePoint = self.cyc.at(phi);
+    /// Kinematics at shaft angle `phi`, speed `w`, acceleration `eps` (any [`Scalar`]).
+    pub fn kinematics<T: Scalar>(&self, phi: T, w: T, eps: T) -> Kinematics<T> {
+        let c: CyclePoint<T> = self.cyc.at(phi);
         let (v_t, a_t) = c.motion(w, eps);
         let (g, gx, gxx, s, sx, sxx) = self.gamma_of_x(c.x);
         let g_d = gx * c.dx;
@@ -580,7 +599,7 @@ impl Drive {
             gamma_x: gx,
             gamma_xx: gxx,
             nu: pose.sin_nu.asin(),
-            rise: l4 * (self.p.gamma1.cos() - (self.p.gamma1 + g).cos()),
+            rise: (T::from(self.p.gamma1.cos()) - (g + self.p.gamma1).cos()) * l4,
             normal: n,
             normal_x: n_x,
             theta: cross(tr, n).atan2(dot(tr, n)),
@@ -617,30 +636,38 @@ impl Drive {
     }
 
     /// Forces (kinetostatic level) for kinematics `k`.
-    pub fn forces(&self, k: &Kinematics) -> Forces {
+    pub fn forces<T: Scalar>(&self, k: &Kinematics<T>) -> Forces<T> {
         self.forces_with(k, true)
     }
 
     /// As [`Drive::forces`]; with `hertz` false the Hertz stress is not computed (`sigma_h` 0).
-    pub fn forces_with(&self, k: &Kinematics, hertz: bool) -> Forces {
-        self.forces_full(k, sgn(k.v), sgn(k.gamma_w), hertz)
+    pub fn forces_with<T: Scalar>(&self, k: &Kinematics<T>, hertz: bool) -> Forces<T> {
+        self.forces_full(k, sgn(k.v.re()), sgn(k.gamma_w.re()), hertz)
     }
 
     /// As [`Drive::forces`], with the directions of the friction and piercing loads given: `sv`
     /// of the perforators' motion, `sw` of the lever's (the elastodynamic level takes them from
     /// the rigid motion, `elastic.rs`).
-    pub fn forces_dir(&self, k: &Kinematics, sv: f64, sw: f64) -> Forces {
+    pub fn forces_dir<T: Scalar>(&self, k: &Kinematics<T>, sv: f64, sw: f64) -> Forces<T> {
         self.forces_full(k, sv, sw, true)
     }
 
-    /// [`Drive::forces_dir`] with the Hertz stress optional (`sigma_h` 0 without it).
-    fn forces_full(&self, k: &Kinematics, sv: f64, sw: f64, hertz: bool) -> Forces {
+    /// [`Drive::forces_dir`] with the Hertz stress optional (`sigma_h` 0 without it). Any
+    /// [`Scalar`]: the carriage's guide side, the contact's sign and the profile's shape are
+    /// taken on the real parts.
+    fn forces_full<T: Scalar>(
+        &self,
+        k: &Kinematics<T>,
+        sv: f64,
+        sw: f64,
+        hertz: bool,
+    ) -> Forces<T> {
         // the linkage as made (the design when made exactly; the roller arm is as designed)
         let p = &self.made;
         let m = p.perf_m;
         let g = STANDARD_GRAVITY;
         let (sa, ca) = p.alpha.sin_cos();
-        let qt = self.pierce_load(k.s, sv, k.phase);
+        let qt = self.pierce_load(k.s, T::from(sv), k.phase);
         // carriage along u
         let (a, a1, _) = p.joint_a(k.gamma);
         let pose = p.carriage(k.gamma);
@@ -648,48 +675,46 @@ impl Drive {
         let l1 = self.made_line.l;
         let e = ((b.0 - a.0) / l1, (b.1 - a.1) / l1);
         let (cu, cn) = (pose.cos_nu, pose.sin_nu);
-        let kk = -m * g * sa + m * k.a_t * ca;
-        let gg = m * k.a + m * g * ca + m * k.a_t * sa + qt * sv;
+        let kk = k.a_t * m * ca + -m * g * sa;
+        let gg = k.a * m + m * g * ca + k.a_t * m * sa + qt * sv;
         let mu = p.guide_mu;
-        let mut rod = (gg + mu * sv * kk) / (cu - mu * sv * cn);
-        if rod * cn + kk < 0.0 {
-            rod = (gg - mu * sv * kk) / (cu + mu * sv * cn);
+        let mut rod = (gg + kk * (mu * sv)) / (cu - cn * (mu * sv));
+        if (rod * cn + kk).re() < 0.0 {
+            rod = (gg - kk * (mu * sv)) / (cu + cn * (mu * sv));
         }
         let guide_n = (rod * cn + kk).abs();
         // lever about O1
         let (r, _, _) = p.roller(k.gamma);
         let n = k.normal;
         let m_rod = -rod * cross(a, e);
-        let spring_m = -(p.spring_m0 + p.spring_kt * k.gamma);
+        let spring_m = -(k.gamma * p.spring_kt + p.spring_m0);
         let arm = cross(r, n);
         // rod angle rate per unit Δγ: e' = (B' − A')/l1, θ' = e × e'
         let bu = self.made_line.u();
         let e1 = ((pose.ds * bu.0 - a1.0) / l1, (pose.ds * bu.1 - a1.1) / l1);
         let th = cross(e, e1);
-        let mut joint_m = 0.0;
-        let mut fc = 0.0;
+        let mut joint_m = T::zero();
+        let mut fc = T::zero();
         for _ in 0..4 {
-            fc = (p.lever_j * k.gamma_a - m_rod - spring_m - joint_m) / arm;
+            fc = (k.gamma_a * p.lever_j - m_rod - spring_m - joint_m) / arm;
             let fo = (rod * e.0 - fc * n.0, rod * e.1 - fc * n.1);
-            joint_m = -sw
-                * p.joint_f
-                * p.joint_r
-                * (dot(fo, fo).sqrt() + rod.abs() * ((1.0 - th).abs() + th.abs()));
+            joint_m = (dot(fo, fo).sqrt() + rod.abs() * ((T::one() - th).abs() + th.abs()))
+                * (-sw * p.joint_f * p.joint_r);
         }
-        let sigma_h = if hertz && fc > 0.0 {
-            let surface = if k.rho > 0.0 {
+        let sigma_h = if hertz && fc.re() > 0.0 {
+            let surface = if k.rho.re() > 0.0 {
                 Surface::Convex
             } else {
                 Surface::Concave
             };
             p.roller.stress(fc, k.rho.abs(), surface)
         } else {
-            0.0
+            T::zero()
         };
-        let table_f = -fc * n.0 - m * (k.a_t + k.a * sa);
+        let table_f = -fc * n.0 - (k.a_t + k.a * sa) * m;
         Forces {
             pierce_q: qt,
-            f_inertia: -m * (k.a + k.a_t * sa),
+            f_inertia: (k.a + k.a_t * sa) * -m,
             rod_f: rod,
             guide_n,
             spring_m,
@@ -736,16 +761,17 @@ impl Drive {
 
     /// Mechanical energy of the drive (table frame plus table motion): carriage kinetic energy in
     /// the ground frame, lever kinetic energy, spring and carriage potential energy.
-    pub fn energy(&self, k: &Kinematics) -> f64 {
+    /// Any [`Scalar`].
+    pub fn energy<T: Scalar>(&self, k: &Kinematics<T>) -> T {
         let p = &self.p;
         let u = self.line.u();
         // carriage velocity in the ground frame: v_p·u − v_t·e_x
         let vc = (k.v * u.0 - k.v_t, k.v * u.1);
-        0.5 * p.perf_m * dot(vc, vc)
-            + 0.5 * p.lever_j * k.gamma_w * k.gamma_w
-            + p.spring_m0 * k.gamma
-            + 0.5 * p.spring_kt * k.gamma * k.gamma
-            + p.perf_m * STANDARD_GRAVITY * k.s * p.alpha.cos()
+        dot(vc, vc) * (0.5 * p.perf_m)
+            + k.gamma_w * (0.5 * p.lever_j) * k.gamma_w
+            + k.gamma * p.spring_m0
+            + k.gamma * (0.5 * p.spring_kt) * k.gamma
+            + k.s * (p.perf_m * STANDARD_GRAVITY) * p.alpha.cos()
     }
 }
 

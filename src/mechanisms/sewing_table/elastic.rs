@@ -17,7 +17,7 @@
 //! last motion).
 
 use super::physics::{Kinematics, Params};
-use crate::mechanics::{STANDARD_GRAVITY, SpringDamper, sgn};
+use crate::mechanics::{STANDARD_GRAVITY, Scalar, SpringDamper, max_of, min_of, sgn};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
@@ -51,19 +51,20 @@ crate::chain_memory! {
     }
 }
 
-/// Everything at one instant.
+/// Everything at one instant (any [`Scalar`]: `f64` in the ODE, dual numbers for the exact
+/// partial derivatives).
 #[derive(Clone, Copy, Debug)]
-pub struct Point {
-    pub kin: Kinematics,
-    pub x: f64,
-    pub xd: f64,
-    pub xdd: f64,
-    pub delta: f64,
-    pub f_c: f64,
-    pub power: f64,
+pub struct Point<T = f64> {
+    pub kin: Kinematics<T>,
+    pub x: T,
+    pub xd: T,
+    pub xdd: T,
+    pub delta: T,
+    pub f_c: T,
+    pub power: T,
     /// Penetration of the loaded flank (0 in the gap), m.
-    pub pen: f64,
-    pub f_rigid: f64,
+    pub pen: T,
+    pub f_rigid: T,
 }
 
 impl TableOde<'_> {
@@ -72,7 +73,17 @@ impl TableOde<'_> {
         SpringDamper::with_ratio(k, p.table_m, zeta)
     }
 
+    /// The chain at the rigid motion `kin` and the states `y` ([`TableOde::point_with`] at
+    /// this step's `table.F_ext`).
     pub fn point_at(&self, kin: &Kinematics, y: &[f64]) -> Point {
+        self.point_with(kin, y, self.f_ext)
+    }
+
+    /// The chain at the rigid motion `kin`, the states `y` and the external force `f_ext`, any
+    /// [`Scalar`] (the flank in contact and the friction's direction decided on the real
+    /// parts): the module's equation of motion, `ẍ` and the power `Ẇ` with the chain's force
+    /// and the rigid force `F_x` of [`Params::forces_with`].
+    pub fn point_with<T: Scalar>(&self, kin: &Kinematics<T>, y: &[T], f_ext: T) -> Point<T> {
         let m = self.p.table_m;
         let (x, xd) = (y[0], y[1]);
         let delta = kin.c.x - x;
@@ -80,22 +91,22 @@ impl TableOde<'_> {
         let (pen, f_c) = if self.gap <= 0.0 {
             // no play: the slot holds the roller between both flanks at once
             (delta, self.spring.force(delta, deltad))
-        } else if delta > self.gap {
+        } else if delta.re() > self.gap {
             let pen = delta - self.gap;
-            (pen, self.spring.force(pen, deltad).max(0.0))
-        } else if delta < -self.gap {
+            (pen, max_of(self.spring.force(pen, deltad), 0.0))
+        } else if delta.re() < -self.gap {
             let pen = delta + self.gap;
-            (pen, self.spring.force(pen, deltad).min(0.0))
+            (pen, min_of(self.spring.force(pen, deltad), 0.0))
         } else {
-            (0.0, 0.0)
+            (T::zero(), T::zero())
         };
-        let f_fr =
-            self.p.guide_f * (m * STANDARD_GRAVITY + (f_c * kin.theta.tan()).abs()) * sgn(kin.v);
-        let xdd = (f_c - f_fr + self.f_ext) / m;
-        let power = self.spring.k * pen * kin.v
-            + (f_c - self.spring.k * pen) * xd
-            + (self.f_ext - f_fr) * xd;
-        let f_rigid = self.p.forces_with(kin, 0.0, self.f_ext, false).f_x;
+        let f_fr = ((f_c * kin.theta.tan()).abs() + m * STANDARD_GRAVITY)
+            * self.p.guide_f
+            * sgn(kin.v.re());
+        let xdd = (f_c - f_fr + f_ext) / m;
+        let power =
+            pen * self.spring.k * kin.v + (f_c - pen * self.spring.k) * xd + (f_ext - f_fr) * xd;
+        let f_rigid = self.p.forces_with(kin, T::zero(), f_ext, false).f_x;
         Point {
             kin: *kin,
             x,
@@ -107,6 +118,23 @@ impl TableOde<'_> {
             pen,
             f_rigid,
         }
+    }
+
+    /// Energy of table and follower spring at a point, J (any [`Scalar`]).
+    pub fn energy_of<T: Scalar>(&self, pt: &Point<T>) -> T {
+        pt.xd * (0.5 * self.p.table_m) * pt.xd + self.spring.energy(pt.pen)
+    }
+
+    /// [`ChainOde::initial_state`] at the rigid motion `kin`, the shaft acceleration `a` and
+    /// the external force `f_ext` (any [`Scalar`]; the flank taken on the real part).
+    pub fn initial_state_at<T: Scalar>(&self, kin: &Kinematics<T>, a: T, f_ext: T) -> [T; 3] {
+        let f = self.p.forces_with(kin, a, f_ext, false).f_x;
+        let side = if f.re() >= 0.0 { 1.0 } else { -1.0 };
+        [
+            kin.c.x - f / self.spring.k - side * self.gap,
+            kin.v,
+            T::zero(),
+        ]
     }
 
     fn boundaries(&self) -> [f64; 4] {
@@ -131,16 +159,14 @@ impl ChainOde for TableOde<'_> {
     }
     /// Energy of table and follower spring, J.
     fn energy(&self, pt: &Point) -> f64 {
-        0.5 * self.p.table_m * pt.xd * pt.xd + self.spring.energy(pt.pen)
+        self.energy_of(pt)
     }
     /// The table in equilibrium on its rigid motion at time t (roller on the flank that holds
     /// the rigid force, the spring carrying it).
     fn initial_state(&self, t: f64) -> [f64; 3] {
         let (phi, w, a) = self.path.at(t);
         let kin = self.p.kinematics(phi, w, a);
-        let f = self.p.forces_with(&kin, a, self.f_ext, false).f_x;
-        let side = if f >= 0.0 { 1.0 } else { -1.0 };
-        [kin.c.x - f / self.spring.k - side * self.gap, kin.v, 0.0]
+        self.initial_state_at(&kin, a, self.f_ext)
     }
 }
 

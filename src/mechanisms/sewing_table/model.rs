@@ -2,11 +2,13 @@
 //! [`super::physics`] (`../shared/spec/sewing-table.md`).
 
 use super::elastic::{TableMemory, TableOde};
-use super::physics::{Kind, Params};
-use crate::mechanics::SpringDamper;
+use super::physics::{Forces, Kind, Params, Rocking};
+use crate::mechanics::cyclogram::Phase;
 use crate::mechanics::hertz::Roller;
 use crate::mechanics::motion_laws::MotionLaw;
-use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
+use crate::mechanics::{SpringDamper, clamp_of};
+use crate::model::partials::{Dual64, Scalar, Seeded};
+use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
@@ -281,122 +283,305 @@ impl Model for SewingTable {
         }
         let st = shaft::state(v, time);
         let f_ext = v[V::table_F_ext];
-        let kinetostatic = shaft::fidelity(v) == Fidelity::Kinetostatic;
-        let k = p.kinematics(st.phi, st.w, st.a);
-        let r = if p.kind == Kind::Rocking || v.wants(stage::ROCKING) {
-            p.rocking(st.phi, st.w, st.a)
-        } else {
-            Default::default()
-        };
-        v[V::table_phase] = f64::from(Params::phase_index(k.c.phase));
-        v[V::rocking_beta] = r.beta;
-        v[V::rocking_x] = r.x;
-        v[V::rocking_y] = r.y;
-        v[V::rocking_M_inertia] = if kinetostatic { r.m_inertia } else { 0.0 };
-        v[V::table_x_kin] = k.c.x;
-        if let Some(d) = self.dynamic.as_ref() {
+        let wants = Wants::of(v);
+        let chain = self.dynamic.as_ref().map(|d| {
             let ode = d.ode(p, shaft::path(v, time), v);
             let y = d.held_state(&ode, time);
-            let pt = ode.point_at(&k, &y);
-            let m = p.table_m;
-            let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
-            let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
-            chain::write_states(v, states, ders, &y, pt.xdd, pt.power);
-            v[V::table_x] = pt.x;
-            v[V::table_v] = pt.xd;
-            v[V::table_a] = pt.xdd;
-            v[V::cam_theta] = k.theta;
-            v[V::elastic_deflection] = pt.delta;
-            v[V::elastic_F] = pt.f_c;
-            v.set_flag(V::contact_open, pt.pen < 0.0);
-            let rigid = if v.wants(stage::FLANK.or(stage::HERTZ)) {
-                p.forces_with(&k, st.a, f_ext, v.wants(stage::HERTZ))
-            } else {
-                Default::default()
-            };
-            v[V::cam_rho] = rigid.rho_flank.clamp(-1000.0, 1000.0);
-            v[V::table_F_inertia] = -m * pt.xdd;
-            v[V::table_F_friction] = m * pt.xdd - pt.f_c - f_ext;
-            v[V::cam_F] = pt.f_c / k.theta.cos();
-            // Hertz stress grows with the square root of the force
-            v[V::cam_sigma_H] = if rigid.cam_f != 0.0 {
-                rigid.sigma_h * (pt.f_c / rigid.f_x).abs().sqrt()
-            } else {
-                0.0
-            };
-            v[V::dyn_factor] = d.memory.peaks.dyn_factor();
+            (ode, y)
+        });
+        let chain = chain.as_ref().map(|(ode, y)| (ode, *y));
+        let out = self.outputs(wants, &st, f_ext, chain, |var, x| v[var] = x);
+        v[V::table_phase] = f64::from(Params::phase_index(out.phase));
+        if let (Some(d), Some((_, y))) = (self.dynamic.as_ref(), chain) {
+            for (s, x) in [V::elastic_x, V::elastic_xd, V::elastic_W]
+                .into_iter()
+                .zip(y)
+            {
+                v[s] = x;
+            }
+            v.set_flag(V::contact_open, out.pen < 0.0);
             v[V::contact_liftoffs] = d.memory.liftoffs;
-            v[V::contact_F_impact] = d.memory.impact;
-            v[V::elastic_E_residual] = if d.started {
-                ode.energy(&pt) - d.e0 - y[2]
-            } else {
-                0.0
-            };
             v[V::solver_steps] = d.integ.mem.stats.steps as f64;
-            let tau = pt.f_c * k.c.dx + p.cam_j * st.a;
-            let r = shaft::reduce(|a| {
-                let ka = p.kinematics(st.phi, st.w, a);
-                ode.point_at(&ka, &y).f_c * ka.c.dx + p.cam_j * a
-            });
-            shaft::set_reduced(v, r);
-            shaft::set_outputs(v, tau, st.w);
-            return;
         }
-        v[V::dyn_factor] = 1.0;
-        let tau = match p.kind {
-            Kind::Translating => {
-                v[V::table_x] = k.c.x;
-                v[V::table_v] = k.v;
-                v[V::table_a] = k.a;
-                v[V::cam_theta] = k.theta;
-                let f = if v.wants(stage::FLANK.or(stage::FORCES).or(stage::HERTZ)) {
-                    p.forces_with(&k, st.a, f_ext, v.wants(stage::HERTZ))
-                } else {
-                    Default::default()
-                };
-                // at an inflection of the pitch curve the radius is infinite: reported as 1000 m
-                v[V::cam_rho] = f.rho_flank.clamp(-1000.0, 1000.0);
-                if kinetostatic {
-                    v[V::table_F_inertia] = f.f_inertia;
-                    v[V::table_F_friction] = f.f_friction;
-                    v[V::cam_F] = f.cam_f;
-                    v[V::cam_sigma_H] = f.sigma_h;
-                    f.tau
-                } else {
-                    0.0
+    }
+
+    const PARTIALS: bool = true;
+
+    /// The outputs (and in Model Exchange the state derivatives) on [`Dual64`] seeded along
+    /// the inputs (`shaft.phi`, `shaft.w`, `shaft.a`, `table.F_ext`) and, at the elastodynamic
+    /// level, the states `elastic.x`, `elastic.xd`, `elastic.W` (knowns in Model Exchange; in
+    /// Co-Simulation their seeds are 0: the held state of the last step is a constant; before
+    /// the first step the state the integration starts from, a function of the inputs): the
+    /// same [`SewingTable::outputs`]. What `evaluate` holds at a level has the derivative 0
+    /// ([`HELD_BELOW_ELASTIC`], the forces at the kinematic level); so have `dyn.factor` and
+    /// `contact.F_impact`, statistics of past steps that do not change with the knowns now.
+    fn partials(
+        &mut self,
+        at: &Seeded<V>,
+        time: f64,
+        put: &mut dyn FnMut(V, Dual64),
+    ) -> Result<(), String> {
+        let v = at.values();
+        let p = &self.params;
+        let st = shaft::state_of(v, time, |vr| at.get_vr(vr));
+        let f_ext = at.get(V::table_F_ext);
+        let wants = Wants::of(v);
+        let chain = self.dynamic.as_ref().map(|d| {
+            let ode = d.ode(p, shaft::path(v, time), v);
+            let y = if d.started {
+                [
+                    at.own(V::elastic_x, d.y[0]),
+                    at.own(V::elastic_xd, d.y[1]),
+                    at.own(V::elastic_W, d.y[2]),
+                ]
+            } else {
+                ode.initial_state_at(&p.kinematics(st.phi, st.w, st.a), st.a, f_ext)
+            };
+            (ode, y)
+        });
+        let chain = chain.as_ref().map(|(ode, y)| (ode, *y));
+        self.outputs(wants, &st, f_ext, chain, &mut *put);
+        let zero = Dual64::from(0.0);
+        if chain.is_none() {
+            for var in HELD_BELOW_ELASTIC {
+                put(var, zero);
+            }
+            if !wants.kinetostatic {
+                for var in KINETOSTATIC_FORCES {
+                    put(var, zero);
                 }
             }
+        }
+        Ok(())
+    }
+}
+
+/// What [`SewingTable::outputs`] computes, from the level and the stages wanted.
+#[derive(Clone, Copy, Debug)]
+struct Wants {
+    /// The kinetostatic level: the forces and the torque.
+    kinetostatic: bool,
+    /// The rocking table alongside (or it is the table).
+    rocking: bool,
+    /// The loaded flank (`cam.rho`) or the Hertz stress.
+    flank: bool,
+    /// The flank, the forces or the Hertz stress: the force solution runs.
+    forces: bool,
+    /// The Hertz stress.
+    hertz: bool,
+}
+
+impl Wants {
+    fn of(v: &Values<V>) -> Wants {
+        Wants {
+            kinetostatic: shaft::fidelity(v) == Fidelity::Kinetostatic,
+            rocking: v.wants(stage::ROCKING),
+            flank: v.wants(stage::FLANK.or(stage::HERTZ)),
+            forces: v.wants(stage::FLANK.or(stage::FORCES).or(stage::HERTZ)),
+            hertz: v.wants(stage::HERTZ),
+        }
+    }
+}
+
+/// The outputs below the elastodynamic level that `evaluate` does not write (held), and the
+/// Model Exchange state derivatives there (0, as `fmi2GetDerivatives` gives): derivative 0.
+const HELD_BELOW_ELASTIC: [V; 7] = [
+    V::elastic_deflection,
+    V::elastic_F,
+    V::contact_F_impact,
+    V::elastic_E_residual,
+    V::der_elastic_x,
+    V::der_elastic_xd,
+    V::der_elastic_W,
+];
+
+/// The kinetostatic outputs of the rigid levels, held at the kinematic level.
+const KINETOSTATIC_FORCES: [V; 4] = [
+    V::table_F_inertia,
+    V::table_F_friction,
+    V::cam_F,
+    V::cam_sigma_H,
+];
+
+/// What [`SewingTable::outputs`] gives `evaluate` for its Integer and Boolean outputs.
+struct Discrete {
+    /// `table.phase`.
+    phase: Phase,
+    /// The chain's penetration of the loaded flank (`contact.open` where < 0; 0 below the
+    /// elastodynamic level).
+    pen: f64,
+}
+
+impl SewingTable {
+    /// Every continuous Real output at the shaft state `st` and the external force `f_ext`, as
+    /// `put(variable, value)`, and at the elastodynamic level (`chain`: the ODE and its states
+    /// `y`) the state derivatives: the one source of the outputs ([`Model::evaluate`], `f64`)
+    /// and of their exact partial derivatives ([`Model::partials`], dual numbers). What a level
+    /// does not compute is not put (held: [`HELD_BELOW_ELASTIC`], at the kinematic level
+    /// [`KINETOSTATIC_FORCES`]).
+    fn outputs<T: Scalar>(
+        &self,
+        w: Wants,
+        st: &ShaftState<T>,
+        f_ext: T,
+        chain: Option<(&TableOde, [T; 3])>,
+        mut put: impl FnMut(V, T),
+    ) -> Discrete {
+        let p = &self.params;
+        let k = p.kinematics(st.phi, st.w, st.a);
+        let r = if p.kind == Kind::Rocking || w.rocking {
+            p.rocking(st.phi, st.w, st.a)
+        } else {
+            Rocking::zero()
+        };
+        put(V::rocking_beta, r.beta);
+        put(V::rocking_x, r.x);
+        put(V::rocking_y, r.y);
+        put(
+            V::rocking_M_inertia,
+            if w.kinetostatic {
+                r.m_inertia
+            } else {
+                T::zero()
+            },
+        );
+        put(V::table_x_kin, k.c.x);
+        if let (Some(d), Some((ode, y))) = (self.dynamic.as_ref(), chain) {
+            let pt = ode.point_with(&k, &y, f_ext);
+            let m = p.table_m;
+            put(V::der_elastic_x, y[1]);
+            put(V::der_elastic_xd, pt.xdd);
+            put(V::der_elastic_W, pt.power);
+            put(V::table_x, pt.x);
+            put(V::table_v, pt.xd);
+            put(V::table_a, pt.xdd);
+            put(V::cam_theta, k.theta);
+            put(V::elastic_deflection, pt.delta);
+            put(V::elastic_F, pt.f_c);
+            let rigid = if w.flank {
+                p.forces_with(&k, st.a, f_ext, w.hertz)
+            } else {
+                Forces::zero()
+            };
+            put(V::cam_rho, clamp_of(rigid.rho_flank, -1000.0, 1000.0));
+            put(V::table_F_inertia, pt.xdd * -m);
+            put(V::table_F_friction, pt.xdd * m - pt.f_c - f_ext);
+            put(V::cam_F, pt.f_c / k.theta.cos());
+            // Hertz stress grows with the square root of the force; no force (the roller in
+            // the play, where it stays 0): the root 0, with the derivative 0
+            let sigma_h = if rigid.cam_f.re() != 0.0 {
+                let ratio = (pt.f_c / rigid.f_x).abs();
+                let root = if ratio.re() == 0.0 {
+                    T::from(ratio.re().sqrt())
+                } else {
+                    ratio.sqrt()
+                };
+                rigid.sigma_h * root
+            } else {
+                T::zero()
+            };
+            put(V::cam_sigma_H, sigma_h);
+            // statistics of the steps taken: constants now
+            put(V::dyn_factor, T::from(d.memory.peaks.dyn_factor()));
+            put(V::contact_F_impact, T::from(d.memory.impact));
+            put(
+                V::elastic_E_residual,
+                if d.started {
+                    ode.energy_of(&pt) - d.e0 - y[2]
+                } else {
+                    T::zero()
+                },
+            );
+            let tau = pt.f_c * k.c.dx + st.a * p.cam_j;
+            let red = shaft::reduce(|a| {
+                let ka = p.kinematics(st.phi, st.w, a);
+                ode.point_with(&ka, &y, f_ext).f_c * ka.c.dx + a * p.cam_j
+            });
+            put(V::shaft_J_red, red.j_red);
+            put(V::shaft_tau0, red.tau0);
+            put(V::shaft_tau, tau);
+            put(V::shaft_P, tau * st.w);
+            return Discrete {
+                phase: k.c.phase,
+                pen: pt.pen.re(),
+            };
+        }
+        put(V::dyn_factor, T::one());
+        let tau = match p.kind {
+            Kind::Translating => {
+                put(V::table_x, k.c.x);
+                put(V::table_v, k.v);
+                put(V::table_a, k.a);
+                put(V::cam_theta, k.theta);
+                let f = if w.forces {
+                    p.forces_with(&k, st.a, f_ext, w.hertz)
+                } else {
+                    Forces::zero()
+                };
+                // at an inflection of the pitch curve the radius is infinite: reported as 1000 m
+                put(V::cam_rho, clamp_of(f.rho_flank, -1000.0, 1000.0));
+                if w.kinetostatic {
+                    put(V::table_F_inertia, f.f_inertia);
+                    put(V::table_F_friction, f.f_friction);
+                    put(V::cam_F, f.cam_f);
+                    put(V::cam_sigma_H, f.sigma_h);
+                }
+                f.tau
+            }
             Kind::Rocking => {
-                v[V::table_x] = r.x;
-                v[V::table_v] = r.dx_dbeta * r.w;
+                put(V::table_x, r.x);
+                put(V::table_v, r.dx_dbeta * r.w);
                 // d²x/dt² = x''(β)·β̇² + x'(β)·β̈, x(β) = R·u·(sin ψ0 − sin(ψ0 − β))
                 let ddx = -(r.x - p.r * p.unit * (p.synthesis().alpha1 + p.alpha2).sin());
-                v[V::table_a] = ddx * r.w * r.w + r.dx_dbeta * r.a;
-                v[V::cam_theta] = 0.0;
-                v[V::cam_rho] = 0.0;
-                v[V::table_F_inertia] = if kinetostatic {
-                    -p.table_m * v[V::table_a]
-                } else {
-                    0.0
-                };
-                v[V::table_F_friction] = 0.0;
-                v[V::cam_F] = 0.0;
-                v[V::cam_sigma_H] = 0.0;
-                if kinetostatic {
+                let table_a = ddx * r.w * r.w + r.dx_dbeta * r.a;
+                put(V::table_a, table_a);
+                put(V::cam_theta, T::zero());
+                put(V::cam_rho, T::zero());
+                put(
+                    V::table_F_inertia,
+                    if w.kinetostatic {
+                        table_a * -p.table_m
+                    } else {
+                        T::zero()
+                    },
+                );
+                put(V::table_F_friction, T::zero());
+                put(V::cam_F, T::zero());
+                put(V::cam_sigma_H, T::zero());
+                if w.kinetostatic {
                     p.rocking_tau(&r, st.a, f_ext)
                 } else {
-                    0.0
+                    T::zero()
                 }
             }
         };
         // at the kinematic level every branch gives no torque
-        shaft::set_rigid_torque(v, &st, kinetostatic.then_some(tau), |a| match p.kind {
-            Kind::Translating => {
-                p.forces_with(&p.kinematics(st.phi, st.w, a), a, f_ext, false)
-                    .tau
-            }
-            Kind::Rocking => p.rocking_tau(&p.rocking(st.phi, st.w, a), a, f_ext),
-        });
+        shaft::rigid_torque(
+            st,
+            w.kinetostatic.then_some(tau),
+            |a| match p.kind {
+                Kind::Translating => {
+                    p.forces_with(&p.kinematics(st.phi, st.w, a), a, f_ext, false)
+                        .tau
+                }
+                Kind::Rocking => p.rocking_tau(&p.rocking(st.phi, st.w, a), a, f_ext),
+            },
+            |vr, x| {
+                put(
+                    match vr {
+                        shaft::J_RED => V::shaft_J_red,
+                        shaft::TAU0 => V::shaft_tau0,
+                        shaft::TAU => V::shaft_tau,
+                        _ => V::shaft_P,
+                    },
+                    x,
+                )
+            },
+        );
+        Discrete {
+            phase: k.c.phase,
+            pen: 0.0,
+        }
     }
 }
 
@@ -418,7 +603,7 @@ impl Dynamics<V> for SewingTable {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::NoLog;
+    use crate::model::{NoLog, VarSet};
 
     #[test]
     fn outputs_from_the_variables() {
@@ -468,6 +653,113 @@ mod tests {
         let mut c = SewingTable::prepare(&v).unwrap();
         c.restore_state(&saved[..Dynamic::STATE_LEN]).unwrap();
         assert!(c.restore_state(&saved[..5]).is_err());
+    }
+
+    /// The exact partial derivatives against central differences of `evaluate`: every
+    /// continuous Real output and the state derivatives, along the inputs (`shaft.*`,
+    /// `table.F_ext`) and at the elastodynamic level the states, at the three levels; the
+    /// translating table in each travel and the far dwell, the rocking one; the
+    /// constant-speed drive; the chain without play and with play on either flank and in the
+    /// gap (tests/partials.rs checks the default FMU over the C ABI).
+    #[test]
+    fn partials_equal_central_differences() {
+        let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a, V::table_F_ext];
+        let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
+        let table = V::table();
+        let outs: Vec<usize> = (0..table.len())
+            .filter(|&vr| {
+                let var = &table[vr];
+                (var.causality == crate::model::Causality::Output
+                    && matches!(var.ty, crate::model::VarType::Real)
+                    && var.variability == crate::model::Variability::Continuous)
+                    || var.derivative.is_some()
+            })
+            .collect();
+        // level, table.kind, drive.mode, phi, w, a, time, cam.clearance, chain deflection
+        for (level, kind, mode, phi, w, a, time, clearance, delta) in [
+            (1.0, 1.0, 1.0, 0.5, 10.0, 3.0, 0.0, 0.0, 0.0),
+            (2.0, 1.0, 1.0, 0.5, 10.0, 3.0, 0.0, 0.0, 0.0),
+            (2.0, 1.0, 1.0, 4.0, 11.0, -2.0, 0.01, 0.0, 0.0),
+            (2.0, 1.0, 1.0, 2.0, 9.0, 0.4, 0.0, 0.0, 0.0),
+            (2.0, 1.0, 2.0, 0.5, 10.0, 0.0, 0.12, 0.0, 0.0),
+            (1.0, 2.0, 1.0, 0.7, 10.0, 0.5, 0.0, 0.0, 0.0),
+            (2.0, 2.0, 1.0, 4.2, 10.0, 0.5, 0.0, 0.0, 0.0),
+            (3.0, 1.0, 1.0, 0.5, 10.0, 3.0, 0.0, 0.0, 5e-4),
+            (3.0, 1.0, 1.0, 4.0, 11.0, -2.0, 0.0, 2e-4, 5e-4),
+            (3.0, 1.0, 1.0, 0.9, 10.0, 1.0, 0.0, 2e-4, -5e-4),
+            (3.0, 1.0, 1.0, 0.9, 10.0, 1.0, 0.0, 2e-4, 0.0),
+        ] {
+            let mut v = Values::<V>::start();
+            v[V::model_fidelity] = level;
+            v[V::table_kind] = kind;
+            v[V::drive_mode] = mode;
+            v[V::cam_clearance] = clearance;
+            v[V::table_F_ext] = 40.0;
+            let knowns: Vec<V> = if level == 3.0 {
+                inputs.iter().chain(&states).copied().collect()
+            } else {
+                inputs.to_vec()
+            };
+            let mut m = SewingTable::prepare(&v).unwrap();
+            v[V::shaft_phi] = phi;
+            v[V::shaft_w] = w;
+            v[V::shaft_a] = a;
+            m.evaluate(&mut v, time, &mut NoLog);
+            // the chain deflected by `delta` and moving slower than the rigid table
+            let y0 = [v[V::table_x_kin] - delta, 0.9 * v[V::table_v], 0.3];
+            let x0: Vec<f64> = inputs
+                .iter()
+                .map(|k| v[*k])
+                .chain(if level == 3.0 { y0.to_vec() } else { vec![] })
+                .collect();
+            let set = |x: &[f64], m: &mut SewingTable, v: &mut Values<V>| {
+                for (k, xi) in inputs.iter().zip(x) {
+                    v[*k] = *xi;
+                }
+                if level == 3.0 {
+                    m.me_set_states(v, time, &x[4..]);
+                }
+            };
+            let eval = |x: &[f64], m: &mut SewingTable| {
+                let mut v = v.clone();
+                set(x, m, &mut v);
+                m.evaluate(&mut v, time, &mut NoLog);
+                outs.iter().map(|o| v.raw()[*o]).collect::<Vec<f64>>()
+            };
+            for (i, k) in knowns.iter().enumerate() {
+                let mut base = v.clone();
+                set(&x0, &mut m, &mut base);
+                let mut seed = vec![0.0; table.len()];
+                seed[k.vr() as usize] = 1.0;
+                let mut exact = vec![f64::NAN; table.len()];
+                m.partials(&Seeded::new(&base, &seed), time, &mut |o, x| {
+                    exact[o.vr() as usize] = x.eps
+                })
+                .unwrap();
+                // the table's position on the scale of the chain's deflection
+                let h = if *k == V::elastic_x {
+                    1e-9
+                } else {
+                    1e-6 * x0[i].abs().max(1.0)
+                };
+                let (mut xp, mut xm) = (x0.clone(), x0.clone());
+                xp[i] += h;
+                xm[i] -= h;
+                let (yp, ym) = (eval(&xp, &mut m), eval(&xm, &mut m));
+                for (j, o) in outs.iter().enumerate() {
+                    let fd = (yp[j] - ym[j]) / (2.0 * h);
+                    let ex = exact[*o];
+                    assert!(
+                        // the differences' rounding: 1e-14 of the output over h
+                        (ex - fd).abs()
+                            <= 1e-6 * fd.abs().max(1.0) + 1e-14 * yp[j].abs().max(ym[j].abs()) / h,
+                        "level {level} kind {kind} mode {mode} phi {phi} clearance {clearance} delta {delta}: d {} / d {}: exact {ex}, central {fd}",
+                        table[*o].name,
+                        table[k.vr() as usize].name,
+                    );
+                }
+            }
+        }
     }
 
     #[test]

@@ -17,7 +17,7 @@ use crate::mechanics::cyclogram::{CyclePoint, Cyclogram, Phase};
 use crate::mechanics::hertz::Roller;
 use crate::mechanics::hertz::Surface;
 use crate::mechanics::motion_laws::MotionLaw;
-use crate::mechanics::{ParamError, STANDARD_GRAVITY, sgn};
+use crate::mechanics::{ParamError, STANDARD_GRAVITY, Scalar, sgn};
 use std::f64::consts::PI;
 
 crate::fmi_enum! {
@@ -116,62 +116,97 @@ pub struct Synthesis {
     pub l2: f64,
 }
 
-/// Table motion at one shaft state.
+/// Table motion at one shaft state (any [`Scalar`]: `f64`, or dual numbers for the exact
+/// partial derivatives in the inputs).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Kinematics {
+pub struct Kinematics<T = f64> {
     /// Cyclogram point of the table travel (`x`, `dx/dφ`, `d²x/dφ²`, phase).
-    pub c: CyclePoint,
+    pub c: CyclePoint<T>,
     /// `table.v = x'·ω`, m/s.
-    pub v: f64,
+    pub v: T,
     /// `table.a = x''·ω² + x'·ε`, m/s².
-    pub a: f64,
+    pub a: T,
     /// `cam.theta`: pressure angle θp, rad.
-    pub theta: f64,
+    pub theta: T,
     /// Signed curvature radius of the cam's pitch curve (positive convex), m.
-    pub rho_pitch: f64,
+    pub rho_pitch: T,
 }
 
 /// The rocking table with the same cyclogram applied to its swing (`sewing-table.md`, last
-/// section).
+/// section; any [`Scalar`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Rocking {
+pub struct Rocking<T = f64> {
     /// `rocking.beta`: swing from the loading position, 0 → α2, rad.
-    pub beta: f64,
+    pub beta: T,
     /// `dβ/dφ`.
-    pub beta_d: f64,
+    pub beta_d: T,
     /// `rocking.w`, rad/s.
-    pub w: f64,
+    pub w: T,
     /// `rocking.a`, rad/s².
-    pub a: f64,
+    pub a: T,
     /// `rocking.x`: saddle displacement from loading, horizontal towards sewing, m.
-    pub x: f64,
+    pub x: T,
     /// `dx/dβ`, m/rad.
-    pub dx_dbeta: f64,
+    pub dx_dbeta: T,
     /// `rocking.y`: saddle displacement from loading, vertical, up positive, m.
-    pub y: f64,
+    pub y: T,
     /// `rocking.M_inertia`: inertia torque `−J·β̈` about the rocking axis, N·m.
-    pub m_inertia: f64,
+    pub m_inertia: T,
 }
 
-/// Forces at one shaft state (level `kinetostatic`).
+impl<T: Scalar> Rocking<T> {
+    /// All zero: what is reported where the rocking table is not computed.
+    pub fn zero() -> Self {
+        let z = T::zero();
+        Rocking {
+            beta: z,
+            beta_d: z,
+            w: z,
+            a: z,
+            x: z,
+            dx_dbeta: z,
+            y: z,
+            m_inertia: z,
+        }
+    }
+}
+
+/// Forces at one shaft state (level `kinetostatic`; any [`Scalar`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Forces {
+pub struct Forces<T = f64> {
     /// `table.F_inertia = −m·a`, N.
-    pub f_inertia: f64,
+    pub f_inertia: T,
     /// `table.F_friction`: guide friction on the table along +x, `−f·N·sgn v`, N.
-    pub f_friction: f64,
+    pub f_friction: T,
     /// Guide load `N = m·g + |Fn·sin θp|`, N.
-    pub guide_n: f64,
+    pub guide_n: T,
     /// `F_x = m·a + f·N·sgn v − F_ext`: what the cam must push along +x, N.
-    pub f_x: f64,
+    pub f_x: T,
     /// `cam.F = F_x/cos θp`, N.
-    pub cam_f: f64,
+    pub cam_f: T,
     /// `cam.rho`: curvature radius of the loaded flank, positive convex, negative concave, m.
-    pub rho_flank: f64,
+    pub rho_flank: T,
     /// `cam.sigma_H`, Pa.
-    pub sigma_h: f64,
+    pub sigma_h: T,
     /// `shaft.tau`, N·m.
-    pub tau: f64,
+    pub tau: T,
+}
+
+impl<T: Scalar> Forces<T> {
+    /// All zero: what is reported where the forces are not computed.
+    pub fn zero() -> Self {
+        let z = T::zero();
+        Forces {
+            f_inertia: z,
+            f_friction: z,
+            guide_n: z,
+            f_x: z,
+            cam_f: z,
+            rho_flank: z,
+            sigma_h: z,
+            tau: z,
+        }
+    }
 }
 
 /// Samples per travel phase in the initialization checks (undercut, self-locking).
@@ -360,8 +395,8 @@ impl Params {
         worst
     }
 
-    /// Table kinematics (translating table) at `phi`, `w`, `eps`.
-    pub fn kinematics(&self, phi: f64, w: f64, eps: f64) -> Kinematics {
+    /// Table kinematics (translating table) at `phi`, `w`, `eps` (any [`Scalar`]).
+    pub fn kinematics<T: Scalar>(&self, phi: T, w: T, eps: T) -> Kinematics<T> {
         let c = self.cyclogram().at(phi);
         let (v, a) = c.motion(w, eps);
         Kinematics {
@@ -374,8 +409,8 @@ impl Params {
     }
 
     /// The rocking table: swing `β` 0 → α2 with the same cyclogram; its saddle at angle
-    /// `α1 + α2 − β` from the vertical on the circle of radius `R·unit`.
-    pub fn rocking(&self, phi: f64, w: f64, eps: f64) -> Rocking {
+    /// `α1 + α2 − β` from the vertical on the circle of radius `R·unit` (any [`Scalar`]).
+    pub fn rocking<T: Scalar>(&self, phi: T, w: T, eps: T) -> Rocking<T> {
         let c = Cyclogram {
             h: self.alpha2,
             ..self.cyclogram()
@@ -385,16 +420,16 @@ impl Params {
         let s = self.synthesis();
         let rr = self.r * self.unit;
         let psi0 = s.alpha1 + self.alpha2;
-        let psi = psi0 - c.x;
+        let psi = T::from(psi0) - c.x;
         Rocking {
             beta: c.x,
             beta_d: c.dx,
             w: bw,
             a: ba,
-            x: rr * (psi0.sin() - psi.sin()),
-            dx_dbeta: rr * psi.cos(),
-            y: rr * (psi.cos() - psi0.cos()),
-            m_inertia: -self.rocking_j * ba,
+            x: (T::from(psi0.sin()) - psi.sin()) * rr,
+            dx_dbeta: psi.cos() * rr,
+            y: (psi.cos() - psi0.cos()) * rr,
+            m_inertia: ba * -self.rocking_j,
         }
     }
 
@@ -402,24 +437,31 @@ impl Params {
     ///
     /// `F_x = m·a + f·N·sgn v − F_ext` with `N = m·g + |F_x·tan θp|` is solved exactly:
     /// `F_x = F0/(1 − f·sgn v·|tan θp|·sgn F0)`, `F0 = m·a − F_ext + f·sgn v·m·g`.
-    pub fn forces(&self, k: &Kinematics, eps: f64, f_ext: f64) -> Forces {
+    pub fn forces<T: Scalar>(&self, k: &Kinematics<T>, eps: T, f_ext: T) -> Forces<T> {
         self.forces_with(k, eps, f_ext, true)
     }
 
     /// As [`Params::forces`]; with `hertz` false the Hertz stress is not computed (`sigma_h` is
-    /// NaN), for what does not read it.
-    pub fn forces_with(&self, k: &Kinematics, eps: f64, f_ext: f64, hertz: bool) -> Forces {
+    /// NaN), for what does not read it. Any [`Scalar`]: the signs of `v` and `F0` and the
+    /// loaded flank are taken on the real parts.
+    pub fn forces_with<T: Scalar>(
+        &self,
+        k: &Kinematics<T>,
+        eps: T,
+        f_ext: T,
+        hertz: bool,
+    ) -> Forces<T> {
         let m = self.table_m;
-        let sv = sgn(k.v);
+        let sv = sgn(k.v.re());
         let t = k.theta.tan().abs();
-        let f0 = m * k.a - f_ext + self.guide_f * sv * m * STANDARD_GRAVITY;
-        let f_x = f0 / (1.0 - self.guide_f * sv * t * sgn(f0));
+        let f0 = k.a * m - f_ext + self.guide_f * sv * m * STANDARD_GRAVITY;
+        let f_x = f0 / (T::one() - t * (self.guide_f * sv) * sgn(f0.re()));
         let cam_f = f_x / k.theta.cos();
-        let guide_n = m * STANDARD_GRAVITY + (cam_f * k.theta.sin()).abs();
+        let guide_n = (cam_f * k.theta.sin()).abs() + m * STANDARD_GRAVITY;
         // loaded flank: the inner flank pushes +x; the flank on the centre-of-curvature side is
         // convex with |ρ| − r, the other concave with |ρ| + r
-        let inner_on_centre_side = k.rho_pitch > 0.0;
-        let loaded_inner = f_x >= 0.0;
+        let inner_on_centre_side = k.rho_pitch.re() > 0.0;
+        let loaded_inner = f_x.re() >= 0.0;
         let convex = inner_on_centre_side == loaded_inner;
         let rp = k.rho_pitch.abs();
         let (rho_flank, surface) = if convex {
@@ -430,24 +472,24 @@ impl Params {
         let sigma_h = if hertz {
             self.roller.stress(cam_f, rho_flank.abs(), surface)
         } else {
-            f64::NAN
+            T::from(f64::NAN)
         };
         Forces {
-            f_inertia: -m * k.a,
-            f_friction: -self.guide_f * guide_n * sv,
+            f_inertia: k.a * -m,
+            f_friction: guide_n * -self.guide_f * sv,
             guide_n,
             f_x,
             cam_f,
             rho_flank,
             sigma_h,
-            tau: f_x * k.c.dx + self.cam_j * eps,
+            tau: f_x * k.c.dx + eps * self.cam_j,
         }
     }
 
     /// Shaft torque of the rocking table: `(J·β̈ − F_ext·dx/dβ)·β' + cam.J·ε` (no friction or
     /// weight modelled for the comparison).
-    pub fn rocking_tau(&self, r: &Rocking, eps: f64, f_ext: f64) -> f64 {
-        (self.rocking_j * r.a - f_ext * r.dx_dbeta) * r.beta_d + self.cam_j * eps
+    pub fn rocking_tau<T: Scalar>(&self, r: &Rocking<T>, eps: T, f_ext: T) -> T {
+        (r.a * self.rocking_j - f_ext * r.dx_dbeta) * r.beta_d + eps * self.cam_j
     }
 
     /// `table.phase` as an integer.

@@ -32,7 +32,7 @@ fn paper_synthesis_numbers() {
     assert_printed(s.s_sum * 30.0, 21.07, 2);
     // eq. (2) is the exact rod angle at the lowest position
     let p = Params::default();
-    assert_abs_diff_eq!(p.carriage(0.0).sin_nu.asin(), s.nu, epsilon = 1e-14);
+    assert_abs_diff_eq!(p.carriage(0.0f64).sin_nu.asin(), s.nu, epsilon = 1e-14);
 }
 
 #[test]
