@@ -106,6 +106,11 @@ pub fn line_contact_stress<T: Scalar>(
         });
     }
     let q = force.abs() / b;
+    if q.re() == 0.0 {
+        // no force, no stress: the stress's minimum, a cusp of √|F| whose slope is unbounded
+        // on either side; a dual number gets the derivative 0 there (a subgradient), not NaN
+        return Ok(T::zero());
+    }
     Ok((q * reduced_modulus(e1, e2) * inv_rho).sqrt() * HERTZ_FACTOR)
 }
 
@@ -271,6 +276,16 @@ mod tests {
             line_contact_stress(0.0, 0.01, 2e11, 2e11, 0.015, 0.1, Surface::Convex),
             Ok(0.0)
         );
+        // on dual numbers: 0 with the derivative 0 at zero force (not NaN from √0), the
+        // slope of √F just off it
+        let d = |f: f64, df: f64| {
+            let f = num_dual::Dual64::new(f, df);
+            line_contact_stress(f, 0.01, 2e11, 2e11, 0.015, 0.1.into(), Surface::Convex).unwrap()
+        };
+        let at0 = d(0.0, 1.0);
+        assert_eq!((at0.re, at0.eps), (0.0, 0.0));
+        let s = d(4.0, 1.0);
+        assert_relative_eq!(s.eps, s.re / 8.0, max_relative = 1e-12);
     }
     /// Palmgren's formula by hand: a 10 mm steel roller under 1000 N approaches by
     /// 3.84e-5·1000^0.9/10^0.8 = 3.84e-5·501.19/6.3096 = 3.0503e-3 mm; the force law gives the

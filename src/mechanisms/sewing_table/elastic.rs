@@ -64,6 +64,8 @@ pub struct Point<T = f64> {
     pub power: T,
     /// Penetration of the loaded flank (0 in the gap), m.
     pub pen: T,
+    /// The guide friction against the rigid motion, `f·(m·g + |F_c·tan θp|)·sgn ẋ_kin`, N.
+    pub f_fr: T,
     pub f_rigid: T,
 }
 
@@ -116,6 +118,7 @@ impl TableOde<'_> {
             f_c,
             power,
             pen,
+            f_fr,
             f_rigid,
         }
     }

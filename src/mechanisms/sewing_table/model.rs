@@ -465,7 +465,7 @@ impl SewingTable {
             };
             put(V::cam_rho, clamp_of(rigid.rho_flank, -1000.0, 1000.0));
             put(V::table_F_inertia, pt.xdd * -m);
-            put(V::table_F_friction, pt.xdd * m - pt.f_c - f_ext);
+            put(V::table_F_friction, -pt.f_fr);
             put(V::cam_F, pt.f_c / k.theta.cos());
             // Hertz stress grows with the square root of the force; no force (the roller in
             // the play, where it stays 0): the root 0, with the derivative 0
