@@ -416,9 +416,10 @@ pub fn reduce<T: Scalar>(mut torque_at: impl FnMut(T) -> T) -> Reduced<T> {
 /// acceleration `a`: one more evaluation instead of two (none more for `tau0` at `a = 0`, the
 /// constant-speed case). For `|a| ≥ 1` rad/s² `J_red` is the secant over `[0, a]`, so
 /// `τ0 + J_red·a` is the actual torque exactly even where friction changes regime; below,
-/// the secant over `[0, 1]` as in [`reduce`] (no division by a small `a`). Any [`Scalar`]: a
-/// dual `a` is 0 only with a zero dual part (one seeded along `shaft.a` takes the split of
-/// [`reduce`], whose `τ0` does not depend on `a`, as the values about `a = 0` do).
+/// the secant over `[0, 1]` as in [`reduce`] (no division by a small `a`). Any [`Scalar`]: the
+/// shortcut at `a = 0` is `f64`'s; a dual `a` below 1 rad/s² takes the split of [`reduce`],
+/// whose `τ0` does not depend on `a`, as the values about `a = 0` do (a dual's `==` compares
+/// the values only: `tau_a` seeded along `shaft.a` would give `τ0` the slope `J_red`).
 #[inline]
 pub fn reduce_at<T: Scalar>(tau_a: T, a: T, mut torque_at: impl FnMut(T) -> T) -> Reduced<T> {
     if a.re().abs() >= 1.0 {
@@ -427,7 +428,7 @@ pub fn reduce_at<T: Scalar>(tau_a: T, a: T, mut torque_at: impl FnMut(T) -> T) -
             tau0,
             j_red: (tau_a - tau0) / a,
         }
-    } else if a == T::zero() {
+    } else if T::NDERIV == 0 && a.re() == 0.0 {
         Reduced {
             tau0: tau_a,
             j_red: torque_at(T::one()) - tau_a,
