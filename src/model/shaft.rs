@@ -272,11 +272,21 @@ fn inputs_path_of<V: VarSet, T: Scalar>(
 /// `fmi2DoStep` (`dynamics.md`): [`inputs_path`] from `time` on, or in `constant_speed`
 /// mode the drive's (the inputs and their derivatives ignored, [`state`]).
 pub fn path<V: VarSet>(values: &Values<V>, time: f64) -> ShaftPath {
+    path_of(values, time, &|vr| values.raw()[vr as usize])
+}
+
+/// [`path`] with the inputs as `input` reads them ([`state_of`]: plain, or seeded dual numbers
+/// for the partial derivatives).
+pub fn path_of<V: VarSet, T: Scalar>(
+    values: &Values<V>,
+    time: f64,
+    input: &impl Fn(u32) -> T,
+) -> ShaftPath<T> {
     if values.raw()[MODE as usize] == 2.0 {
-        let s = state(values, time);
+        let s = state_of(values, time, input);
         return ShaftPath::new(time, s.phi, s.w, s.a);
     }
-    let p = inputs_path(values);
+    let p = inputs_path_of(values, input);
     if time == values.inputs_at {
         p
     } else {
