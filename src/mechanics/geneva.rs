@@ -116,11 +116,13 @@ impl Geneva {
         let psi = wrap_angle_of(phi);
         let u = T::from(self.phi_e) - psi;
         let lam = self.lambda;
-        let (su, cu) = u.sin_cos();
+        // the sine only where it is used (the dwell, three quarters of a turn, needs none)
+        let cu = u.cos();
         let d = T::from(1.0 + lam * lam) - cu * (2.0 * lam); // (ρ/r1)², ≥ (λ − 1)² > 0
         let rho = d.sqrt() * self.r1;
         let engaged = psi.re() <= 2.0 * self.phi_e;
         if engaged {
+            let su = u.sin();
             GenevaState {
                 psi,
                 engaged,

@@ -470,6 +470,7 @@ pub fn set_rigid_torque<V: VarSet>(
 
 /// [`set_rigid_torque`] for any [`Scalar`], as `put(value reference, value)`: `shaft.J_red`,
 /// `shaft.tau0` ([`reduce_at`]), `shaft.tau` and `shaft.P = shaft.tau*shaft.w`.
+#[inline]
 pub fn rigid_torque<T: Scalar>(
     s: &ShaftState<T>,
     tau: Option<T>,
