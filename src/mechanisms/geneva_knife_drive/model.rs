@@ -212,6 +212,7 @@ impl GenevaKnifeDrive {
     /// turns; 1 below the elastodynamic level), `elastic.deflection` and `elastic.F` below the
     /// elastodynamic level (0). Not put (held, [`Model::partials`] puts their derivative 0): the
     /// forces at the kinematic level, `elastic.E_residual` below the elastodynamic level.
+    #[inline(always)]
     fn outputs<T: Scalar>(
         &self,
         level: Level,

@@ -323,7 +323,7 @@ impl Params {
     /// builds it when it prepares the model, not in every step). Any [`Scalar`]: the same
     /// operations for `f64` and for the dual numbers of the partial derivatives, the
     /// engagement decided on the value.
-    #[inline]
+    #[inline(always)]
     pub fn kinematics_of<T: Scalar>(&self, geneva: &Geneva, phi: T, w: T, eps: T) -> Kinematics<T> {
         let g = geneva.at(phi);
         let i = f64::from(self.gear_i);
