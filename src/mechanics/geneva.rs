@@ -15,7 +15,7 @@
 //! Geometry used in the tests: driver centre at the origin, cross centre at `(a, 0)`, roller at
 //! `r1·(cos u, sin u)`.
 
-use super::wrap_angle;
+use super::{Scalar, wrap_angle_of};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// An external Geneva pair with `Z ≥ 3` slots (fewer cannot work: λ would be ≤ 1).
@@ -28,24 +28,26 @@ pub struct Geneva {
     phi_e: f64,
 }
 
-/// State of the Geneva pair at one driver angle; derivatives with respect to the driver angle.
+/// State of the Geneva pair at one driver angle; derivatives with respect to the driver angle
+/// (any [`Scalar`]: `f64`, or dual numbers along the FMUs' inputs for their partial
+/// derivatives).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct GenevaState {
+pub struct GenevaState<T = f64> {
     /// Driver angle within its turn, `ψ = φ mod 2π ∈ [0, 2π)`, rad.
-    pub psi: f64,
+    pub psi: T,
     /// Whether the roller is in a slot: `ψ ∈ [0, 2φe]`.
     pub engaged: bool,
     /// `u = φe − ψ`, the roller's angle from the line of centres, rad.
-    pub u: f64,
+    pub u: T,
     /// Cross angle within the current index, 0 → 2π/Z while engaged, 2π/Z in the dwell, rad.
-    pub gamma: f64,
+    pub gamma: T,
     /// `γ' = dγ/dψ` (0 in the dwell).
-    pub gamma_d: f64,
+    pub gamma_d: T,
     /// `γ'' = d²γ/dψ²` (0 in the dwell), 1/rad.
-    pub gamma_dd: f64,
+    pub gamma_dd: T,
     /// Distance roller – cross centre `ρ` (defined for every ψ; the roller's lever on the cross
     /// while engaged), m.
-    pub rho: f64,
+    pub rho: T,
 }
 
 impl Geneva {
@@ -107,24 +109,27 @@ impl Geneva {
         self.lambda * self.half_index.cos() / (self.lambda * self.lambda - 1.0)
     }
 
-    /// The pair at driver angle `phi` (any real value; reduced with [`wrap_angle`]).
+    /// The pair at driver angle `phi` (any real value; reduced with [`super::wrap_angle`]; any
+    /// [`Scalar`], the engagement decided on its value).
     #[inline]
-    pub fn at(&self, phi: f64) -> GenevaState {
-        let psi = wrap_angle(phi);
-        let u = self.phi_e - psi;
+    pub fn at<T: Scalar>(&self, phi: T) -> GenevaState<T> {
+        let psi = wrap_angle_of(phi);
+        let u = T::from(self.phi_e) - psi;
         let lam = self.lambda;
-        let (su, cu) = u.sin_cos();
-        let d = 1.0 + lam * lam - 2.0 * lam * cu; // (ρ/r1)², ≥ (λ − 1)² > 0
-        let rho = self.r1 * d.sqrt();
-        let engaged = psi <= 2.0 * self.phi_e;
+        // the sine only where it is used (the dwell, three quarters of a turn, needs none)
+        let cu = u.cos();
+        let d = T::from(1.0 + lam * lam) - cu * (2.0 * lam); // (ρ/r1)², ≥ (λ − 1)² > 0
+        let rho = d.sqrt() * self.r1;
+        let engaged = psi.re() <= 2.0 * self.phi_e;
         if engaged {
+            let su = u.sin();
             GenevaState {
                 psi,
                 engaged,
                 u,
-                gamma: self.half_index - su.atan2(lam - cu),
-                gamma_d: (lam * cu - 1.0) / d,
-                gamma_dd: lam * (lam * lam - 1.0) * su / (d * d),
+                gamma: T::from(self.half_index) - su.atan2(T::from(lam) - cu),
+                gamma_d: (cu * lam - 1.0) / d,
+                gamma_dd: su * (lam * (lam * lam - 1.0)) / (d * d),
                 rho,
             }
         } else {
@@ -132,9 +137,9 @@ impl Geneva {
                 psi,
                 engaged,
                 u,
-                gamma: 2.0 * self.half_index,
-                gamma_d: 0.0,
-                gamma_dd: 0.0,
+                gamma: T::from(2.0 * self.half_index),
+                gamma_d: T::zero(),
+                gamma_dd: T::zero(),
                 rho,
             }
         }

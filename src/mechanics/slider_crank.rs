@@ -12,7 +12,11 @@
 //! it is `s = r·(1 + λ2 − cos θ − √(λ2² − sin²θ))`, `λ2 = l/r`, paper 003's invariant
 //! `6 − cos 4γ − 5·cos ν` times `r` (with θ = 4γ, λ2 = 5).
 //!
-//! Derivatives are exact closed forms in θ; time derivatives follow by the chain rule.
+//! Derivatives are exact closed forms in θ; time derivatives follow by the chain rule. The
+//! pose and its motion are generic over [`Scalar`]: the same operations, in the same order, on
+//! `f64` and on the dual numbers of the FMUs' partial derivatives.
+
+use super::Scalar;
 
 /// A slider-crank: crank radius `r`, rod length `l`, guide eccentricity `e` (all in m).
 ///
@@ -28,39 +32,40 @@ pub struct SliderCrank {
     pub e: f64,
 }
 
-/// Positions of a slider-crank at one crank angle, with derivatives in θ.
+/// Positions of a slider-crank at one crank angle, with derivatives in θ (any [`Scalar`]:
+/// `f64`, or dual numbers along the FMUs' inputs for their partial derivatives).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Pose {
+pub struct Pose<T = f64> {
     /// Slider position from the crank axis along the guide, `x_C`, m.
-    pub x: f64,
+    pub x: T,
     /// `dx_C/dθ`, m/rad.
-    pub dx: f64,
+    pub dx: T,
     /// `d²x_C/dθ²`, m/rad².
-    pub ddx: f64,
+    pub ddx: T,
     /// Slider displacement from the outer dead centre, `s = x_max − x_C ≥ 0`, m.
-    pub s: f64,
+    pub s: T,
     /// `ds/dθ = r·sin(θ + ν)/cos ν`, m/rad.
-    pub ds: f64,
+    pub ds: T,
     /// `d²s/dθ²`, m/rad².
-    pub dds: f64,
+    pub dds: T,
     /// Rod angle ν, `sin ν = (r·sin θ − e)/l`, rad.
-    pub nu: f64,
+    pub nu: T,
     /// `sin ν = (r·sin θ − e)/l` (exact, without a round trip through ν).
-    pub sin_nu: f64,
+    pub sin_nu: T,
     /// `cos ν = √(l² − (r·sin θ − e)²)/l`.
-    pub cos_nu: f64,
+    pub cos_nu: T,
     /// `dν/dθ`.
-    pub dnu: f64,
+    pub dnu: T,
     /// `d²ν/dθ²`, 1/rad.
-    pub ddnu: f64,
+    pub ddnu: T,
 }
 
-impl Pose {
+impl<T: Scalar> Pose<T> {
     /// This pose's velocities and accelerations for crank speed `theta_w` = θ̇ and acceleration
     /// `theta_a` = θ̈ (chain rule, `interface.md`): no trigonometry, so a mechanism can take the
     /// same pose at another crank acceleration cheaply.
     #[inline]
-    pub fn motion(self, theta_w: f64, theta_a: f64) -> Motion {
+    pub fn motion(self, theta_w: T, theta_a: T) -> Motion<T> {
         let w2 = theta_w * theta_w;
         Motion {
             pose: self,
@@ -74,17 +79,17 @@ impl Pose {
 
 /// [`Pose`] plus time derivatives for a crank moving with `θ̇`, `θ̈`.
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Motion {
+pub struct Motion<T = f64> {
     /// Positions and θ-derivatives.
-    pub pose: Pose,
+    pub pose: Pose<T>,
     /// Slider velocity `ṡ = ds/dθ·θ̇` (along s; `ẋ_C = −ṡ`), m/s.
-    pub v: f64,
+    pub v: T,
     /// Slider acceleration `s̈ = d²s/dθ²·θ̇² + ds/dθ·θ̈`, m/s².
-    pub a: f64,
+    pub a: T,
     /// Rod angular velocity `ν̇`, rad/s.
-    pub nu_w: f64,
+    pub nu_w: T,
     /// Rod angular acceleration `ν̈`, rad/s².
-    pub nu_a: f64,
+    pub nu_a: T,
 }
 
 impl SliderCrank {
@@ -127,31 +132,32 @@ impl SliderCrank {
         }
     }
 
-    /// Positions and their θ-derivatives at crank angle `theta` (exact closed forms).
+    /// Positions and their θ-derivatives at crank angle `theta` (exact closed forms; any
+    /// [`Scalar`]).
     ///
     /// `s` is computed without cancellation near the dead centre (`1 − cos θ` and
     /// `√(l² − e²) − √(l² − y²)` rewritten as quotients), so small displacements keep their
     /// relative accuracy.
     #[inline]
-    pub fn pose(&self, theta: f64) -> Pose {
+    pub fn pose<T: Scalar>(&self, theta: T) -> Pose<T> {
         let Self { r, l, e } = *self;
         let (st, ct) = theta.sin_cos();
-        let rs = r * st;
+        let rs = st * r;
         let y = rs - e;
-        let w = (l * l - y * y).sqrt(); // l·cos ν
-        let dy = r * ct;
+        let w = (T::from(l * l) - y * y).sqrt(); // l·cos ν
+        let dy = ct * r;
         let ddy = -rs;
-        let inv_w = 1.0 / w;
+        let inv_w = T::one() / w;
         let inv_w3 = inv_w * inv_w * inv_w;
-        let x = r * ct + w;
+        let x = ct * r + w;
         let dx = -rs - y * dy * inv_w;
-        let ddx = -r * ct - (dy * dy + y * ddy) * inv_w - y * y * dy * dy * inv_w3;
+        let ddx = ct * (-r) - (dy * dy + y * ddy) * inv_w - y * y * dy * dy * inv_w3;
         // s = x_max − x = c0 + r·(1 − cos θ) + (w0 − w), with w0 = √(l² − e²),
         // c0 = x_max − r − w0 (0 for e = 0) and w0 − w = (y² − e²)/(w0 + w).
-        let one_minus_cos = if ct >= 0.0 {
-            st * st / (1.0 + ct)
+        let one_minus_cos = if ct.re() >= 0.0 {
+            st * st / (ct + 1.0)
         } else {
-            1.0 - ct
+            T::one() - ct
         };
         let (c0, w0) = if e == 0.0 {
             (0.0, l)
@@ -159,7 +165,7 @@ impl SliderCrank {
             let w0 = (l * l - e * e).sqrt();
             (self.x_max() - r - w0, w0)
         };
-        let s = c0 + r * one_minus_cos + rs * (rs - 2.0 * e) / (w0 + w);
+        let s = one_minus_cos * r + c0 + rs * (rs - 2.0 * e) / (w + w0);
         Pose {
             x,
             dx,
@@ -176,9 +182,9 @@ impl SliderCrank {
     }
 
     /// [`SliderCrank::pose`] plus velocities and accelerations for crank speed `theta_w` = θ̇ and
-    /// acceleration `theta_a` = θ̈ (chain rule, `interface.md`).
+    /// acceleration `theta_a` = θ̈ (chain rule, `interface.md`; any [`Scalar`]).
     #[inline]
-    pub fn motion(&self, theta: f64, theta_w: f64, theta_a: f64) -> Motion {
+    pub fn motion<T: Scalar>(&self, theta: T, theta_w: T, theta_a: T) -> Motion<T> {
         self.pose(theta).motion(theta_w, theta_a)
     }
 
@@ -205,16 +211,16 @@ impl SliderCrank {
 
     /// Paper 004's series form (its eq. 1, "with sufficient accuracy", `e = 0` only; `e` is
     /// ignored): `x_C = r·(λ2 + cos θ − sin²θ/(2λ2))`, returned with `dx_C/dθ` and `d²x_C/dθ²`
-    /// (its eqs. 2–4 by differentiation).
+    /// (its eqs. 2–4 by differentiation; any [`Scalar`]).
     #[inline]
-    pub fn x_series(&self, theta: f64) -> (f64, f64, f64) {
+    pub fn x_series<T: Scalar>(&self, theta: T) -> (T, T, T) {
         let l2 = self.lambda2();
         let (st, ct) = theta.sin_cos();
-        let (s2, c2) = (2.0 * theta).sin_cos();
+        let (s2, c2) = (theta * 2.0).sin_cos();
         (
-            self.r * (l2 + ct - st * st / (2.0 * l2)),
-            self.r * (-st - s2 / (2.0 * l2)),
-            self.r * (-ct - c2 / l2),
+            (ct + l2 - st * st / (2.0 * l2)) * self.r,
+            (-st - s2 / (2.0 * l2)) * self.r,
+            (-ct - c2 / l2) * self.r,
         )
     }
 }

@@ -272,11 +272,21 @@ fn inputs_path_of<V: VarSet, T: Scalar>(
 /// `fmi2DoStep` (`dynamics.md`): [`inputs_path`] from `time` on, or in `constant_speed`
 /// mode the drive's (the inputs and their derivatives ignored, [`state`]).
 pub fn path<V: VarSet>(values: &Values<V>, time: f64) -> ShaftPath {
+    path_of(values, time, &|vr| values.raw()[vr as usize])
+}
+
+/// [`path`] with the inputs as `input` reads them ([`state_of`]: plain, or seeded dual numbers
+/// for the partial derivatives).
+pub fn path_of<V: VarSet, T: Scalar>(
+    values: &Values<V>,
+    time: f64,
+    input: &impl Fn(u32) -> T,
+) -> ShaftPath<T> {
     if values.raw()[MODE as usize] == 2.0 {
-        let s = state(values, time);
+        let s = state_of(values, time, input);
         return ShaftPath::new(time, s.phi, s.w, s.a);
     }
-    let p = inputs_path(values);
+    let p = inputs_path_of(values, input);
     if time == values.inputs_at {
         p
     } else {
@@ -416,9 +426,10 @@ pub fn reduce<T: Scalar>(mut torque_at: impl FnMut(T) -> T) -> Reduced<T> {
 /// acceleration `a`: one more evaluation instead of two (none more for `tau0` at `a = 0`, the
 /// constant-speed case). For `|a| ≥ 1` rad/s² `J_red` is the secant over `[0, a]`, so
 /// `τ0 + J_red·a` is the actual torque exactly even where friction changes regime; below,
-/// the secant over `[0, 1]` as in [`reduce`] (no division by a small `a`). Any [`Scalar`]: a
-/// dual `a` is 0 only with a zero dual part (one seeded along `shaft.a` takes the split of
-/// [`reduce`], whose `τ0` does not depend on `a`, as the values about `a = 0` do).
+/// the secant over `[0, 1]` as in [`reduce`] (no division by a small `a`). Any [`Scalar`]: the
+/// shortcut at `a = 0` is `f64`'s; a dual `a` below 1 rad/s² takes the split of [`reduce`],
+/// whose `τ0` does not depend on `a`, as the values about `a = 0` do (a dual's `==` compares
+/// the values only: `tau_a` seeded along `shaft.a` would give `τ0` the slope `J_red`).
 #[inline]
 pub fn reduce_at<T: Scalar>(tau_a: T, a: T, mut torque_at: impl FnMut(T) -> T) -> Reduced<T> {
     if a.re().abs() >= 1.0 {
@@ -427,7 +438,7 @@ pub fn reduce_at<T: Scalar>(tau_a: T, a: T, mut torque_at: impl FnMut(T) -> T) -
             tau0,
             j_red: (tau_a - tau0) / a,
         }
-    } else if a == T::zero() {
+    } else if T::NDERIV == 0 && a.re() == 0.0 {
         Reduced {
             tau0: tau_a,
             j_red: torque_at(T::one()) - tau_a,
@@ -459,6 +470,7 @@ pub fn set_rigid_torque<V: VarSet>(
 
 /// [`set_rigid_torque`] for any [`Scalar`], as `put(value reference, value)`: `shaft.J_red`,
 /// `shaft.tau0` ([`reduce_at`]), `shaft.tau` and `shaft.P = shaft.tau*shaft.w`.
+#[inline]
 pub fn rigid_torque<T: Scalar>(
     s: &ShaftState<T>,
     tau: Option<T>,

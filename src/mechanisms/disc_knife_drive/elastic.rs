@@ -77,26 +77,27 @@
 //! numbers seeded in x and in ẋ (the discrete choices — friction signs, locking — are constant
 //! near the point, between events).
 
-use super::physics::{Kinematics, Params, Vec2};
-use crate::mechanics::{SpringDamper, sgn};
+use super::physics::{Kinematics, Params, Vec2, dot, norm};
+use crate::mechanics::{Scalar, SpringDamper, sgn};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
 use num_dual::{Dual2, Dual64, DualNum};
 use std::cell::Cell;
 
-/// What depends on time only: the rigid drive at one instant.
+/// What depends on time only: the rigid drive at one instant (any [`Scalar`]: `f64`, or dual
+/// numbers along the shaft inputs).
 #[derive(Clone, Copy, Debug)]
-pub struct Rigid {
+pub struct Rigid<T = f64> {
     /// Rigid kinematics at the shaft state.
-    pub kin: Kinematics,
+    pub kin: Kinematics<T>,
     /// Velocity of the crank pin B, m/s.
-    pub v_b: Vec2,
+    pub v_b: Vec2<T>,
     /// Rod length at the rigid position, m, and its rate, m/s.
-    pub l_kin: f64,
-    pub l_kin_d: f64,
+    pub l_kin: T,
+    pub l_kin_d: T,
     /// Cutting force at S (kinetostatic level, rigid motion), N.
-    pub load: Vec2,
+    pub load: Vec2<T>,
     /// Directions of the rigid slider velocities (friction), `(sgn ẋ_C, sgn v_D·u)`.
     pub slip: (f64, f64),
 }
@@ -212,16 +213,16 @@ pub struct RodOde<'a> {
     pub peaks: Cell<Peaks>,
 }
 
-/// Everything at one instant, for the outputs.
+/// Everything at one instant, for the outputs (any [`Scalar`]).
 #[derive(Clone, Copy, Debug)]
-pub struct Point {
-    pub rigid: Rigid,
+pub struct Point<T = f64> {
+    pub rigid: Rigid<T>,
     /// The downstream kinematics at the elastic slider position (time derivatives; `w`, `eps`
     /// the shaft's), `working` that of the rigid motion.
-    pub kin: Kinematics,
-    pub eval: Eval<f64>,
+    pub kin: Kinematics<T>,
+    pub eval: Eval<T>,
     /// Crank torque from the dynamic rod force, N·m.
-    pub shaft_tau: f64,
+    pub shaft_tau: T,
 }
 
 impl RodOde<'_> {
@@ -235,19 +236,27 @@ impl RodOde<'_> {
     /// The rigid drive at time t.
     pub fn rigid(&self, t: f64) -> Rigid {
         let (phi, w, a) = self.path.at(t);
+        self.rigid_at(phi, w, a)
+    }
+
+    /// The rigid drive at the shaft angle `phi`, speed `w`, acceleration `a` (any [`Scalar`]).
+    pub fn rigid_at<T: Scalar>(&self, phi: T, w: T, a: T) -> Rigid<T> {
         let p = self.p;
         let kin = p.kinematics(phi, w, a);
-        let v_b = Vec2::new(-kin.b.y, kin.b.x) * w;
-        let rod = Vec2::new(kin.x_c, p.crank_e) - kin.b;
-        let l_kin = rod.norm();
-        let l_kin_d = (rod / l_kin).dot(&(Vec2::new(kin.v_c, 0.0) - v_b));
+        let v_b = Vec2::new(-kin.b.y * w, kin.b.x * w);
+        let rod = Vec2::new(kin.x_c - kin.b.x, T::from(p.crank_e) - kin.b.y);
+        let l_kin = norm(rod);
+        let l_kin_d = dot(
+            Vec2::new(rod.x / l_kin, rod.y / l_kin),
+            Vec2::new(kin.v_c - v_b.x, T::zero() - v_b.y),
+        );
         Rigid {
             kin,
             v_b,
             l_kin,
             l_kin_d,
             load: p.cut_force(&kin),
-            slip: p.slip_signs(&kin, sgn(w)),
+            slip: p.slip_signs(&kin, sgn(w.re())),
         }
     }
 
@@ -300,18 +309,21 @@ impl RodOde<'_> {
         best
     }
 
-    /// The model at slider position `x`, velocity `xd`, on the rigid drive `r` (generic).
-    pub fn eval<T: DualNum<Primitive = f64> + Copy>(&self, r: &Rigid, x: T, xd: T) -> Eval<T> {
+    /// The model at slider position `x`, velocity `xd`, on the rigid drive `r` (generic: the
+    /// state on `f64` or dual numbers, the rigid drive on `f64` or the state's dual numbers).
+    pub fn eval<R: Scalar, T: Scalar + From<R>>(&self, r: &Rigid<R>, x: T, xd: T) -> Eval<T> {
+        let up = <T as From<R>>::from;
         let p = self.p;
         let e = p.crank_e;
         // rod: length, direction, rate (C = (x, e), v_C = (ẋ, 0))
-        let rx = x - r.kin.b.x;
-        let ry = T::from(e - r.kin.b.y);
+        let rx = x - up(r.kin.b.x);
+        let ry = up(R::from(e) - r.kin.b.y);
         let l = (rx * rx + ry * ry).sqrt();
         let cd = [rx / l, ry / l];
-        let l_d = cd[0] * (xd - r.v_b.x) - cd[1] * r.v_b.y;
-        let delta = -l + r.l_kin;
-        let delta_d = -l_d + r.l_kin_d;
+        let l_d = cd[0] * (xd - up(r.v_b.x)) - cd[1] * up(r.v_b.y);
+        let delta = -l + up(r.l_kin);
+        let delta_d = -l_d + up(r.l_kin_d);
+        let load = Vec2::new(up(r.load.x), up(r.load.y));
         let force = delta * self.spring.k + delta_d * self.spring.c;
         // the downstream chain and its transmission ratios d/dx
         let (beta, d, s) = p.holder(Dual2::new(x, T::one(), T::zero()));
@@ -331,7 +343,7 @@ impl RodOde<'_> {
             [d[0].v2 * xd2, d[1].v2 * xd2],
             [s[0].v2 * xd2, s[1].v2 * xd2],
             beta.v2 * xd2,
-            r.load,
+            load,
         );
         rhs[0] -= force * cd[0];
         rhs[1] -= force * cd[1];
@@ -378,13 +390,14 @@ impl RodOde<'_> {
         let v_d = [d[0].v1 * xd, d[1].v1 * xd];
         let v_s = [s[0].v1 * xd, s[1].v1 * xd];
         let g = p.gravity_g;
-        let power = delta * self.spring.k * (cd[0] * r.v_b.x + cd[1] * r.v_b.y + r.l_kin_d)
-            + delta_d * cd[0] * xd * self.spring.c
-            + v_s[0] * r.load.x
-            + v_s[1] * r.load.y
-            - z[5] * k5 * xd
-            - z[6] * k7 * (v_d[0] * u.x + v_d[1] * u.y)
-            - (v_d[1] * p.slider7_m + v_s[1] * p.holder_m) * g;
+        let power =
+            delta * self.spring.k * (cd[0] * up(r.v_b.x) + cd[1] * up(r.v_b.y) + up(r.l_kin_d))
+                + delta_d * cd[0] * xd * self.spring.c
+                + v_s[0] * load.x
+                + v_s[1] * load.y
+                - z[5] * k5 * xd
+                - z[6] * k7 * (v_d[0] * u.x + v_d[1] * u.y)
+                - (v_d[1] * p.slider7_m + v_s[1] * p.holder_m) * g;
         Eval {
             xdd,
             power,
@@ -398,10 +411,13 @@ impl RodOde<'_> {
         }
     }
 
-    /// As [`RodOde::point`] on a given rigid drive.
-    pub fn point_on(&self, r: &Rigid, y: &[f64]) -> Point {
+    /// As [`RodOde::point`] on a given rigid drive (any [`Scalar`]: the one source of the
+    /// outputs at this level and of their partial derivatives).
+    pub fn point_on<T: Scalar>(&self, r: &Rigid<T>, y: &[T]) -> Point<T> {
         let ev = self.eval(r, y[0], y[1]);
-        let mut kin = self.p.assemble(r.kin.phi, (y[0], y[1], ev.xdd), 1.0, 0.0);
+        let mut kin = self
+            .p
+            .assemble(r.kin.phi, (y[0], y[1], ev.xdd), T::one(), T::zero());
         kin.w = r.kin.w;
         kin.eps = r.kin.eps;
         kin.working = r.kin.working;
@@ -417,6 +433,21 @@ impl RodOde<'_> {
     }
 }
 
+impl RodOde<'_> {
+    /// Energy of the downstream chain and the rod spring at `pt`, J (any [`Scalar`]).
+    pub fn energy_of<T: Scalar>(&self, pt: &Point<T>) -> T {
+        let p = self.p;
+        let k = &pt.kin;
+        let sq = |v: Vec2<T>| v.x * v.x + v.y * v.y;
+        (k.v_c * p.mass_c() * k.v_c
+            + sq(k.v_d) * p.slider7_m
+            + sq(k.v_s) * p.holder_m
+            + k.beta_w * p.holder_j * k.beta_w)
+            * 0.5
+            + self.spring.energy(pt.eval.delta)
+    }
+}
+
 impl ChainOde for RodOde<'_> {
     type Point = Point;
 
@@ -426,13 +457,7 @@ impl ChainOde for RodOde<'_> {
     }
     /// Energy of the downstream chain and the rod spring, J.
     fn energy(&self, pt: &Point) -> f64 {
-        let p = self.p;
-        let k = &pt.kin;
-        0.5 * (p.mass_c() * k.v_c * k.v_c
-            + p.slider7_m * k.v_d.norm_squared()
-            + p.holder_m * k.v_s.norm_squared()
-            + p.holder_j * k.beta_w * k.beta_w)
-            + self.spring.energy(pt.eval.delta)
+        self.energy_of(pt)
     }
     /// The state in equilibrium on the rigid motion at time t: the rod shortened by the
     /// kinetostatic rod force over k (none where that is over 5 % of the rod's length: a

@@ -2,11 +2,11 @@
 //! [`super::physics`] (`../shared/spec/disc-knife-drive.md`).
 
 use super::elastic::{Point, RodOde, dead_point_threshold};
-use super::physics::{Forces, Kinematics, Params};
-use crate::mechanics::SpringDamper;
-use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
+use super::physics::{Forces, Kinematics, LinScalar, Params, norm};
+use crate::mechanics::{SpringDamper, hypot};
+use crate::model::partials::{Dual64, Seeded};
+use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Severity, Stage, Values};
-use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
 use crate::solver::{Integrator, ShaftPath};
 
@@ -114,14 +114,7 @@ impl ChainModel for RodChain {
     const STATE_NAME: &'static str = "DiscKnifeDrive elastodynamic state";
 
     fn ode<'a>(&self, p: &'a Params, path: ShaftPath, _: &Values<V>, m: &Peaks) -> RodOde<'a> {
-        let peaks = std::cell::Cell::new(*m);
-        RodOde {
-            p,
-            spring: self.spring,
-            path,
-            c_dead: self.c_dead,
-            peaks,
-        }
+        self.rod_ode(p, path, m)
     }
     fn start(ode: &RodOde, path: &ShaftPath, m: &mut Peaks) {
         *m = Peaks::new(ode.path.cycle(path.t0));
@@ -144,6 +137,19 @@ impl ChainModel for RodChain {
             )
         } else {
             why
+        }
+    }
+}
+
+impl RodChain {
+    /// The rod's ODE on `path` with the peaks `m` ([`ChainModel::ode`]: it reads no variable).
+    fn rod_ode<'a>(&self, p: &'a Params, path: ShaftPath, m: &Peaks) -> RodOde<'a> {
+        RodOde {
+            p,
+            spring: self.spring,
+            path,
+            c_dead: self.c_dead,
+            peaks: std::cell::Cell::new(*m),
         }
     }
 }
@@ -186,34 +192,157 @@ impl DiscKnifeDrive {
         }
     }
 
-    fn write_kinematics(v: &mut Values<V>, k: &Kinematics) {
-        v[V::slider_x] = k.x_c;
-        v[V::slider_v] = k.v_c;
-        v[V::slider_a] = k.a_c;
-        v[V::holder_beta] = k.beta;
-        v[V::holder_w] = k.beta_w;
-        v[V::holder_eps] = k.beta_eps;
-        v[V::knife_x] = k.s.x;
-        v[V::knife_y] = k.s.y;
-        v[V::knife_vx] = k.v_s.x;
-        v[V::knife_vy] = k.v_s.y;
-        v[V::knife_ax] = k.a_s.x;
-        v[V::knife_ay] = k.a_s.y;
-        v[V::support_x] = k.d.x;
-        v[V::support_y] = k.d.y;
-        v.set_flag(V::knife_working, k.working);
+    /// What [`DiscKnifeDrive::outputs`] computes: the forces (the kinetostatic level, its
+    /// stage wanted), or the chain (the elastodynamic level).
+    fn level(&self, v: &Values<V>) -> Level {
+        if self.dynamic.is_some() {
+            Level::Elastic
+        } else if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
+            Level::Kinetostatic
+        } else {
+            Level::Kinematic
+        }
     }
 
-    fn write_forces(v: &mut Values<V>, f: &Forces) {
-        v[V::cut_Fx] = f.cut.x;
-        v[V::cut_Fy] = f.cut.y;
-        v[V::rod_F] = f.rod_f;
-        v[V::guide_N] = f.guide_n;
-        v[V::support_N] = f.support_n;
-        v[V::pinC_F] = f.pin_c.norm();
-        v[V::pinD_F] = f.pin_d.norm();
-        v.set_flag(V::sliders_locked, f.locked);
+    /// Every continuous Real output at time `time`, as `put(variable, value)`: the one source of
+    /// the outputs ([`Model::evaluate`], `f64`) and of their exact partial derivatives
+    /// ([`Model::partials`], dual numbers). The shaft inputs as `input` reads them (by value
+    /// reference, [`shaft::state_of`]); at the elastodynamic level the chain's states and their
+    /// derivatives too, the held state `[x, ẋ, W]` given to `state` (which seeds it where the
+    /// states are knowns), the rigid drive on the shaft's path ([`shaft::path_of`]). Returns the
+    /// kinematics put (the slider's own at the elastodynamic level) and, where forces are
+    /// computed, `sliders.locked` (the Boolean outputs and the warning are [`Model::evaluate`]'s).
+    ///
+    /// Put with a constant (derivative 0): `dyn.factor` (a statistic of past shaft turns; 1
+    /// below the elastodynamic level). Not put (held; [`Model::partials`] puts their derivative
+    /// 0): the forces and `rod.F_kin` at the kinematic level, `elastic.deflection`,
+    /// `elastic.F` and `elastic.E_residual` below the elastodynamic level.
+    fn outputs<T: LinScalar>(
+        &self,
+        level: Level,
+        (s, path): (ShaftState<T>, Option<ShaftPath<T>>),
+        time: f64,
+        state: impl FnOnce([f64; 3]) -> [T; 3],
+        mut put: impl FnMut(V, T),
+    ) -> (Kinematics<T>, Option<bool>) {
+        let p = &self.params;
+        if let (Some(d), Some(path)) = (self.dynamic.as_ref(), path) {
+            let values = ShaftPath {
+                phi: path.phi.re(),
+                w: path.w.re(),
+                a: path.a.re(),
+                t0: path.t0,
+                turns: path.turns,
+            };
+            let ode = d.model.rod_ode(p, values, &d.memory);
+            let y = state(d.held_state(&ode, time));
+            let (phi, w, a) = path.at(time);
+            let pt = ode.point_on(&ode.rigid_at(phi, w, a), &y);
+            let e = ode.energy_of(&pt);
+            let e0 = if d.started { T::from(d.e0) } else { e };
+            put(V::elastic_E_residual, e - e0 - y[2]);
+            put(V::dyn_factor, T::from(d.memory.dyn_factor()));
+            let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
+            let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
+            for (var, x) in states.into_iter().zip(y) {
+                put(var, x);
+            }
+            for (var, x) in ders.into_iter().zip([y[1], pt.eval.xdd, pt.eval.power]) {
+                put(var, x);
+            }
+            Self::write_elastic(p, &pt, &mut put);
+            // the split of shaft.tau at the held state: only the shaft acceleration changes
+            let r = shaft::reduce(|a| {
+                let (phi, w, a) = ShaftPath { a, ..path }.at(time);
+                ode.point_on(&ode.rigid_at(phi, w, a), &y).shaft_tau
+            });
+            put(V::shaft_J_red, r.j_red);
+            put(V::shaft_tau0, r.tau0);
+            put(V::shaft_tau, pt.shaft_tau);
+            put(V::shaft_P, pt.shaft_tau * s.w);
+            return (pt.kin, Some(pt.eval.locked));
+        }
+        let k = p.kinematics(s.phi, s.w, s.a);
+        write_kinematics(&k, &mut put);
+        put(V::slider_x_kin, k.x_c);
+        put(V::dyn_factor, T::one());
+        let forces = (level == Level::Kinetostatic).then(|| p.kinetostatics(&k));
+        if let Some(f) = &forces {
+            for (var, x) in force_outputs(f) {
+                put(var, x);
+            }
+            put(V::rod_F_kin, f.rod_f);
+        }
+        shaft::rigid_torque(
+            &s,
+            forces.map(|f| f.shaft_tau),
+            |a| p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau,
+            |vr, x| {
+                put(
+                    match vr {
+                        shaft::J_RED => V::shaft_J_red,
+                        shaft::TAU0 => V::shaft_tau0,
+                        shaft::TAU => V::shaft_tau,
+                        _ => V::shaft_P,
+                    },
+                    x,
+                )
+            },
+        );
+        (k, forces.map(|f| f.locked))
     }
+}
+
+/// What the outputs are computed at (`model.fidelity` and the stages wanted).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Level {
+    Kinematic,
+    Kinetostatic,
+    Elastic,
+}
+
+/// The kinematic outputs of a [`Kinematics`] (any [`LinScalar`]).
+fn write_kinematics<T: LinScalar>(k: &Kinematics<T>, put: &mut impl FnMut(V, T)) {
+    put(V::slider_x, k.x_c);
+    put(V::slider_v, k.v_c);
+    put(V::slider_a, k.a_c);
+    put(V::holder_beta, k.beta);
+    put(V::holder_w, k.beta_w);
+    put(V::holder_eps, k.beta_eps);
+    put(V::knife_x, k.s.x);
+    put(V::knife_y, k.s.y);
+    put(V::knife_vx, k.v_s.x);
+    put(V::knife_vy, k.v_s.y);
+    put(V::knife_ax, k.a_s.x);
+    put(V::knife_ay, k.a_s.y);
+    put(V::support_x, k.d.x);
+    put(V::support_y, k.d.y);
+}
+
+/// The outputs of the kinetostatic force analysis: put at the kinetostatic level (the
+/// elastodynamic one puts its own), held at the kinematic level (with `rod.F_kin`).
+const FORCE_OUTPUTS: [V; 7] = [
+    V::cut_Fx,
+    V::cut_Fy,
+    V::rod_F,
+    V::guide_N,
+    V::support_N,
+    V::pinC_F,
+    V::pinD_F,
+];
+
+/// [`FORCE_OUTPUTS`] with their values in `f`.
+fn force_outputs<T: LinScalar>(f: &Forces<T>) -> [(V, T); 7] {
+    let x = [
+        f.cut.x,
+        f.cut.y,
+        f.rod_f,
+        f.guide_n,
+        f.support_n,
+        norm(f.pin_c),
+        norm(f.pin_d),
+    ];
+    std::array::from_fn(|i| (FORCE_OUTPUTS[i], x[i]))
 }
 
 impl Model for DiscKnifeDrive {
@@ -249,48 +378,71 @@ impl Model for DiscKnifeDrive {
         let p = &self.params;
         v[V::rod_l2] = p.rod_l2();
         v[V::slider_stroke] = p.stroke();
-        let s = shaft::state(v, time);
-        if let Some(d) = self.dynamic.as_ref() {
-            let ode = d.ode(p, shaft::path(v, time), v);
-            let y = d.held_state(&ode, time);
-            let pt = ode.point(time, &y);
-            let e0 = if d.started { d.e0 } else { ode.energy(&pt) };
-            v[V::elastic_E_residual] = ode.energy(&pt) - e0 - y[2];
-            v[V::dyn_factor] = d.memory.dyn_factor();
-            v[V::solver_steps] = d.integ.mem.stats.steps as f64;
-            let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
-            let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
-            chain::write_states(v, states, ders, &y, pt.eval.xdd, pt.eval.power);
-            Self::write_elastic(p, v, &pt);
-            // the split of shaft.tau at the held state: only the shaft acceleration changes
-            let path = shaft::path(v, time);
-            let r = shaft::reduce(|a| {
-                d.ode(p, ShaftPath { a, ..path }, v)
-                    .point(time, &y)
-                    .shaft_tau
-            });
-            shaft::set_reduced(v, r);
-            self.warn_locked(pt.eval.locked, &pt.kin, time, log);
-            shaft::set_outputs(v, pt.shaft_tau, s.w);
-            return;
+        let level = self.level(v);
+        let shaft = (
+            shaft::state(v, time),
+            (level == Level::Elastic).then(|| shaft::path(v, time)),
+        );
+        let (k, locked) = self.outputs(level, shaft, time, |y| y, |var, x| v[var] = x);
+        v.set_flag(V::knife_working, k.working);
+        if let Some(locked) = locked {
+            v.set_flag(V::sliders_locked, locked);
+            self.warn_locked(locked, &k, time, log);
         }
-        let k = p.kinematics(s.phi, s.w, s.a);
-        Self::write_kinematics(v, &k);
-        v[V::slider_x_kin] = k.x_c;
-        v[V::dyn_factor] = 1.0;
-        let tau = if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
-            let f = p.kinetostatics(&k);
-            Self::write_forces(v, &f);
-            v[V::rod_F_kin] = f.rod_f;
-            self.warn_locked(f.locked, &k, time, log);
-            Some(f.shaft_tau)
-        } else {
-            None
+        if let Some(d) = self.dynamic.as_ref() {
+            v[V::solver_steps] = d.integ.mem.stats.steps as f64;
+        }
+    }
+
+    const PARTIALS: bool = true;
+
+    /// The outputs on [`Dual64`] seeded along the knowns: the inputs (`shaft.phi`, `shaft.w`,
+    /// `shaft.a`) and, in Model Exchange, the chain's states (`elastic.x`, `elastic.xd`,
+    /// `elastic.W`; in Co-Simulation the held state is a constant, their seeds 0): the same
+    /// [`DiscKnifeDrive::outputs`]. What it holds has the derivative 0: the forces and
+    /// `rod.F_kin` at the kinematic level, `elastic.deflection`, `elastic.F` and
+    /// `elastic.E_residual` below the elastodynamic level, where the Model Exchange states are
+    /// constants (their derivatives 0).
+    fn partials(
+        &mut self,
+        at: &Seeded<V>,
+        time: f64,
+        put: &mut dyn FnMut(V, Dual64),
+    ) -> Result<(), String> {
+        let v = at.values();
+        let own = |y: [f64; 3]| {
+            [
+                at.own(V::elastic_x, y[0]),
+                at.own(V::elastic_xd, y[1]),
+                at.own(V::elastic_W, y[2]),
+            ]
         };
-        let p = &self.params;
-        shaft::set_rigid_torque(v, &s, tau, |a| {
-            p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau
-        });
+        let level = self.level(v);
+        let input = |vr| at.get_vr(vr);
+        let shaft = (
+            shaft::state_of(v, time, input),
+            (level == Level::Elastic).then(|| shaft::path_of(v, time, &input)),
+        );
+        self.outputs(level, shaft, time, own, &mut *put);
+        let zero = Dual64::from(0.0);
+        if level != Level::Elastic {
+            for var in [
+                V::der_elastic_x,
+                V::der_elastic_xd,
+                V::der_elastic_W,
+                V::elastic_E_residual,
+                V::elastic_deflection,
+                V::elastic_F,
+            ] {
+                put(var, zero);
+            }
+        }
+        if level == Level::Kinematic {
+            for var in FORCE_OUTPUTS.into_iter().chain([V::rod_F_kin]) {
+                put(var, zero);
+            }
+        }
+        Ok(())
     }
 }
 
@@ -363,22 +515,22 @@ impl DiscKnifeDrive {
     }
 
     /// The outputs of the elastodynamic level at one point: the chain behind the rod at the
-    /// slider's elastic position, the forces of the swapped 7×7 solve, the dynamic rod force.
-    fn write_elastic(p: &Params, v: &mut Values<V>, pt: &Point) {
-        Self::write_kinematics(v, &pt.kin);
+    /// slider's elastic position, the forces of the swapped 7×7 solve, the dynamic rod force
+    /// (any [`LinScalar`]).
+    fn write_elastic<T: LinScalar>(p: &Params, pt: &Point<T>, put: &mut impl FnMut(V, T)) {
+        write_kinematics(&pt.kin, put);
         let ev = &pt.eval;
-        v[V::slider_x_kin] = pt.rigid.kin.x_c;
-        v[V::elastic_deflection] = ev.delta;
-        v[V::elastic_F] = ev.force;
-        v[V::rod_F] = ev.force;
-        v[V::rod_F_kin] = p.kinetostatics(&pt.rigid.kin).rod_f;
-        v[V::cut_Fx] = pt.rigid.load.x;
-        v[V::cut_Fy] = pt.rigid.load.y;
-        v[V::guide_N] = ev.z[5];
-        v[V::support_N] = ev.z[6];
-        v[V::pinC_F] = ev.z[1].hypot(ev.z[2]);
-        v[V::pinD_F] = ev.z[3].hypot(ev.z[4]);
-        v.set_flag(V::sliders_locked, ev.locked);
+        put(V::slider_x_kin, pt.rigid.kin.x_c);
+        put(V::elastic_deflection, ev.delta);
+        put(V::elastic_F, ev.force);
+        put(V::rod_F, ev.force);
+        put(V::rod_F_kin, p.kinetostatics(&pt.rigid.kin).rod_f);
+        put(V::cut_Fx, pt.rigid.load.x);
+        put(V::cut_Fy, pt.rigid.load.y);
+        put(V::guide_N, ev.z[5]);
+        put(V::support_N, ev.z[6]);
+        put(V::pinC_F, hypot(ev.z[1], ev.z[2]));
+        put(V::pinD_F, hypot(ev.z[3], ev.z[4]));
     }
 }
 
@@ -477,5 +629,130 @@ mod tests {
             "assembly.branch"
         );
         assert!(V::table().iter().any(|x| x.name == "sliders.locked"));
+    }
+
+    /// The exact partial derivatives against central differences of `evaluate` at every level:
+    /// the idle and the working stroke, inside the self-locking zone, the series form, a shaft
+    /// moved on from the inputs' instant and the constant-speed drive; at the elastodynamic
+    /// level along the inputs (the held state a constant, as in Co-Simulation) and along the
+    /// states (Model Exchange's knowns, with the state derivatives), the rod compressed and
+    /// stretched (tests/partials.rs checks the default FMU over the C ABI).
+    #[test]
+    fn partials_equal_central_differences() {
+        use crate::model::{Causality, VarType};
+        let outputs: Vec<usize> = (0..V::table().len())
+            .filter(|&vr| {
+                let var = &V::table()[vr];
+                var.causality == Causality::Output && matches!(var.ty, VarType::Real)
+            })
+            .collect();
+        let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
+        let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
+        // the phases covered: (level, working stroke, locked)
+        let mut seen = vec![];
+        // (level, drive.mode, series, phi, w, a, time, slider off its rigid position and speed)
+        for (level, mode, series, phi, w, a, time, dy) in [
+            (2.0, 1.0, 0.0, 1.2, 30.0, 0.0, 0.0, [0.0; 2]),
+            (2.0, 1.0, 0.0, 4.0, 30.0, 40.0, 0.0, [0.0; 2]),
+            (2.0, 1.0, 0.0, 5.5, 25.0, -30.0, 0.0, [0.0; 2]),
+            (2.0, 1.0, 0.0, 3.13, 30.0, 5.0, 0.0, [0.0; 2]),
+            (2.0, 1.0, 1.0, 4.5, 30.0, 5.0, 0.0, [0.0; 2]),
+            (2.0, 1.0, 0.0, 4.0, 30.0, 5.0, 2e-3, [0.0; 2]),
+            (2.0, 2.0, 0.0, 4.0, 30.0, 5.0, 0.013, [0.0; 2]),
+            (1.0, 1.0, 0.0, 4.0, 30.0, 40.0, 0.0, [0.0; 2]),
+            (3.0, 1.0, 0.0, 1.2, 30.0, 0.0, 0.0, [1e-6, 0.01]),
+            (3.0, 1.0, 0.0, 4.0, 30.0, 40.0, 0.0, [1e-6, -0.02]),
+            (3.0, 1.0, 0.0, 5.5, 25.0, -30.0, 1e-3, [-2e-6, 0.03]),
+            (3.0, 2.0, 0.0, 4.0, 30.0, 5.0, 0.013, [1e-6, 0.01]),
+        ] {
+            let mut v = Values::<V>::start();
+            v[V::model_fidelity] = level;
+            v[V::drive_mode] = mode;
+            v[V::kinematics_series] = series;
+            v[V::shaft_phi] = phi;
+            v[V::shaft_w] = w;
+            v[V::shaft_a] = a;
+            let mut m = DiscKnifeDrive::prepare(&v).unwrap();
+            // a started chain with a held state off the rigid motion
+            let s = shaft::state(&v, time);
+            let k = m.params.kinematics(s.phi, s.w, s.a);
+            let y0 = [k.x_c + dy[0], k.v_c + dy[1], 0.2];
+            if let Some(d) = m.dynamic.as_mut() {
+                d.started = true;
+                d.y = y0;
+                d.e0 = 0.1;
+            }
+            let elastic = m.dynamic.is_some();
+            let knowns: Vec<(V, f64)> = inputs
+                .into_iter()
+                .zip([phi, w, a])
+                .chain(states.into_iter().zip(y0).filter(|_| elastic))
+                .collect();
+            let x0: Vec<f64> = knowns.iter().map(|(_, x)| *x).collect();
+            let mut outs = outputs.clone();
+            if elastic {
+                outs.extend(
+                    [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W]
+                        .map(|d| d.vr() as usize),
+                );
+            }
+            let eval = |x: &[f64], m: &mut DiscKnifeDrive| {
+                let mut v = v.clone();
+                for ((k, _), xi) in knowns.iter().zip(x) {
+                    v[*k] = *xi;
+                }
+                if let Some(d) = m.dynamic.as_mut() {
+                    d.y.copy_from_slice(&x[3..]);
+                }
+                m.evaluate(&mut v, time, &mut NoLog);
+                let y = outs.iter().map(|o| v.raw()[*o]).collect::<Vec<f64>>();
+                (y, v.flag(V::knife_working), v.flag(V::sliders_locked))
+            };
+            let (_, working, locked) = eval(&x0, &mut m);
+            seen.push((level, working, locked));
+            for (i, (k, _)) in knowns.iter().enumerate() {
+                if let Some(d) = m.dynamic.as_mut() {
+                    d.y = y0;
+                }
+                let mut seed = vec![0.0; V::table().len()];
+                seed[k.vr() as usize] = 1.0;
+                let mut exact = vec![f64::NAN; V::table().len()];
+                m.partials(&Seeded::new(&v, &seed), time, &mut |o, x| {
+                    exact[o.vr() as usize] = x.eps
+                })
+                .unwrap();
+                // steps short of the stiff chain's curvature in the angle (2e8 N/m), long in
+                // the acceleration (the outputs are nearly affine in it, and their rounding
+                // is that of the large rod forces), the states within the rod's deflection
+                let h = [2e-8, 1e-6, 1e-3, 1e-9, 1e-9, 1e-9][i] * x0[i].abs().max(1.0);
+                let (mut xp, mut xm) = (x0.clone(), x0.clone());
+                xp[i] += h;
+                xm[i] -= h;
+                let ((yp, ..), (ym, ..)) = (eval(&xp, &mut m), eval(&xm, &mut m));
+                for (j, o) in outs.iter().enumerate() {
+                    let fd = (yp[j] - ym[j]) / (2.0 * h);
+                    let ex = exact[*o];
+                    assert!(
+                        // the differences' rounding: 1e-14 of the output over h
+                        (ex - fd).abs()
+                            <= 1e-6 * fd.abs().max(1.0) + 1e-14 * yp[j].abs().max(ym[j].abs()) / h,
+                        "level {level} mode {mode} series {series} phi {phi} a {a} time {time}: d {} / d {}: exact {ex}, central {fd}",
+                        V::table()[*o].name,
+                        V::table()[k.vr() as usize].name,
+                    );
+                }
+            }
+        }
+        for phase in [(2.0, true, false), (2.0, false, false), (2.0, false, true)] {
+            assert!(seen.contains(&phase), "{phase:?} in {seen:?}");
+        }
+        for level in [3.0] {
+            for working in [true, false] {
+                assert!(
+                    seen.iter().any(|s| s.0 == level && s.1 == working),
+                    "{seen:?}"
+                );
+            }
+        }
     }
 }

@@ -91,16 +91,23 @@
 
 use crate::mechanics::slider_crank::SliderCrank;
 use crate::mechanics::{
-    ParamError, check_finite, check_non_negative, check_positive, sgn, wrap_angle,
+    ParamError, Scalar, check_finite, check_non_negative, check_positive, sgn, wrap_angle_of,
 };
 use nalgebra::{SMatrix, SVector, Vector2};
-use num_dual::{Dual2_64, DualNum};
+use num_dual::{Dual2, DualNum};
 use std::f64::consts::{PI, TAU};
 
-/// A point or vector in the plane of the mechanism, m (or m/s, m/s², N).
-pub type Vec2 = Vector2<f64>;
-type Matrix7 = SMatrix<f64, 7, 7>;
-type Vector7 = SVector<f64, 7>;
+/// A point or vector in the plane of the mechanism, m (or m/s, m/s², N); of dual numbers for
+/// the partial derivatives.
+pub type Vec2<T = f64> = Vector2<T>;
+type Matrix7<T> = SMatrix<T, 7, 7>;
+type Vector7<T> = SVector<T, 7>;
+
+/// A [`Scalar`] nalgebra's LU solves the force system with: `f64`, and the dual numbers of the
+/// partial derivatives (num-dual's nalgebra traits; the pivots chosen on the values, so the
+/// values are the `f64` solve's).
+pub trait LinScalar: Scalar + nalgebra::ComplexField {}
+impl<T: Scalar + nalgebra::ComplexField> LinScalar for T {}
 
 /// Parameters of the disc-knife drive, SI units (`disc-knife-drive.md`, table "Parameters").
 /// Field docs name the FMI variable.
@@ -184,91 +191,93 @@ impl Default for Params {
 }
 
 /// Positions, velocities and accelerations at one shaft state. `_d`/`_dd` are derivatives in the
-/// crank angle φ; `v_`/`a_`, `_w`/`_eps` time derivatives.
+/// crank angle φ; `v_`/`a_`, `_w`/`_eps` time derivatives. Any [`Scalar`] (`f64`, or dual
+/// numbers along the inputs for the partial derivatives).
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Kinematics {
+pub struct Kinematics<T = f64> {
     /// Crank angle within the turn, `φ mod 2π`, rad.
-    pub phi: f64,
+    pub phi: T,
     /// Shaft speed ω, rad/s.
-    pub w: f64,
+    pub w: T,
     /// Shaft acceleration ε, rad/s².
-    pub eps: f64,
+    pub eps: T,
     /// Crank pin B, m.
-    pub b: Vec2,
+    pub b: Vec2<T>,
     /// `slider.x`: x_C, m.
-    pub x_c: f64,
+    pub x_c: T,
     /// dx_C/dφ, m/rad.
-    pub x_c_d: f64,
+    pub x_c_d: T,
     /// d²x_C/dφ², m/rad².
-    pub x_c_dd: f64,
+    pub x_c_dd: T,
     /// `slider.v`: ẋ_C, m/s.
-    pub v_c: f64,
+    pub v_c: T,
     /// `slider.a`: ẍ_C, m/s².
-    pub a_c: f64,
+    pub a_c: T,
     /// Unit vector from B towards C, along the rod.
-    pub rod_dir: Vec2,
+    pub rod_dir: Vec2<T>,
     /// `c = cos(β + α)` of eq. 5 (the spec's cos α·K); |c| < 1 where the holder assembles.
-    pub c: f64,
+    pub c: T,
     /// `holder.beta`: β, rad.
-    pub beta: f64,
+    pub beta: T,
     /// dβ/dφ.
-    pub beta_d: f64,
+    pub beta_d: T,
     /// d²β/dφ², 1/rad.
-    pub beta_dd: f64,
+    pub beta_dd: T,
     /// `holder.w`: β̇, rad/s.
-    pub beta_w: f64,
+    pub beta_w: T,
     /// `holder.eps`: β̈, rad/s².
-    pub beta_eps: f64,
+    pub beta_eps: T,
     /// `support.x`, `support.y`: point D, m.
-    pub d: Vec2,
+    pub d: Vec2<T>,
     /// dD/dφ, m/rad.
-    pub d_d: Vec2,
+    pub d_d: Vec2<T>,
     /// d²D/dφ², m/rad².
-    pub d_dd: Vec2,
+    pub d_dd: Vec2<T>,
     /// Velocity of D, m/s.
-    pub v_d: Vec2,
+    pub v_d: Vec2<T>,
     /// Acceleration of D, m/s².
-    pub a_d: Vec2,
+    pub a_d: Vec2<T>,
     /// `knife.x`, `knife.y`: point S, m.
-    pub s: Vec2,
+    pub s: Vec2<T>,
     /// dS/dφ, m/rad.
-    pub s_d: Vec2,
+    pub s_d: Vec2<T>,
     /// d²S/dφ², m/rad².
-    pub s_dd: Vec2,
+    pub s_dd: Vec2<T>,
     /// `knife.vx`, `knife.vy`, m/s.
-    pub v_s: Vec2,
+    pub v_s: Vec2<T>,
     /// `knife.ax`, `knife.ay`, m/s².
-    pub a_s: Vec2,
+    pub a_s: Vec2<T>,
     /// `knife.working`: the working stroke, ẋ_C > 0.
     pub working: bool,
 }
 
 /// Forces and torques at one shaft state (level `kinetostatic`); signs as in the module docs.
+/// Any [`Scalar`].
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Forces {
+pub struct Forces<T = f64> {
     /// `cut.Fx`, `cut.Fy`: cutting force on the holder at S, N.
-    pub cut: Vec2,
+    pub cut: Vec2<T>,
     /// `rod.F`: rod force P, compression positive, N.
-    pub rod_f: f64,
+    pub rod_f: T,
     /// Force of slider 5 on the holder at C, N (`pinC.F` is its magnitude).
-    pub pin_c: Vec2,
+    pub pin_c: Vec2<T>,
     /// Force of slider 7 on the holder at D, N (`pinD.F` is its magnitude).
-    pub pin_d: Vec2,
+    pub pin_d: Vec2<T>,
     /// `guide.N`: normal force of the guide on slider 5, along +y, N.
-    pub guide_n: f64,
+    pub guide_n: T,
     /// `support.N`: normal force of EQ on slider 7, along (cos α, −sin α), N.
-    pub support_n: f64,
+    pub support_n: T,
     /// Friction force on slider 5 along +x, N.
-    pub guide_friction: f64,
+    pub guide_friction: T,
     /// Friction force on slider 7 along u = (sin α, cos α), N.
-    pub support_friction: f64,
+    pub support_friction: T,
     /// `sliders.locked`: Coulomb friction self-locks a slider at this instant (no unique solution
     /// of the force system); the forces are then those without friction.
     pub locked: bool,
     /// `shaft.tau`: torque the shaft applies to the crank, N·m.
-    pub shaft_tau: f64,
+    pub shaft_tau: T,
     /// `shaft.P = τ·ω`, W.
-    pub shaft_p: f64,
+    pub shaft_p: T,
 }
 
 /// Where a parameter set cannot assemble: the first interval of crank angles (from φ = 0 on)
@@ -286,10 +295,28 @@ pub struct AssemblyFailure {
     pub worst_at: f64,
 }
 
-/// 2-D cross product (z component).
+/// 2-D cross product (z component; any [`Scalar`]).
 #[inline]
-fn cross(a: Vec2, b: Vec2) -> f64 {
+fn cross<T: Scalar>(a: Vec2<T>, b: Vec2<T>) -> T {
     a.x * b.y - a.y * b.x
+}
+
+/// `|v|`, as nalgebra's `norm` computes it for `f64` (`√(x² + y²)`; any [`Scalar`]).
+#[inline]
+pub fn norm<T: Scalar>(v: Vec2<T>) -> T {
+    (v.x * v.x + v.y * v.y).sqrt()
+}
+
+/// `a·b` as nalgebra's `dot` computes it for `f64` (any [`Scalar`]).
+#[inline]
+pub fn dot<T: Scalar>(a: Vec2<T>, b: Vec2<T>) -> T {
+    a.x * b.x + a.y * b.y
+}
+
+/// `v·f` by components (any [`Scalar`]).
+#[inline]
+fn scaled<T: Scalar>(v: Vec2<T>, f: T) -> Vec2<T> {
+    Vec2::new(v.x * f, v.y * f)
 }
 
 /// Samples of the assembly scan per turn.
@@ -335,8 +362,9 @@ impl Params {
 
     /// x_C with dx_C/dφ and d²x_C/dφ² at crank angle `phi`: exact ([`SliderCrank::pose`]) or,
     /// with `kinematics.series`, the paper's series form (1) ([`SliderCrank::x_series`]).
+    /// Any [`Scalar`].
     #[inline]
-    pub fn slider_x(&self, phi: f64) -> (f64, f64, f64) {
+    pub fn slider_x<T: Scalar>(&self, phi: T) -> (T, T, T) {
         let sc = self.slider_crank();
         if self.series {
             sc.x_series(phi)
@@ -371,10 +399,11 @@ impl Params {
     }
 
     /// Positions, velocities and accelerations at shaft angle `phi` (any real value), speed `w`
-    /// and acceleration `eps`.
+    /// and acceleration `eps` (any [`Scalar`]: the same operations on `f64` and on the dual
+    /// numbers of the partial derivatives).
     #[inline]
-    pub fn kinematics(&self, phi: f64, w: f64, eps: f64) -> Kinematics {
-        let phi = wrap_angle(phi);
+    pub fn kinematics<T: Scalar>(&self, phi: T, w: T, eps: T) -> Kinematics<T> {
+        let phi = wrap_angle_of(phi);
         self.assemble(phi, self.slider_x(phi), w, eps)
     }
 
@@ -382,27 +411,34 @@ impl Params {
     /// derivatives `x1`, `x2` in a driving variable whose rate is `w` and acceleration `eps`:
     /// for the rigid drive x_C(φ) with φ-derivatives and the shaft's ω, ε; for the elastic level
     /// ([`crate::mechanisms::disc_knife_drive::elastic`]) the slider's own x, ẋ, ẍ with w = 1,
-    /// eps = 0 (time itself is the variable). One body of code for both.
+    /// eps = 0 (time itself is the variable). One body of code for both; any [`Scalar`].
     #[inline]
-    pub fn assemble(&self, phi: f64, (x, x1, x2): (f64, f64, f64), w: f64, eps: f64) -> Kinematics {
-        let (beta, d, s) = self.holder(Dual2_64::new(x, x1, x2));
+    pub fn assemble<T: Scalar>(
+        &self,
+        phi: T,
+        (x, x1, x2): (T, T, T),
+        w: T,
+        eps: T,
+    ) -> Kinematics<T> {
+        let (beta, d, s) = self.holder(Dual2::new(x, x1, x2));
         let c = self.assembly_cos(x);
         let (sp, cp) = phi.sin_cos();
-        let b = Vec2::new(self.crank_l1 * cp, self.crank_l1 * sp);
-        let rod = Vec2::new(x, self.crank_e) - b;
-        let rod_dir = rod / rod.norm();
+        let b = Vec2::new(cp * self.crank_l1, sp * self.crank_l1);
+        let rod = Vec2::new(x - b.x, T::from(self.crank_e) - b.y);
+        let l = norm(rod);
+        let rod_dir = Vec2::new(rod.x / l, rod.y / l);
         let w2 = w * w;
-        let vel = |d1: f64| d1 * w;
-        let acc = |d1: f64, d2: f64| d2 * w2 + d1 * eps;
-        let pt = |p: [Dual2_64; 2]| {
+        let vel = |d1: T| d1 * w;
+        let acc = |d1: T, d2: T| d2 * w2 + d1 * eps;
+        let pt = |p: [Dual2<T>; 2]| {
             let d1 = Vec2::new(p[0].v1, p[1].v1);
             let d2 = Vec2::new(p[0].v2, p[1].v2);
             (
                 Vec2::new(p[0].re, p[1].re),
                 d1,
                 d2,
-                d1 * w,
-                d2 * w2 + d1 * eps,
+                Vec2::new(vel(d1.x), vel(d1.y)),
+                Vec2::new(acc(d1.x, d2.x), acc(d1.y, d2.y)),
             )
         };
         let (d, d_d, d_dd, v_d, a_d) = pt(d);
@@ -435,34 +471,36 @@ impl Params {
             s_dd,
             v_s,
             a_s,
-            working: v_c > 0.0,
+            working: v_c.re() > 0.0,
         }
     }
 
     /// Cutting force on the holder at S (module docs): `−cut.F·v_rel/|v_rel|` in the working
     /// stroke, 0 otherwise (and 0 if S stands still relative to the block).
+    /// Any [`Scalar`].
     #[inline]
-    pub fn cut_force(&self, k: &Kinematics) -> Vec2 {
+    pub fn cut_force<T: Scalar>(&self, k: &Kinematics<T>) -> Vec2<T> {
         let v_rel = Vec2::new(k.v_s.x, k.v_s.y + self.feed_v);
-        let n = v_rel.norm();
-        if k.working && n > 0.0 {
-            v_rel * (-self.cut_f / n)
+        let n = norm(v_rel);
+        if k.working && n.re() > 0.0 {
+            scaled(v_rel, T::from(-self.cut_f) / n)
         } else {
-            Vec2::zeros()
+            Vec2::new(T::zero(), T::zero())
         }
     }
 
     /// The 7×7 matrix of the module docs for friction factors `k5`, `k7` (rows as there).
     #[inline]
-    fn matrix(&self, k: &Kinematics, k5: f64, k7: f64) -> Matrix7 {
+    fn matrix<T: LinScalar>(&self, k: &Kinematics<T>, k5: f64, k7: f64) -> Matrix7<T> {
         let cd = k.rod_dir;
+        let o = T::zero();
         let a = self.system_matrix(
-            [cd.x, cd.y, 0.0, 0.0, 0.0, 0.0, 0.0],
-            [k.x_c, self.crank_e],
+            [cd.x, cd.y, o, o, o, o, o],
+            [k.x_c, T::from(self.crank_e)],
             [k.d.x, k.d.y],
             [k.s.x, k.s.y],
-            k5,
-            k7,
+            T::from(k5),
+            T::from(k7),
         );
         Matrix7::from_row_slice(a.as_flattened())
     }
@@ -508,7 +546,7 @@ impl Params {
         a_d: [T; 2],
         a_s: [T; 2],
         beta_eps: T,
-        load: Vec2,
+        load: Vec2<T>,
     ) -> [T; 7] {
         let g = self.gravity_g;
         let (m5, m7, mh) = (self.mass_c(), self.slider7_m, self.holder_m);
@@ -525,32 +563,41 @@ impl Params {
 
     /// Crank torque (module docs): `τ = J_A·ε + P·(B × ĉ) + rod.m/2·g·l1·cos φ` for a rod force
     /// `p` along `rod_dir` (from the crank pin B towards C).
+    /// Any [`Scalar`].
     #[inline]
-    pub fn crank_torque(&self, k: &Kinematics, p: f64, rod_dir: Vec2) -> f64 {
-        self.inertia_a() * k.eps
+    pub fn crank_torque<T: Scalar>(&self, k: &Kinematics<T>, p: T, rod_dir: Vec2<T>) -> T {
+        k.eps * self.inertia_a()
             + p * cross(k.b, rod_dir)
-            + 0.5 * self.rod_m * self.gravity_g * k.b.x
+            + k.b.x * (0.5 * self.rod_m * self.gravity_g)
     }
 
     /// Signs of the slider velocities, `(sgn ẋ_C, sgn v_D·u)`, from the φ-derivatives and the
     /// sign of ω (so the same at every speed of one direction).
+    /// Any [`Scalar`] (the signs of the values).
     #[inline]
-    pub fn slip_signs(&self, k: &Kinematics, w_sign: f64) -> (f64, f64) {
+    pub fn slip_signs<T: Scalar>(&self, k: &Kinematics<T>, w_sign: f64) -> (f64, f64) {
+        let u = self.support_dir();
         (
-            sgn(k.x_c_d) * w_sign,
-            sgn(k.d_d.dot(&self.support_dir())) * w_sign,
+            sgn(k.x_c_d.re()) * w_sign,
+            sgn(dot(k.d_d.map(|x| x.re()), u)) * w_sign,
         )
     }
 
     /// Forces and torques at kinematics `k` with the cutting force of [`Params::cut_force`].
+    /// Any [`LinScalar`].
     #[inline]
-    pub fn kinetostatics(&self, k: &Kinematics) -> Forces {
+    pub fn kinetostatics<T: LinScalar>(&self, k: &Kinematics<T>) -> Forces<T> {
         self.kinetostatics_with_load(k, self.cut_force(k))
     }
 
     /// Forces and torques at kinematics `k` with an external force `load` on the holder at S
-    /// (the module docs' system). Needs validated parameters.
-    pub fn kinetostatics_with_load(&self, k: &Kinematics, load: Vec2) -> Forces {
+    /// (the module docs' system). Needs validated parameters. Any [`LinScalar`]: the friction
+    /// signs, the self-locking and the sign search decided on the values.
+    pub fn kinetostatics_with_load<T: LinScalar>(
+        &self,
+        k: &Kinematics<T>,
+        load: Vec2<T>,
+    ) -> Forces<T> {
         let rhs = Vector7::from_column_slice(&self.system_rhs(
             k.a_c,
             [k.a_d.x, k.a_d.y],
@@ -558,31 +605,32 @@ impl Params {
             k.beta_eps,
             load,
         ));
+        let nan = || Vector7::repeat(<T as From<f64>>::from(f64::NAN));
         let lu0 = self.matrix(k, 0.0, 0.0).lu();
-        let det0 = lu0.determinant();
-        let z0 = lu0.solve(&rhs).unwrap_or_else(|| Vector7::repeat(f64::NAN));
-        let (s5, s7) = self.slip_signs(k, sgn(k.w));
+        let det0 = lu0.determinant().re();
+        let z0 = lu0.solve(&rhs).unwrap_or_else(nan);
+        let (s5, s7) = self.slip_signs(k, sgn(k.w.re()));
         let (f5, f7) = (self.guide_mu * s5, self.support_mu * s7);
         let combos = |g5: f64, g7: f64| [(g5, g7), (-g5, g7), (g5, -g7), (-g5, -g7)];
         let locked = (f5 != 0.0 || f7 != 0.0)
             && combos(1.0, 1.0)
                 .iter()
-                .any(|&(a5, a7)| self.matrix(k, f5 * a5, f7 * a7).determinant() * det0 <= 0.0);
+                .any(|&(a5, a7)| self.matrix(k, f5 * a5, f7 * a7).determinant().re() * det0 <= 0.0);
         let (z, k5, k7) = if (f5 == 0.0 && f7 == 0.0) || locked {
             (z0, 0.0, 0.0)
         } else {
             // Signs of |N| from the frictionless solution first, then the others; the one
             // solution that agrees with its assumed signs (module docs). Should none agree to
             // rounding (|N| ≈ 0), the least disagreeing one is kept.
-            let sig = |x: f64| if x < 0.0 { -1.0 } else { 1.0 };
+            let sig = |x: T| if x.re() < 0.0 { -1.0 } else { 1.0 };
             let mut best = (f64::INFINITY, z0, 0.0, 0.0);
             for (a5, a7) in combos(sig(z0[5]), sig(z0[6])) {
                 let z = self
                     .matrix(k, f5 * a5, f7 * a7)
                     .lu()
                     .solve(&rhs)
-                    .unwrap_or_else(|| Vector7::repeat(f64::NAN));
-                let miss = (-a5 * z[5]).max(0.0) + (-a7 * z[6]).max(0.0);
+                    .unwrap_or_else(nan);
+                let miss = (-a5 * z[5].re()).max(0.0) + (-a7 * z[6].re()).max(0.0);
                 if miss < best.0 {
                     best = (miss, z, f5 * a5, f7 * a7);
                 }
@@ -601,8 +649,8 @@ impl Params {
             pin_d: Vec2::new(z[3], z[4]),
             guide_n: n5,
             support_n: n7,
-            guide_friction: -k5 * n5,
-            support_friction: -k7 * n7,
+            guide_friction: n5 * (-k5),
+            support_friction: n7 * (-k7),
             locked,
             shaft_tau: tau,
             shaft_p: tau * k.w,

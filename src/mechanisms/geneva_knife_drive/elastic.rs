@@ -21,7 +21,7 @@
 
 use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
-use crate::mechanics::{STANDARD_GRAVITY, SpringDamper, sgn};
+use crate::mechanics::{STANDARD_GRAVITY, Scalar, SpringDamper, sgn};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
@@ -66,23 +66,24 @@ impl KnifeMemory {
     }
 }
 
-/// Everything at one instant.
+/// Everything at one instant (any [`Scalar`]: `f64` for the ODE, dual numbers along the
+/// knowns for the exact partial derivatives).
 #[derive(Clone, Copy, Debug, Default)]
-pub struct Point {
-    pub kin: Kinematics,
-    pub x: f64,
-    pub xd: f64,
-    pub xdd: f64,
+pub struct Point<T = f64> {
+    pub kin: Kinematics<T>,
+    pub x: T,
+    pub xd: T,
+    pub xdd: T,
     /// Deflection δ = s_kin − x, m.
-    pub delta: f64,
+    pub delta: T,
     /// Chain force on the knife along s, k·δ + c·δ̇, N.
-    pub f_el: f64,
-    pub f_cut: f64,
-    pub f_fr: f64,
+    pub f_el: T,
+    pub f_cut: T,
+    pub f_fr: T,
     /// dW/dt.
-    pub power: f64,
+    pub power: T,
     /// The rigid (kinetostatic) chain force along s at this instant, N.
-    pub f_rigid: f64,
+    pub f_rigid: T,
 }
 
 impl KnifeOde<'_> {
@@ -91,29 +92,34 @@ impl KnifeOde<'_> {
         SpringDamper::with_ratio(k, p.slider_mass(), zeta)
     }
 
-    /// As [`KnifeOde::point`], for given kinematics.
-    pub fn point_at(&self, kin: &Kinematics, y: &[f64]) -> Point {
+    /// As [`KnifeOde::point`], for given kinematics and the state's `y[0] = x`, `y[1] = ẋ`
+    /// (any [`Scalar`]: the one source of the right-hand side and of the outputs at this level,
+    /// and of their partial derivatives; the friction's direction, the stack and the sticking
+    /// band decided on the values).
+    #[inline]
+    pub fn point_at<T: Scalar>(&self, kin: &Kinematics<T>, y: &[T]) -> Point<T> {
         let m = self.p.slider_mass();
         let (x, xd) = (y[0], y[1]);
         let delta = kin.s - x;
         let deltad = kin.v - xd;
         let f_el = self.spring.force(delta, deltad);
         let tan_nu = kin.sin_nu / kin.cos_nu;
-        let f_fr = self.p.guide_mu * (f_el * tan_nu).abs() * sgn(kin.v);
+        let sgn_v = sgn(kin.v.re());
+        let f_fr = (f_el * tan_nu).abs() * self.p.guide_mu * sgn_v;
         let f_drive = f_el + m * STANDARD_GRAVITY - f_fr;
         let f_cut = self.cut(x, xd, f_drive);
         let xdd = (f_drive - f_cut) / m;
-        let power = self.spring.k * delta * kin.v
-            + self.spring.c * deltad * xd
-            + (m * STANDARD_GRAVITY - f_cut - f_fr) * xd;
+        let power = delta * self.spring.k * kin.v
+            + deltad * self.spring.c * xd
+            + (T::from(m * STANDARD_GRAVITY) - f_cut - f_fr) * xd;
         // rigid chain force along s: m_s·a − m_s·g + F_cut + friction (kinetostatic level)
         let f_rigid = {
-            let r = m * (kin.a - STANDARD_GRAVITY) + self.p.cut_force(kin.s, kin.v);
-            let kf = self.p.guide_mu * tan_nu.abs() * sgn(kin.v);
-            if r >= 0.0 {
-                r / (1.0 - kf)
+            let r = (kin.a - STANDARD_GRAVITY) * m + self.p.cut_force(kin.s, kin.v);
+            let kf = tan_nu.abs() * self.p.guide_mu * sgn_v;
+            if r.re() >= 0.0 {
+                r / (T::one() - kf)
             } else {
-                r / (1.0 + kf)
+                r / (kf + 1.0)
             }
         };
         Point {
@@ -130,28 +136,39 @@ impl KnifeOde<'_> {
         }
     }
 
+    /// Energy of knife and chain spring at the point `pt`, J (any [`Scalar`]).
+    #[inline]
+    pub fn energy_of<T: Scalar>(&self, pt: &Point<T>) -> T {
+        pt.xd * (0.5 * self.p.slider_mass()) * pt.xd + self.spring.energy(pt.delta)
+    }
+
     /// Is the knife in the uncut stack?
     fn in_stack(&self, x: f64) -> bool {
         !self.memory.get().cut_done && x >= self.p.cut_s_start && x <= self.p.cut_s_end
     }
 
     /// Cutting resistance at the elastic position and velocity, with the drive force
-    /// `f_drive` pushing the knife down (for sticking at the cut front).
-    fn cut(&self, x: f64, xd: f64, f_drive: f64) -> f64 {
-        if !self.in_stack(x) {
-            return 0.0;
+    /// `f_drive` pushing the knife down (for sticking at the cut front); any [`Scalar`].
+    fn cut<T: Scalar>(&self, x: T, xd: T, f_drive: T) -> T {
+        if !self.in_stack(x.re()) {
+            return T::zero();
         }
-        let cap = if x >= self.p.cut_s_full {
-            self.p.cut_f_max
+        let cap = if x.re() >= self.p.cut_s_full {
+            T::from(self.p.cut_f_max)
         } else {
-            self.p.cut_f_max * (x - self.p.cut_s_start) / (self.p.cut_s_full - self.p.cut_s_start)
+            (x - self.p.cut_s_start) * self.p.cut_f_max / (self.p.cut_s_full - self.p.cut_s_start)
         };
-        if xd > V_STICK {
+        if xd.re() > V_STICK {
             cap
-        } else if xd < -V_STICK {
-            0.0
+        } else if xd.re() < -V_STICK {
+            T::zero()
+        } else if f_drive.re() < 0.0 {
+            // f64::clamp(f_drive, 0, cap)
+            T::zero()
+        } else if f_drive.re() > cap.re() {
+            cap
         } else {
-            f_drive.clamp(0.0, cap)
+            f_drive
         }
     }
 
@@ -172,7 +189,7 @@ impl ChainOde for KnifeOde<'_> {
     }
     /// Energy of knife and chain spring, J.
     fn energy(&self, pt: &Point) -> f64 {
-        0.5 * self.p.slider_mass() * pt.xd * pt.xd + self.spring.energy(pt.delta)
+        self.energy_of(pt)
     }
     /// The state in static equilibrium on the rigid motion at time t: at rest relative to the
     /// chain, the spring holding the weight.

@@ -2,10 +2,11 @@
 //! [`super::physics`] (`../shared/spec/geneva-knife-drive.md`).
 
 use super::elastic::{KnifeMemory, KnifeOde, Point};
-use super::physics::{Kinematics, Params};
+use super::physics::{Forces, Kinematics, Params};
 use crate::mechanics::SpringDamper;
 use crate::mechanics::geneva::Geneva;
-use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W};
+use crate::model::partials::{Dual64, Scalar, Seeded};
+use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel};
@@ -102,6 +103,29 @@ struct KnifeChain {
 /// What the elastodynamic level carries between steps.
 type Dynamic = Chain<KnifeChain>;
 
+/// What the outputs are computed at (`model.fidelity` and the stages wanted).
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Level {
+    Kinematic,
+    Kinetostatic,
+    /// The chain's ODE on the shaft's path from now.
+    Elastic(ShaftPath),
+}
+
+impl KnifeChain {
+    /// The chain's ODE on `path` with the memory `m` ([`ChainModel::ode`]: it reads no
+    /// variable).
+    fn knife_ode<'a>(&self, p: &'a Params, path: ShaftPath, m: &KnifeMemory) -> KnifeOde<'a> {
+        KnifeOde {
+            p,
+            geneva: p.geneva(),
+            spring: self.spring,
+            path,
+            memory: Cell::new(*m),
+        }
+    }
+}
+
 impl ChainModel for KnifeChain {
     type Var = V;
     type Physics = Params;
@@ -118,13 +142,7 @@ impl ChainModel for KnifeChain {
         _: &Values<V>,
         m: &KnifeMemory,
     ) -> KnifeOde<'a> {
-        KnifeOde {
-            p,
-            geneva: p.geneva(),
-            spring: self.spring,
-            path,
-            memory: Cell::new(*m),
-        }
+        self.knife_ode(p, path, m)
     }
     fn start(ode: &KnifeOde, path: &ShaftPath, m: &mut KnifeMemory) {
         *m = KnifeMemory::new(ode.cycle(path.t0));
@@ -171,19 +189,127 @@ impl GenevaKnifeDrive {
         }
     }
 
-    fn write_kinematics(v: &mut Values<V>, k: &Kinematics) {
-        v[V::cross_gamma] = k.gamma;
-        v[V::cross_w] = k.cross_w;
-        v[V::cross_a] = k.cross_a;
-        v[V::crank_theta] = k.theta;
-        v[V::crank_w] = k.crank_w;
-        v[V::crank_a] = k.crank_a;
-        v[V::rod_nu] = k.nu;
-        v[V::knife_s] = k.s;
-        v[V::knife_v] = k.v;
-        v[V::knife_a] = k.a;
-        v.set_flag(V::knife_dwell, k.dwell);
+    /// What [`GenevaKnifeDrive::outputs`] computes at `time`: the forces (the kinetostatic
+    /// level, its stage wanted) or the chain on the shaft's path (the elastodynamic level).
+    fn level(&self, v: &Values<V>, time: f64) -> Level {
+        if self.dynamic.is_some() {
+            Level::Elastic(shaft::path(v, time))
+        } else if shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES) {
+            Level::Kinetostatic
+        } else {
+            Level::Kinematic
+        }
     }
+
+    /// Every continuous Real output at the shaft state `st` (time `time`), as `put(variable,
+    /// value)`: the one source of the outputs ([`Model::evaluate`], `f64`) and of their exact
+    /// partial derivatives ([`Model::partials`], dual numbers). At the elastodynamic level also
+    /// the chain's states and their derivatives (Model Exchange's), the held state `[x, ẋ, W]`
+    /// given to `state` (which seeds it where the states are knowns). Returns `knife.dwell` and
+    /// `knife.in_stack` (the Boolean outputs are [`Model::evaluate`]'s, as `solver.steps`).
+    ///
+    /// What is put with a constant (derivative 0): `dyn.factor` (a statistic of past driver
+    /// turns; 1 below the elastodynamic level), `elastic.deflection` and `elastic.F` below the
+    /// elastodynamic level (0). Not put (held, [`Model::partials`] puts their derivative 0): the
+    /// forces at the kinematic level, `elastic.E_residual` below the elastodynamic level.
+    #[inline(always)]
+    fn outputs<T: Scalar>(
+        &self,
+        level: Level,
+        time: f64,
+        st: &ShaftState<T>,
+        state: impl FnOnce([f64; 3]) -> [T; 3],
+        mut put: impl FnMut(V, T),
+    ) -> (bool, bool) {
+        let p = &self.params;
+        let k = p.kinematics_of(&self.geneva, st.phi, st.w, st.a);
+        write_kinematics(&k, &mut put);
+        put(V::knife_s_kin, k.s);
+        if let (Some(d), Level::Elastic(path)) = (self.dynamic.as_ref(), level) {
+            let ode = d.model.knife_ode(p, path, &d.memory);
+            let y = state(d.held_state(&ode, time));
+            let pt = ode.point_at(&k, &y);
+            let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
+            let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
+            for (var, x) in states.into_iter().zip(y) {
+                put(var, x);
+            }
+            for (var, x) in ders.into_iter().zip([y[1], pt.xdd, pt.power]) {
+                put(var, x);
+            }
+            let tau = elastic_outputs(p, &pt, st.a, &mut put);
+            let r = shaft::reduce(|a| {
+                elastic_torques(p, &p.at_shaft_accel(&k, st.w, a), pt.f_el, a)[3]
+            });
+            put(V::shaft_J_red, r.j_red);
+            put(V::shaft_tau0, r.tau0);
+            let e = ode.energy_of(&pt);
+            let e0 = if d.started { T::from(d.e0) } else { e };
+            put(V::elastic_E_residual, e - e0 - y[2]);
+            put(V::dyn_factor, T::from(d.memory.peaks.dyn_factor()));
+            put(V::shaft_tau, tau);
+            put(V::shaft_P, tau * st.w);
+            return (k.dwell, pt.f_cut.re() > 0.0);
+        }
+        put(V::elastic_deflection, T::zero());
+        put(V::elastic_F, T::zero());
+        put(V::dyn_factor, T::one());
+        let forces = (level == Level::Kinetostatic).then(|| p.kinetostatics(&k, st.w, st.a));
+        if let Some(f) = &forces {
+            for (var, x) in force_outputs(f) {
+                put(var, x);
+            }
+        }
+        shaft::rigid_torque(
+            st,
+            forces.map(|f| f.shaft_tau),
+            |a| {
+                p.kinetostatics(&p.at_shaft_accel(&k, st.w, a), st.w, a)
+                    .shaft_tau
+            },
+            |vr, x| {
+                put(
+                    match vr {
+                        shaft::J_RED => V::shaft_J_red,
+                        shaft::TAU0 => V::shaft_tau0,
+                        shaft::TAU => V::shaft_tau,
+                        _ => V::shaft_P,
+                    },
+                    x,
+                )
+            },
+        );
+        (k.dwell, p.in_stack(k.s.re(), k.v.re()))
+    }
+}
+
+/// The kinematic outputs of a [`Kinematics`] (the elastodynamic level then puts the knife's
+/// own motion over `knife.s`, `knife.v`, `knife.a`).
+fn write_kinematics<T: Scalar>(k: &Kinematics<T>, put: &mut impl FnMut(V, T)) {
+    put(V::cross_gamma, k.gamma);
+    put(V::cross_w, k.cross_w);
+    put(V::cross_a, k.cross_a);
+    put(V::crank_theta, k.theta);
+    put(V::crank_w, k.crank_w);
+    put(V::crank_a, k.crank_a);
+    put(V::rod_nu, k.nu);
+    put(V::knife_s, k.s);
+    put(V::knife_v, k.v);
+    put(V::knife_a, k.a);
+}
+
+/// The outputs of the kinetostatic force analysis with their values in `f`: put at the
+/// kinetostatic level (the elastodynamic one puts its own), held at the kinematic level.
+fn force_outputs<T: Scalar>(f: &Forces<T>) -> [(V, T); 7] {
+    [
+        (V::knife_F_cut, f.f_cut),
+        (V::knife_F_inertia, f.f_inertia),
+        (V::rod_F, f.rod_f),
+        (V::guide_N, f.guide_n),
+        (V::crank_tau, f.crank_tau),
+        (V::cross_tau, f.cross_tau),
+        (V::geneva_F, f.geneva_f),
+    ]
 }
 
 impl Model for GenevaKnifeDrive {
@@ -220,50 +346,58 @@ impl Model for GenevaKnifeDrive {
     }
 
     fn evaluate(&mut self, v: &mut Values<V>, time: f64, _log: &mut dyn Log) {
-        let p = &self.params;
-        let s = shaft::state(v, time);
-        let k = p.kinematics_of(&self.geneva, s.phi, s.w, s.a);
-        Self::write_kinematics(v, &k);
-        v[V::knife_s_kin] = k.s;
-        v.set_flag(V::knife_in_stack, p.in_stack(k.s, k.v));
+        let st = shaft::state(v, time);
+        let level = self.level(v, time);
+        let (dwell, in_stack) = self.outputs(level, time, &st, |y| y, |var, x| v[var] = x);
+        v.set_flag(V::knife_dwell, dwell);
+        v.set_flag(V::knife_in_stack, in_stack);
         if let Some(d) = self.dynamic.as_ref() {
-            let path = shaft::path(v, time);
-            let ode = d.ode(p, path, v);
-            let y = d.held_state(&ode, time);
-            let pt = ode.point_at(&k, &y);
-            let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
-            let ders = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
-            chain::write_states(v, states, ders, &y, pt.xdd, pt.power);
-            let tau = elastic_outputs(p, v, &pt, s.w, s.a);
-            let r =
-                shaft::reduce(|a| elastic_torques(p, &p.at_shaft_accel(&k, s.w, a), pt.f_el, a)[3]);
-            shaft::set_reduced(v, r);
-            v[V::elastic_E_residual] =
-                ode.energy(&pt) - if d.started { d.e0 } else { ode.energy(&pt) } - y[2];
-            v[V::dyn_factor] = d.memory.peaks.dyn_factor();
             v[V::solver_steps] = d.integ.mem.stats.steps as f64;
-            shaft::set_outputs(v, tau, s.w);
-            return;
         }
-        v[V::elastic_deflection] = 0.0;
-        v[V::elastic_F] = 0.0;
-        v[V::dyn_factor] = 1.0;
-        let kinetostatic = shaft::fidelity(v) == Fidelity::Kinetostatic && v.wants(stage::FORCES);
-        let tau = kinetostatic.then(|| {
-            let f = p.kinetostatics(&k, s.w, s.a);
-            v[V::knife_F_cut] = f.f_cut;
-            v[V::knife_F_inertia] = f.f_inertia;
-            v[V::rod_F] = f.rod_f;
-            v[V::guide_N] = f.guide_n;
-            v[V::crank_tau] = f.crank_tau;
-            v[V::cross_tau] = f.cross_tau;
-            v[V::geneva_F] = f.geneva_f;
-            f.shaft_tau
-        });
-        shaft::set_rigid_torque(v, &s, tau, |a| {
-            p.kinetostatics(&p.at_shaft_accel(&k, s.w, a), s.w, a)
-                .shaft_tau
-        });
+    }
+
+    const PARTIALS: bool = true;
+
+    /// The outputs on [`Dual64`] seeded along the knowns: the inputs (`shaft.phi`, `shaft.w`,
+    /// `shaft.a`) and, in Model Exchange, the chain's states (`elastic.x`, `elastic.xd`,
+    /// `elastic.W`; in Co-Simulation the held state is a constant, their seeds 0): the same
+    /// [`GenevaKnifeDrive::outputs`]. What it holds has the derivative 0: the forces at the
+    /// kinematic level and `elastic.E_residual` below the elastodynamic level, where the Model
+    /// Exchange states are constants (their derivatives 0).
+    fn partials(
+        &mut self,
+        at: &Seeded<V>,
+        time: f64,
+        put: &mut dyn FnMut(V, Dual64),
+    ) -> Result<(), String> {
+        let v = at.values();
+        let st = shaft::state_of(v, time, |vr| at.get_vr(vr));
+        let own = |y: [f64; 3]| {
+            [
+                at.own(V::elastic_x, y[0]),
+                at.own(V::elastic_xd, y[1]),
+                at.own(V::elastic_W, y[2]),
+            ]
+        };
+        let level = self.level(v, time);
+        self.outputs(level, time, &st, own, &mut *put);
+        if !matches!(level, Level::Elastic(_)) {
+            // no chain: its Model Exchange derivatives are 0 ([`crate::chain_hooks!`])
+            for var in [
+                V::der_elastic_x,
+                V::der_elastic_xd,
+                V::der_elastic_W,
+                V::elastic_E_residual,
+            ] {
+                put(var, Dual64::from(0.0));
+            }
+            if level == Level::Kinematic {
+                for (var, _) in force_outputs(&Forces::<f64>::default()) {
+                    put(var, Dual64::from(0.0));
+                }
+            }
+        }
+        Ok(())
     }
 }
 
@@ -280,50 +414,164 @@ impl Dynamics<V> for GenevaKnifeDrive {
         me_event_indicators, me_event, me_completed_step, save_state, restore_state);
 }
 
-/// Writes the outputs of the elastodynamic level at one point; returns the shaft torque. The
-/// chain force replaces the rigid rod force: crank, gear pair, cross and shaft follow the
-/// kinetostatic chain (rigid links behind the compliant one).
-fn elastic_outputs(p: &Params, v: &mut Values<V>, pt: &Point, w: f64, eps: f64) -> f64 {
+/// Puts the outputs of the elastodynamic level at one point `pt` (shaft acceleration `eps`);
+/// returns the shaft torque (any [`Scalar`]). The chain force replaces the rigid rod force:
+/// crank, gear pair, cross and shaft follow the kinetostatic chain (rigid links behind the
+/// compliant one).
+fn elastic_outputs<T: Scalar>(p: &Params, pt: &Point<T>, eps: T, put: &mut impl FnMut(V, T)) -> T {
     let k = &pt.kin;
-    v[V::knife_s] = pt.x;
-    v[V::knife_v] = pt.xd;
-    v[V::knife_a] = pt.xdd;
-    v[V::elastic_deflection] = pt.delta;
-    v[V::elastic_F] = pt.f_el;
-    v[V::knife_F_cut] = pt.f_cut;
-    v.set_flag(V::knife_in_stack, pt.f_cut > 0.0);
-    v[V::knife_F_inertia] = -p.slider_mass() * pt.xdd;
+    put(V::knife_s, pt.x);
+    put(V::knife_v, pt.xd);
+    put(V::knife_a, pt.xdd);
+    put(V::elastic_deflection, pt.delta);
+    put(V::elastic_F, pt.f_el);
+    put(V::knife_F_cut, pt.f_cut);
+    put(V::knife_F_inertia, pt.xdd * (-p.slider_mass()));
     let rod_f = pt.f_el / k.cos_nu;
-    v[V::rod_F] = rod_f;
-    v[V::guide_N] = rod_f * k.sin_nu;
+    put(V::rod_F, rod_f);
+    put(V::guide_N, rod_f * k.sin_nu);
     let [crank_tau, cross_tau, geneva_f, shaft_tau] = elastic_torques(p, k, pt.f_el, eps);
-    v[V::crank_tau] = crank_tau;
-    v[V::cross_tau] = cross_tau;
-    v[V::geneva_F] = geneva_f;
-    let _ = w;
+    put(V::crank_tau, crank_tau);
+    put(V::cross_tau, cross_tau);
+    put(V::geneva_F, geneva_f);
     shaft_tau
 }
 
 /// `[crank.tau, cross.tau, geneva.F, shaft.tau]` of the elastodynamic level: the chain force
 /// `f_el` (a function of the state, not of the shaft acceleration) on the rigid crank, gear pair,
-/// cross and driver at kinematics `k` and shaft acceleration `eps`.
-fn elastic_torques(p: &Params, k: &Kinematics, f_el: f64, eps: f64) -> [f64; 4] {
-    let crank_tau = f_el * k.ds_dtheta + p.crank_inertia() * k.crank_a;
-    let i = f64::from(p.gear_i);
-    let gear = if crank_tau * k.crank_w >= 0.0 {
-        i * crank_tau / p.gear_eta
-    } else {
-        i * crank_tau * p.gear_eta
-    };
-    if k.engaged {
-        let cross_tau = gear + p.cross_j * k.cross_a;
-        [
-            crank_tau,
-            cross_tau,
-            cross_tau / k.rho,
-            cross_tau * k.gamma_d + p.driver_j * eps,
-        ]
-    } else {
-        [crank_tau, 0.0, 0.0, p.driver_j * eps]
+/// cross and driver at kinematics `k` and shaft acceleration `eps` ([`Params::behind_crank`];
+/// any [`Scalar`]).
+fn elastic_torques<T: Scalar>(p: &Params, k: &Kinematics<T>, f_el: T, eps: T) -> [T; 4] {
+    let crank_tau = f_el * k.ds_dtheta + k.crank_a * p.crank_inertia();
+    let (cross_tau, geneva_f, shaft_tau) = p.behind_crank(k, crank_tau, eps);
+    [crank_tau, cross_tau, geneva_f, shaft_tau]
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Causality, NoLog, VarSet, VarType};
+
+    /// The exact partial derivatives against central differences of `evaluate` at every level:
+    /// the knife before the stack, cutting through it and rising, the cross locked in the dwell,
+    /// a shaft moved on from the inputs' instant and the constant-speed drive; at the
+    /// elastodynamic level along the inputs (the held state a constant, as in Co-Simulation)
+    /// and along the states (Model Exchange's knowns, with the state derivatives), the knife
+    /// deflected, cutting and not (tests/partials.rs checks the default FMU over the C ABI).
+    #[test]
+    fn partials_equal_central_differences() {
+        let real_output = |var: &crate::model::Var| {
+            var.causality == Causality::Output && matches!(var.ty, VarType::Real)
+        };
+        let outputs: Vec<usize> = (0..V::table().len())
+            .filter(|&vr| real_output(&V::table()[vr]))
+            .collect();
+        let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
+        let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
+        // the phases covered: (level, cutting, in the dwell)
+        let mut seen = vec![];
+        // (level, drive.mode, phi, w, a, time, deflection and its rate at level 3)
+        for (level, mode, phi, w, a, time, dy) in [
+            (2.0, 1.0, 0.45, 3.0, 0.0, 0.0, [0.0; 2]),
+            (2.0, 1.0, 0.65, 3.0, 2.0, 0.0, [0.0; 2]),
+            (2.0, 1.0, 0.95, 2.5, -1.5, 0.0, [0.0; 2]),
+            (2.0, 1.0, 3.0, 3.0, 4.0, 0.0, [0.0; 2]),
+            (2.0, 1.0, 0.6, 3.0, 0.5, 0.02, [0.0; 2]),
+            (2.0, 2.0, 0.6, 3.0, 0.5, 0.13, [0.0; 2]),
+            (1.0, 1.0, 0.65, 3.0, 2.0, 0.0, [0.0; 2]),
+            (3.0, 1.0, 0.45, 3.0, 0.0, 0.0, [2e-4, -0.05]),
+            (3.0, 1.0, 0.66, 3.0, 2.0, 0.0, [2e-4, -0.05]),
+            (3.0, 1.0, 0.66, 3.0, 2.0, 0.0, [-1e-4, 0.08]),
+            (3.0, 1.0, 0.95, 2.5, -1.5, 0.01, [3e-4, 0.1]),
+            (3.0, 1.0, 3.0, 3.0, 4.0, 0.0, [1e-4, 0.02]),
+            (3.0, 2.0, 0.6, 3.0, 0.5, 0.13, [2e-4, -0.05]),
+        ] {
+            let mut v = Values::<V>::start();
+            v[V::model_fidelity] = level;
+            v[V::drive_mode] = mode;
+            v[V::shaft_phi] = phi;
+            v[V::shaft_w] = w;
+            v[V::shaft_a] = a;
+            let mut m = GenevaKnifeDrive::prepare(&v).unwrap();
+            // the knife off its rigid motion: a started chain with a held state
+            let k = m.params.kinematics(shaft::state(&v, time).phi, w, a);
+            let y0 = [k.s - dy[0], k.v - dy[1], 0.3];
+            if let Some(d) = m.dynamic.as_mut() {
+                d.started = true;
+                d.y = y0;
+                d.e0 = 0.1;
+            }
+            let knowns: Vec<(V, f64)> = inputs
+                .into_iter()
+                .zip([phi, w, a])
+                .chain(
+                    m.dynamic
+                        .is_some()
+                        .then(|| states.into_iter().zip(y0))
+                        .into_iter()
+                        .flatten(),
+                )
+                .collect();
+            // with the state derivatives where there are states
+            let mut outs = outputs.clone();
+            if m.dynamic.is_some() {
+                outs.extend(
+                    [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W]
+                        .map(|d| d.vr() as usize),
+                );
+            }
+            let eval = |x: &[f64], m: &mut GenevaKnifeDrive| {
+                let mut v = v.clone();
+                for ((k, _), xi) in knowns.iter().zip(x) {
+                    v[*k] = *xi;
+                }
+                if let Some(d) = m.dynamic.as_mut() {
+                    d.y.copy_from_slice(&x[3..]);
+                }
+                m.evaluate(&mut v, time, &mut NoLog);
+                outs.iter().map(|o| v.raw()[*o]).collect::<Vec<f64>>()
+            };
+            let x0: Vec<f64> = knowns.iter().map(|(_, x)| *x).collect();
+            let mut at0 = v.clone();
+            m.evaluate(&mut at0, time, &mut NoLog);
+            seen.push((level, at0[V::knife_F_cut] > 0.0, at0.flag(V::knife_dwell)));
+            for (i, (k, _)) in knowns.iter().enumerate() {
+                if let Some(d) = m.dynamic.as_mut() {
+                    d.y = y0;
+                }
+                let mut seed = vec![0.0; V::table().len()];
+                seed[k.vr() as usize] = 1.0;
+                let mut exact = vec![f64::NAN; V::table().len()];
+                m.partials(&Seeded::new(&v, &seed), time, &mut |o, x| {
+                    exact[o.vr() as usize] = x.eps
+                })
+                .unwrap();
+                let h = 1e-6 * x0[i].abs().max(1.0);
+                let (mut xp, mut xm) = (x0.clone(), x0.clone());
+                xp[i] += h;
+                xm[i] -= h;
+                let (yp, ym) = (eval(&xp, &mut m), eval(&xm, &mut m));
+                for (j, o) in outs.iter().enumerate() {
+                    let fd = (yp[j] - ym[j]) / (2.0 * h);
+                    let ex = exact[*o];
+                    assert!(
+                        // the differences' rounding: 1e-14 of the output over h
+                        (ex - fd).abs()
+                            <= 1e-6 * fd.abs().max(1.0) + 1e-14 * yp[j].abs().max(ym[j].abs()) / h,
+                        "level {level} mode {mode} phi {phi} a {a} time {time}: d {} / d {}: exact {ex}, central {fd}",
+                        V::table()[*o].name,
+                        V::table()[k.vr() as usize].name,
+                    );
+                }
+            }
+        }
+        for level in [2.0, 3.0] {
+            for phase in [(true, false), (false, false), (false, true)] {
+                assert!(
+                    seen.contains(&(level, phase.0, phase.1)),
+                    "{level} {phase:?}"
+                );
+            }
+        }
     }
 }

@@ -24,7 +24,7 @@
 use crate::mechanics::geneva::Geneva;
 use crate::mechanics::slider_crank::{Pose, SliderCrank};
 use crate::mechanics::{
-    ParamError, STANDARD_GRAVITY, check_non_negative, check_positive, sgn, wrap_angle,
+    ParamError, STANDARD_GRAVITY, Scalar, check_non_negative, check_positive, sgn, wrap_angle_of,
 };
 use std::f64::consts::PI;
 
@@ -96,87 +96,88 @@ impl Default for Params {
 
 /// Positions, velocities and accelerations of every member at one shaft state.
 /// Derivatives with a `_d`/`_dd` suffix are with respect to the driver angle ψ; `_w`/`_a` and
-/// `v`/`a` are time derivatives (chain rule on `shaft.w`, `shaft.a`).
+/// `v`/`a` are time derivatives (chain rule on `shaft.w`, `shaft.a`). Any [`Scalar`]: `f64`, or
+/// dual numbers along the inputs (the exact partial derivatives).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Kinematics {
+pub struct Kinematics<T = f64> {
     /// Driver angle within its turn, `ψ = φ mod 2π`, rad.
-    pub psi: f64,
+    pub psi: T,
     /// Roller in a slot (`ψ ∈ [0, 2φe]`): the cross, crank and knife move.
     pub engaged: bool,
     /// `cross.gamma`: cross angle within the index, 0 → 2π/Z (2π/Z in the dwell), rad.
-    pub gamma: f64,
+    pub gamma: T,
     /// `γ' = dγ/dψ`.
-    pub gamma_d: f64,
+    pub gamma_d: T,
     /// `γ'' = d²γ/dψ²`, 1/rad.
-    pub gamma_dd: f64,
+    pub gamma_dd: T,
     /// `cross.w = γ'·ω`, rad/s.
-    pub cross_w: f64,
+    pub cross_w: T,
     /// `cross.a = γ''·ω² + γ'·ε`, rad/s².
-    pub cross_a: f64,
+    pub cross_a: T,
     /// `crank.theta = i·γ mod 2π ∈ [0, 2π)`, rad (0 in the dwell).
-    pub theta: f64,
+    pub theta: T,
     /// `crank.w = θ̇ = i·γ'·ω`, rad/s.
-    pub crank_w: f64,
+    pub crank_w: T,
     /// `crank.a = θ̈ = i·(γ''·ω² + γ'·ε)`, rad/s².
-    pub crank_a: f64,
+    pub crank_a: T,
     /// `rod.nu`: rod angle, `sin ν = sin θ/λ2`, rad.
-    pub nu: f64,
+    pub nu: T,
     /// `sin ν`.
-    pub sin_nu: f64,
+    pub sin_nu: T,
     /// `cos ν`.
-    pub cos_nu: f64,
+    pub cos_nu: T,
     /// The slider-crank's pose at `theta` (positions and θ-derivatives), for the accelerations
     /// at another shaft acceleration ([`Params::at_shaft_accel`]).
-    pub pose: Pose,
+    pub pose: Pose<T>,
     /// Rod angular velocity ν̇, rad/s.
-    pub nu_w: f64,
+    pub nu_w: T,
     /// Rod angular acceleration ν̈, rad/s².
-    pub nu_a: f64,
+    pub nu_a: T,
     /// `knife.s`: displacement from the top, down positive,
     /// `r2·(1 + λ2 − cos θ − √(λ2² − sin²θ))`, m.
-    pub s: f64,
+    pub s: T,
     /// `ds/dθ = r2·sin(θ + ν)/cos ν`, m/rad.
-    pub ds_dtheta: f64,
+    pub ds_dtheta: T,
     /// `d²s/dθ²`, m/rad².
-    pub dds_dtheta: f64,
+    pub dds_dtheta: T,
     /// `ds/dψ = ds/dθ·i·γ'`, m/rad.
-    pub s_d: f64,
+    pub s_d: T,
     /// `d²s/dψ² = d²s/dθ²·(i·γ')² + ds/dθ·i·γ''`, m/rad².
-    pub s_dd: f64,
+    pub s_dd: T,
     /// `knife.v = ds/dθ·θ̇`, m/s.
-    pub v: f64,
+    pub v: T,
     /// `knife.a = d²s/dθ²·θ̇² + ds/dθ·θ̈`, m/s².
-    pub a: f64,
+    pub a: T,
     /// `knife.dwell`: the cross is locked and the knife stands at the top (`!engaged`).
     pub dwell: bool,
     /// Distance roller – cross centre ρ (the roller's lever on the cross while engaged), m.
-    pub rho: f64,
+    pub rho: T,
 }
 
-/// Forces and torques at one shaft state (level `kinetostatic`).
+/// Forces and torques at one shaft state (level `kinetostatic`; any [`Scalar`]).
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Forces {
+pub struct Forces<T = f64> {
     /// `knife.F_cut`: cutting resistance on the knife, ≥ 0, acting against its descent, N.
-    pub f_cut: f64,
+    pub f_cut: T,
     /// `knife.F_inertia`: d'Alembert inertia force of the slider mass along s, `−m_s·a`, N.
-    pub f_inertia: f64,
+    pub f_inertia: T,
     /// `rod.F`: rod force P; its component along s on the slider is `P·cos ν` (spec: "compression
     /// positive"; see the module docs on that label), N.
-    pub rod_f: f64,
+    pub rod_f: T,
     /// `guide.N`: lateral component of the rod force on the slider, `P·sin ν`, which the guides
     /// take (signed; friction uses its magnitude), N.
-    pub guide_n: f64,
+    pub guide_n: T,
     /// `crank.tau`: torque gear 4 applies to the crank, `P·r2·sin(θ + ν) + (crank.J + rod.m/2·r2²)·θ̈`, N·m.
-    pub crank_tau: f64,
+    pub crank_tau: T,
     /// `cross.tau`: torque the roller applies to the cross, `i·τ_crank` over or times η, plus
     /// `cross.J·γ̈`, N·m (0 in the dwell: the locking arcs hold the cross).
-    pub cross_tau: f64,
+    pub cross_tau: T,
     /// `geneva.F`: contact force roller – slot flank, `τ_cross/ρ` (0 in the dwell), N.
-    pub geneva_f: f64,
+    pub geneva_f: T,
     /// `shaft.tau`: torque required at the main shaft, N·m.
-    pub shaft_tau: f64,
+    pub shaft_tau: T,
     /// `shaft.P = shaft.tau·ω`, W.
-    pub shaft_p: f64,
+    pub shaft_p: T,
 }
 
 impl Params {
@@ -319,23 +320,25 @@ impl Params {
     }
 
     /// As [`Params::kinematics`], with the Geneva pair built once (it costs a sine: the FMU
-    /// builds it when it prepares the model, not in every step).
-    #[inline]
-    pub fn kinematics_of(&self, geneva: &Geneva, phi: f64, w: f64, eps: f64) -> Kinematics {
+    /// builds it when it prepares the model, not in every step). Any [`Scalar`]: the same
+    /// operations for `f64` and for the dual numbers of the partial derivatives, the
+    /// engagement decided on the value.
+    #[inline(always)]
+    pub fn kinematics_of<T: Scalar>(&self, geneva: &Geneva, phi: T, w: T, eps: T) -> Kinematics<T> {
         let g = geneva.at(phi);
         let i = f64::from(self.gear_i);
         // θ = i·γ, θ' = i·γ', θ'' = i·γ'' (paper 003 leaves i out of the velocity: erratum).
         // In the dwell θ = i·2π/Z is a whole number of turns: exactly 0.
         let theta = if g.engaged {
-            wrap_angle(i * g.gamma)
+            wrap_angle_of(g.gamma * i)
         } else {
-            0.0
+            T::zero()
         };
-        let theta_d = i * g.gamma_d;
-        let theta_dd = i * g.gamma_dd;
+        let theta_d = g.gamma_d * i;
+        let theta_dd = g.gamma_dd * i;
         let cross_w = g.gamma_d * w;
-        let crank_w = i * cross_w;
-        let m = self.slider_crank().motion(theta, crank_w, 0.0);
+        let crank_w = cross_w * i;
+        let m = self.slider_crank().motion(theta, crank_w, T::zero());
         let p = m.pose;
         let k = Kinematics {
             psi: g.psi,
@@ -344,23 +347,23 @@ impl Params {
             gamma_d: g.gamma_d,
             gamma_dd: g.gamma_dd,
             cross_w,
-            cross_a: 0.0,
+            cross_a: T::zero(),
             theta,
             crank_w,
-            crank_a: 0.0,
+            crank_a: T::zero(),
             nu: p.nu,
             sin_nu: p.sin_nu,
             cos_nu: p.cos_nu,
             pose: p,
             nu_w: m.nu_w,
-            nu_a: 0.0,
+            nu_a: T::zero(),
             s: p.s,
             ds_dtheta: p.ds,
             dds_dtheta: p.dds,
             s_d: p.ds * theta_d,
             s_dd: p.dds * theta_d * theta_d + p.ds * theta_dd,
             v: m.v,
-            a: 0.0,
+            a: T::zero(),
             dwell: !g.engaged,
             rho: g.rho,
         };
@@ -373,12 +376,12 @@ impl Params {
     /// so only the accelerations are recomputed, with no trigonometry: what
     /// [`crate::model::shaft::reduce_at`] evaluates to split the shaft torque into `τ0` and
     /// `J_red`. The same operations as [`Params::kinematics_of`] (which ends in this call): the
-    /// result is bit-identical to `kinematics_of(.., phi, w, eps)`.
+    /// result is bit-identical to `kinematics_of(.., phi, w, eps)`. Any [`Scalar`].
     #[inline]
-    pub fn at_shaft_accel(&self, k: &Kinematics, w: f64, eps: f64) -> Kinematics {
+    pub fn at_shaft_accel<T: Scalar>(&self, k: &Kinematics<T>, w: T, eps: T) -> Kinematics<T> {
         let i = f64::from(self.gear_i);
         let cross_a = k.gamma_dd * w * w + k.gamma_d * eps;
-        let crank_a = i * cross_a;
+        let crank_a = cross_a * i;
         let m = k.pose.motion(k.crank_w, crank_a);
         Kinematics {
             cross_a,
@@ -397,20 +400,23 @@ impl Params {
 
     /// Cutting resistance on the knife (spec, Kinetostatics): 0 unless the knife descends
     /// (`v > 0`) with `s ∈ [s_start, s_end]`; rises linearly from 0 at `s_start` to `F_max` at
-    /// `s_full`, then stays at `F_max` until `s_end` (cut through). N, ≥ 0.
+    /// `s_full`, then stays at `F_max` until `s_end` (cut through). N, ≥ 0. Any [`Scalar`], the
+    /// phase decided on the values.
     #[inline]
-    pub fn cut_force(&self, s: f64, v: f64) -> f64 {
-        if !self.in_stack(s, v) {
-            0.0
-        } else if s >= self.cut_s_full {
-            self.cut_f_max
+    pub fn cut_force<T: Scalar>(&self, s: T, v: T) -> T {
+        if !self.in_stack(s.re(), v.re()) {
+            T::zero()
+        } else if s.re() >= self.cut_s_full {
+            T::from(self.cut_f_max)
         } else {
-            self.cut_f_max * (s - self.cut_s_start) / (self.cut_s_full - self.cut_s_start)
+            (s - self.cut_s_start) * self.cut_f_max / (self.cut_s_full - self.cut_s_start)
         }
     }
 
     /// Forces and torques (spec section Kinetostatics) for kinematics `k` computed at shaft speed
-    /// `w` and acceleration `eps`. Needs validated parameters.
+    /// `w` and acceleration `eps`. Needs validated parameters. Any [`Scalar`]: the friction's
+    /// direction, the regime of the slider equation and the power flow through the gear pair
+    /// are decided on the values.
     ///
     /// Slider (`m_s = knife.m + rod.m/2`) along s:
     /// `P·cos ν − μ·|P·sin ν|·sgn(v) + m_s·g − F_cut = m_s·a`. The friction term depends on |P|:
@@ -418,41 +424,24 @@ impl Params {
     /// in P when `|k| < c` (guaranteed by [`Params::validate`]), so the unique solution is
     /// `P = R/(c − k)` for `R = m_s·(a − g) + F_cut ≥ 0` and `P = R/(c + k)` for `R < 0`.
     #[inline]
-    pub fn kinetostatics(&self, k: &Kinematics, w: f64, eps: f64) -> Forces {
+    pub fn kinetostatics<T: Scalar>(&self, k: &Kinematics<T>, w: T, eps: T) -> Forces<T> {
         let m_s = self.slider_mass();
         let (sin_nu, cos_nu) = (k.sin_nu, k.cos_nu);
         let f_cut = self.cut_force(k.s, k.v);
-        let rhs = m_s * (k.a - STANDARD_GRAVITY) + f_cut;
-        let sgn_v = sgn(k.v);
-        let kf = self.guide_mu * sin_nu.abs() * sgn_v;
-        let p = if rhs >= 0.0 {
+        let rhs = (k.a - STANDARD_GRAVITY) * m_s + f_cut;
+        let sgn_v = sgn(k.v.re());
+        let kf = sin_nu.abs() * self.guide_mu * sgn_v;
+        let p = if rhs.re() >= 0.0 {
             rhs / (cos_nu - kf)
         } else {
             rhs / (cos_nu + kf)
         };
         // Crank: rod force on the arm r2·sin(θ + ν) = ds/dθ·cos ν, plus the rotating inertia.
-        let crank_tau = p * k.ds_dtheta * cos_nu + self.crank_inertia() * k.crank_a;
-        // Gear pair: η by the direction of the power flow at the crank.
-        let i = f64::from(self.gear_i);
-        let gear = if crank_tau * k.crank_w >= 0.0 {
-            i * crank_tau / self.gear_eta
-        } else {
-            i * crank_tau * self.gear_eta
-        };
-        let (cross_tau, geneva_f, shaft_tau) = if k.engaged {
-            let cross_tau = gear + self.cross_j * k.cross_a;
-            (
-                cross_tau,
-                cross_tau / k.rho,
-                cross_tau * k.gamma_d + self.driver_j * eps,
-            )
-        } else {
-            // Dwell: the locking arcs hold the cross; nothing flows to the shaft but its own inertia.
-            (0.0, 0.0, self.driver_j * eps)
-        };
+        let crank_tau = p * k.ds_dtheta * cos_nu + k.crank_a * self.crank_inertia();
+        let (cross_tau, geneva_f, shaft_tau) = self.behind_crank(k, crank_tau, eps);
         Forces {
             f_cut,
-            f_inertia: -m_s * k.a,
+            f_inertia: k.a * (-m_s),
             rod_f: p,
             guide_n: p * sin_nu,
             crank_tau,
@@ -460,6 +449,32 @@ impl Params {
             geneva_f,
             shaft_tau,
             shaft_p: shaft_tau * w,
+        }
+    }
+
+    /// The torque `crank_tau` on the crank carried through the gear pair (η by the direction of
+    /// the power flow at the crank) to the cross and the driver at kinematics `k` and shaft
+    /// acceleration `eps`: `(cross.tau, geneva.F, shaft.tau)` (any [`Scalar`]). In the dwell the
+    /// locking arcs hold the cross: nothing flows to the shaft but the driver's own inertia.
+    /// The kinetostatic and the elastodynamic level share it (the latter with the chain force
+    /// on the crank).
+    #[inline]
+    pub fn behind_crank<T: Scalar>(&self, k: &Kinematics<T>, crank_tau: T, eps: T) -> (T, T, T) {
+        let i = f64::from(self.gear_i);
+        let gear = if crank_tau.re() * k.crank_w.re() >= 0.0 {
+            crank_tau * i / self.gear_eta
+        } else {
+            crank_tau * i * self.gear_eta
+        };
+        if k.engaged {
+            let cross_tau = gear + k.cross_a * self.cross_j;
+            (
+                cross_tau,
+                cross_tau / k.rho,
+                cross_tau * k.gamma_d + eps * self.driver_j,
+            )
+        } else {
+            (T::zero(), T::zero(), eps * self.driver_j)
         }
     }
 
