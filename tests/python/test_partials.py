@@ -121,9 +121,8 @@ def _cs2_turning(ex, kr, steps, level=None):
     return fmu, x0
 
 
-@pytest.mark.parametrize("model,level", [ml for m in offering() for ml in _levels(m)])
-def test_co_simulation_partials_through_fmpy_equal_central_differences(model, level):
-    ex = Extracted.of(FMU_DIR / f"{model}.fmu")
+def _check_co_simulation(path, level, what):
+    ex = Extracted.of(path)
     inputs, outputs = _knowns_unknowns(ex.md)
     kr = [v.valueReference for v in inputs]
     ur = [v.valueReference for v in outputs]
@@ -133,9 +132,30 @@ def test_co_simulation_partials_through_fmpy_equal_central_differences(model, le
     for i, v in enumerate(inputs):
         exact = fmu.getDirectionalDerivative(ur, [kr[i]], [1.0])
         fd = _central(lambda x: fmu.setReal(kr, x), lambda: fmu.getReal(ur), x0, i)
-        _assert_close(exact, fd, f"{model} (level {level}) CS d/d{v.name}")
+        _assert_close(exact, fd, f"{what} CS d/d{v.name}")
     fmu.terminate()
     fmu.freeInstance()
+
+
+@pytest.mark.parametrize("model,level", [ml for m in offering() for ml in _levels(m)])
+def test_co_simulation_partials_through_fmpy_equal_central_differences(model, level):
+    _check_co_simulation(FMU_DIR / f"{model}.fmu", level, f"{model} (level {level})")
+
+
+SCENE_FMUS = sorted((FMU_DIR.parent / "scenes").glob("*.fmu"))
+
+
+def test_every_scene_is_built_for_the_partials_test():
+    # one tailored FMU per example scene (`tests/run` builds them before pytest)
+    assert len(SCENE_FMUS) == len(list((FMU_DIR.parents[1] / "scenes").glob("*.toml")))
+
+
+@pytest.mark.parametrize("path", SCENE_FMUS, ids=[p.stem for p in SCENE_FMUS])
+def test_tailored_fmus_give_the_partials_of_what_they_keep(path):
+    """An FMU tailored to a scene (its level and stages fixed, variables left out) offers the
+    derivatives of the outputs it keeps, equal to central differences."""
+    assert read_model_description(str(path)).coSimulation.providesDirectionalDerivative
+    _check_co_simulation(path, None, path.stem)
 
 
 @pytest.mark.parametrize("model,level", [ml for m in offering()
