@@ -24,13 +24,23 @@ fn examples() -> Vec<PathBuf> {
     files
 }
 
-/// A resources folder holding `text` as scene.toml, and its file URI.
-fn resources(tag: &str, text: &str) -> (PathBuf, CString) {
+/// A temporary folder, removed when dropped.
+struct TempDir(PathBuf);
+
+impl Drop for TempDir {
+    fn drop(&mut self) {
+        let _ = std::fs::remove_dir_all(&self.0);
+    }
+}
+
+/// A resources folder holding `text` as scene.toml (removed when the guard drops), and its
+/// file URI.
+fn resources(tag: &str, text: &str) -> (TempDir, CString) {
     let dir = std::env::temp_dir().join(format!("bindery-scene-{}-{tag}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::write(dir.join(RESOURCE_NAME), text).unwrap();
     let uri = CString::new(format!("file://{}/", dir.display())).unwrap();
-    (dir, uri)
+    (TempDir(dir), uri)
 }
 
 /// fmi2Instantiate (co-simulation) with a resource location; panics with the log if refused.
@@ -224,8 +234,8 @@ fn a_scene_fmu_refuses_the_full_guid_and_a_bad_scene() {
         "{why}"
     );
     // no scene: the full FMU, as before
-    let (_d, uri) = resources("none", "");
-    std::fs::remove_file(_d.join(RESOURCE_NAME)).unwrap();
+    let (dir, uri) = resources("none", "");
+    std::fs::remove_file(dir.0.join(RESOURCE_NAME)).unwrap();
     assert!(instantiate(&fmu, &full_guid, &uri).is_some());
 }
 

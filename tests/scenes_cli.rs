@@ -4,7 +4,8 @@
 use std::process::Command;
 
 fn export(name: &str, text: &str) -> (bool, String) {
-    let dir = std::env::temp_dir().join(format!("bindery-scene-cli-{}", std::process::id()));
+    // a folder per call (the tests run in parallel), removed after the export
+    let dir = std::env::temp_dir().join(format!("bindery-scene-cli-{}-{name}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     let file = dir.join(name);
     std::fs::write(&file, text).unwrap();
@@ -17,6 +18,7 @@ fn export(name: &str, text: &str) -> (bool, String) {
         ])
         .output()
         .unwrap();
+    let _ = std::fs::remove_dir_all(&dir);
     (
         out.status.success(),
         String::from_utf8_lossy(&out.stderr).into_owned(),
