@@ -50,3 +50,94 @@ impl<'a, V: VarSet> Seeded<'a, V> {
         self.values
     }
 }
+
+/// For the models' unit tests: their exact partial derivatives against central differences of
+/// their own `evaluate`, written once.
+#[cfg(test)]
+pub mod check {
+    use super::{Seeded, Values, VarSet};
+    use crate::model::{Causality, Model, NoLog, VarType, Variability};
+
+    /// The unknowns of a partial derivative: the continuous Real outputs, and with
+    /// `derivatives` the state derivatives (Model Exchange), as value references.
+    pub fn unknowns<V: VarSet>(derivatives: bool) -> Vec<usize> {
+        V::table()
+            .iter()
+            .enumerate()
+            .filter(|(_, var)| {
+                (var.causality == Causality::Output
+                    && matches!(var.ty, VarType::Real)
+                    && var.variability == Variability::Continuous)
+                    || (derivatives && var.derivative.is_some())
+            })
+            .map(|(vr, _)| vr)
+            .collect()
+    }
+
+    /// The values `base` with the knowns' values `x` put in by `set`, evaluated at `time`:
+    /// the unknowns `outs`.
+    fn evaluate<M: Model, S: FnMut(&mut M, &mut Values<M::Var>, &[f64])>(
+        m: &mut M,
+        base: &Values<M::Var>,
+        time: f64,
+        outs: &[usize],
+        set: &mut S,
+        x: &[f64],
+    ) -> Vec<f64> {
+        let mut v = base.clone();
+        set(m, &mut v, x);
+        m.evaluate(&mut v, time, &mut NoLog);
+        outs.iter().map(|o| v.raw()[*o]).collect()
+    }
+
+    /// At the point `base` (the instance's values) and `time`, for each known `(k, x0)`:
+    /// the column [`Model::partials`] gives along `k` against the central difference of
+    /// `evaluate` over `x0 ± step(k, x0)`, for every unknown in `outs`; `set(m, v, x)` puts
+    /// the knowns' values `x` (in the order of `knowns`) into the values or the model (a
+    /// state). Within 1e-6 of the column's scale plus the differences' rounding, `noise` of
+    /// the value over the step (1e-14 is `f64`'s; a value that is a difference of nearly
+    /// equal positions carries more). `what` names the point in a failure.
+    #[allow(clippy::too_many_arguments)]
+    pub fn against_central_differences<M: Model>(
+        m: &mut M,
+        base: &Values<M::Var>,
+        time: f64,
+        knowns: &[(M::Var, f64)],
+        outs: &[usize],
+        mut set: impl FnMut(&mut M, &mut Values<M::Var>, &[f64]),
+        step: impl Fn(M::Var, f64) -> f64,
+        noise: f64,
+        what: &str,
+    ) {
+        let table = M::Var::table();
+        let x0: Vec<f64> = knowns.iter().map(|(_, x)| *x).collect();
+        for (i, (k, _)) in knowns.iter().enumerate() {
+            let mut at = base.clone();
+            set(m, &mut at, &x0);
+            let mut seed = vec![0.0; table.len()];
+            seed[k.vr() as usize] = 1.0;
+            let mut exact = vec![f64::NAN; table.len()];
+            m.partials(&Seeded::new(&at, &seed), time, &mut |o, x| {
+                exact[o.vr() as usize] = x.eps
+            })
+            .unwrap();
+            let h = step(*k, x0[i]);
+            let (mut xp, mut xm) = (x0.clone(), x0.clone());
+            xp[i] += h;
+            xm[i] -= h;
+            let yp = evaluate(m, base, time, outs, &mut set, &xp);
+            let ym = evaluate(m, base, time, outs, &mut set, &xm);
+            for (j, o) in outs.iter().enumerate() {
+                let fd = (yp[j] - ym[j]) / (2.0 * h);
+                let ex = exact[*o];
+                assert!(
+                    (ex - fd).abs()
+                        <= 1e-6 * fd.abs().max(1.0) + noise * yp[j].abs().max(ym[j].abs()) / h,
+                    "{what}: d {} / d {}: exact {ex}, central {fd}",
+                    table[*o].name,
+                    table[k.vr() as usize].name,
+                );
+            }
+        }
+    }
+}

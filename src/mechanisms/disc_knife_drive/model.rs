@@ -639,13 +639,8 @@ mod tests {
     /// stretched (tests/partials.rs checks the default FMU over the C ABI).
     #[test]
     fn partials_equal_central_differences() {
-        use crate::model::{Causality, VarType};
-        let outputs: Vec<usize> = (0..V::table().len())
-            .filter(|&vr| {
-                let var = &V::table()[vr];
-                var.causality == Causality::Output && matches!(var.ty, VarType::Real)
-            })
-            .collect();
+        use crate::model::partials::check;
+        let outs = check::unknowns::<V>(true);
         let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
         let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
         // the phases covered: (level, working stroke, locked)
@@ -688,60 +683,42 @@ mod tests {
                 .zip([phi, w, a])
                 .chain(states.into_iter().zip(y0).filter(|_| elastic))
                 .collect();
-            let x0: Vec<f64> = knowns.iter().map(|(_, x)| *x).collect();
-            let mut outs = outputs.clone();
-            if elastic {
-                outs.extend(
-                    [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W]
-                        .map(|d| d.vr() as usize),
-                );
-            }
-            let eval = |x: &[f64], m: &mut DiscKnifeDrive| {
-                let mut v = v.clone();
-                for ((k, _), xi) in knowns.iter().zip(x) {
-                    v[*k] = *xi;
-                }
-                if let Some(d) = m.dynamic.as_mut() {
-                    d.y.copy_from_slice(&x[3..]);
-                }
-                m.evaluate(&mut v, time, &mut NoLog);
-                let y = outs.iter().map(|o| v.raw()[*o]).collect::<Vec<f64>>();
-                (y, v.flag(V::knife_working), v.flag(V::sliders_locked))
-            };
-            let (_, working, locked) = eval(&x0, &mut m);
-            seen.push((level, working, locked));
-            for (i, (k, _)) in knowns.iter().enumerate() {
-                if let Some(d) = m.dynamic.as_mut() {
-                    d.y = y0;
-                }
-                let mut seed = vec![0.0; V::table().len()];
-                seed[k.vr() as usize] = 1.0;
-                let mut exact = vec![f64::NAN; V::table().len()];
-                m.partials(&Seeded::new(&v, &seed), time, &mut |o, x| {
-                    exact[o.vr() as usize] = x.eps
-                })
-                .unwrap();
+            let mut at0 = v.clone();
+            m.evaluate(&mut at0, time, &mut NoLog);
+            seen.push((
+                level,
+                at0.flag(V::knife_working),
+                at0.flag(V::sliders_locked),
+            ));
+            check::against_central_differences(
+                &mut m,
+                &v,
+                time,
+                &knowns,
+                &outs,
+                |m, v, x| {
+                    for ((k, _), xi) in knowns.iter().zip(&x[..3]) {
+                        v[*k] = *xi;
+                    }
+                    if let Some(d) = m.dynamic.as_mut() {
+                        d.y.copy_from_slice(&x[3..]);
+                    }
+                },
                 // steps short of the stiff chain's curvature in the angle (2e8 N/m), long in
                 // the acceleration (the outputs are nearly affine in it, and their rounding
                 // is that of the large rod forces), the states within the rod's deflection
-                let h = [2e-8, 1e-6, 1e-3, 1e-9, 1e-9, 1e-9][i] * x0[i].abs().max(1.0);
-                let (mut xp, mut xm) = (x0.clone(), x0.clone());
-                xp[i] += h;
-                xm[i] -= h;
-                let ((yp, ..), (ym, ..)) = (eval(&xp, &mut m), eval(&xm, &mut m));
-                for (j, o) in outs.iter().enumerate() {
-                    let fd = (yp[j] - ym[j]) / (2.0 * h);
-                    let ex = exact[*o];
-                    assert!(
-                        // the differences' rounding: 1e-14 of the output over h
-                        (ex - fd).abs()
-                            <= 1e-6 * fd.abs().max(1.0) + 1e-14 * yp[j].abs().max(ym[j].abs()) / h,
-                        "level {level} mode {mode} series {series} phi {phi} a {a} time {time}: d {} / d {}: exact {ex}, central {fd}",
-                        V::table()[*o].name,
-                        V::table()[k.vr() as usize].name,
-                    );
-                }
-            }
+                |k, x| {
+                    x.abs().max(1.0)
+                        * match k {
+                            V::shaft_phi => 2e-8,
+                            V::shaft_w => 1e-6,
+                            V::shaft_a => 1e-3,
+                            _ => 1e-9,
+                        }
+                },
+                1e-14,
+                &format!("level {level} mode {mode} series {series} phi {phi} a {a} time {time}"),
+            );
         }
         for phase in [(2.0, true, false), (2.0, false, false), (2.0, false, true)] {
             assert!(seen.contains(&phase), "{phase:?} in {seen:?}");

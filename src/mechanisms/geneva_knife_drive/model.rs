@@ -450,7 +450,8 @@ fn elastic_torques<T: Scalar>(p: &Params, k: &Kinematics<T>, f_el: T, eps: T) ->
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{Causality, NoLog, VarSet, VarType};
+    use crate::model::NoLog;
+    use crate::model::partials::check;
 
     /// The exact partial derivatives against central differences of `evaluate` at every level:
     /// the knife before the stack, cutting through it and rising, the cross locked in the dwell,
@@ -460,12 +461,7 @@ mod tests {
     /// deflected, cutting and not (tests/partials.rs checks the default FMU over the C ABI).
     #[test]
     fn partials_equal_central_differences() {
-        let real_output = |var: &crate::model::Var| {
-            var.causality == Causality::Output && matches!(var.ty, VarType::Real)
-        };
-        let outputs: Vec<usize> = (0..V::table().len())
-            .filter(|&vr| real_output(&V::table()[vr]))
-            .collect();
+        let outs = check::unknowns::<V>(true);
         let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
         let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
         // the phases covered: (level, cutting, in the dwell)
@@ -504,66 +500,29 @@ mod tests {
             let knowns: Vec<(V, f64)> = inputs
                 .into_iter()
                 .zip([phi, w, a])
-                .chain(
-                    m.dynamic
-                        .is_some()
-                        .then(|| states.into_iter().zip(y0))
-                        .into_iter()
-                        .flatten(),
-                )
+                .chain(states.into_iter().zip(y0).filter(|_| m.dynamic.is_some()))
                 .collect();
-            // with the state derivatives where there are states
-            let mut outs = outputs.clone();
-            if m.dynamic.is_some() {
-                outs.extend(
-                    [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W]
-                        .map(|d| d.vr() as usize),
-                );
-            }
-            let eval = |x: &[f64], m: &mut GenevaKnifeDrive| {
-                let mut v = v.clone();
-                for ((k, _), xi) in knowns.iter().zip(x) {
-                    v[*k] = *xi;
-                }
-                if let Some(d) = m.dynamic.as_mut() {
-                    d.y.copy_from_slice(&x[3..]);
-                }
-                m.evaluate(&mut v, time, &mut NoLog);
-                outs.iter().map(|o| v.raw()[*o]).collect::<Vec<f64>>()
-            };
-            let x0: Vec<f64> = knowns.iter().map(|(_, x)| *x).collect();
             let mut at0 = v.clone();
             m.evaluate(&mut at0, time, &mut NoLog);
             seen.push((level, at0[V::knife_F_cut] > 0.0, at0.flag(V::knife_dwell)));
-            for (i, (k, _)) in knowns.iter().enumerate() {
-                if let Some(d) = m.dynamic.as_mut() {
-                    d.y = y0;
-                }
-                let mut seed = vec![0.0; V::table().len()];
-                seed[k.vr() as usize] = 1.0;
-                let mut exact = vec![f64::NAN; V::table().len()];
-                m.partials(&Seeded::new(&v, &seed), time, &mut |o, x| {
-                    exact[o.vr() as usize] = x.eps
-                })
-                .unwrap();
-                let h = 1e-6 * x0[i].abs().max(1.0);
-                let (mut xp, mut xm) = (x0.clone(), x0.clone());
-                xp[i] += h;
-                xm[i] -= h;
-                let (yp, ym) = (eval(&xp, &mut m), eval(&xm, &mut m));
-                for (j, o) in outs.iter().enumerate() {
-                    let fd = (yp[j] - ym[j]) / (2.0 * h);
-                    let ex = exact[*o];
-                    assert!(
-                        // the differences' rounding: 1e-14 of the output over h
-                        (ex - fd).abs()
-                            <= 1e-6 * fd.abs().max(1.0) + 1e-14 * yp[j].abs().max(ym[j].abs()) / h,
-                        "level {level} mode {mode} phi {phi} a {a} time {time}: d {} / d {}: exact {ex}, central {fd}",
-                        V::table()[*o].name,
-                        V::table()[k.vr() as usize].name,
-                    );
-                }
-            }
+            check::against_central_differences(
+                &mut m,
+                &v,
+                time,
+                &knowns,
+                &outs,
+                |m, v, x| {
+                    for ((k, _), xi) in knowns.iter().zip(&x[..3]) {
+                        v[*k] = *xi;
+                    }
+                    if let Some(d) = m.dynamic.as_mut() {
+                        d.y.copy_from_slice(&x[3..]);
+                    }
+                },
+                |_, x| 1e-6 * x.abs().max(1.0),
+                1e-14,
+                &format!("level {level} mode {mode} phi {phi} a {a} time {time}"),
+            );
         }
         for level in [2.0, 3.0] {
             for phase in [(true, false), (false, false), (false, true)] {

@@ -403,7 +403,7 @@ impl Dynamics<V> for LegacyNeedleDrive {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{NoLog, VarSet};
+    use crate::model::partials::check;
 
     /// The exact partial derivatives against central differences of `evaluate` at both levels,
     /// both timings, a groove and a spring-closed cam, zero and large shaft accelerations, a
@@ -411,16 +411,8 @@ mod tests {
     /// checks the default FMU over the C ABI).
     #[test]
     fn partials_equal_central_differences() {
-        let knowns = [V::shaft_phi, V::shaft_w, V::shaft_a];
-        let outs: Vec<usize> = V::table()
-            .iter()
-            .enumerate()
-            .filter(|(_, var)| {
-                var.causality == crate::model::Causality::Output
-                    && matches!(var.ty, crate::model::VarType::Real)
-            })
-            .map(|(vr, _)| vr)
-            .collect();
+        let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
+        let outs = check::unknowns::<V>(false);
         for (level, timing, closure, mode, phi, w, a, time) in [
             (2.0, 1.0, 1.0, 1.0, 1.3, 10.0, 0.0, 0.0),
             (2.0, 1.0, 1.0, 1.0, 1.3, 10.0, 3.0, 0.0),
@@ -435,45 +427,22 @@ mod tests {
             v[V::cam_closure] = closure;
             v[V::drive_mode] = mode;
             let mut m = LegacyNeedleDrive::prepare(&v).unwrap();
-            let x0 = [phi, w, a];
-            let eval = |x: &[f64; 3], m: &mut LegacyNeedleDrive| {
-                let mut v = v.clone();
-                for (k, xi) in knowns.iter().zip(x) {
-                    v[*k] = *xi;
-                }
-                m.evaluate(&mut v, time, &mut NoLog);
-                outs.iter().map(|o| v.raw()[*o]).collect::<Vec<f64>>()
-            };
-            for (i, k) in knowns.iter().enumerate() {
-                let mut base = v.clone();
-                for (kk, xi) in knowns.iter().zip(&x0) {
-                    base[*kk] = *xi;
-                }
-                let mut seed = vec![0.0; V::table().len()];
-                seed[k.vr() as usize] = 1.0;
-                let mut exact = vec![f64::NAN; V::table().len()];
-                m.partials(&Seeded::new(&base, &seed), time, &mut |o, x| {
-                    exact[o.vr() as usize] = x.eps
-                })
-                .unwrap();
-                let h = 1e-6 * x0[i].abs().max(1.0);
-                let (mut xp, mut xm) = (x0, x0);
-                xp[i] += h;
-                xm[i] -= h;
-                let (yp, ym) = (eval(&xp, &mut m), eval(&xm, &mut m));
-                for (j, o) in outs.iter().enumerate() {
-                    let fd = (yp[j] - ym[j]) / (2.0 * h);
-                    let ex = exact[*o];
-                    assert!(
-                        // the differences' rounding: 1e-14 of the output over h
-                        (ex - fd).abs()
-                            <= 1e-6 * fd.abs().max(1.0) + 1e-14 * yp[j].abs().max(ym[j].abs()) / h,
-                        "level {level} timing {timing} closure {closure} mode {mode} a {a}: d {} / d {}: exact {ex}, central {fd}",
-                        V::table()[*o].name,
-                        V::table()[k.vr() as usize].name,
-                    );
-                }
-            }
+            let knowns: Vec<(V, f64)> = inputs.into_iter().zip([phi, w, a]).collect();
+            check::against_central_differences(
+                &mut m,
+                &v,
+                time,
+                &knowns,
+                &outs,
+                |_, v, x| {
+                    for (k, xi) in inputs.iter().zip(x) {
+                        v[*k] = *xi;
+                    }
+                },
+                |_, x| 1e-6 * x.abs().max(1.0),
+                1e-14,
+                &format!("level {level} timing {timing} closure {closure} mode {mode} a {a}"),
+            );
         }
     }
 }

@@ -603,7 +603,8 @@ impl Dynamics<V> for SewingTable {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::model::{NoLog, VarSet};
+    use crate::model::NoLog;
+    use crate::model::partials::check;
 
     #[test]
     fn outputs_from_the_variables() {
@@ -665,16 +666,7 @@ mod tests {
     fn partials_equal_central_differences() {
         let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a, V::table_F_ext];
         let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
-        let table = V::table();
-        let outs: Vec<usize> = (0..table.len())
-            .filter(|&vr| {
-                let var = &table[vr];
-                (var.causality == crate::model::Causality::Output
-                    && matches!(var.ty, crate::model::VarType::Real)
-                    && var.variability == crate::model::Variability::Continuous)
-                    || var.derivative.is_some()
-            })
-            .collect();
+        let outs = check::unknowns::<V>(true);
         // level, table.kind, drive.mode, phi, w, a, time, cam.clearance, chain deflection
         for (level, kind, mode, phi, w, a, time, clearance, delta) in [
             (1.0, 1.0, 1.0, 0.5, 10.0, 3.0, 0.0, 0.0, 0.0),
@@ -695,11 +687,6 @@ mod tests {
             v[V::drive_mode] = mode;
             v[V::cam_clearance] = clearance;
             v[V::table_F_ext] = 40.0;
-            let knowns: Vec<V> = if level == 3.0 {
-                inputs.iter().chain(&states).copied().collect()
-            } else {
-                inputs.to_vec()
-            };
             let mut m = SewingTable::prepare(&v).unwrap();
             v[V::shaft_phi] = phi;
             v[V::shaft_w] = w;
@@ -707,58 +694,39 @@ mod tests {
             m.evaluate(&mut v, time, &mut NoLog);
             // the chain deflected by `delta` and moving slower than the rigid table
             let y0 = [v[V::table_x_kin] - delta, 0.9 * v[V::table_v], 0.3];
-            let x0: Vec<f64> = inputs
+            let elastic = level == 3.0;
+            let knowns: Vec<(V, f64)> = inputs
                 .iter()
-                .map(|k| v[*k])
-                .chain(if level == 3.0 { y0.to_vec() } else { vec![] })
+                .map(|k| (*k, v[*k]))
+                .chain(states.into_iter().zip(y0).filter(|_| elastic))
                 .collect();
-            let set = |x: &[f64], m: &mut SewingTable, v: &mut Values<V>| {
-                for (k, xi) in inputs.iter().zip(x) {
-                    v[*k] = *xi;
-                }
-                if level == 3.0 {
-                    m.me_set_states(v, time, &x[4..]);
-                }
-            };
-            let eval = |x: &[f64], m: &mut SewingTable| {
-                let mut v = v.clone();
-                set(x, m, &mut v);
-                m.evaluate(&mut v, time, &mut NoLog);
-                outs.iter().map(|o| v.raw()[*o]).collect::<Vec<f64>>()
-            };
-            for (i, k) in knowns.iter().enumerate() {
-                let mut base = v.clone();
-                set(&x0, &mut m, &mut base);
-                let mut seed = vec![0.0; table.len()];
-                seed[k.vr() as usize] = 1.0;
-                let mut exact = vec![f64::NAN; table.len()];
-                m.partials(&Seeded::new(&base, &seed), time, &mut |o, x| {
-                    exact[o.vr() as usize] = x.eps
-                })
-                .unwrap();
+            check::against_central_differences(
+                &mut m,
+                &v,
+                time,
+                &knowns,
+                &outs,
+                |m, v, x| {
+                    for (k, xi) in inputs.iter().zip(x) {
+                        v[*k] = *xi;
+                    }
+                    if elastic {
+                        m.me_set_states(v, time, &x[4..]);
+                    }
+                },
                 // the table's position on the scale of the chain's deflection
-                let h = if *k == V::elastic_x {
-                    1e-9
-                } else {
-                    1e-6 * x0[i].abs().max(1.0)
-                };
-                let (mut xp, mut xm) = (x0.clone(), x0.clone());
-                xp[i] += h;
-                xm[i] -= h;
-                let (yp, ym) = (eval(&xp, &mut m), eval(&xm, &mut m));
-                for (j, o) in outs.iter().enumerate() {
-                    let fd = (yp[j] - ym[j]) / (2.0 * h);
-                    let ex = exact[*o];
-                    assert!(
-                        // the differences' rounding: 1e-14 of the output over h
-                        (ex - fd).abs()
-                            <= 1e-6 * fd.abs().max(1.0) + 1e-14 * yp[j].abs().max(ym[j].abs()) / h,
-                        "level {level} kind {kind} mode {mode} phi {phi} clearance {clearance} delta {delta}: d {} / d {}: exact {ex}, central {fd}",
-                        table[*o].name,
-                        table[k.vr() as usize].name,
-                    );
-                }
-            }
+                |k, x| {
+                    if k == V::elastic_x {
+                        1e-9
+                    } else {
+                        1e-6 * x.abs().max(1.0)
+                    }
+                },
+                1e-14,
+                &format!(
+                    "level {level} kind {kind} mode {mode} phi {phi} clearance {clearance} delta {delta}"
+                ),
+            );
         }
     }
 

@@ -161,19 +161,10 @@ fn the_lift_off_flag_spans_the_hosts_steps_through_their_events() {
 /// ramp (tests/partials.rs checks the default FMU over the C ABI).
 #[test]
 fn partials_equal_central_differences() {
-    use crate::model::{NoLog, VarSet};
+    use crate::model::partials::check;
     let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
     let states = [V::elastic_q, V::elastic_qd, V::elastic_W];
-    let table = V::table();
-    let outs: Vec<usize> = (0..table.len())
-        .filter(|&vr| {
-            let var = &table[vr];
-            (var.causality == crate::model::Causality::Output
-                && matches!(var.ty, crate::model::VarType::Real)
-                && var.variability == crate::model::Variability::Continuous)
-                || var.derivative.is_some()
-        })
-        .collect();
+    let outs = check::unknowns::<V>(true);
     // level, drive.mode, phi, w, a, time, extra deflection of the lever (elastodynamic)
     for (level, mode, phi, w, a, time, dq) in [
         (1.0, 1.0, 0.5, 10.0, 3.0, 0.0, 0.0),
@@ -190,75 +181,49 @@ fn partials_equal_central_differences() {
         let mut v = Values::<V>::start();
         v[V::model_fidelity] = level;
         v[V::drive_mode] = mode;
-        let knowns: Vec<V> = if level == 3.0 {
-            inputs.iter().chain(&states).copied().collect()
-        } else {
-            inputs.to_vec()
-        };
         let mut m = Perforators::prepare(&v).unwrap();
         v[V::shaft_phi] = phi;
         v[V::shaft_w] = w;
         v[V::shaft_a] = a;
         // the elastodynamic level's penetration is the difference of two nearly equal roller
         // positions: its forces carry their rounding, some 1e-11 of the force
-        let noise = if level == 3.0 { 1e-11 } else { 1e-14 };
+        let elastic = level == 3.0;
+        let noise = if elastic { 1e-11 } else { 1e-14 };
         let mut y0 = [0.0; 3];
-        if level == 3.0 {
+        if elastic {
             // the lever in equilibrium, pressed further in, a little faster, some work done
             m.me_states(&v, time, &mut y0);
             y0 = [y0[0] + dq, y0[1] + 0.01, 0.3];
         }
-        let x0: Vec<f64> = inputs
+        let knowns: Vec<(V, f64)> = inputs
             .iter()
-            .map(|k| v[*k])
-            .chain(if level == 3.0 { y0.to_vec() } else { vec![] })
+            .map(|k| (*k, v[*k]))
+            .chain(states.into_iter().zip(y0).filter(|_| elastic))
             .collect();
-        let set = |x: &[f64], m: &mut Perforators, v: &mut Values<V>| {
-            for (k, xi) in inputs.iter().zip(x) {
-                v[*k] = *xi;
-            }
-            if level == 3.0 {
-                m.me_set_states(v, time, &x[3..]);
-            }
-        };
-        let eval = |x: &[f64], m: &mut Perforators| {
-            let mut v = v.clone();
-            set(x, m, &mut v);
-            m.evaluate(&mut v, time, &mut NoLog);
-            outs.iter().map(|o| v.raw()[*o]).collect::<Vec<f64>>()
-        };
-        for (i, k) in knowns.iter().enumerate() {
-            let mut base = v.clone();
-            set(&x0, &mut m, &mut base);
-            let mut seed = vec![0.0; table.len()];
-            seed[k.vr() as usize] = 1.0;
-            let mut exact = vec![f64::NAN; table.len()];
-            m.partials(&Seeded::new(&base, &seed), time, &mut |o, x| {
-                exact[o.vr() as usize] = x.eps
-            })
-            .unwrap();
+        check::against_central_differences(
+            &mut m,
+            &v,
+            time,
+            &knowns,
+            &outs,
+            |m, v, x| {
+                for (k, xi) in inputs.iter().zip(x) {
+                    v[*k] = *xi;
+                }
+                if elastic {
+                    m.me_set_states(v, time, &x[3..]);
+                }
+            },
             // the lever's deflection on the scale of the contact's penetration
-            let h = if *k == V::elastic_q {
-                1e-7
-            } else {
-                1e-6 * x0[i].abs().max(1.0)
-            };
-            let (mut xp, mut xm) = (x0.clone(), x0.clone());
-            xp[i] += h;
-            xm[i] -= h;
-            let (yp, ym) = (eval(&xp, &mut m), eval(&xm, &mut m));
-            for (j, o) in outs.iter().enumerate() {
-                let fd = (yp[j] - ym[j]) / (2.0 * h);
-                let ex = exact[*o];
-                assert!(
-                    // the differences' rounding: `noise` of the output over h
-                    (ex - fd).abs()
-                        <= 1e-6 * fd.abs().max(1.0) + noise * yp[j].abs().max(ym[j].abs()) / h,
-                    "level {level} mode {mode} phi {phi} a {a} dq {dq}: d {} / d {}: exact {ex}, central {fd}",
-                    table[*o].name,
-                    table[k.vr() as usize].name,
-                );
-            }
-        }
+            |k, x| {
+                if k == V::elastic_q {
+                    1e-7
+                } else {
+                    1e-6 * x.abs().max(1.0)
+                }
+            },
+            noise,
+            &format!("level {level} mode {mode} phi {phi} a {a} dq {dq}"),
+        );
     }
 }
