@@ -281,3 +281,42 @@ fn the_tests_logger_formats_its_arguments() {
         "{logged:?}"
     );
 }
+
+#[test]
+fn a_model_without_partials_refuses_directional_derivatives_saying_so() {
+    // every FMU of the catalog offers them; a model that does not (`Model::PARTIALS` false,
+    // as `Tiny`) declares `providesDirectionalDerivative="false"` and refuses the call
+    let c = tiny();
+    assert!(!md::ModelInfo::of::<Tiny>().partials);
+    assert!(
+        md::describe::<Tiny>()
+            .0
+            .contains("providesDirectionalDerivative=\"false\"")
+    );
+    unsafe {
+        initialize(c);
+        let (unknown, known) = ([TV::y.vr()], [TV::shaft_phi.vr()]);
+        let mut out = [0.0];
+        let status = entry::<Tiny, _>(c, Call::GetDirectionalDerivative, |i| {
+            i.directional_derivative(
+                unknown.as_ptr(),
+                1,
+                known.as_ptr(),
+                1,
+                [1.0].as_ptr(),
+                out.as_mut_ptr(),
+            )
+        });
+        assert_eq!(status, Status::Error);
+        let last = LOG.lock().unwrap().last().cloned().unwrap();
+        assert!(
+            last.1
+                .contains("not supported: providesDirectionalDerivative is false"),
+            "{last:?}"
+        );
+        // and the instance goes on
+        let mut y = f64::NAN;
+        assert_eq!(get_real::<Tiny>(c, unknown.as_ptr(), 1, &mut y), Status::Ok);
+        free_instance::<Tiny>(c);
+    }
+}
