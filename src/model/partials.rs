@@ -45,6 +45,17 @@ impl<'a, V: VarSet> Seeded<'a, V> {
         Dual64::new(x, self.seed(v))
     }
 
+    /// The model's own values `x` (continuous states) of the variables `vars`, each with its
+    /// seed ([`Seeded::own`] for each).
+    pub fn own_all<const N: usize>(&self, vars: [V; N], x: [f64; N]) -> [Dual64; N] {
+        std::array::from_fn(|i| self.own(vars[i], x[i]))
+    }
+
+    /// The shaft's state at `time` from the seeded inputs ([`super::shaft::state_of`]).
+    pub fn shaft(&self, time: f64) -> super::shaft::ShaftState<Dual64> {
+        super::shaft::state_of(self.values, time, |vr| self.get_vr(vr))
+    }
+
     /// The values without seeds (parameters, held inputs).
     pub fn values(&self) -> &Values<V> {
         self.values

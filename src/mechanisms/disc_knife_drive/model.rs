@@ -410,13 +410,7 @@ impl Model for DiscKnifeDrive {
         put: &mut dyn FnMut(V, Dual64),
     ) -> Result<(), String> {
         let v = at.values();
-        let own = |y: [f64; 3]| {
-            [
-                at.own(V::elastic_x, y[0]),
-                at.own(V::elastic_xd, y[1]),
-                at.own(V::elastic_W, y[2]),
-            ]
-        };
+        let own = |y: [f64; 3]| at.own_all([V::elastic_x, V::elastic_xd, V::elastic_W], y);
         let level = self.level(v);
         let input = |vr| at.get_vr(vr);
         let shaft = (

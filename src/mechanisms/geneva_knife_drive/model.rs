@@ -371,14 +371,8 @@ impl Model for GenevaKnifeDrive {
         put: &mut dyn FnMut(V, Dual64),
     ) -> Result<(), String> {
         let v = at.values();
-        let st = shaft::state_of(v, time, |vr| at.get_vr(vr));
-        let own = |y: [f64; 3]| {
-            [
-                at.own(V::elastic_x, y[0]),
-                at.own(V::elastic_xd, y[1]),
-                at.own(V::elastic_W, y[2]),
-            ]
-        };
+        let st = at.shaft(time);
+        let own = |y: [f64; 3]| at.own_all([V::elastic_x, V::elastic_xd, V::elastic_W], y);
         let level = self.level(v, time);
         self.outputs(level, time, &st, own, &mut *put);
         if !matches!(level, Level::Elastic(_)) {

@@ -361,7 +361,7 @@ impl Model for LegacyNeedleDrive {
         put: &mut dyn FnMut(V, Dual64),
     ) -> Result<(), String> {
         let v = at.values();
-        let st = shaft::state_of(v, time, |vr| at.get_vr(vr));
+        let st = at.shaft(time);
         if self.outputs(Self::loads(v), &st, &mut *put).is_none() {
             let held = force_outputs(&Forces::<f64>::default()).map(|(var, _)| var);
             for var in held.into_iter().chain([V::roller_F_margin]) {

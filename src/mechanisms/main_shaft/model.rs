@@ -227,10 +227,7 @@ impl Model for MainShaft {
         _time: f64,
         put: &mut dyn FnMut(V, Dual64),
     ) -> Result<(), String> {
-        let y = [
-            at.own(V::shaft_phi, self.y[0]),
-            at.own(V::shaft_w, self.y[1]),
-        ];
+        let y = at.own_all([V::shaft_phi, V::shaft_w], self.y);
         Self::outputs(&self.params, y, &Self::load_of(|v| at.get(v)), put);
         Ok(())
     }

@@ -605,17 +605,13 @@ impl Model for Perforators {
     ) -> Result<(), String> {
         let v = at.values();
         let d = &self.drive;
-        let st = shaft::state_of(v, time, |vr| at.get_vr(vr));
+        let st = at.shaft(time);
         let wants = Wants::of(v);
         let rigid_at = |a: Dual64| d.kinematics(st.phi, st.w, a);
         let chain = self.dynamic.as_ref().map(|dy| {
             let ode = dy.ode(d, shaft::path(v, time), v);
             let y = if dy.started {
-                [
-                    at.own(V::elastic_q, dy.y[0]),
-                    at.own(V::elastic_qd, dy.y[1]),
-                    at.own(V::elastic_W, dy.y[2]),
-                ]
+                at.own_all([V::elastic_q, V::elastic_qd, V::elastic_W], dy.y)
             } else {
                 ode.initial_state_at(&rigid_at(st.a))
             };

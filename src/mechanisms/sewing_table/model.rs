@@ -323,17 +323,13 @@ impl Model for SewingTable {
     ) -> Result<(), String> {
         let v = at.values();
         let p = &self.params;
-        let st = shaft::state_of(v, time, |vr| at.get_vr(vr));
+        let st = at.shaft(time);
         let f_ext = at.get(V::table_F_ext);
         let wants = Wants::of(v);
         let chain = self.dynamic.as_ref().map(|d| {
             let ode = d.ode(p, shaft::path(v, time), v);
             let y = if d.started {
-                [
-                    at.own(V::elastic_x, d.y[0]),
-                    at.own(V::elastic_xd, d.y[1]),
-                    at.own(V::elastic_W, d.y[2]),
-                ]
+                at.own_all([V::elastic_x, V::elastic_xd, V::elastic_W], d.y)
             } else {
                 ode.initial_state_at(&p.kinematics(st.phi, st.w, st.a), st.a, f_ext)
             };
