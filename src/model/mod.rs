@@ -169,11 +169,18 @@ pub trait Model: Dynamics<<Self as Model>::Var> + Sized + Send + 'static {
     /// dual part is the derivative along the direction `at` seeds over the knowns (inputs; in
     /// Model Exchange also the continuous states, read with [`partials::Seeded::own`]):
     /// `put(v, x)` for each. Called on a prepared model, only where [`Model::PARTIALS`].
+    ///
+    /// The house's convention, which each model's own doc completes with what it holds:
+    /// the values come from the same generic function as [`Model::evaluate`]'s, run on
+    /// [`partials::Dual64`]; in Co-Simulation a state carried from the last step is a constant
+    /// (its seed 0); an output held at the model's level, or a statistic of past steps, has
+    /// the derivative 0 ([`partials::put_zero`]); at a switch (a contact, a phase boundary)
+    /// the branch is chosen on the value, so the derivative is that of the side taken.
     fn partials(
         &mut self,
         _at: &partials::Seeded<Self::Var>,
         _time: f64,
-        _put: &mut dyn FnMut(Self::Var, partials::Dual64),
+        _put: partials::Put<Self::Var>,
     ) -> Result<(), String> {
         Err("this FMU offers no partial derivatives".into())
     }

@@ -9,6 +9,18 @@ use super::{Values, VarSet};
 pub use crate::mechanics::Scalar;
 pub use num_dual::{Dual64, DualNum};
 
+/// Where [`super::Model::partials`] puts each unknown: `put(variable, value with its
+/// derivative)`.
+pub type Put<'p, V> = &'p mut dyn FnMut(V, Dual64);
+
+/// Puts the derivative 0 for each of `vars`: outputs a model holds at its level (a constant
+/// there), or its Model Exchange state derivatives where it has no chain.
+pub fn put_zero<V>(put: Put<'_, V>, vars: impl IntoIterator<Item = V>) {
+    for var in vars {
+        put(var, Dual64::from(0.0));
+    }
+}
+
 /// The instance's values with a direction over the knowns: each known's seed, 0 elsewhere.
 pub struct Seeded<'a, V: VarSet> {
     values: &'a Values<V>,

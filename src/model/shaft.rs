@@ -464,19 +464,19 @@ pub fn set_rigid_torque<V: VarSet>(
     tau: Option<f64>,
     torque_at: impl FnMut(f64) -> f64,
 ) {
-    let raw = values.raw_mut();
-    rigid_torque(s, tau, torque_at, |vr, x| raw[vr as usize] = x);
+    rigid_torque(s, tau, torque_at, |var, x| values[var] = x);
 }
 
-/// [`set_rigid_torque`] for any [`Scalar`], as `put(value reference, value)`: `shaft.J_red`,
+/// [`set_rigid_torque`] for any [`Scalar`], as `put(variable, value)`: `shaft.J_red`,
 /// `shaft.tau0` ([`reduce_at`]), `shaft.tau` and `shaft.P = shaft.tau*shaft.w`.
 #[inline]
-pub fn rigid_torque<T: Scalar>(
+pub fn rigid_torque<V: VarSet, T: Scalar>(
     s: &ShaftState<T>,
     tau: Option<T>,
     torque_at: impl FnMut(T) -> T,
-    mut put: impl FnMut(u32, T),
+    mut put: impl FnMut(V, T),
 ) {
+    let mut put = |vr: u32, x| put(V::ALL[vr as usize], x);
     let r = match tau {
         Some(tau) => reduce_at(tau, s.a, torque_at),
         None => Reduced {

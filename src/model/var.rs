@@ -564,6 +564,8 @@ pub trait VarSet: Copy + 'static {
     fn table() -> &'static [Var];
     /// Value reference of this variable.
     fn vr(self) -> u32;
+    /// Every variable, in value-reference order (`ALL[vr]` is the variable of `vr`).
+    const ALL: &'static [Self];
 }
 
 /// The variables of a model type, by value reference.
@@ -683,6 +685,7 @@ macro_rules! model_variables {
         }
         impl $crate::model::VarSet for $name {
             const SHAFT_CONNECTOR: bool = $connector;
+            const ALL: &'static [Self] = &[$( $name::$id ),*];
             fn table() -> &'static [$crate::model::Var] {
                 static TABLE: ::std::sync::OnceLock<&'static [$crate::model::Var]> = ::std::sync::OnceLock::new();
                 TABLE.get_or_init(|| {

@@ -4,7 +4,7 @@
 use super::elastic::{Point, RodOde, dead_point_threshold};
 use super::physics::{Forces, Kinematics, LinScalar, Params, norm};
 use crate::mechanics::{SpringDamper, hypot};
-use crate::model::partials::{Dual64, Seeded};
+use crate::model::partials::{Put, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Severity, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Peaks};
@@ -277,17 +277,7 @@ impl DiscKnifeDrive {
             &s,
             forces.map(|f| f.shaft_tau),
             |a| p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau,
-            |vr, x| {
-                put(
-                    match vr {
-                        shaft::J_RED => V::shaft_J_red,
-                        shaft::TAU0 => V::shaft_tau0,
-                        shaft::TAU => V::shaft_tau,
-                        _ => V::shaft_P,
-                    },
-                    x,
-                )
-            },
+            |var, x| put(var, x),
         );
         (k, forces.map(|f| f.locked))
     }
@@ -396,19 +386,12 @@ impl Model for DiscKnifeDrive {
 
     const PARTIALS: bool = true;
 
-    /// The outputs on [`Dual64`] seeded along the knowns: the inputs (`shaft.phi`, `shaft.w`,
-    /// `shaft.a`) and, in Model Exchange, the chain's states (`elastic.x`, `elastic.xd`,
-    /// `elastic.W`; in Co-Simulation the held state is a constant, their seeds 0): the same
-    /// [`DiscKnifeDrive::outputs`]. What it holds has the derivative 0: the forces and
-    /// `rod.F_kin` at the kinematic level, `elastic.deflection`, `elastic.F` and
-    /// `elastic.E_residual` below the elastodynamic level, where the Model Exchange states are
-    /// constants (their derivatives 0).
-    fn partials(
-        &mut self,
-        at: &Seeded<V>,
-        time: f64,
-        put: &mut dyn FnMut(V, Dual64),
-    ) -> Result<(), String> {
+    /// [`DiscKnifeDrive::outputs`] on dual numbers; the knowns: `shaft.phi`, `shaft.w`,
+    /// `shaft.a` and in Model Exchange `elastic.x`, `elastic.xd`, `elastic.W`. Held (the
+    /// derivative 0): the forces and `rod.F_kin` at the kinematic level; `elastic.deflection`,
+    /// `elastic.F`, `elastic.E_residual` and the state derivatives below the elastodynamic
+    /// level.
+    fn partials(&mut self, at: &Seeded<V>, time: f64, put: Put<V>) -> Result<(), String> {
         let v = at.values();
         let own = |y: [f64; 3]| at.own_all([V::elastic_x, V::elastic_xd, V::elastic_W], y);
         let level = self.level(v);
@@ -418,23 +401,13 @@ impl Model for DiscKnifeDrive {
             (level == Level::Elastic).then(|| shaft::path_of(v, time, &input)),
         );
         self.outputs(level, shaft, time, own, &mut *put);
-        let zero = Dual64::from(0.0);
         if level != Level::Elastic {
-            for var in [
-                V::der_elastic_x,
-                V::der_elastic_xd,
-                V::der_elastic_W,
-                V::elastic_E_residual,
-                V::elastic_deflection,
-                V::elastic_F,
-            ] {
-                put(var, zero);
-            }
+            let chain = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
+            let held = [V::elastic_E_residual, V::elastic_deflection, V::elastic_F];
+            put_zero(put, chain.into_iter().chain(held));
         }
         if level == Level::Kinematic {
-            for var in FORCE_OUTPUTS.into_iter().chain([V::rod_F_kin]) {
-                put(var, zero);
-            }
+            put_zero(put, FORCE_OUTPUTS.into_iter().chain([V::rod_F_kin]));
         }
         Ok(())
     }

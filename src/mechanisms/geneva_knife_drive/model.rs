@@ -5,7 +5,7 @@ use super::elastic::{KnifeMemory, KnifeOde, Point};
 use super::physics::{Forces, Kinematics, Params};
 use crate::mechanics::SpringDamper;
 use crate::mechanics::geneva::Geneva;
-use crate::model::partials::{Dual64, Scalar, Seeded};
+use crate::model::partials::{Put, Scalar, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::ChainOde;
@@ -267,17 +267,7 @@ impl GenevaKnifeDrive {
                 p.kinetostatics(&p.at_shaft_accel(&k, st.w, a), st.w, a)
                     .shaft_tau
             },
-            |vr, x| {
-                put(
-                    match vr {
-                        shaft::J_RED => V::shaft_J_red,
-                        shaft::TAU0 => V::shaft_tau0,
-                        shaft::TAU => V::shaft_tau,
-                        _ => V::shaft_P,
-                    },
-                    x,
-                )
-            },
+            |var, x| put(var, x),
         );
         (k.dwell, p.in_stack(k.s.re(), k.v.re()))
     }
@@ -358,18 +348,11 @@ impl Model for GenevaKnifeDrive {
 
     const PARTIALS: bool = true;
 
-    /// The outputs on [`Dual64`] seeded along the knowns: the inputs (`shaft.phi`, `shaft.w`,
-    /// `shaft.a`) and, in Model Exchange, the chain's states (`elastic.x`, `elastic.xd`,
-    /// `elastic.W`; in Co-Simulation the held state is a constant, their seeds 0): the same
-    /// [`GenevaKnifeDrive::outputs`]. What it holds has the derivative 0: the forces at the
-    /// kinematic level and `elastic.E_residual` below the elastodynamic level, where the Model
-    /// Exchange states are constants (their derivatives 0).
-    fn partials(
-        &mut self,
-        at: &Seeded<V>,
-        time: f64,
-        put: &mut dyn FnMut(V, Dual64),
-    ) -> Result<(), String> {
+    /// [`GenevaKnifeDrive::outputs`] on dual numbers; the knowns: `shaft.phi`, `shaft.w`,
+    /// `shaft.a` and in Model Exchange `elastic.x`, `elastic.xd`, `elastic.W`. Held (the
+    /// derivative 0): the forces at the kinematic level; `elastic.E_residual` and the state
+    /// derivatives below the elastodynamic level.
+    fn partials(&mut self, at: &Seeded<V>, time: f64, put: Put<V>) -> Result<(), String> {
         let v = at.values();
         let st = at.shaft(time);
         let own = |y: [f64; 3]| at.own_all([V::elastic_x, V::elastic_xd, V::elastic_W], y);
@@ -377,18 +360,13 @@ impl Model for GenevaKnifeDrive {
         self.outputs(level, time, &st, own, &mut *put);
         if !matches!(level, Level::Elastic(_)) {
             // no chain: its Model Exchange derivatives are 0 ([`crate::chain_hooks!`])
-            for var in [
-                V::der_elastic_x,
-                V::der_elastic_xd,
-                V::der_elastic_W,
-                V::elastic_E_residual,
-            ] {
-                put(var, Dual64::from(0.0));
-            }
+            let chain = [V::der_elastic_x, V::der_elastic_xd, V::der_elastic_W];
+            put_zero(put, chain.into_iter().chain([V::elastic_E_residual]));
             if level == Level::Kinematic {
-                for (var, _) in force_outputs(&Forces::<f64>::default()) {
-                    put(var, Dual64::from(0.0));
-                }
+                put_zero(
+                    put,
+                    force_outputs(&Forces::<f64>::default()).map(|(var, _)| var),
+                );
             }
         }
         Ok(())

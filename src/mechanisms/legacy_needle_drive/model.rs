@@ -16,7 +16,7 @@ use crate::mechanisms::perforators::needles;
 use crate::mechanisms::perforators::physics::Params as NeedleParams;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
-use crate::model::partials::{Dual64, Scalar, Seeded};
+use crate::model::partials::{Put, Scalar, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, Outcome, ParamError, Stage, Values};
 
@@ -290,17 +290,7 @@ impl LegacyNeedleDrive {
             st,
             forces.map(|f| f.tau),
             |a| d.forces(&d.kinematics(st.phi, st.w, a), a, false).tau,
-            |vr, x| {
-                put(
-                    match vr {
-                        shaft::J_RED => V::shaft_J_red,
-                        shaft::TAU0 => V::shaft_tau0,
-                        shaft::TAU => V::shaft_tau,
-                        _ => V::shaft_P,
-                    },
-                    x,
-                )
-            },
+            |var, x| put(var, x),
         );
         forces
     }
@@ -351,22 +341,14 @@ impl Model for LegacyNeedleDrive {
 
     const PARTIALS: bool = true;
 
-    /// The outputs on [`Dual64`] seeded along the inputs (`shaft.phi`, `shaft.w`, `shaft.a`):
-    /// the same [`LegacyNeedleDrive::outputs`]; the forces held at the kinematic level have
-    /// the derivative 0.
-    fn partials(
-        &mut self,
-        at: &Seeded<V>,
-        time: f64,
-        put: &mut dyn FnMut(V, Dual64),
-    ) -> Result<(), String> {
+    /// [`LegacyNeedleDrive::outputs`] on dual numbers; the knowns: `shaft.phi`, `shaft.w`,
+    /// `shaft.a`. Held (the derivative 0): the forces at the kinematic level.
+    fn partials(&mut self, at: &Seeded<V>, time: f64, put: Put<V>) -> Result<(), String> {
         let v = at.values();
         let st = at.shaft(time);
         if self.outputs(Self::loads(v), &st, &mut *put).is_none() {
             let held = force_outputs(&Forces::<f64>::default()).map(|(var, _)| var);
-            for var in held.into_iter().chain([V::roller_F_margin]) {
-                put(var, Dual64::from(0.0));
-            }
+            put_zero(put, held.into_iter().chain([V::roller_F_margin]));
         }
         Ok(())
     }

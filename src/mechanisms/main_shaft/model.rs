@@ -3,7 +3,7 @@
 //! `shaft.w`, `shaft.a` are its outputs, the load its inputs.
 
 use super::physics::{Load, Motor, Params};
-use crate::model::partials::{Dual64, Scalar, Seeded};
+use crate::model::partials::{Put, Scalar, Seeded};
 use crate::model::shaft::Terminal;
 use crate::model::{Dynamics, Experiment, Log, Model, Outcome, ParamError, Values};
 use crate::solver::{Integrator, Memory, Method, OdeSystem, Settings};
@@ -221,12 +221,7 @@ impl Model for MainShaft {
 
     const PARTIALS: bool = true;
 
-    fn partials(
-        &mut self,
-        at: &Seeded<V>,
-        _time: f64,
-        put: &mut dyn FnMut(V, Dual64),
-    ) -> Result<(), String> {
+    fn partials(&mut self, at: &Seeded<V>, _time: f64, put: Put<V>) -> Result<(), String> {
         let y = at.own_all([V::shaft_phi, V::shaft_w], self.y);
         Self::outputs(&self.params, y, &Self::load_of(|v| at.get(v)), put);
         Ok(())

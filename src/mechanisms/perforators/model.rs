@@ -20,7 +20,7 @@ use crate::mechanics::{clamp_of, max_of, min_of};
 use crate::mechanisms::contact_watch::{ContactWatch, WatchedContact, times};
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
-use crate::model::partials::{Dual64, Scalar, Seeded};
+use crate::model::partials::{Dual64, Put, Scalar, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, Outcome, ParamError, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Saved};
@@ -394,17 +394,7 @@ impl Perforators {
             st,
             tau,
             |a| d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau,
-            |vr, x| {
-                put(
-                    match vr {
-                        shaft::J_RED => V::shaft_J_red,
-                        shaft::TAU0 => V::shaft_tau0,
-                        shaft::TAU => V::shaft_tau,
-                        _ => V::shaft_P,
-                    },
-                    x,
-                )
-            },
+            |var, x| put(var, x),
         );
         Discrete { lost, open: false }
     }
@@ -590,19 +580,11 @@ impl Model for Perforators {
 
     const PARTIALS: bool = true;
 
-    /// The outputs (and in Model Exchange the state derivatives) on [`Dual64`] seeded along
-    /// the inputs (`shaft.phi`, `shaft.w`, `shaft.a`) and, at the elastodynamic level, the
-    /// states `elastic.q`, `elastic.qd`, `elastic.W` (knowns in Model Exchange; in
-    /// Co-Simulation their seeds are 0: the held state of the last step is a constant; before
-    /// the first step the state the integration starts from, a function of the inputs): the
-    /// same [`Perforators::outputs`]. What `evaluate` holds at a level has the derivative 0
-    /// ([`RIGID_FORCES`] and `roller.F_margin` at the kinematic level, [`HELD_BELOW_ELASTIC`]).
-    fn partials(
-        &mut self,
-        at: &Seeded<V>,
-        time: f64,
-        put: &mut dyn FnMut(V, Dual64),
-    ) -> Result<(), String> {
+    /// [`Perforators::outputs`] on dual numbers; the knowns: `shaft.phi`, `shaft.w`, `shaft.a`
+    /// and in Model Exchange `elastic.q`, `elastic.qd`, `elastic.W`. Before the first step the
+    /// chain starts from an equilibrium, a function of the inputs. Held (the derivative 0):
+    /// [`HELD_BELOW_ELASTIC`]; [`RIGID_FORCES`] and `roller.F_margin` at the kinematic level.
+    fn partials(&mut self, at: &Seeded<V>, time: f64, put: Put<V>) -> Result<(), String> {
         let v = at.values();
         let d = &self.drive;
         let st = at.shaft(time);
@@ -625,14 +607,9 @@ impl Model for Perforators {
         });
         self.outputs(wants, &st, elastic, &mut *put);
         if chain.is_none() {
-            let zero = Dual64::from(0.0);
-            for var in HELD_BELOW_ELASTIC {
-                put(var, zero);
-            }
+            put_zero(put, HELD_BELOW_ELASTIC);
             if !wants.loads {
-                for var in RIGID_FORCES.into_iter().chain([V::roller_F_margin]) {
-                    put(var, zero);
-                }
+                put_zero(put, RIGID_FORCES.into_iter().chain([V::roller_F_margin]));
             }
         }
         Ok(())

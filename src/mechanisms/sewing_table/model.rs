@@ -7,7 +7,7 @@ use crate::mechanics::cyclogram::Phase;
 use crate::mechanics::hertz::Roller;
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::{SpringDamper, clamp_of};
-use crate::model::partials::{Dual64, Scalar, Seeded};
+use crate::model::partials::{Put, Scalar, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::ChainOde;
@@ -307,20 +307,12 @@ impl Model for SewingTable {
 
     const PARTIALS: bool = true;
 
-    /// The outputs (and in Model Exchange the state derivatives) on [`Dual64`] seeded along
-    /// the inputs (`shaft.phi`, `shaft.w`, `shaft.a`, `table.F_ext`) and, at the elastodynamic
-    /// level, the states `elastic.x`, `elastic.xd`, `elastic.W` (knowns in Model Exchange; in
-    /// Co-Simulation their seeds are 0: the held state of the last step is a constant; before
-    /// the first step the state the integration starts from, a function of the inputs): the
-    /// same [`SewingTable::outputs`]. What `evaluate` holds at a level has the derivative 0
-    /// ([`HELD_BELOW_ELASTIC`], the forces at the kinematic level); so have `dyn.factor` and
-    /// `contact.F_impact`, statistics of past steps that do not change with the knowns now.
-    fn partials(
-        &mut self,
-        at: &Seeded<V>,
-        time: f64,
-        put: &mut dyn FnMut(V, Dual64),
-    ) -> Result<(), String> {
+    /// [`SewingTable::outputs`] on dual numbers; the knowns: `shaft.phi`, `shaft.w`, `shaft.a`,
+    /// `table.F_ext` and in Model Exchange `elastic.x`, `elastic.xd`, `elastic.W`. Before the
+    /// first step the chain starts from an equilibrium, a function of the inputs. Held (the
+    /// derivative 0): [`HELD_BELOW_ELASTIC`] and the forces at the kinematic level; the
+    /// statistics of past steps `dyn.factor` and `contact.F_impact`.
+    fn partials(&mut self, at: &Seeded<V>, time: f64, put: Put<V>) -> Result<(), String> {
         let v = at.values();
         let p = &self.params;
         let st = at.shaft(time);
@@ -337,15 +329,10 @@ impl Model for SewingTable {
         });
         let chain = chain.as_ref().map(|(ode, y)| (ode, *y));
         self.outputs(wants, &st, f_ext, chain, &mut *put);
-        let zero = Dual64::from(0.0);
         if chain.is_none() {
-            for var in HELD_BELOW_ELASTIC {
-                put(var, zero);
-            }
+            put_zero(put, HELD_BELOW_ELASTIC);
             if !wants.kinetostatic {
-                for var in KINETOSTATIC_FORCES {
-                    put(var, zero);
-                }
+                put_zero(put, KINETOSTATIC_FORCES);
             }
         }
         Ok(())
@@ -562,17 +549,7 @@ impl SewingTable {
                 }
                 Kind::Rocking => p.rocking_tau(&p.rocking(st.phi, st.w, a), a, f_ext),
             },
-            |vr, x| {
-                put(
-                    match vr {
-                        shaft::J_RED => V::shaft_J_red,
-                        shaft::TAU0 => V::shaft_tau0,
-                        shaft::TAU => V::shaft_tau,
-                        _ => V::shaft_P,
-                    },
-                    x,
-                )
-            },
+            |var, x| put(var, x),
         );
         Discrete {
             phase: k.c.phase,
