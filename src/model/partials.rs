@@ -97,6 +97,38 @@ pub mod check {
             .collect()
     }
 
+    /// [`against_central_differences`] over a model's knowns and every unknown: the `inputs`
+    /// at their values in `base`, and `states`, the Model Exchange states with their values
+    /// (empty below the elastodynamic level), put in with [`crate::model::Dynamics::me_set_states`].
+    #[allow(clippy::too_many_arguments)]
+    pub fn inputs_and_states<M: Model>(
+        m: &mut M,
+        base: &Values<M::Var>,
+        time: f64,
+        inputs: &[M::Var],
+        states: &[(M::Var, f64)],
+        step: impl Fn(M::Var, f64) -> f64,
+        noise: f64,
+        what: &str,
+    ) {
+        let knowns: Vec<_> = inputs
+            .iter()
+            .map(|k| (*k, base[*k]))
+            .chain(states.iter().copied())
+            .collect();
+        let n = inputs.len();
+        let set = |m: &mut M, v: &mut Values<M::Var>, x: &[f64]| {
+            for (k, xi) in inputs.iter().zip(x) {
+                v[*k] = *xi;
+            }
+            if !states.is_empty() {
+                m.me_set_states(v, time, &x[n..]);
+            }
+        };
+        let outs = unknowns::<M::Var>(true);
+        against_central_differences(m, base, time, &knowns, &outs, set, step, noise, what);
+    }
+
     /// The values `base` with the knowns' values `x` put in by `set`, evaluated at `time`:
     /// the unknowns `outs`.
     fn evaluate<M: Model, S: FnMut(&mut M, &mut Values<M::Var>, &[f64])>(

@@ -171,6 +171,24 @@ pub fn transitions<O: OdeSystem>(
     *g_prev = g;
 }
 
+/// [`ChainModel::non_physical`] of a chain whose deflection `delta` at `t` must stay within the
+/// travel `travel` of the member it drives: beyond it the spring `k` (`elastic.k`) is too soft.
+/// `names`: the chain, the travel, the member (e.g. "drive chain", "knife's stroke", "knife").
+pub fn beyond_travel(
+    delta: f64,
+    travel: f64,
+    t: f64,
+    k: f64,
+    [chain, what, member]: [&str; 3],
+) -> Option<String> {
+    (delta.abs() > travel).then(|| {
+        format!(
+            "the {chain} deflects by {:.4} m at t = {t:.6} s, more than the {what} {travel:.4} m: elastic.k = {k} N/m is too soft to drive the {member}",
+            delta.abs(),
+        )
+    })
+}
+
 /// What the elastodynamic level carries between steps.
 #[derive(Clone, Debug)]
 pub struct Chain<C: ChainModel> {
@@ -507,6 +525,17 @@ mod tests {
             solver_atol = crate::solver::vars::atol(),
             solver_max_step = crate::solver::vars::max_step(),
         }
+    }
+
+    #[test]
+    fn beyond_travel_names_the_deflection_and_the_spring() {
+        let names = ["drive chain", "knife's stroke", "knife"];
+        assert_eq!(beyond_travel(-0.05, 0.05, 0.1, 1e4, names), None);
+        let why = beyond_travel(-0.06, 0.05, 0.1, 1e4, names).unwrap();
+        assert_eq!(
+            why,
+            "the drive chain deflects by 0.0600 m at t = 0.100000 s, more than the knife's stroke 0.0500 m: elastic.k = 10000 N/m is too soft to drive the knife"
+        );
     }
 
     /// A mass on a spring of stiffness `k` (unit mass) whose other end follows `sin φ`; counts

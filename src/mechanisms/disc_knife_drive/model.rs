@@ -277,7 +277,7 @@ impl DiscKnifeDrive {
             &s,
             forces.map(|f| f.shaft_tau),
             |a| p.kinetostatics(&p.kinematics(s.phi, s.w, a)).shaft_tau,
-            |var, x| put(var, x),
+            &mut put,
         );
         (k, forces.map(|f| f.locked))
     }
@@ -607,7 +607,6 @@ mod tests {
     #[test]
     fn partials_equal_central_differences() {
         use crate::model::partials::check;
-        let outs = check::unknowns::<V>(true);
         let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
         let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
         // the phases covered: (level, working stroke, locked)
@@ -645,11 +644,7 @@ mod tests {
                 d.e0 = 0.1;
             }
             let elastic = m.dynamic.is_some();
-            let knowns: Vec<(V, f64)> = inputs
-                .into_iter()
-                .zip([phi, w, a])
-                .chain(states.into_iter().zip(y0).filter(|_| elastic))
-                .collect();
+            let states: Vec<_> = states.into_iter().zip(y0).filter(|_| elastic).collect();
             let mut at0 = v.clone();
             m.evaluate(&mut at0, time, &mut NoLog);
             seen.push((
@@ -657,20 +652,12 @@ mod tests {
                 at0.flag(V::knife_working),
                 at0.flag(V::sliders_locked),
             ));
-            check::against_central_differences(
+            check::inputs_and_states(
                 &mut m,
                 &v,
                 time,
-                &knowns,
-                &outs,
-                |m, v, x| {
-                    for ((k, _), xi) in knowns.iter().zip(&x[..3]) {
-                        v[*k] = *xi;
-                    }
-                    if let Some(d) = m.dynamic.as_mut() {
-                        d.y.copy_from_slice(&x[3..]);
-                    }
-                },
+                &inputs,
+                &states,
                 // steps short of the stiff chain's curvature in the angle (2e8 N/m), long in
                 // the acceleration (the outputs are nearly affine in it, and their rounding
                 // is that of the large rod forces), the states within the rod's deflection

@@ -152,15 +152,11 @@ impl ChainModel for KnifeChain {
     }
     /// A deflection beyond the knife's stroke: the chain is too soft to drive the knife.
     fn non_physical(&self, ode: &KnifeOde, t: f64, y: &[f64; 3]) -> Option<String> {
-        let stroke = ode.p.stroke();
-        let delta = ode.point(t, y).delta;
-        (delta.abs() > stroke).then(|| {
-            format!(
-                "the drive chain deflects by {:.4} m at t = {t:.6} s, more than the knife's stroke {stroke:.4} m: elastic.k = {} N/m is too soft to drive the knife (the cut force alone needs about cut.F_max/elastic.k = {:.3} m)",
-                delta.abs(),
-                self.spring.k,
-                ode.p.cut_f_max / self.spring.k
-            )
+        let (delta, k) = (ode.point(t, y).delta, self.spring.k);
+        let names = ["drive chain", "knife's stroke", "knife"];
+        chain::beyond_travel(delta, ode.p.stroke(), t, k, names).map(|why| {
+            let need = ode.p.cut_f_max / k;
+            format!("{why} (the cut force alone needs about cut.F_max/elastic.k = {need:.3} m)")
         })
     }
 }
@@ -267,7 +263,7 @@ impl GenevaKnifeDrive {
                 p.kinetostatics(&p.at_shaft_accel(&k, st.w, a), st.w, a)
                     .shaft_tau
             },
-            |var, x| put(var, x),
+            &mut put,
         );
         (k.dwell, p.in_stack(k.s.re(), k.v.re()))
     }
@@ -433,7 +429,6 @@ mod tests {
     /// deflected, cutting and not (tests/partials.rs checks the default FMU over the C ABI).
     #[test]
     fn partials_equal_central_differences() {
-        let outs = check::unknowns::<V>(true);
         let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
         let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
         // the phases covered: (level, cutting, in the dwell)
@@ -469,28 +464,17 @@ mod tests {
                 d.y = y0;
                 d.e0 = 0.1;
             }
-            let knowns: Vec<(V, f64)> = inputs
-                .into_iter()
-                .zip([phi, w, a])
-                .chain(states.into_iter().zip(y0).filter(|_| m.dynamic.is_some()))
-                .collect();
+            let elastic = m.dynamic.is_some();
+            let states: Vec<_> = states.into_iter().zip(y0).filter(|_| elastic).collect();
             let mut at0 = v.clone();
             m.evaluate(&mut at0, time, &mut NoLog);
             seen.push((level, at0[V::knife_F_cut] > 0.0, at0.flag(V::knife_dwell)));
-            check::against_central_differences(
+            check::inputs_and_states(
                 &mut m,
                 &v,
                 time,
-                &knowns,
-                &outs,
-                |m, v, x| {
-                    for ((k, _), xi) in knowns.iter().zip(&x[..3]) {
-                        v[*k] = *xi;
-                    }
-                    if let Some(d) = m.dynamic.as_mut() {
-                        d.y.copy_from_slice(&x[3..]);
-                    }
-                },
+                &inputs,
+                &states,
                 |_, x| 1e-6 * x.abs().max(1.0),
                 1e-14,
                 &format!("level {level} mode {mode} phi {phi} a {a} time {time}"),

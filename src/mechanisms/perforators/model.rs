@@ -394,7 +394,7 @@ impl Perforators {
             st,
             tau,
             |a| d.forces_with(&d.kinematics(st.phi, st.w, a), false).tau,
-            |var, x| put(var, x),
+            &mut put,
         );
         Discrete { lost, open: false }
     }

@@ -176,15 +176,9 @@ impl ChainModel for TableChain {
     }
     /// A deflection beyond the table's travel: the chain is too soft to drive the table.
     fn non_physical(&self, ode: &TableOde, t: f64, y: &[f64; 3]) -> Option<String> {
-        let stroke = ode.p.stroke();
+        let names = ["follower chain", "table's travel", "table"];
         let delta = ode.point(t, y).delta;
-        (delta.abs() > stroke).then(|| {
-            format!(
-                "the follower chain deflects by {:.4} m at t = {t:.6} s, more than the table's travel {stroke:.4} m: elastic.k = {} N/m is too soft to drive the table",
-                delta.abs(),
-                self.spring.k
-            )
-        })
+        chain::beyond_travel(delta, ode.p.stroke(), t, self.spring.k, names)
     }
 }
 
@@ -549,7 +543,7 @@ impl SewingTable {
                 }
                 Kind::Rocking => p.rocking_tau(&p.rocking(st.phi, st.w, a), a, f_ext),
             },
-            |var, x| put(var, x),
+            &mut put,
         );
         Discrete {
             phase: k.c.phase,
@@ -639,7 +633,6 @@ mod tests {
     fn partials_equal_central_differences() {
         let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a, V::table_F_ext];
         let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
-        let outs = check::unknowns::<V>(true);
         // level, table.kind, drive.mode, phi, w, a, time, cam.clearance, chain deflection
         for (level, kind, mode, phi, w, a, time, clearance, delta) in [
             (1.0, 1.0, 1.0, 0.5, 10.0, 3.0, 0.0, 0.0, 0.0),
@@ -668,25 +661,13 @@ mod tests {
             // the chain deflected by `delta` and moving slower than the rigid table
             let y0 = [v[V::table_x_kin] - delta, 0.9 * v[V::table_v], 0.3];
             let elastic = level == 3.0;
-            let knowns: Vec<(V, f64)> = inputs
-                .iter()
-                .map(|k| (*k, v[*k]))
-                .chain(states.into_iter().zip(y0).filter(|_| elastic))
-                .collect();
-            check::against_central_differences(
+            let states: Vec<_> = states.into_iter().zip(y0).filter(|_| elastic).collect();
+            check::inputs_and_states(
                 &mut m,
                 &v,
                 time,
-                &knowns,
-                &outs,
-                |m, v, x| {
-                    for (k, xi) in inputs.iter().zip(x) {
-                        v[*k] = *xi;
-                    }
-                    if elastic {
-                        m.me_set_states(v, time, &x[4..]);
-                    }
-                },
+                &inputs,
+                &states,
                 // the table's position on the scale of the chain's deflection
                 |k, x| {
                     if k == V::elastic_x {
