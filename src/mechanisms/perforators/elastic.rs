@@ -36,7 +36,7 @@
 
 #![allow(clippy::neg_cmp_op_on_partial_ord)]
 
-use super::physics::{Drive, Forces, Kinematics};
+use super::physics::{Drive, Forces, Kinematics, Linkage};
 use crate::mechanics::hertz::{line_contact_energy, line_contact_force};
 use crate::mechanics::{STANDARD_GRAVITY, Scalar, dot, max_of, sgn};
 use crate::solver::chain::ChainOde;
@@ -203,7 +203,11 @@ pub struct Point<T = f64> {
 impl LeverOde<'_> {
     /// Reduced inertia at lever angle Δγ (any [`Scalar`]).
     pub fn j_eff<T: Scalar>(d: &Drive, g: T) -> T {
-        let ds = d.made.carriage(g).ds;
+        Self::j_eff_of(d, d.made.carriage(g).ds)
+    }
+
+    /// [`LeverOde::j_eff`] from the carriage's `ds/dΔγ` there.
+    fn j_eff_of<T: Scalar>(d: &Drive, ds: T) -> T {
         ds * d.p.perf_m * ds + d.p.lever_j
     }
 
@@ -236,11 +240,17 @@ impl LeverOde<'_> {
         Self::j_eff(d, k.gamma) / (a * a)
     }
 
-    /// The kinematics of the elastic lever at Δγ, Δγ̇, Δγ̈ on the table of `rigid`.
-    fn kin_at<T: Scalar>(&self, rigid: &Kinematics<T>, g: T, gw: T, ga: T) -> Kinematics<T> {
+    /// The kinematics of the elastic lever at Δγ, Δγ̇, Δγ̈ on the table of `rigid`, the
+    /// linkage as made at Δγ `link`.
+    fn kin_at<T: Scalar>(
+        &self,
+        rigid: &Kinematics<T>,
+        link: &Linkage<T>,
+        (g, gw, ga): (T, T, T),
+    ) -> Kinematics<T> {
         let p = &self.d.p;
-        let pose = self.d.made.carriage(g);
-        let (_, r1, _) = p.roller(g);
+        let pose = link.pose;
+        let (_, r1, _) = link.r;
         let l4 = p.lambda4 * p.unit;
         let tr = (r1.0 / l4, r1.1 / l4);
         let n = rigid.normal;
@@ -266,7 +276,9 @@ impl LeverOde<'_> {
         let (g, gw) = (rigid.gamma - y[0], rigid.gamma_w - y[1]);
         let n = rigid.normal;
         let (rr, rr1, _) = p.roller(rigid.gamma);
-        let (r, r1, _) = p.roller(g);
+        // the angle's linkage (the roller arm is as designed), once for the whole balance
+        let link = d.made.linkage(g);
+        let (r, r1, _) = link.r;
         let arm = dot(n, r1);
         let arm_r = dot(n, rr1);
         let pen = dot(n, (rr.0 - r.0, rr.1 - r.1));
@@ -282,16 +294,23 @@ impl LeverOde<'_> {
         // directions of friction and piercing from the rigid motion
         let sv = sgn(rigid.v.re());
         let sw = sgn(rigid.gamma_w.re());
-        let j_eff = Self::j_eff(d, g);
+        let j_eff = Self::j_eff_of(d, link.pose.ds);
         let outside = !(g.re() >= self.range.0 && g.re() <= self.range.1);
         // the balance is affine in the lever acceleration but for the friction's corners:
-        // a Newton step with the frictionless slope J_eff/a, then secant steps
+        // a Newton step with the frictionless slope J_eff/a, then secant steps; only the
+        // accelerations change from one to the next
+        let a0 = rigid.gamma_a;
+        let at_a0 = self.kin_at(rigid, &link, (g, gw, a0));
         let resid = |ga: T| {
-            let k = self.kin_at(rigid, g, gw, ga);
-            let f = d.forces_dir(&k, sv, sw);
+            let (pose, k) = (&link.pose, at_a0);
+            let k = Kinematics {
+                a: pose.dds * gw * gw + pose.ds * ga,
+                gamma_a: ga,
+                ..k
+            };
+            let f = d.forces_in(&k, &link, sv, sw, true);
             (f.roller_f - f_c, k, f)
         };
-        let a0 = rigid.gamma_a;
         let (r0, mut kin, mut forces) = resid(a0);
         let mut ga_fc = arm / j_eff;
         if r0.re() != 0.0 && r0.re().is_finite() {
@@ -323,8 +342,8 @@ impl LeverOde<'_> {
             }
             kin.gamma_a = T::from(f64::NAN);
         }
-        let (sa, _) = p.alpha.sin_cos();
-        let ds = d.made.carriage(g).ds;
+        let (sa, _) = d.alpha_sin_cos;
+        let ds = link.pose.ds;
         let q_fr = forces.joint_m - ds * (forces.pierce_q + forces.guide_n * p.guide_mu) * sv;
         let power = gw * (q_fr - ds * p.perf_m * rigid.a_t * sa)
             + (f_c - f_el) * arm * gw

@@ -25,7 +25,7 @@ use crate::mechanics::cyclogram::{CyclePoint, Cyclogram, Phase};
 use crate::mechanics::hertz::Roller;
 use crate::mechanics::hertz::Surface;
 use crate::mechanics::motion_laws::MotionLaw;
-use crate::mechanics::slider_line::SliderLine;
+use crate::mechanics::slider_line::{SliderLine, SliderPose};
 use crate::mechanics::{ParamError, STANDARD_GRAVITY, Scalar, cross, dot, sgn};
 use crate::mechanisms::sewing_table::physics::Params as TableParams;
 use std::f64::consts::{FRAC_PI_2, TAU};
@@ -178,6 +178,8 @@ pub struct Drive {
     /// Its carriage line and `s(0)`.
     pub made_line: SliderLine,
     pub made_s0: f64,
+    /// `sin α`, `cos α` of the carriage line's incline α (`synth.alpha`, as made as designed).
+    pub alpha_sin_cos: (f64, f64),
 }
 
 /// Kinematics at one shaft state (any [`Scalar`]: `f64`, or dual numbers for the exact partial
@@ -242,6 +244,17 @@ const SAMPLES: usize = 2000;
 /// A point of a plane curve with its first and second derivatives.
 pub type Vec3<T = f64> = ((T, T), (T, T), (T, T));
 
+/// The linkage at one lever angle Δγ: joint A ([`Params::joint_a`]), the carriage's pose
+/// ([`Params::carriage`]) and the roller centre ([`Params::roller`]), each with its derivatives
+/// in Δγ: what the forces take from the angle alone. The elastic lever's balance iterates on
+/// the lever's acceleration at one angle, so it computes them once.
+#[derive(Clone, Copy, Debug)]
+pub struct Linkage<T = f64> {
+    pub a: Vec3<T>,
+    pub pose: SliderPose<T>,
+    pub r: Vec3<T>,
+}
+
 impl Params {
     /// Paper 000, eqs. (2)-(4).
     pub fn synthesis(&self) -> Synthesis {
@@ -298,9 +311,19 @@ impl Params {
     }
 
     /// Carriage position `s(Δγ)` along `u` and its derivatives, m (any [`Scalar`]).
-    pub fn carriage<T: Scalar>(&self, g: T) -> crate::mechanics::slider_line::SliderPose<T> {
+    pub fn carriage<T: Scalar>(&self, g: T) -> SliderPose<T> {
         let (a, a1, a2) = self.joint_a(g);
         self.slider_line().pose(a, a1, a2)
+    }
+
+    /// The linkage at lever angle Δγ ([`Linkage`]; any [`Scalar`]).
+    pub fn linkage<T: Scalar>(&self, g: T) -> Linkage<T> {
+        let a = self.joint_a(g);
+        Linkage {
+            a,
+            pose: self.slider_line().pose(a.0, a.1, a.2),
+            r: self.roller(g),
+        }
     }
 
     /// Checks the parameters and derives the run's constants.
@@ -427,6 +450,7 @@ impl Params {
             made,
             made_line: made.slider_line(),
             made_s0: made.carriage(0.0).s,
+            alpha_sin_cos: made.alpha.sin_cos(),
         };
         d.check_ramp()?;
         Ok(d)
@@ -481,13 +505,14 @@ impl Drive {
     /// with `C'`, `C''` in x_t.
     pub fn ramp<T: Scalar>(&self, x_t: T) -> Vec3<T> {
         let (g, gx, gxx, ..) = self.gamma_of_x(x_t);
-        self.ramp_at(x_t, g, gx, gxx)
+        self.ramp_at(x_t, self.p.roller(g), gx, gxx)
     }
 
-    /// [`Drive::ramp`] at `x_t` from the lever angle there and its derivatives in `x_t`
-    /// ([`Drive::gamma_of_x`], which a caller that has them need not repeat).
-    fn ramp_at<T: Scalar>(&self, x_t: T, g: T, gx: T, gxx: T) -> Vec3<T> {
-        let (r, r1, r2) = self.p.roller(g);
+    /// [`Drive::ramp`] at `x_t` from the roller centre there ([`Params::roller`] at the lever
+    /// angle) and the angle's derivatives in `x_t` ([`Drive::gamma_of_x`]), which a caller that
+    /// has them need not repeat.
+    fn ramp_at<T: Scalar>(&self, x_t: T, roller: Vec3<T>, gx: T, gxx: T) -> Vec3<T> {
+        let (r, r1, r2) = roller;
         (
             (r.0 - x_t, r.1),
             (r1.0 * gx - 1.0, r1.1 * gx),
@@ -579,9 +604,10 @@ impl Drive {
                 pose.dds * g_d * g_d + pose.ds * g_dd,
             )
         };
-        let (_, c1, c2) = self.ramp_at(c.x, g, gx, gxx);
+        let roller = self.p.roller(g);
+        let (_, c1, c2) = self.ramp_at(c.x, roller, gx, gxx);
         let (n, rho, _, n_x) = self.frame_of(c1, c2);
-        let (_, r1, _) = self.p.roller(g);
+        let (_, r1, _) = roller;
         let l4 = self.p.lambda4 * self.p.unit;
         let tr = (r1.0 / l4, r1.1 / l4);
         Kinematics {
@@ -652,9 +678,7 @@ impl Drive {
         self.forces_full(k, sv, sw, true)
     }
 
-    /// [`Drive::forces_dir`] with the Hertz stress optional (`sigma_h` 0 without it). Any
-    /// [`Scalar`]: the carriage's guide side, the contact's sign and the profile's shape are
-    /// taken on the real parts.
+    /// [`Drive::forces_dir`] with the Hertz stress optional (`sigma_h` 0 without it).
     fn forces_full<T: Scalar>(
         &self,
         k: &Kinematics<T>,
@@ -662,15 +686,29 @@ impl Drive {
         sw: f64,
         hertz: bool,
     ) -> Forces<T> {
-        // the linkage as made (the design when made exactly; the roller arm is as designed)
+        self.forces_in(k, &self.made.linkage(k.gamma), sv, sw, hertz)
+    }
+
+    /// [`Drive::forces_full`] with the linkage as made at the lever angle `k.gamma` given
+    /// (`link`: [`Params::linkage`] of [`Drive::made`]; the roller arm is as designed). Any
+    /// [`Scalar`]: the carriage's guide side, the contact's sign and the profile's shape are
+    /// taken on the real parts.
+    pub fn forces_in<T: Scalar>(
+        &self,
+        k: &Kinematics<T>,
+        link: &Linkage<T>,
+        sv: f64,
+        sw: f64,
+        hertz: bool,
+    ) -> Forces<T> {
         let p = &self.made;
         let m = p.perf_m;
         let g = STANDARD_GRAVITY;
-        let (sa, ca) = p.alpha.sin_cos();
+        let (sa, ca) = self.alpha_sin_cos;
         let qt = self.pierce_load(k.s, T::from(sv), k.phase);
         // carriage along u
-        let (a, a1, _) = p.joint_a(k.gamma);
-        let pose = p.carriage(k.gamma);
+        let (a, a1, _) = link.a;
+        let pose = link.pose;
         let b = self.made_line.b(pose.s);
         let l1 = self.made_line.l;
         let e = ((b.0 - a.0) / l1, (b.1 - a.1) / l1);
@@ -684,7 +722,7 @@ impl Drive {
         }
         let guide_n = (rod * cn + kk).abs();
         // lever about O1
-        let (r, _, _) = p.roller(k.gamma);
+        let (r, _, _) = link.r;
         let n = k.normal;
         let m_rod = -rod * cross(a, e);
         let spring_m = -(k.gamma * p.spring_kt + p.spring_m0);
