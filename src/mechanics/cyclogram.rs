@@ -137,6 +137,25 @@ impl Cyclogram {
         }
     }
 
+    /// The shaft angles where the four phases start (forward travel, far dwell, return, near
+    /// dwell), from `phi0` on, rad.
+    pub fn boundaries(&self) -> [f64; 4] {
+        let b0 = self.phi0;
+        [
+            b0,
+            b0 + self.forward,
+            b0 + self.forward + self.dwell_far,
+            b0 + self.forward + self.dwell_far + self.ret,
+        ]
+    }
+
+    /// Event indicators of the four phase changes at the shaft angle `phi` counted on over the
+    /// turns (not wrapped): `sin((φ − b)/2)` for each of the [`Cyclogram::boundaries`] `b`, a sign
+    /// change at each crossing and at no other angle of a turn.
+    pub fn phase_indicators(&self, phi: f64) -> [f64; 4] {
+        self.boundaries().map(|b| ((phi - b) * 0.5).sin())
+    }
+
     /// Shaft angle (since the start of the forward travel) where the forward travel reaches the
     /// fraction `q ∈ [0, 1]` of `h`, by bisection on the monotone rise (for symmetric laws and
     /// `q = 1/2` it is exactly `Φf/2`).

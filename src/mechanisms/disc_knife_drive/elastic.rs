@@ -77,7 +77,9 @@
 //! numbers seeded in x and in ẋ (the discrete choices — friction signs, locking — are constant
 //! near the point, between events).
 
-use super::physics::{Kinematics, Params, Vec2, dot, norm};
+use super::physics::{
+    Kinematics, Params, Vec2, dot, friction_sign_search, norm, sign_combinations,
+};
 use crate::mechanics::{Scalar, SpringDamper, sgn};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
@@ -300,7 +302,7 @@ impl RodOde<'_> {
         };
         let (m5, m7) = (p.guide_mu, p.support_mu);
         let mut best = T::from(f64::INFINITY);
-        for (k5, k7) in [(m5, m7), (-m5, m7), (m5, -m7), (-m5, -m7)] {
+        for (k5, k7) in sign_combinations(m5, m7) {
             let g = (-pv[5] * k5 + 1.0) * (-qv[6] * k7 + 1.0) - qv[5] * pv[6] * (k5 * k7);
             if g.re() < best.re() {
                 best = g;
@@ -362,22 +364,8 @@ impl RodOde<'_> {
         let (z, k5, k7) = if f5.re() == 0.0 && f7.re() == 0.0 {
             (z0, T::zero(), T::zero())
         } else {
-            // as the kinetostatic level: signs of |N| from the frictionless solution first, the
-            // one combination that agrees with its assumed signs (else the least disagreeing)
-            let sig = |v: T| if v.re() < 0.0 { -1.0 } else { 1.0 };
-            let (g5, g7) = (sig(z0[5]), sig(z0[6]));
-            let mut best = (f64::INFINITY, z0, T::zero(), T::zero());
-            for (a5, a7) in [(g5, g7), (-g5, g7), (g5, -g7), (-g5, -g7)] {
-                let z = solve(f5 * a5, f7 * a7);
-                let miss = (-a5 * z[5].re()).max(0.0) + (-a7 * z[6].re()).max(0.0);
-                if miss < best.0 {
-                    best = (miss, z, f5 * a5, f7 * a7);
-                }
-                if miss == 0.0 {
-                    break;
-                }
-            }
-            (best.1, best.2, best.3)
+            // as the kinetostatic level
+            friction_sign_search(z0, f5, f7, solve)
         };
         let c_abs = p.assembly_cos(x.re()).abs();
         let xdd = if c_abs.is_nan() || c_abs >= self.c_dead {

@@ -96,6 +96,7 @@ use crate::mechanics::{
 use nalgebra::{SMatrix, SVector, Vector2};
 use num_dual::{Dual2, DualNum};
 use std::f64::consts::{PI, TAU};
+use std::ops::{Index, Mul};
 
 /// A point or vector in the plane of the mechanism, m (or m/s, m/s², N); of dual numbers for
 /// the partial derivatives.
@@ -293,6 +294,48 @@ pub struct AssemblyFailure {
     pub worst: f64,
     /// The crank angle of that largest |c|, rad.
     pub worst_at: f64,
+}
+
+/// The four combinations of the signs σ5, σ7 starting with `(g5, g7)`: `(g5, g7)`, `(−g5, g7)`,
+/// `(g5, −g7)`, `(−g5, −g7)` (module docs, kinetostatics).
+#[inline]
+pub(super) fn sign_combinations(g5: f64, g7: f64) -> [(f64, f64); 4] {
+    [(g5, g7), (-g5, g7), (g5, -g7), (-g5, -g7)]
+}
+
+/// The sign search of the module docs' system with Coulomb friction: `solve(k5, k7)` solves it
+/// for `z = [P or ẍ, C_x, C_y, D_x, D_y, N5, N7]` with the friction factors `k5`, `k7` (`f5`,
+/// `f7` times the signs σ5, σ7). The signs of the frictionless solution `z0`'s N5, N7 first, then
+/// the other combinations ([`sign_combinations`]); the one solution that agrees with its assumed
+/// signs is returned with its `k5`, `k7`. Should none agree to rounding (|N| ≈ 0), the least
+/// disagreeing one. The kinetostatic level ([`Params::kinetostatics_with_load`]) and the
+/// elastodynamic one ([`super::elastic::RodOde::eval`]) search so; `z` any [`Scalar`] vector,
+/// `f5`, `f7` of `f64` or of `z`'s numbers.
+pub(super) fn friction_sign_search<T, Z, F>(
+    z0: Z,
+    f5: F,
+    f7: F,
+    solve: impl Fn(F, F) -> Z,
+) -> (Z, F, F)
+where
+    T: Scalar,
+    Z: Index<usize, Output = T>,
+    F: Copy + From<f64> + Mul<f64, Output = F>,
+{
+    let sig = |x: T| if x.re() < 0.0 { -1.0 } else { 1.0 };
+    let (g5, g7) = (sig(z0[5]), sig(z0[6]));
+    let mut best = (f64::INFINITY, z0, F::from(0.0), F::from(0.0));
+    for (a5, a7) in sign_combinations(g5, g7) {
+        let z = solve(f5 * a5, f7 * a7);
+        let miss = (-a5 * z[5].re()).max(0.0) + (-a7 * z[6].re()).max(0.0);
+        if miss < best.0 {
+            best = (miss, z, f5 * a5, f7 * a7);
+        }
+        if miss == 0.0 {
+            break;
+        }
+    }
+    (best.1, best.2, best.3)
 }
 
 /// 2-D cross product (z component; any [`Scalar`]).
@@ -611,34 +654,16 @@ impl Params {
         let z0 = lu0.solve(&rhs).unwrap_or_else(nan);
         let (s5, s7) = self.slip_signs(k, sgn(k.w.re()));
         let (f5, f7) = (self.guide_mu * s5, self.support_mu * s7);
-        let combos = |g5: f64, g7: f64| [(g5, g7), (-g5, g7), (g5, -g7), (-g5, -g7)];
         let locked = (f5 != 0.0 || f7 != 0.0)
-            && combos(1.0, 1.0)
+            && sign_combinations(1.0, 1.0)
                 .iter()
                 .any(|&(a5, a7)| self.matrix(k, f5 * a5, f7 * a7).determinant().re() * det0 <= 0.0);
         let (z, k5, k7) = if (f5 == 0.0 && f7 == 0.0) || locked {
             (z0, 0.0, 0.0)
         } else {
-            // Signs of |N| from the frictionless solution first, then the others; the one
-            // solution that agrees with its assumed signs (module docs). Should none agree to
-            // rounding (|N| ≈ 0), the least disagreeing one is kept.
-            let sig = |x: T| if x.re() < 0.0 { -1.0 } else { 1.0 };
-            let mut best = (f64::INFINITY, z0, 0.0, 0.0);
-            for (a5, a7) in combos(sig(z0[5]), sig(z0[6])) {
-                let z = self
-                    .matrix(k, f5 * a5, f7 * a7)
-                    .lu()
-                    .solve(&rhs)
-                    .unwrap_or_else(nan);
-                let miss = (-a5 * z[5].re()).max(0.0) + (-a7 * z[6].re()).max(0.0);
-                if miss < best.0 {
-                    best = (miss, z, f5 * a5, f7 * a7);
-                }
-                if miss == 0.0 {
-                    break;
-                }
-            }
-            (best.1, best.2, best.3)
+            friction_sign_search(z0, f5, f7, |k5, k7| {
+                self.matrix(k, k5, k7).lu().solve(&rhs).unwrap_or_else(nan)
+            })
         };
         let (p, n5, n7) = (z[0], z[5], z[6]);
         let tau = self.crank_torque(k, p, k.rod_dir);

@@ -401,17 +401,6 @@ impl LeverOde<'_> {
         [q, rigid.gamma_w * (T::one() - arm_r / arm), T::zero()]
     }
 
-    fn boundaries(&self) -> [f64; 4] {
-        let c = &self.d.cyc;
-        let b0 = c.phi0;
-        [
-            b0,
-            b0 + c.forward,
-            b0 + c.forward + c.dwell_far,
-            b0 + c.forward + c.dwell_far + c.ret,
-        ]
-    }
-
     /// In contact for the event functions `g`: pressed in, and pressing.
     pub fn in_contact(g: &[f64]) -> bool {
         g[4] > 0.0 && g[5] > 0.0
@@ -475,9 +464,7 @@ impl OdeSystem for LeverOde<'_> {
         let (phi, w, a) = self.path.at(t);
         let abs_phi = phi + self.path.turns * TAU;
         // the four cyclogram phase boundaries of the table
-        for (i, b) in self.boundaries().iter().enumerate() {
-            g[i] = ((abs_phi - b) * 0.5).sin();
-        }
+        g[..4].copy_from_slice(&self.d.cyc.phase_indicators(abs_phi));
         let rigid = self.d.kinematics(phi, w, a);
         let p = &self.d.p;
         let n = rigid.normal;

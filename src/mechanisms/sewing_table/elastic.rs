@@ -139,17 +139,6 @@ impl TableOde<'_> {
             T::zero(),
         ]
     }
-
-    fn boundaries(&self) -> [f64; 4] {
-        let c = self.p.cyclogram();
-        let b0 = c.phi0;
-        [
-            b0,
-            b0 + c.forward,
-            b0 + c.forward + c.dwell_far,
-            b0 + c.forward + c.dwell_far + c.ret,
-        ]
-    }
 }
 
 impl ChainOde for TableOde<'_> {
@@ -201,9 +190,7 @@ impl OdeSystem for TableOde<'_> {
         let (phi, w, a) = self.path.at(t);
         let abs_phi = phi + self.path.turns * std::f64::consts::TAU;
         // the four cyclogram phase boundaries (forward travel, far dwell, return, near dwell)
-        for (i, b) in self.boundaries().iter().enumerate() {
-            g[i] = ((abs_phi - b) * 0.5).sin();
-        }
+        g[..4].copy_from_slice(&self.p.cyclogram().phase_indicators(abs_phi));
         let kin = self.p.kinematics(phi, w, a);
         let delta = kin.c.x - y[0];
         // with play: the roller on the pushing flank (δ > g), on the other one (δ < −g)
