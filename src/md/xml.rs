@@ -343,7 +343,7 @@ impl VarHead {
 #[derive(Serialize)]
 enum TypeElement {
     Real(RealAttrs),
-    Integer(IntAttrs),
+    Integer(Bounds),
     Boolean(BoolAttrs),
     Enumeration(EnumAttrs),
 }
@@ -354,24 +354,47 @@ struct RealAttrs {
     unit: Option<&'static str>,
     #[serde(rename = "@displayUnit", skip_serializing_if = "Option::is_none")]
     display_unit: Option<&'static str>,
-    #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
-    min: Option<String>,
-    #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
-    max: Option<String>,
-    #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
-    start: Option<String>,
+    #[serde(flatten)]
+    bounds: Bounds,
     #[serde(rename = "@derivative", skip_serializing_if = "Option::is_none")]
     derivative: Option<usize>,
 }
 
-#[derive(Serialize)]
-struct IntAttrs {
+/// A variable's `min`, `max` and `start`, written alike in FMI 2.0 and FMI 3.0: a Real's as
+/// [`fmt_real`] writes it, an Integer's as an integer.
+#[derive(Serialize, Default)]
+pub(super) struct Bounds {
     #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
-    min: Option<i64>,
+    pub min: Option<String>,
     #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
-    max: Option<i64>,
+    pub max: Option<String>,
     #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
-    start: Option<i64>,
+    pub start: Option<String>,
+}
+
+/// A declared value (a bound or start) of an Integer or Enumeration variable, as an integer.
+pub(super) fn integer(x: Option<f64>) -> Option<String> {
+    x.map(|x| (x as i64).to_string())
+}
+
+impl Bounds {
+    /// Those of the Real variable `v`.
+    pub(super) fn real(v: &Var) -> Self {
+        Bounds {
+            min: v.min.map(fmt_real),
+            max: v.max.map(fmt_real),
+            start: v.start.map(fmt_real),
+        }
+    }
+
+    /// Those of the Integer variable `v`.
+    pub(super) fn integer(v: &Var) -> Self {
+        Bounds {
+            min: integer(v.min),
+            max: integer(v.max),
+            start: integer(v.start),
+        }
+    }
 }
 
 #[derive(Serialize)]
@@ -385,7 +408,7 @@ struct EnumAttrs {
     #[serde(rename = "@declaredType")]
     declared_type: &'static str,
     #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
-    start: Option<i64>,
+    start: Option<String>,
 }
 
 #[derive(Serialize)]
@@ -458,22 +481,16 @@ fn scalar_variable(vr: u32, v: &Var, index_of: impl Fn(u32) -> Option<usize>) ->
         VarType::Real => TypeElement::Real(RealAttrs {
             unit: v.unit,
             display_unit: v.display_unit,
-            min: v.min.map(fmt_real),
-            max: v.max.map(fmt_real),
-            start: v.start.map(fmt_real),
+            bounds: Bounds::real(v),
             derivative: v.derivative.and_then(index_of),
         }),
-        VarType::Integer => TypeElement::Integer(IntAttrs {
-            min: v.min.map(|x| x as i64),
-            max: v.max.map(|x| x as i64),
-            start: v.start.map(|x| x as i64),
-        }),
+        VarType::Integer => TypeElement::Integer(Bounds::integer(v)),
         VarType::Boolean => TypeElement::Boolean(BoolAttrs {
             start: v.start.map(|x| x != 0.0),
         }),
         VarType::Enumeration(t) => TypeElement::Enumeration(EnumAttrs {
             declared_type: t.name,
-            start: v.start.map(|x| x as i64),
+            start: integer(v.start),
         }),
     };
     ScalarVariable {

@@ -4,11 +4,12 @@
 //! `EnumerationType`, value references in `ModelStructure`, the independent variable `time`),
 //! and the same GUID as its `instantiationToken`. Elements follow `fmi3ModelDescription.xsd`.
 
+use super::ModelInfo;
 use super::guid::guid;
 use super::xml::{
-    Body, Empty, Header, Item, Structure, VarHead, enum_types, header, items, to_xml,
+    Body, Bounds, Empty, Header, Item, Structure, VarHead, enum_types, header, integer, items,
+    to_xml,
 };
-use super::{ModelInfo, fmt_real};
 use crate::model::{Model, Var, VarType};
 use serde::Serialize;
 
@@ -163,12 +164,8 @@ struct Attrs {
     head: VarHead,
     #[serde(rename = "@declaredType", skip_serializing_if = "Option::is_none")]
     declared_type: Option<String>,
-    #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
-    min: Option<String>,
-    #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
-    max: Option<String>,
-    #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
-    start: Option<String>,
+    #[serde(flatten)]
+    bounds: Bounds,
     #[serde(rename = "@derivative", skip_serializing_if = "Option::is_none")]
     derivative: Option<u32>,
 }
@@ -195,35 +192,30 @@ struct Unknown {
 
 /// The variable element of a declaration.
 fn variable(vr: u32, v: &Var) -> Variable {
-    let integer = |x: Option<f64>| x.map(|x| (x as i64).to_string());
     let mut a = Attrs {
         head: VarHead::of(vr, v),
         declared_type: None,
-        min: None,
-        max: None,
-        start: None,
+        bounds: Bounds::default(),
         derivative: None,
     };
     match v.ty {
         VarType::Real => {
             a.declared_type = v.unit.map(|u| type_name(u, v.display_unit));
-            a.min = v.min.map(fmt_real);
-            a.max = v.max.map(fmt_real);
-            a.start = v.start.map(fmt_real);
+            a.bounds = Bounds::real(v);
             a.derivative = v.derivative;
             Variable::Float64(a)
         }
         VarType::Integer => {
-            (a.min, a.max, a.start) = (integer(v.min), integer(v.max), integer(v.start));
+            a.bounds = Bounds::integer(v);
             Variable::Int32(a)
         }
         VarType::Boolean => {
-            a.start = v.start.map(|x| (x != 0.0).to_string());
+            a.bounds.start = v.start.map(|x| (x != 0.0).to_string());
             Variable::Boolean(a)
         }
         VarType::Enumeration(t) => {
             a.declared_type = Some(t.name.to_string());
-            a.start = integer(v.start);
+            a.bounds.start = integer(v.start);
             Variable::Enumeration(a)
         }
     }
@@ -274,9 +266,7 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
             initial: None,
         },
         declared_type: None,
-        min: None,
-        max: None,
-        start: None,
+        bounds: Bounds::default(),
         derivative: None,
     })];
     variables.extend(vars.iter().map(|(vr, v)| variable(*vr, v)));
@@ -291,9 +281,7 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
                 initial: Some("calculated"),
             },
             declared_type: None,
-            min: None,
-            max: None,
-            start: None,
+            bounds: Bounds::default(),
             derivative: None,
         }));
     }
