@@ -173,30 +173,21 @@ macro_rules! export_fmu {
 /// calls of the get/set signature, named with the type of their value array only. After
 /// `method:`, calls that are one [`runtime::Instance`] method (`method[Call]`), run through the
 /// entry wrapper as `Call::Call` of the version whose `Call` the invoking module imports, with
-/// the arguments after the component; after `with_call:`, the same, the method told the call
-/// first. After `alike (signature) -> R:`, calls of one signature, each passing leading
-/// arguments of its own before the call's.
+/// the arguments after the component, after leading arguments of its own where the call names
+/// them (`method[Call](lead, ..)`: the call itself, say). After `alike (signature) -> R:`, calls
+/// of one signature, each passing leading arguments of its own before the call's.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __fmi2_forward {
     ($m:ty; method: $(
-        $name:ident($c:ident: $ct:ty $(, $arg:ident: $t:ty)* $(,)?) => $method:ident[$call:ident];
-    )*) => {$(
-        #[unsafe(no_mangle)]
-        pub unsafe extern "C" fn $name($c: $ct $(, $arg: $t)*) -> $crate::fmi2::types::Status {
-            unsafe {
-                $crate::fmi2::runtime::entry::<$m, _>($c, Call::$call, |i| i.$method($($arg),*))
-            }
-        }
-    )*};
-    ($m:ty; with_call: $(
-        $name:ident($c:ident: $ct:ty $(, $arg:ident: $t:ty)* $(,)?) => $method:ident[$call:ident];
+        $name:ident($c:ident: $ct:ty $(, $arg:ident: $t:ty)* $(,)?)
+            => $method:ident[$call:ident] $(($($lead:expr),*))?;
     )*) => {$(
         #[unsafe(no_mangle)]
         pub unsafe extern "C" fn $name($c: $ct $(, $arg: $t)*) -> $crate::fmi2::types::Status {
             unsafe {
                 $crate::fmi2::runtime::entry::<$m, _>($c, Call::$call, |i| {
-                    i.$method(Call::$call $(, $arg)*)
+                    i.$method($($($lead,)*)? $($arg),*)
                 })
             }
         }
@@ -232,10 +223,10 @@ macro_rules! __fmi2_forward {
             $set_x(c: $crate::fmi2::types::Component, x: *const f64, n: usize) => set_continuous_states[$cset_x];
             $get_x(c: $crate::fmi2::types::Component, x: *mut f64, n: usize) => get_continuous_states[$cget_x];
             $nominals(c: $crate::fmi2::types::Component, x: *mut f64, n: usize) => get_nominals[$cnominals];
-        }
-        $crate::__fmi2_forward! { $m; with_call:
-            $der(c: $crate::fmi2::types::Component, dx: *mut f64, n: usize) => get_derivatives[$cder];
-            $ind(c: $crate::fmi2::types::Component, z: *mut f64, n: usize) => get_event_indicators[$cind];
+            $der(c: $crate::fmi2::types::Component, dx: *mut f64, n: usize)
+                => get_derivatives[$cder](Call::$cder);
+            $ind(c: $crate::fmi2::types::Component, z: *mut f64, n: usize)
+                => get_event_indicators[$cind](Call::$cind);
         }
     };
     ($m:ty; alike $args:tt -> $ret:ty: $(

@@ -299,8 +299,8 @@ macro_rules! __export_fmi3 {
 /// For [`crate::__export_fmi3!`]: FMI 3.0's typed get/set calls (named with their value array's
 /// type, with `nValues`) as `extern "C"` functions passing their arguments on to the runtime
 /// function after `=>`, for the model `$m`. Every other FMI 3.0 call is made by
-/// [`crate::__fmi2_forward!`] (its plain list, `method:`, `with_call:`, `fmu_state:` and
-/// `me(..):`) or [`crate::__fmi2_unsupported!`], with FMI 3.0's `Call` in scope.
+/// [`crate::__fmi2_forward!`] (its plain list, `method:`, `fmu_state:` and `me(..):`) or
+/// [`crate::__fmi2_unsupported!`], with FMI 3.0's `Call` in scope.
 #[doc(hidden)]
 #[macro_export]
 macro_rules! __fmi3_forward {

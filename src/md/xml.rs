@@ -246,14 +246,26 @@ struct EnumItems {
     item: Vec<Item>,
 }
 
+/// An item of an enumeration type, in both versions.
 #[derive(Serialize)]
-struct Item {
+pub(super) struct Item {
     #[serde(rename = "@name")]
     name: &'static str,
     #[serde(rename = "@value")]
-    value: i32,
+    value: i64,
     #[serde(rename = "@description")]
     description: &'static str,
+}
+
+/// The items of an enumeration type, valued 1, 2, … in their order.
+pub(super) fn items(t: &EnumType) -> Vec<Item> {
+    (t.items.iter().enumerate())
+        .map(|(i, (n, d))| Item {
+            name: n,
+            value: i as i64 + 1,
+            description: d,
+        })
+        .collect()
 }
 
 #[derive(Serialize)]
@@ -290,26 +302,48 @@ struct ModelVariables {
 
 #[derive(Serialize)]
 struct ScalarVariable {
-    #[serde(rename = "@name")]
-    name: &'static str,
-    #[serde(rename = "@valueReference")]
-    vr: u32,
-    #[serde(rename = "@description", skip_serializing_if = "str::is_empty")]
-    description: &'static str,
-    #[serde(rename = "@causality")]
-    causality: &'static str,
-    #[serde(rename = "@variability")]
-    variability: &'static str,
-    #[serde(rename = "@initial", skip_serializing_if = "Option::is_none")]
-    initial: Option<&'static str>,
+    #[serde(flatten)]
+    head: VarHead,
     #[serde(rename = "$value")]
     ty: TypeElement,
+}
+
+/// The attributes a variable's element begins with, the same in FMI 2.0 and FMI 3.0
+/// ([`super::xml3`]).
+#[derive(Serialize)]
+pub(super) struct VarHead {
+    #[serde(rename = "@name")]
+    pub name: String,
+    #[serde(rename = "@valueReference")]
+    pub vr: u32,
+    #[serde(rename = "@description", skip_serializing_if = "str::is_empty")]
+    pub description: &'static str,
+    #[serde(rename = "@causality")]
+    pub causality: &'static str,
+    #[serde(rename = "@variability")]
+    pub variability: &'static str,
+    #[serde(rename = "@initial", skip_serializing_if = "Option::is_none")]
+    pub initial: Option<&'static str>,
+}
+
+impl VarHead {
+    /// The head of the declaration `v`, with value reference `vr`.
+    pub(super) fn of(vr: u32, v: &Var) -> Self {
+        VarHead {
+            name: v.name.to_string(),
+            vr,
+            description: v.description,
+            causality: causality_str(v.causality),
+            variability: variability_str(v.variability),
+            initial: v.initial.map(initial_str),
+        }
+    }
 }
 
 #[derive(Serialize)]
 enum TypeElement {
     Real(RealAttrs),
-    Integer(IntAttrs),
+    Integer(Bounds),
     Boolean(BoolAttrs),
     Enumeration(EnumAttrs),
 }
@@ -320,24 +354,47 @@ struct RealAttrs {
     unit: Option<&'static str>,
     #[serde(rename = "@displayUnit", skip_serializing_if = "Option::is_none")]
     display_unit: Option<&'static str>,
-    #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
-    min: Option<String>,
-    #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
-    max: Option<String>,
-    #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
-    start: Option<String>,
+    #[serde(flatten)]
+    bounds: Bounds,
     #[serde(rename = "@derivative", skip_serializing_if = "Option::is_none")]
     derivative: Option<usize>,
 }
 
-#[derive(Serialize)]
-struct IntAttrs {
+/// A variable's `min`, `max` and `start`, written alike in FMI 2.0 and FMI 3.0: a Real's as
+/// [`fmt_real`] writes it, an Integer's as an integer.
+#[derive(Serialize, Default)]
+pub(super) struct Bounds {
     #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
-    min: Option<i64>,
+    pub min: Option<String>,
     #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
-    max: Option<i64>,
+    pub max: Option<String>,
     #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
-    start: Option<i64>,
+    pub start: Option<String>,
+}
+
+/// A declared value (a bound or start) of an Integer or Enumeration variable, as an integer.
+pub(super) fn integer(x: Option<f64>) -> Option<String> {
+    x.map(|x| (x as i64).to_string())
+}
+
+impl Bounds {
+    /// Those of the Real variable `v`.
+    pub(super) fn real(v: &Var) -> Self {
+        Bounds {
+            min: v.min.map(fmt_real),
+            max: v.max.map(fmt_real),
+            start: v.start.map(fmt_real),
+        }
+    }
+
+    /// Those of the Integer variable `v`.
+    pub(super) fn integer(v: &Var) -> Self {
+        Bounds {
+            min: integer(v.min),
+            max: integer(v.max),
+            start: integer(v.start),
+        }
+    }
 }
 
 #[derive(Serialize)]
@@ -351,7 +408,7 @@ struct EnumAttrs {
     #[serde(rename = "@declaredType")]
     declared_type: &'static str,
     #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
-    start: Option<i64>,
+    start: Option<String>,
 }
 
 #[derive(Serialize)]
@@ -378,7 +435,7 @@ struct Unknown {
     dependencies: Option<String>,
 }
 
-pub(super) fn causality_str(c: Causality) -> &'static str {
+fn causality_str(c: Causality) -> &'static str {
     match c {
         Causality::Parameter => "parameter",
         Causality::CalculatedParameter => "calculatedParameter",
@@ -388,7 +445,7 @@ pub(super) fn causality_str(c: Causality) -> &'static str {
     }
 }
 
-pub(super) fn variability_str(v: Variability) -> &'static str {
+fn variability_str(v: Variability) -> &'static str {
     match v {
         Variability::Constant => "constant",
         Variability::Fixed => "fixed",
@@ -398,7 +455,7 @@ pub(super) fn variability_str(v: Variability) -> &'static str {
     }
 }
 
-pub(super) fn initial_str(i: Initial) -> &'static str {
+fn initial_str(i: Initial) -> &'static str {
     match i {
         Initial::Exact => "exact",
         Initial::Approx => "approx",
@@ -406,9 +463,10 @@ pub(super) fn initial_str(i: Initial) -> &'static str {
     }
 }
 
-pub(super) fn enum_types(vars: &[Var]) -> Vec<&'static EnumType> {
+/// The enumeration types the variables declare, each once, in the order they first appear.
+pub(super) fn enum_types(vars: &[(u32, &Var)]) -> Vec<&'static EnumType> {
     let mut out: Vec<&'static EnumType> = Vec::new();
-    for v in vars {
+    for (_, v) in vars {
         if let VarType::Enumeration(t) = v.ty
             && !out.iter().any(|o| o.name == t.name)
         {
@@ -423,31 +481,20 @@ fn scalar_variable(vr: u32, v: &Var, index_of: impl Fn(u32) -> Option<usize>) ->
         VarType::Real => TypeElement::Real(RealAttrs {
             unit: v.unit,
             display_unit: v.display_unit,
-            min: v.min.map(fmt_real),
-            max: v.max.map(fmt_real),
-            start: v.start.map(fmt_real),
+            bounds: Bounds::real(v),
             derivative: v.derivative.and_then(index_of),
         }),
-        VarType::Integer => TypeElement::Integer(IntAttrs {
-            min: v.min.map(|x| x as i64),
-            max: v.max.map(|x| x as i64),
-            start: v.start.map(|x| x as i64),
-        }),
+        VarType::Integer => TypeElement::Integer(Bounds::integer(v)),
         VarType::Boolean => TypeElement::Boolean(BoolAttrs {
             start: v.start.map(|x| x != 0.0),
         }),
         VarType::Enumeration(t) => TypeElement::Enumeration(EnumAttrs {
             declared_type: t.name,
-            start: v.start.map(|x| x as i64),
+            start: integer(v.start),
         }),
     };
     ScalarVariable {
-        name: v.name,
-        vr,
-        description: v.description,
-        causality: causality_str(v.causality),
-        variability: variability_str(v.variability),
-        initial: v.initial.map(initial_str),
+        head: VarHead::of(vr, v),
         ty,
     }
 }
@@ -524,6 +571,7 @@ pub(super) struct Structure {
 }
 
 impl Structure {
+    /// The structure of the listed variables.
     pub(super) fn of(vars: &[(u32, &Var)]) -> Structure {
         let position = |vr: u32| vars.iter().position(|(r, _)| *r == vr);
         let positions = |keep: &dyn Fn(&Var) -> bool| -> Vec<usize> {
@@ -552,51 +600,49 @@ impl Structure {
             }),
         }
     }
+
+    /// The outputs, the derivatives and the initial unknowns, each made by `unknown` from the
+    /// reference of its variable (`reference` of its position: FMI 2.0 its index, FMI 3.0 its
+    /// value reference) and, for an output, the references of those it depends on.
+    pub(super) fn unknowns<R: ToString, U>(
+        &self,
+        reference: impl Fn(usize) -> R,
+        unknown: impl Fn(R, Option<String>) -> U,
+    ) -> [Vec<U>; 3] {
+        let outputs = (self.outputs.iter())
+            .map(|(i, deps)| {
+                let deps: Vec<String> = deps.iter().map(|&k| reference(k).to_string()).collect();
+                unknown(reference(*i), Some(deps.join(" ")))
+            })
+            .collect();
+        let others = |positions: &[usize]| -> Vec<U> {
+            (positions.iter())
+                .map(|&i| unknown(reference(i), None))
+                .collect()
+        };
+        [outputs, others(&self.derivatives), others(&self.initial)]
+    }
 }
 
 /// The description with this GUID, dated [`VERSION_DATE`] ([`stamp`] sets a build's date).
 fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
     // Value reference -> 1-based index in ModelVariables.
     let index_of = |vr: u32| vars.iter().position(|(r, _)| *r == vr).map(|p| p + 1);
-    let plain: Vec<Var> = vars.iter().map(|(_, v)| (*v).clone()).collect();
-    let types = enum_types(&plain)
+    let types = enum_types(vars)
         .into_iter()
         .map(|t| SimpleType {
             name: t.name,
             description: t.description,
-            enumeration: EnumItems {
-                item: t
-                    .items
-                    .iter()
-                    .enumerate()
-                    .map(|(i, (n, d))| Item {
-                        name: n,
-                        value: i as i32 + 1,
-                        description: d,
-                    })
-                    .collect(),
-            },
+            enumeration: EnumItems { item: items(t) },
         })
         .collect();
-    let structure = Structure::of(vars);
-    let unknown = |i: usize, dependencies: Option<String>| Unknown {
-        index: i + 1,
-        dependencies,
-    };
-    let outputs = (structure.outputs.iter())
-        .map(|(i, deps)| {
-            let deps: Vec<String> = deps.iter().map(|k| (k + 1).to_string()).collect();
-            unknown(*i, Some(deps.join(" ")))
-        })
-        .collect();
-    let initial = structure
-        .initial
-        .iter()
-        .map(|&i| unknown(i, None))
-        .collect();
-    let derivatives: Vec<Unknown> = (structure.derivatives.iter())
-        .map(|&i| unknown(i, None))
-        .collect();
+    let [outputs, derivatives, initial] = Structure::of(vars).unknowns(
+        |i| i + 1,
+        |index, dependencies| Unknown {
+            index,
+            dependencies,
+        },
+    );
     Fmd {
         fmi_version: "2.0",
         model_name: info.model_name.to_string(),
@@ -642,7 +688,8 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], guid: &str) -> Fmd {
     }
 }
 
-fn to_xml(fmd: &Fmd) -> String {
+/// The XML document of a description (either version's), indented by two spaces.
+pub(super) fn to_xml(fmd: &impl Serialize) -> String {
     let mut body = String::new();
     let mut ser = quick_xml::se::Serializer::with_root(&mut body, Some("fmiModelDescription"))
         .expect("a valid root name");

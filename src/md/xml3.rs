@@ -4,11 +4,12 @@
 //! `EnumerationType`, value references in `ModelStructure`, the independent variable `time`),
 //! and the same GUID as its `instantiationToken`. Elements follow `fmi3ModelDescription.xsd`.
 
+use super::ModelInfo;
 use super::guid::guid;
 use super::xml::{
-    Body, Empty, Header, Structure, causality_str, enum_types, header, initial_str, variability_str,
+    Body, Bounds, Empty, Header, Item, Structure, VarHead, enum_types, header, integer, items,
+    to_xml,
 };
-use super::{ModelInfo, fmt_real};
 use crate::model::{Model, Var, VarType};
 use serde::Serialize;
 
@@ -142,16 +143,6 @@ struct EnumerationType {
 }
 
 #[derive(Serialize)]
-struct Item {
-    #[serde(rename = "@name")]
-    name: &'static str,
-    #[serde(rename = "@value")]
-    value: i64,
-    #[serde(rename = "@description")]
-    description: &'static str,
-}
-
-#[derive(Serialize)]
 struct ModelVariables {
     #[serde(rename = "$value")]
     vars: Vec<Variable>,
@@ -169,26 +160,12 @@ enum Variable {
 /// The attributes of a variable element (those of another type are left out).
 #[derive(Serialize)]
 struct Attrs {
-    #[serde(rename = "@name")]
-    name: String,
-    #[serde(rename = "@valueReference")]
-    vr: u32,
-    #[serde(rename = "@description", skip_serializing_if = "str::is_empty")]
-    description: &'static str,
-    #[serde(rename = "@causality")]
-    causality: &'static str,
-    #[serde(rename = "@variability")]
-    variability: &'static str,
-    #[serde(rename = "@initial", skip_serializing_if = "Option::is_none")]
-    initial: Option<&'static str>,
+    #[serde(flatten)]
+    head: VarHead,
     #[serde(rename = "@declaredType", skip_serializing_if = "Option::is_none")]
     declared_type: Option<String>,
-    #[serde(rename = "@min", skip_serializing_if = "Option::is_none")]
-    min: Option<String>,
-    #[serde(rename = "@max", skip_serializing_if = "Option::is_none")]
-    max: Option<String>,
-    #[serde(rename = "@start", skip_serializing_if = "Option::is_none")]
-    start: Option<String>,
+    #[serde(flatten)]
+    bounds: Bounds,
     #[serde(rename = "@derivative", skip_serializing_if = "Option::is_none")]
     derivative: Option<u32>,
 }
@@ -215,40 +192,30 @@ struct Unknown {
 
 /// The variable element of a declaration.
 fn variable(vr: u32, v: &Var) -> Variable {
-    let integer = |x: Option<f64>| x.map(|x| (x as i64).to_string());
     let mut a = Attrs {
-        name: v.name.to_string(),
-        vr,
-        description: v.description,
-        causality: causality_str(v.causality),
-        variability: variability_str(v.variability),
-        initial: v.initial.map(initial_str),
+        head: VarHead::of(vr, v),
         declared_type: None,
-        min: None,
-        max: None,
-        start: None,
+        bounds: Bounds::default(),
         derivative: None,
     };
     match v.ty {
         VarType::Real => {
             a.declared_type = v.unit.map(|u| type_name(u, v.display_unit));
-            a.min = v.min.map(fmt_real);
-            a.max = v.max.map(fmt_real);
-            a.start = v.start.map(fmt_real);
+            a.bounds = Bounds::real(v);
             a.derivative = v.derivative;
             Variable::Float64(a)
         }
         VarType::Integer => {
-            (a.min, a.max, a.start) = (integer(v.min), integer(v.max), integer(v.start));
+            a.bounds = Bounds::integer(v);
             Variable::Int32(a)
         }
         VarType::Boolean => {
-            a.start = v.start.map(|x| (x != 0.0).to_string());
+            a.bounds.start = v.start.map(|x| (x != 0.0).to_string());
             Variable::Boolean(a)
         }
         VarType::Enumeration(t) => {
             a.declared_type = Some(t.name.to_string());
-            a.start = integer(v.start);
+            a.bounds.start = integer(v.start);
             Variable::Enumeration(a)
         }
     }
@@ -256,19 +223,12 @@ fn variable(vr: u32, v: &Var) -> Variable {
 
 /// The description with this instantiation token, dated [`VERSION_DATE`].
 fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
-    let plain: Vec<Var> = vars.iter().map(|(_, v)| (*v).clone()).collect();
-    let enumerations = enum_types(&plain)
+    let enumerations = enum_types(vars)
         .into_iter()
         .map(|t| EnumerationType {
             name: t.name,
             description: t.description,
-            items: (t.items.iter().enumerate())
-                .map(|(i, (n, d))| Item {
-                    name: n,
-                    value: i as i64 + 1,
-                    description: d,
-                })
-                .collect(),
+            items: items(t),
         })
         .collect();
     let mut floats: Vec<Float64Type> = Vec::new();
@@ -297,53 +257,38 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
         0
     };
     let mut variables = vec![Variable::Float64(Attrs {
-        name: "time".into(),
-        vr: time_vr,
-        description: "Simulation time",
-        causality: "independent",
-        variability: "continuous",
-        initial: None,
+        head: VarHead {
+            name: "time".into(),
+            vr: time_vr,
+            description: "Simulation time",
+            causality: "independent",
+            variability: "continuous",
+            initial: None,
+        },
         declared_type: None,
-        min: None,
-        max: None,
-        start: None,
+        bounds: Bounds::default(),
         derivative: None,
     })];
     variables.extend(vars.iter().map(|(vr, v)| variable(*vr, v)));
     for k in 0..indicators {
         variables.push(Variable::Float64(Attrs {
-            name: format!("event.indicator_{}", k + 1),
-            vr: time_vr + 1 + k,
-            description: "Event indicator of Model Exchange: a state event where it changes sign (a contact opening or closing, the knife entering or leaving the stack)",
-            causality: "local",
-            variability: "continuous",
-            initial: Some("calculated"),
+            head: VarHead {
+                name: format!("event.indicator_{}", k + 1),
+                vr: time_vr + 1 + k,
+                description: "Event indicator of Model Exchange: a state event where it changes sign (a contact opening or closing, the knife entering or leaving the stack)",
+                causality: "local",
+                variability: "continuous",
+                initial: Some("calculated"),
+            },
             declared_type: None,
-            min: None,
-            max: None,
-            start: None,
+            bounds: Bounds::default(),
             derivative: None,
         }));
     }
-    let structure = Structure::of(vars);
-    let unknown = |i: usize, dependencies: Option<String>| Unknown {
-        vr: vars[i].0,
-        dependencies,
-    };
-    let outputs = (structure.outputs.iter())
-        .map(|(i, deps)| {
-            let deps: Vec<String> = deps.iter().map(|&k| vars[k].0.to_string()).collect();
-            unknown(*i, Some(deps.join(" ")))
-        })
-        .collect();
-    let derivatives = (structure.derivatives.iter())
-        .map(|&i| unknown(i, None))
-        .collect();
-    let initial = structure
-        .initial
-        .iter()
-        .map(|&i| unknown(i, None))
-        .collect();
+    let [outputs, derivatives, initial] = Structure::of(vars).unknowns(
+        |i| vars[i].0,
+        |vr, dependencies| Unknown { vr, dependencies },
+    );
     let event_indicators = (0..indicators)
         .map(|k| Unknown {
             vr: time_vr + 1 + k,
@@ -391,17 +336,7 @@ fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
 /// instantiation token (the GUID of the FMI 2.0 description of the same variables).
 pub fn describe3_vars(info: &ModelInfo, vars: &[(u32, &Var)]) -> (String, String) {
     let token = guid(info, vars);
-    let mut body = String::new();
-    let mut ser = quick_xml::se::Serializer::with_root(&mut body, Some("fmiModelDescription"))
-        .expect("a valid root name");
-    ser.indent(' ', 2);
-    build(info, vars, &token)
-        .serialize(ser)
-        .expect("model description serializes");
-    (
-        format!("<?xml version=\"1.0\" encoding=\"UTF-8\"?>\n{body}\n"),
-        token,
-    )
+    (to_xml(&build(info, vars, &token)), token)
 }
 
 /// The full FMI 3.0 model description of a model type, and its instantiation token.
