@@ -107,6 +107,11 @@ pub fn cross<T: Scalar>(a: (T, T), b: (T, T)) -> T {
 /// A non-finite `phi` gives NaN.
 #[inline]
 pub fn wrap_angle(phi: f64) -> f64 {
+    if (0.0..TAU).contains(&phi) {
+        // already within the turn, where `rem_euclid` returns `phi` itself (and saves its
+        // floating-point remainder, a software routine on most targets)
+        return phi;
+    }
     let psi = phi.rem_euclid(TAU);
     if psi >= TAU { 0.0 } else { psi }
 }
@@ -277,6 +282,33 @@ mod tests {
             assert!((0.0..TAU).contains(&w), "{phi} -> {w}");
         }
         assert!(wrap_angle(f64::NAN).is_nan());
+    }
+
+    /// The shortcut inside the turn returns what `rem_euclid` would, bit for bit.
+    #[test]
+    fn wrap_angle_within_the_turn_is_rem_euclid() {
+        let by_rem = |phi: f64| {
+            let psi = phi.rem_euclid(TAU);
+            if psi >= TAU { 0.0 } else { psi }
+        };
+        let below_tau = f64::from_bits(TAU.to_bits() - 1);
+        let mut x = 0.37_f64;
+        let mut phis = vec![
+            0.0,
+            -0.0,
+            1e-300,
+            f64::MIN_POSITIVE,
+            below_tau,
+            TAU,
+            -1e-300,
+        ];
+        for _ in 0..1000 {
+            x = (x * 997.0 + 0.123).fract();
+            phis.extend([x * TAU, x * 20.0 - 10.0]);
+        }
+        for phi in phis {
+            assert_eq!(wrap_angle(phi).to_bits(), by_rem(phi).to_bits(), "{phi:e}");
+        }
     }
 
     #[test]

@@ -330,10 +330,20 @@ impl Params {
     /// With base radius `r0`: the shaft angle where the smaller convex flank radius
     /// `|ρpitch| − r_roller` is least, and that value, if it is ≤ 0 (an undercut cam).
     pub fn undercut(&self, r0: f64) -> Option<(f64, f64)> {
+        self.undercut_on(&self.travel_points(), r0)
+    }
+
+    /// The cyclogram's points at [`Params::travel_samples`] with their shaft angles: what
+    /// [`Params::undercut`] takes of the motion, the same for every base radius.
+    fn travel_points(&self) -> Vec<(f64, CyclePoint)> {
         let c = self.cyclogram();
+        self.travel_samples().map(|phi| (phi, c.at(phi))).collect()
+    }
+
+    /// [`Params::undercut`] on the travel's points `pts` ([`Params::travel_points`]).
+    fn undercut_on(&self, pts: &[(f64, CyclePoint)], r0: f64) -> Option<(f64, f64)> {
         let mut worst = (0.0, f64::INFINITY);
-        for phi in self.travel_samples() {
-            let p = c.at(phi);
+        for &(phi, p) in pts {
             let rho = offset_pitch_curvature_radius(r0, self.cam_e, p.x, p.dx, p.ddx).abs();
             let convex = rho - self.roller.r;
             if convex < worst.1 {
@@ -350,10 +360,11 @@ impl Params {
 
     /// The smallest base radius `cam.R0` without undercut (bisection to 1e-6 m, rounded up).
     pub fn smallest_r0(&self) -> f64 {
+        let pts = self.travel_points();
         let mut lo = self.cam_e.abs();
         let mut hi = self.cam_r0.max(self.roller.r).max(1e-3);
         for _ in 0..60 {
-            if self.undercut(hi).is_none() {
+            if self.undercut_on(&pts, hi).is_none() {
                 break;
             }
             lo = hi;
@@ -370,7 +381,7 @@ impl Params {
             if mid <= lo || mid >= hi {
                 break;
             }
-            if self.undercut(mid).is_some() {
+            if self.undercut_on(&pts, mid).is_some() {
                 lo = mid;
             } else {
                 hi = mid;
