@@ -174,7 +174,16 @@ pub fn reduced_mass(p: &Params, x: f64) -> f64 {
 
 /// Solves a 7×7 system by Gaussian elimination with partial pivoting on the real parts (generic:
 /// on dual numbers it carries the exact derivative of the solution). `None` if singular.
-fn solve7<T: DualNum<Primitive = f64> + Copy>(mut a: [[T; 7]; 7], mut b: [T; 7]) -> Option<[T; 7]> {
+fn solve7<T: DualNum<Primitive = f64> + Copy>(a: [[T; 7]; 7], b: [T; 7]) -> Option<[T; 7]> {
+    solve7_for(a, [b]).map(|[z]| z)
+}
+
+/// [`solve7`] for several right-hand sides `bs` at once: one elimination of `a`, each `b` taking
+/// the same row operations it would alone (so each solution is [`solve7`]'s, bit for bit).
+fn solve7_for<T: DualNum<Primitive = f64> + Copy, const M: usize>(
+    mut a: [[T; 7]; 7],
+    mut bs: [[T; 7]; M],
+) -> Option<[[T; 7]; M]> {
     for col in 0..7 {
         let piv =
             (col..7).max_by(|&i, &j| a[i][col].re().abs().total_cmp(&a[j][col].re().abs()))?;
@@ -182,25 +191,32 @@ fn solve7<T: DualNum<Primitive = f64> + Copy>(mut a: [[T; 7]; 7], mut b: [T; 7])
             return None;
         }
         a.swap(col, piv);
-        b.swap(col, piv);
-        let (pivot, bp) = (a[col], b[col]);
+        for b in &mut bs {
+            b.swap(col, piv);
+        }
+        let pivot = a[col];
         for r in col + 1..7 {
             let f = a[r][col] / pivot[col];
             for (x, &t) in a[r].iter_mut().zip(pivot.iter()).skip(col) {
                 *x -= f * t;
             }
-            b[r] -= f * bp;
+            for b in &mut bs {
+                let bp = b[col];
+                b[r] -= f * bp;
+            }
         }
     }
-    let mut z = [T::zero(); 7];
-    for r in (0..7).rev() {
-        let mut acc = b[r];
-        for c in r + 1..7 {
-            acc -= a[r][c] * z[c];
+    Some(bs.map(|b| {
+        let mut z = [T::zero(); 7];
+        for r in (0..7).rev() {
+            let mut acc = b[r];
+            for c in r + 1..7 {
+                acc -= a[r][c] * z[c];
+            }
+            z[r] = acc / a[r][r];
         }
-        z[r] = acc / a[r][r];
-    }
-    Some(z)
+        z
+    }))
 }
 
 /// The ODE of one communication step.
@@ -297,7 +313,7 @@ impl RodOde<'_> {
         e0[0] = T::one();
         let mut w = [T::zero(); 7];
         (w[2], w[3]) = (T::from(u.x), T::from(u.y));
-        let (Some(pv), Some(qv)) = (solve7(a, e0), solve7(a, w)) else {
+        let Some([pv, qv]) = solve7_for(a, [e0, w]) else {
             return T::from(-1.0); // a singular frictionless system: the holder's dead point
         };
         let (m5, m7) = (p.guide_mu, p.support_mu);
