@@ -468,7 +468,8 @@ pub fn set_rigid_torque<V: VarSet>(
 }
 
 /// [`set_rigid_torque`] for any [`Scalar`], as `put(variable, value)`: `shaft.J_red`,
-/// `shaft.tau0` ([`reduce_at`]), `shaft.tau` and `shaft.P = shaft.tau*shaft.w`.
+/// `shaft.tau0` ([`reduce_at`]), `shaft.tau` and `shaft.P = shaft.tau*shaft.w` of a model
+/// driven through the shaft connector (its common variables at their value references).
 #[inline]
 pub fn rigid_torque<V: VarSet, T: Scalar>(
     s: &ShaftState<T>,
