@@ -27,6 +27,7 @@
 //!    `evaluate` the outputs at [`Chain::held_state`] ([`write_states`], [`Peaks::dyn_factor`]).
 
 use super::{Integrator, Memory, Method, OdeSystem, Settings, ShaftPath};
+use std::cell::Cell;
 
 mod macros;
 mod memory;
@@ -169,6 +170,34 @@ pub fn transitions<O: OdeSystem>(
         }
     }
     *g_prev = g;
+}
+
+/// The last value computed of a function of time alone on one communication step's ODE (the
+/// rigid motion on the step's shaft path): DOPRI5's last two stages, the event indicators at a
+/// step's end and the checks after it are at one instant, so the value is kept for the next
+/// call at that time (keyed on the time's bits: the same value, not a near one).
+#[derive(Debug)]
+pub struct LastAt<K: Copy>(Cell<Option<(u64, K)>>);
+
+impl<K: Copy> Default for LastAt<K> {
+    /// Nothing kept yet.
+    fn default() -> Self {
+        LastAt(Cell::new(None))
+    }
+}
+
+impl<K: Copy> LastAt<K> {
+    /// The value at `t`: the kept one if it is `t`'s, else `at()`, then kept.
+    pub fn get_or(&self, t: f64, at: impl FnOnce() -> K) -> K {
+        match self.0.get() {
+            Some((bits, k)) if bits == t.to_bits() => k,
+            _ => {
+                let k = at();
+                self.0.set(Some((t.to_bits(), k)));
+                k
+            }
+        }
+    }
 }
 
 /// [`ChainModel::non_physical`] of a chain whose deflection `delta` at `t` must stay within the
@@ -525,6 +554,23 @@ mod tests {
             solver_atol = crate::solver::vars::atol(),
             solver_max_step = crate::solver::vars::max_step(),
         }
+    }
+
+    #[test]
+    fn last_at_computes_once_per_instant() {
+        let calls = Cell::new(0);
+        let kept = LastAt::default();
+        let f = |t: f64| {
+            kept.get_or(t, || {
+                calls.set(calls.get() + 1);
+                2.0 * t
+            })
+        };
+        assert_eq!((f(0.5), f(0.5), calls.get()), (1.0, 1.0, 1));
+        // another instant, however near, is computed
+        let near = f64::from_bits(0.5f64.to_bits() + 1);
+        assert_eq!((f(near), calls.get()), (2.0 * near, 2));
+        assert_eq!((f(0.5), calls.get()), (1.0, 3));
     }
 
     #[test]

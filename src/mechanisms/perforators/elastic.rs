@@ -39,7 +39,7 @@
 use super::physics::{Drive, Forces, Kinematics, Linkage};
 use crate::mechanics::hertz::{line_contact_energy, line_contact_force};
 use crate::mechanics::{STANDARD_GRAVITY, Scalar, dot, max_of, sgn};
-use crate::solver::chain::ChainOde;
+use crate::solver::chain::{ChainOde, LastAt};
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
 use std::f64::consts::TAU;
@@ -169,6 +169,8 @@ pub struct LeverOde<'a> {
     pub range: (f64, f64),
     /// The first lever angle met outside that range (NaN: none), for the error message.
     pub out_of_range: Cell<f64>,
+    /// The last rigid motion computed ([`LeverOde::rigid_at`]).
+    pub rigid: LastAt<Kinematics>,
 }
 
 /// Everything at one instant (any [`Scalar`]: `f64` in the ODE, dual numbers for the exact
@@ -410,13 +412,21 @@ impl LeverOde<'_> {
 /// Number of event functions.
 pub const N_EVENTS: usize = 10;
 
+impl LeverOde<'_> {
+    /// The rigid motion at `t` on this step's path, the last one kept ([`LastAt`]).
+    fn rigid_at(&self, t: f64) -> Kinematics {
+        self.rigid.get_or(t, || {
+            let (phi, w, a) = self.path.at(t);
+            self.d.kinematics(phi, w, a)
+        })
+    }
+}
+
 impl ChainOde for LeverOde<'_> {
     type Point = Point;
 
     fn point(&self, t: f64, y: &[f64]) -> Point {
-        let (phi, w, a) = self.path.at(t);
-        let rigid = self.d.kinematics(phi, w, a);
-        self.point_at(&rigid, y)
+        self.point_at(&self.rigid_at(t), y)
     }
     /// Energy of lever, carriage, spring 13, weight and contact, table frame, J.
     fn energy(&self, pt: &Point) -> f64 {
@@ -461,11 +471,11 @@ impl OdeSystem for LeverOde<'_> {
     /// and the Model Exchange hooks hold its sign there ([`crate::solver::hold_signs`]), so that
     /// its events are its reversals.
     fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
-        let (phi, w, a) = self.path.at(t);
+        let (phi, _, _) = self.path.at(t);
         let abs_phi = phi + self.path.turns * TAU;
         // the four cyclogram phase boundaries of the table
         g[..4].copy_from_slice(&self.d.cyc.phase_indicators(abs_phi));
-        let rigid = self.d.kinematics(phi, w, a);
+        let rigid = self.rigid_at(t);
         let p = &self.d.p;
         let n = rigid.normal;
         let (g_el, w_el) = (rigid.gamma - y[0], rigid.gamma_w - y[1]);

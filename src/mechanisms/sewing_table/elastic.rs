@@ -18,8 +18,7 @@
 
 use super::physics::{Kinematics, Params};
 use crate::mechanics::{STANDARD_GRAVITY, Scalar, SpringDamper, max_of, min_of, sgn};
-use crate::solver::chain::ChainOde;
-use crate::solver::chain::Peaks;
+use crate::solver::chain::{ChainOde, LastAt, Peaks};
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
 
@@ -34,6 +33,8 @@ pub struct TableOde<'a> {
     pub path: ShaftPath,
     /// What it tracks over accepted steps and events.
     pub memory: Cell<TableMemory>,
+    /// The last rigid motion computed ([`TableOde::rigid_at`]).
+    pub rigid: LastAt<Kinematics>,
 }
 
 crate::chain_memory! {
@@ -141,13 +142,21 @@ impl TableOde<'_> {
     }
 }
 
+impl TableOde<'_> {
+    /// The rigid motion at `t` on this step's path, the last one kept ([`LastAt`]).
+    fn rigid_at(&self, t: f64) -> Kinematics {
+        self.rigid.get_or(t, || {
+            let (phi, w, a) = self.path.at(t);
+            self.p.kinematics(phi, w, a)
+        })
+    }
+}
+
 impl ChainOde for TableOde<'_> {
     type Point = Point;
 
     fn point(&self, t: f64, y: &[f64]) -> Point {
-        let (phi, w, a) = self.path.at(t);
-        let kin = self.p.kinematics(phi, w, a);
-        self.point_at(&kin, y)
+        self.point_at(&self.rigid_at(t), y)
     }
     /// Energy of table and follower spring, J.
     fn energy(&self, pt: &Point) -> f64 {
@@ -187,11 +196,11 @@ impl OdeSystem for TableOde<'_> {
     /// exactly zero through both dwells; the integrators and the Model Exchange hooks hold its
     /// sign there ([`crate::solver::hold_signs`]), so that its events are its reversals.
     fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
-        let (phi, w, a) = self.path.at(t);
+        let (phi, _, _) = self.path.at(t);
         let abs_phi = phi + self.path.turns * std::f64::consts::TAU;
         // the four cyclogram phase boundaries (forward travel, far dwell, return, near dwell)
         g[..4].copy_from_slice(&self.p.cyclogram().phase_indicators(abs_phi));
-        let kin = self.p.kinematics(phi, w, a);
+        let kin = self.rigid_at(t);
         let delta = kin.c.x - y[0];
         // with play: the roller on the pushing flank (δ > g), on the other one (δ < −g)
         if self.gap > 0.0 {

@@ -11,7 +11,7 @@ use crate::model::partials::{Put, Scalar, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::chain::ChainOde;
-use crate::solver::chain::{self, Chain, ChainModel, Peaks};
+use crate::solver::chain::{self, Chain, ChainModel, LastAt, Peaks};
 use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
@@ -166,6 +166,7 @@ impl ChainModel for TableChain {
             f_ext: v[V::table_F_ext],
             path,
             memory: Cell::new(*m),
+            rigid: LastAt::default(),
         }
     }
     fn start(_: &TableOde, path: &ShaftPath, m: &mut TableMemory) {

@@ -155,6 +155,7 @@ impl ChainModel for LeverChain {
             track: Cell::new(m.track),
             range: self.range,
             out_of_range: Cell::new(f64::NAN),
+            rigid: Default::default(),
         }
     }
     fn start(_: &LeverOde, path: &ShaftPath, m: &mut LeverMemory) {
