@@ -106,6 +106,7 @@ fn lever(d: &Drive, k: f64, zeta: f64) -> LeverOde<'_> {
         track: Cell::new(Track::new(0.0)),
         range: LeverOde::linkage_range(d),
         out_of_range: Cell::new(f64::NAN),
+        rigid: Default::default(),
     }
 }
 
