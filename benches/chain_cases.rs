@@ -42,7 +42,10 @@ fn run<M: Model>(set: &[(&str, f64)], stop: f64, x: &str) -> f64 {
 }
 
 fn main() {
-    let args: Vec<String> = std::env::args().skip(1).filter(|a| a != "--bench").collect();
+    let args: Vec<String> = std::env::args()
+        .skip(1)
+        .filter(|a| a != "--bench")
+        .collect();
     let (Some(case), Some(rtol)) = (args.first(), args.get(1).and_then(|s| s.parse().ok())) else {
         eprintln!("usage: chain_cases geneva|sewing|perforators|disc RTOL [STIFFNESS]");
         return;

@@ -187,6 +187,15 @@ impl<K: Copy> Default for LastAt<K> {
 }
 
 impl<K: Copy> LastAt<K> {
+    /// The value at `t` of `at(φ, ω, ε)`, a function of the shaft's state on `path`
+    /// ([`LastAt::get_or`]).
+    pub fn on_path(&self, path: &ShaftPath, t: f64, at: impl FnOnce(f64, f64, f64) -> K) -> K {
+        self.get_or(t, || {
+            let (phi, w, a) = path.at(t);
+            at(phi, w, a)
+        })
+    }
+
     /// The value at `t`: the kept one if it is `t`'s, else `at()`, then kept.
     pub fn get_or(&self, t: f64, at: impl FnOnce() -> K) -> K {
         match self.0.get() {

@@ -203,6 +203,12 @@ pub struct Point<T = f64> {
 }
 
 impl LeverOde<'_> {
+    /// The rigid motion at `t` on this step's path, the last one kept ([`LastAt`]).
+    fn rigid_at(&self, t: f64) -> Kinematics {
+        self.rigid
+            .on_path(&self.path, t, |phi, w, a| self.d.kinematics(phi, w, a))
+    }
+
     /// Reduced inertia at lever angle Δγ (any [`Scalar`]).
     pub fn j_eff<T: Scalar>(d: &Drive, g: T) -> T {
         Self::j_eff_of(d, d.made.carriage(g).ds)
@@ -411,16 +417,6 @@ impl LeverOde<'_> {
 
 /// Number of event functions.
 pub const N_EVENTS: usize = 10;
-
-impl LeverOde<'_> {
-    /// The rigid motion at `t` on this step's path, the last one kept ([`LastAt`]).
-    fn rigid_at(&self, t: f64) -> Kinematics {
-        self.rigid.get_or(t, || {
-            let (phi, w, a) = self.path.at(t);
-            self.d.kinematics(phi, w, a)
-        })
-    }
-}
 
 impl ChainOde for LeverOde<'_> {
     type Point = Point;

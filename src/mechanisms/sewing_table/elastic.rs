@@ -71,6 +71,12 @@ pub struct Point<T = f64> {
 }
 
 impl TableOde<'_> {
+    /// The rigid motion at `t` on this step's path, the last one kept ([`LastAt`]).
+    fn rigid_at(&self, t: f64) -> Kinematics {
+        self.rigid
+            .on_path(&self.path, t, |phi, w, a| self.p.kinematics(phi, w, a))
+    }
+
     /// The chain's spring `k` at the damping ratio `zeta` on the table's mass.
     pub fn spring(p: &Params, k: f64, zeta: f64) -> SpringDamper {
         SpringDamper::with_ratio(k, p.table_m, zeta)
@@ -139,16 +145,6 @@ impl TableOde<'_> {
             kin.v,
             T::zero(),
         ]
-    }
-}
-
-impl TableOde<'_> {
-    /// The rigid motion at `t` on this step's path, the last one kept ([`LastAt`]).
-    fn rigid_at(&self, t: f64) -> Kinematics {
-        self.rigid.get_or(t, || {
-            let (phi, w, a) = self.path.at(t);
-            self.p.kinematics(phi, w, a)
-        })
     }
 }
 
