@@ -23,8 +23,10 @@ from harness import ROOT
 BINDERY = ROOT / "target" / "release" / "bindery"
 VENV_BIN = Path(sys.executable).parent
 
-# An elastodynamic sweep: each run integrates the lever's contact for two shaft turns (about
-# 0.1 s of work), so a sweep lasts long enough to be interrupted.
+# An elastodynamic sweep: each run integrates the lever's contact for eight shaft turns (about
+# 0.3 s of work), so that on one thread the sweep lasts several times the 2 s after which the
+# store writes a part, and can be interrupted between parts (at two turns a faster build ran
+# the whole sweep inside the first 2 s).
 SWEEP = """
 model = "Perforators"
 fidelity = "elastodynamic"
@@ -33,7 +35,7 @@ fidelity = "elastodynamic"
 "spring.kt" = { values = [10.0, 20.0, 30.0] }
 [experiment]
 speed = 130
-turns = 2
+turns = 8
 steps_per_turn = 360
 [metrics]
 liftoffs = { output = "contact.liftoffs", stat = "increase" }
