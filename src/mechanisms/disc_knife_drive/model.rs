@@ -638,12 +638,10 @@ mod tests {
             let s = shaft::state(&v, time);
             let k = m.params.kinematics(s.phi, s.w, s.a);
             let y0 = [k.x_c + dy[0], k.v_c + dy[1], 0.2];
-            if let Some(d) = m.dynamic.as_mut() {
-                d.started = true;
-                d.y = y0;
-                d.e0 = 0.1;
-            }
             let elastic = m.dynamic.is_some();
+            if elastic {
+                m.me_set_states(&v, time, &y0);
+            }
             let states: Vec<_> = states.into_iter().zip(y0).filter(|_| elastic).collect();
             let mut at0 = v.clone();
             m.evaluate(&mut at0, time, &mut NoLog);

@@ -459,12 +459,10 @@ mod tests {
             // the knife off its rigid motion: a started chain with a held state
             let k = m.params.kinematics(shaft::state(&v, time).phi, w, a);
             let y0 = [k.s - dy[0], k.v - dy[1], 0.3];
-            if let Some(d) = m.dynamic.as_mut() {
-                d.started = true;
-                d.y = y0;
-                d.e0 = 0.1;
-            }
             let elastic = m.dynamic.is_some();
+            if elastic {
+                m.me_set_states(&v, time, &y0);
+            }
             let states: Vec<_> = states.into_iter().zip(y0).filter(|_| elastic).collect();
             let mut at0 = v.clone();
             m.evaluate(&mut at0, time, &mut NoLog);
