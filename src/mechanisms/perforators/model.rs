@@ -541,14 +541,14 @@ impl Model for Perforators {
         v[V::contact_m_red] = LeverOde::reduced_mass(d);
         let st = shaft::state(v, time);
         let wants = Wants::of(v);
+        let path = shaft::path(v, time);
         let chain = self.dynamic.as_ref().map(|dy| {
-            let ode = dy.ode(d, shaft::path(v, time), v);
+            let ode = dy.ode(d, path, v);
             let y = dy.held_state(&ode, time);
             (ode, y)
         });
         // the rigid motion as the ODE's point takes it: on the step's path, its acceleration `a`
         let rigid_at = |a: f64| {
-            let path = chain.as_ref().expect("elastodynamic level").0.path;
             let (phi, w, a) = ShaftPath { a, ..path }.at(time);
             d.kinematics(phi, w, a)
         };
