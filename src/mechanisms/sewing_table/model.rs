@@ -4,7 +4,7 @@
 use super::elastic::{TableMemory, TableOde};
 use super::physics::{Forces, Kind, Params, Rocking};
 use crate::mechanics::cyclogram::Phase;
-use crate::mechanics::hertz::Roller;
+use crate::mechanics::hertz::{Roller, Surface};
 use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::{SpringDamper, clamp_of};
 use crate::model::partials::{Put, Scalar, Seeded, put_zero};
@@ -445,18 +445,20 @@ impl SewingTable {
             put(V::table_F_inertia, pt.xdd * -m);
             put(V::table_F_friction, -pt.f_fr);
             put(V::cam_F, pt.f_c / k.theta.cos());
-            // Hertz stress grows with the square root of the force; no force (the roller in
-            // the play, where it stays 0): the root 0, with the derivative 0
-            let sigma_h = if rigid.cam_f.re() != 0.0 {
-                let ratio = (pt.f_c / rigid.f_x).abs();
-                let root = if ratio.re() == 0.0 {
-                    T::from(ratio.re().sqrt())
-                } else {
-                    ratio.sqrt()
-                };
-                rigid.sigma_h * root
-            } else {
+            // the Hertz stress (paper 002 eq. 8) under the dynamic cam force on the flank the
+            // rigid force loads; no rigid force (no flank wanted): 0
+            let sigma_h = if rigid.cam_f.re() == 0.0 {
                 T::zero()
+            } else if !w.hertz {
+                T::from(f64::NAN)
+            } else {
+                let surface = if rigid.rho_flank.re() > 0.0 {
+                    Surface::Convex
+                } else {
+                    Surface::Concave
+                };
+                let force = (pt.f_c / k.theta.cos()).abs();
+                p.roller.stress(force, rigid.rho_flank.abs(), surface)
             };
             put(V::cam_sigma_H, sigma_h);
             // statistics of the steps taken: constants now
@@ -591,6 +593,41 @@ mod tests {
         m.evaluate(&mut v, 0.0, &mut NoLog);
         let k = m.params.kinematics(0.5, v[V::shaft_w], 0.0);
         assert!(v[V::shaft_tau] - tau0 > 0.9 * 100.0 * k.c.dx);
+    }
+
+    /// The elastodynamic level's Hertz stress is the kinetostatic one's formula (paper 002 eq.
+    /// 8) under the chain's force: at the chain's starting equilibrium, where the spring carries
+    /// the rigid force, the two levels agree; with the chain force doubled (the deflection
+    /// doubled, no damping rate) the stress grows by √2, as Hertz line contact does.
+    #[test]
+    fn hertz_stress_under_the_chain_force() {
+        for phi in [0.5, 0.9, 4.0] {
+            let mut v = Values::<V>::start();
+            v[V::shaft_phi] = phi;
+            v[V::model_fidelity] = 2.0;
+            let mut rigid = SewingTable::prepare(&v).unwrap();
+            rigid.evaluate(&mut v, 0.0, &mut NoLog);
+            let sigma = v[V::cam_sigma_H];
+            assert!(sigma > 0.0, "phi {phi}");
+            v[V::model_fidelity] = 3.0;
+            let mut m = SewingTable::prepare(&v).unwrap();
+            m.evaluate(&mut v, 0.0, &mut NoLog);
+            let rel = (v[V::cam_sigma_H] - sigma).abs() / sigma;
+            assert!(
+                rel < 1e-9,
+                "phi {phi}: {} against {sigma}",
+                v[V::cam_sigma_H]
+            );
+            let (x_kin, x) = (v[V::table_x_kin], v[V::table_x]);
+            m.me_set_states(&v, 0.0, &[x_kin - 2.0 * (x_kin - x), v[V::table_v], 0.0]);
+            m.evaluate(&mut v, 0.0, &mut NoLog);
+            let rel = (v[V::cam_sigma_H] - sigma * 2f64.sqrt()).abs() / sigma;
+            assert!(
+                rel < 1e-6,
+                "phi {phi}: {} against √2·{sigma}",
+                v[V::cam_sigma_H]
+            );
+        }
     }
 
     #[test]
