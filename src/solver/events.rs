@@ -72,6 +72,7 @@ impl Integrator {
         // the bracket's upper end: the step's end, or a real step to where the interpolant saw
         // the pair
         let (mut yhi, mut fhi) = (y1.to_vec(), f1.to_vec());
+        let mut g_hi = g_seen.to_vec();
         if s_seen < hs {
             if self
                 .attempt(stepper, at, s_seen, &mut yhi, &mut fhi, st)
@@ -79,20 +80,28 @@ impl Integrator {
             {
                 return None;
             }
-            sys.events_held(t + s_seen, &yhi, g0, &mut gt);
-            if !crossed(g0, &gt) {
+            sys.events_held(t + s_seen, &yhi, g0, &mut g_hi);
+            if !crossed(g0, &g_hi) {
                 return None;
             }
         }
         // confirm with real steps: bracket [lo, hi] with the crossing inside, first just after
-        // and just before the interpolant's root, then by bisection: its points depend on the
-        // bracket alone, so two hosts whose communication points differ by rounding locate the
-        // same event with the same steps (regula falsi on the function's values, tried, saved
-        // 5-10 % of the right-hand sides on event-heavy runs but followed the rounding)
+        // and just before the interpolant's root; then regula falsi (Illinois) on the real steps'
+        // values, the earliest root of the functions that cross by `hi`, aimed a tolerance past
+        // it on the side of the bracket that did not move last (so that both ends close in), and
+        // bisection where that stalls. The probes stay near the root: within `LU_SLACK` of one
+        // another, Radau IIA's attempts share one factorization (bisection from the step's
+        // start took ~40 attempts, ~10 of them with a factorization of their own)
         let tol = (1e-10 * hs).max(4.0 * f64::EPSILON * t.abs().max(1.0));
         let (mut lo, mut hi) = (0.0f64, s_seen);
+        // the functions at both ends, and the Illinois weight of each end's values
+        let (mut g_lo, mut w) = (g0.to_vec(), [1.0f64; 2]);
         let mut guess = Some((s_star + tol).min(s_seen));
         let mut second = Some((s_star - tol).max(0.0));
+        // which end the last probe moved, and how many probes in a row moved it; regula falsi's
+        // probes since the bracket last halved, and its width then
+        let (mut moved_hi, mut same) = (true, 0);
+        let (mut n_fp, mut w_ref) = (0, f64::INFINITY);
         let mut iter = 0;
         while hi - lo > 2.0 * tol && iter < 80 {
             iter += 1;
@@ -101,22 +110,59 @@ impl Integrator {
             } else if let Some(g) = second.take() {
                 g
             } else {
-                0.5 * (lo + hi)
+                // regula falsi while it halves the bracket every three probes, on values that
+                // say where the root is (a function coming to rest is held at zero)
+                if hi - lo <= 0.5 * w_ref {
+                    (n_fp, w_ref) = (0, hi - lo);
+                }
+                let fp = (0..ne)
+                    .filter(|&i| n_fp < 3 && event_between(g0[i], g_hi[i]))
+                    .filter(|&i| g_lo[i].abs() != HELD && g_hi[i].abs() != HELD)
+                    .map(|i| {
+                        let (a, b) = (w[0] * g_lo[i], w[1] * g_hi[i]);
+                        lo - a * (hi - lo) / (b - a)
+                    })
+                    .filter(|s| s.is_finite())
+                    .reduce(f64::min);
+                match fp {
+                    Some(fp) => {
+                        n_fp += 1;
+                        (if moved_hi { fp - tol } else { fp + tol })
+                            .clamp(lo + 0.5 * tol, hi - 0.5 * tol)
+                    }
+                    None => 0.5 * (lo + hi),
+                }
             };
             if s <= lo || s >= hi {
                 continue;
             }
-            if self.attempt(stepper, at, s, &mut yt, &mut ft, st).is_err() {
-                lo = s; // treat as not yet crossed; bisection continues
-                continue;
+            let crossed_at_s = match self.attempt(stepper, at, s, &mut yt, &mut ft, st) {
+                Ok(_) => {
+                    sys.events_held(t + s, &yt, g0, &mut gt);
+                    crossed(g0, &gt)
+                }
+                // treat as not yet crossed, its values unknown: bisection continues
+                Err(_) => {
+                    gt.fill(f64::NAN);
+                    false
+                }
+            };
+            let was_hi = std::mem::replace(&mut moved_hi, crossed_at_s);
+            same = if moved_hi == was_hi { same + 1 } else { 1 };
+            // (Illinois: an end kept twice in a row counts half its values)
+            let (moved, kept) = if moved_hi { (1, 0) } else { (0, 1) };
+            w[moved] = 1.0;
+            if same >= 2 {
+                w[kept] *= 0.5;
             }
-            sys.events_held(t + s, &yt, g0, &mut gt);
-            if crossed(g0, &gt) {
+            if moved_hi {
                 hi = s;
+                g_hi.copy_from_slice(&gt);
                 yhi.copy_from_slice(&yt);
                 fhi.copy_from_slice(&ft);
             } else {
                 lo = s;
+                g_lo.copy_from_slice(&gt);
             }
         }
         y1.copy_from_slice(&yhi);

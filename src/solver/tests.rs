@@ -661,3 +661,32 @@ fn radau_steps_of_a_call_are_equal_and_share_their_factorization() {
         assert!(worst < 100.0 * rtol, "error {worst:.2e} at rtol {rtol}");
     }
 }
+
+#[test]
+fn an_event_is_confirmed_with_a_few_real_steps_near_its_root() {
+    // Dormand-Prince makes six right-hand sides an attempt, plus one at each call's start and
+    // after each event: what is left over the accepted and rejected steps are the attempts that
+    // confirm the events. Regula falsi on the real steps' values, started at the interpolant's
+    // root, needs about 2.5 an event here (bisection from the step's start needed 9.3)
+    let mut it = Integrator::new(Settings {
+        method: Method::Dopri5,
+        rtol: 1e-9,
+        atol: 1e-12,
+        max_step: 1e-2,
+        max_steps: 1_000_000,
+    });
+    let (mut y, calls) = ([1.0, 0.0], 1800);
+    for i in 0..calls {
+        let t = i as f64 * 1e-3;
+        it.integrate(&Bounce, t, t + 1e-3, &mut y).unwrap();
+    }
+    let st = it.mem.stats;
+    assert_eq!(st.events, 4, "{st:?}");
+    let confirming = st.rhs_evals - 6 * (st.steps + st.rejected) - calls - st.events;
+    assert!(
+        confirming <= 6 * 4 * st.events,
+        "{} attempts for {} events: {st:?}",
+        confirming as f64 / 6.0,
+        st.events
+    );
+}

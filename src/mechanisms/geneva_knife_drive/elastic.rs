@@ -25,6 +25,7 @@ use crate::mechanics::{STANDARD_GRAVITY, Scalar, SpringDamper, sgn};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
 use crate::solver::{OdeSystem, ShaftPath};
+use num_dual::Dual64;
 use std::cell::Cell;
 
 /// Half width of the velocity band in which the knife sticks at the cut front (Karnopp): the
@@ -207,26 +208,27 @@ impl ChainOde for KnifeOde<'_> {
 
 impl OdeSystem for KnifeOde<'_> {
     crate::chain_rhs!(pt => pt.xdd, pt.power);
+    /// The exact derivative of the right-hand side ([`KnifeOde::point_at`] on dual numbers), so
+    /// that it holds in every branch the point takes: in the sticking band at the cut front the
+    /// cutting force balances the drive and the knife's acceleration does not depend on the
+    /// state (the hand-written form this replaces had the sliding knife's derivative there).
     fn jacobian(&self, t: f64, y: &[f64], j: &mut [f64]) {
-        let pt = self.point(t, y);
-        let m = self.p.slider_mass();
-        let tan_nu = pt.kin.sin_nu / pt.kin.cos_nu;
-        // ∂F_fr/∂F_el
-        let dfr =
-            self.p.guide_mu * tan_nu.abs() * sgn(pt.f_el * tan_nu) * sgn(tan_nu) * sgn(pt.kin.v);
-        let dcut_dx = if pt.xd > V_STICK && self.in_stack(y[0]) && y[0] < self.p.cut_s_full {
-            self.p.cut_f_max / (self.p.cut_s_full - self.p.cut_s_start)
-        } else {
-            0.0
-        };
-        let dfel_dx = -self.spring.k;
-        let dfel_dv = -self.spring.c;
-        let a_x = (dfel_dx * (1.0 - dfr) - dcut_dx) / m;
-        let a_v = dfel_dv * (1.0 - dfr) / m;
-        let gfc = m * STANDARD_GRAVITY - pt.f_cut - pt.f_fr;
-        let p_x = -self.spring.k * pt.kin.v + (-dcut_dx - dfr * dfel_dx) * pt.xd;
-        let p_v = self.spring.c * (pt.kin.v - 2.0 * pt.xd) + gfc - dfr * dfel_dv * pt.xd;
-        j.copy_from_slice(&[0.0, 1.0, 0.0, a_x, a_v, 0.0, p_x, p_v, 0.0]);
+        let (phi, w, a) = self.path.at(t);
+        let c = Dual64::from;
+        let kin = self.p.kinematics_of(&self.geneva, c(phi), c(w), c(a));
+        let ex = self.point_at(&kin, &[Dual64::new(y[0], 1.0), c(y[1])]);
+        let ev = self.point_at(&kin, &[c(y[0]), Dual64::new(y[1], 1.0)]);
+        j.copy_from_slice(&[
+            0.0,
+            1.0,
+            0.0,
+            ex.xdd.eps,
+            ev.xdd.eps,
+            0.0,
+            ex.power.eps,
+            ev.power.eps,
+            0.0,
+        ]);
     }
     fn n_events(&self) -> usize {
         8
@@ -269,5 +271,65 @@ impl OdeSystem for KnifeOde<'_> {
         let mut m = self.memory.get();
         m.peaks.track(cyc, pt.f_el.abs(), pt.f_rigid.abs());
         self.memory.set(m);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::shaft::ShaftPath;
+
+    /// The Jacobian agrees with central differences of the right-hand side: sliding, in the
+    /// stack and out of it, and in the sticking band at the cut front.
+    #[test]
+    fn jacobian_is_the_derivative_of_the_rhs() {
+        let p = Params::default();
+        let o = KnifeOde {
+            p: &p,
+            geneva: p.geneva(),
+            spring: KnifeOde::spring(&p, 5e7, 0.05),
+            path: ShaftPath::new(0.0, 0.3, std::f64::consts::PI, 0.0),
+            memory: Cell::new(KnifeMemory::new(0.0)),
+        };
+        let (s0, s1) = (p.cut_s_start, p.cut_s_full);
+        let mut in_band = 0;
+        for j in 0..40 {
+            let t = 0.5 * (j as f64 + 0.37) / 40.0;
+            // sticking in the stack: the chain's force half the cutting force the front holds
+            let kin = o.point(t, &[0.0; 3]).kin;
+            let xd = 0.3 * V_STICK;
+            let f = 0.25 * p.cut_f_max;
+            let stick = kin.s - (f - o.spring.c * (kin.v - xd)) / o.spring.k;
+            for (x, xd) in [
+                (s0 - 1e-3, 0.4),
+                (0.5 * (s0 + s1), 0.4),
+                (0.5 * (s0 + s1), xd),
+                (stick, xd),
+            ] {
+                let y = [x, xd, 0.0];
+                let mut jac = [0.0; 9];
+                o.jacobian(t, &y, &mut jac);
+                let pt = o.point(t, &y);
+                // sticking: the cutting force balances the drive
+                in_band += usize::from(pt.f_cut != 0.0 && pt.xdd == 0.0);
+                for (col, h) in [(0usize, 1e-9), (1, 1e-3 * xd.abs().max(V_STICK))] {
+                    let (mut fp, mut fm) = ([0.0; 3], [0.0; 3]);
+                    let (mut yp, mut ym) = (y, y);
+                    yp[col] += h;
+                    ym[col] -= h;
+                    o.rhs(t, &yp, &mut fp);
+                    o.rhs(t, &ym, &mut fm);
+                    for row in 1..3 {
+                        let fd = (fp[row] - fm[row]) / (2.0 * h);
+                        let an = jac[row * 3 + col];
+                        assert!(
+                            (fd - an).abs() <= 1e-4 * (1.0 + an.abs()),
+                            "t {t} y {y:?} row {row} col {col}: {an} vs {fd}"
+                        );
+                    }
+                }
+            }
+        }
+        assert!(in_band > 0, "no point sticks");
     }
 }
