@@ -97,24 +97,36 @@ pub mod check {
             .collect()
     }
 
+    /// The step of a central difference along a known of value `x`: 1e-6 of the value, at
+    /// least 1e-6 (the models' checks take it where a known has no scale of its own).
+    pub fn relative_step<V>(_: V, x: f64) -> f64 {
+        1e-6 * x.abs().max(1.0)
+    }
+
     /// [`against_central_differences`] over a model's knowns and every unknown: the `inputs`
-    /// at their values in `base`, and `states`, the Model Exchange states with their values
-    /// (empty below the elastodynamic level), put in with [`crate::model::Dynamics::me_set_states`].
+    /// at their values in `base`, and `states`, the Model Exchange states (empty below the
+    /// elastodynamic level) at the values the model holds
+    /// ([`crate::model::Dynamics::me_states`]), put in with
+    /// [`crate::model::Dynamics::me_set_states`].
     #[allow(clippy::too_many_arguments)]
     pub fn inputs_and_states<M: Model>(
         m: &mut M,
         base: &Values<M::Var>,
         time: f64,
         inputs: &[M::Var],
-        states: &[(M::Var, f64)],
+        states: &[M::Var],
         step: impl Fn(M::Var, f64) -> f64,
         noise: f64,
         what: &str,
     ) {
+        let mut held = vec![0.0; states.len()];
+        if !states.is_empty() {
+            m.me_states(base, time, &mut held);
+        }
         let knowns: Vec<_> = inputs
             .iter()
             .map(|k| (*k, base[*k]))
-            .chain(states.iter().copied())
+            .chain(states.iter().copied().zip(held))
             .collect();
         let n = inputs.len();
         let set = |m: &mut M, v: &mut Values<M::Var>, x: &[f64]| {

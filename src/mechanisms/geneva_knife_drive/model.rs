@@ -463,7 +463,6 @@ mod tests {
             if elastic {
                 m.me_set_states(&v, time, &y0);
             }
-            let states: Vec<_> = states.into_iter().zip(y0).filter(|_| elastic).collect();
             let mut at0 = v.clone();
             m.evaluate(&mut at0, time, &mut NoLog);
             seen.push((level, at0[V::knife_F_cut] > 0.0, at0.flag(V::knife_dwell)));
@@ -472,8 +471,8 @@ mod tests {
                 &v,
                 time,
                 &inputs,
-                &states,
-                |_, x| 1e-6 * x.abs().max(1.0),
+                if elastic { &states } else { &[] },
+                check::relative_step,
                 1e-14,
                 &format!("level {level} mode {mode} phi {phi} a {a} time {time}"),
             );

@@ -417,7 +417,7 @@ mod tests {
                 time,
                 &inputs,
                 &[],
-                |_, x| 1e-6 * x.abs().max(1.0),
+                check::relative_step,
                 1e-14,
                 &format!("level {level} timing {timing} closure {closure} mode {mode} a {a}"),
             );
