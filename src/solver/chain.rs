@@ -516,13 +516,7 @@ pub fn restore_state<C: ChainModel>(chain: Option<&mut Chain<C>>, s: &[f64]) -> 
 /// The solver settings from the `solver.*` parameters ([`super::vars`]) among a model's
 /// variables.
 pub fn solver_settings<V: VarSet>(v: &Values<V>) -> Settings {
-    let value = |name: &str| {
-        let i = V::table()
-            .iter()
-            .position(|d| d.name == name)
-            .unwrap_or_else(|| panic!("the model declares no {name}"));
-        v.raw()[i]
-    };
+    let value = |name: &str| v.named(name);
     Settings {
         method: Method::from_value(value("solver.method") as i32),
         rtol: value("solver.rtol"),

@@ -9,7 +9,7 @@ use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::{SpringDamper, clamp_of};
 use crate::model::partials::{Put, Scalar, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
-use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values};
+use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values, VarSet};
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel, LastAt, Peaks};
 use crate::solver::{Integrator, ShaftPath};
@@ -35,6 +35,27 @@ pub fn motion_law(item: i32) -> MotionLaw {
         2 => MotionLaw::Harmonic,
         3 => MotionLaw::Poly345,
         _ => MotionLaw::Cycloidal,
+    }
+}
+
+/// The table's synthesis (`synth.l1`, `synth.R`, `synth.alpha2`, `synth.unit`) and cyclogram
+/// (`cycle.*`, `law.forward`, `law.return`) from the variables of those names (read by name:
+/// SewingTable and the Perforators riding on its table declare them, each in its own enum); the
+/// rest at its defaults (the translating table).
+pub fn table_params<V: VarSet>(v: &Values<V>) -> Params {
+    let x = |name| v.named(name);
+    Params {
+        l1: x("synth.l1"),
+        r: x("synth.R"),
+        alpha2: x("synth.alpha2"),
+        unit: x("synth.unit"),
+        forward: x("cycle.forward"),
+        dwell_sew: x("cycle.dwell_sew"),
+        ret: x("cycle.return"),
+        phi0: x("cycle.phi0"),
+        law_forward: motion_law(x("law.forward") as i32),
+        law_return: motion_law(x("law.return") as i32),
+        ..Params::default()
     }
 }
 
@@ -194,16 +215,6 @@ impl SewingTable {
     /// The physics parameters from the variables.
     pub fn params(v: &Values<V>) -> Params {
         Params {
-            l1: v[V::synth_l1],
-            r: v[V::synth_R],
-            alpha2: v[V::synth_alpha2],
-            unit: v[V::synth_unit],
-            forward: v[V::cycle_forward],
-            dwell_sew: v[V::cycle_dwell_sew],
-            ret: v[V::cycle_return],
-            phi0: v[V::cycle_phi0],
-            law_forward: motion_law(v.int(V::law_forward)),
-            law_return: motion_law(v.int(V::law_return)),
             kind: Kind::from_item(v.int(V::table_kind)).unwrap_or(Kind::Translating),
             cam_r0: v[V::cam_R0],
             cam_e: v[V::cam_e],
@@ -212,6 +223,7 @@ impl SewingTable {
             guide_f: v[V::guide_f],
             cam_j: v[V::cam_J],
             rocking_j: v[V::rocking_J],
+            ..table_params(v)
         }
     }
 }
