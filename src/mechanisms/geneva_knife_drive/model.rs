@@ -369,18 +369,10 @@ impl Model for GenevaKnifeDrive {
     }
 }
 
-crate::chain_access!(GenevaKnifeDrive, dynamic, params);
-
-impl Dynamics<V> for GenevaKnifeDrive {
-    const STATES: usize = 3;
-    const EVENT_INDICATORS: usize = 8;
-
-    // Co-Simulation, Model Exchange and the FMU state from solver::chain; Model Exchange also
-    // applies a transition of the event indicators (cut-through, back above the stack) at a
-    // completed step ([`KnifeChain`]'s hooks)
-    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
-        me_event_indicators, me_event, me_completed_step, save_state, restore_state);
-}
+// Co-Simulation, Model Exchange and the FMU state from solver::chain; Model Exchange also applies
+// a transition of the event indicators (cut-through, back above the stack) at a completed step
+// ([`KnifeChain`]'s hooks)
+crate::chain_dynamics!(GenevaKnifeDrive, dynamic, params, EVENT_INDICATORS = 8);
 
 /// Puts the outputs of the elastodynamic level at one point `pt` (shaft acceleration `eps`);
 /// returns the shaft torque (any [`Scalar`]). The chain force replaces the rigid rod force:

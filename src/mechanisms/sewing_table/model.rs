@@ -567,20 +567,12 @@ impl SewingTable {
     }
 }
 
-crate::chain_access!(SewingTable, dynamic, params);
-
-impl Dynamics<V> for SewingTable {
-    const STATES: usize = 3;
+// Co-Simulation, Model Exchange and the FMU state from solver::chain; at an event or a completed
+// step a flank contact that opened or closed counts a lift-off or marks a landing ([`TableChain`])
+crate::chain_dynamics!(SewingTable, dynamic, params,
     /// The cyclogram's phase boundaries, both slot flanks (with clearance) and the rigid
     /// velocity's sign ([`TableOde`]'s events).
-    const EVENT_INDICATORS: usize = 7;
-
-    // Co-Simulation, Model Exchange and the FMU state from solver::chain; at an event or a
-    // completed step a flank contact that opened or closed counts a lift-off or marks a landing
-    // ([`TableChain`])
-    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
-        me_event_indicators, me_event, me_completed_step, save_state, restore_state);
-}
+    EVENT_INDICATORS = 7);
 
 #[cfg(test)]
 mod tests {
