@@ -8,9 +8,9 @@ use crate::mechanics::geneva::Geneva;
 use crate::model::partials::{Put, Scalar, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
+use crate::solver::ShaftPath;
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel};
-use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
 crate::stages! {
@@ -310,11 +310,7 @@ impl Model for GenevaKnifeDrive {
         params.validate()?;
         let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
             let spring = KnifeOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]);
-            Chain::new(
-                KnifeChain { spring },
-                Integrator::new(chain::solver_settings(v)),
-                KnifeMemory::new(0.0),
-            )
+            Chain::new(KnifeChain { spring }, v, KnifeMemory::new(0.0))
         });
         Ok(GenevaKnifeDrive {
             geneva: params.geneva(),

@@ -23,7 +23,7 @@ use crate::model::partials::{Dual64, Put, Scalar, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, Outcome, ParamError, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Saved};
-use crate::solver::{Integrator, OdeSystem, ShaftPath};
+use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
 use std::f64::consts::TAU;
 
@@ -484,7 +484,7 @@ impl Model for Perforators {
                 lost: Lost::default(),
                 liftoff: TurnDigest::default(),
             };
-            Chain::new(model, Integrator::new(chain::solver_settings(v)), memory)
+            Chain::new(model, v, memory)
         });
         Ok(Perforators {
             drive,

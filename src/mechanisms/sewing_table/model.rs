@@ -10,9 +10,9 @@ use crate::mechanics::{SpringDamper, clamp_of};
 use crate::model::partials::{Put, Scalar, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values, VarSet};
+use crate::solver::ShaftPath;
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel, LastAt, Peaks};
-use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
 /// `law.*` (`motion-laws.md`), shared by SewingTable and Perforators.
@@ -255,14 +255,13 @@ impl Model for SewingTable {
                 spring: TableOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]),
                 gap: 0.5 * v[V::cam_clearance],
             };
-            let integ = Integrator::new(chain::solver_settings(v));
             let memory = TableMemory {
                 peaks: Peaks::new(0.0),
                 liftoffs: 0.0,
                 impact: 0.0,
                 landed: false,
             };
-            Some(Chain::new(model, integ, memory))
+            Some(Chain::new(model, v, memory))
         } else {
             None
         };
