@@ -51,6 +51,16 @@ impl<V: VarSet> Values<V> {
     pub fn int(&self, v: V) -> i32 {
         self.data[v.vr() as usize] as i32
     }
+    /// The value of the variable named `name`: for the code shared by models that declare the
+    /// same variables, each in its own enum ([`crate::solver::chain::solver_settings`], the
+    /// needle and table parameters). Panics if the model declares no such variable.
+    pub fn named(&self, name: &str) -> f64 {
+        let i = V::table()
+            .iter()
+            .position(|d| d.name == name)
+            .unwrap_or_else(|| panic!("the model declares no {name}"));
+        self.data[i]
+    }
     /// A Boolean value.
     pub fn flag(&self, v: V) -> bool {
         self.data[v.vr() as usize] != 0.0

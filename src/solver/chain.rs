@@ -22,8 +22,8 @@
 //! 2. a struct of the chain's constants implementing [`ChainModel`]: the ODE from them and the
 //!    memory, how the memory starts and is read back and how many numbers it takes in the
 //!    snapshot ([`Saved`], [`crate::chain_memory!`]), the hooks that differ from the defaults;
-//! 3. in the model, `Option<Chain<_>>` built at `prepare` with [`Chain::new`] and
-//!    `Integrator::new(`[`solver_settings`]`(v))`, the hooks by [`crate::chain_hooks!`], and in
+//! 3. in the model, `Option<Chain<_>>` built at `prepare` with [`Chain::new`] (its integrator
+//!    from the [`solver_settings`]), the hooks by [`crate::chain_hooks!`], and in
 //!    `evaluate` the outputs at [`Chain::held_state`] ([`write_states`], [`Peaks::dyn_factor`]).
 
 use super::{Integrator, Memory, Method, OdeSystem, Settings, ShaftPath};
@@ -253,11 +253,12 @@ impl<C: ChainModel> Chain<C> {
     /// W, e0]`, the integrator's whole [`Memory`], the mechanism's memory.
     pub const STATE_LEN: usize = 5 + Memory::LEN + <C::Memory as Saved>::LEN;
 
-    /// A chain not started yet, with its initial memory.
-    pub fn new(model: C, integ: Integrator, memory: C::Memory) -> Self {
+    /// A chain not started yet, with its initial memory, integrated as the `solver.*`
+    /// parameters among `v` say ([`solver_settings`]).
+    pub fn new(model: C, v: &Values<C::Var>, memory: C::Memory) -> Self {
         Chain {
             model,
-            integ,
+            integ: Integrator::new(solver_settings(v)),
             started: false,
             y: [0.0; 3],
             e0: 0.0,
@@ -516,13 +517,7 @@ pub fn restore_state<C: ChainModel>(chain: Option<&mut Chain<C>>, s: &[f64]) -> 
 /// The solver settings from the `solver.*` parameters ([`super::vars`]) among a model's
 /// variables.
 pub fn solver_settings<V: VarSet>(v: &Values<V>) -> Settings {
-    let value = |name: &str| {
-        let i = V::table()
-            .iter()
-            .position(|d| d.name == name)
-            .unwrap_or_else(|| panic!("the model declares no {name}"));
-        v.raw()[i]
-    };
+    let value = |name: &str| v.named(name);
     Settings {
         method: Method::from_value(value("solver.method") as i32),
         rtol: value("solver.rtol"),
@@ -663,7 +658,7 @@ mod tests {
     }
 
     fn toy(v: &Values<TV>, k: f64) -> Chain<Toy> {
-        Chain::new(Toy { k }, Integrator::new(solver_settings(v)), f64::NAN)
+        Chain::new(Toy { k }, v, f64::NAN)
     }
 
     fn bits(s: &[f64]) -> Vec<u64> {

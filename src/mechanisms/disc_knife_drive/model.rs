@@ -7,8 +7,8 @@ use crate::mechanics::{SpringDamper, hypot};
 use crate::model::partials::{Put, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Severity, Stage, Values};
-use crate::solver::chain::{self, Chain, ChainModel, Peaks};
-use crate::solver::{Integrator, ShaftPath};
+use crate::solver::ShaftPath;
+use crate::solver::chain::{Chain, ChainModel, Peaks};
 
 crate::stages! {
     FORCES = Stage::new("forces", "Kinetostatic force analysis: cutting force, inertia of holder and sliders, Coulomb friction in both guides (with the self-locking check), rod and hinge forces, shaft torque", Fidelity::WITH_FORCES),
@@ -351,11 +351,7 @@ impl Model for DiscKnifeDrive {
                 spring: RodOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]),
                 c_dead: dead_point_threshold(&params),
             };
-            Chain::new(
-                model,
-                Integrator::new(chain::solver_settings(v)),
-                Peaks::new(0.0),
-            )
+            Chain::new(model, v, Peaks::new(0.0))
         });
         Ok(DiscKnifeDrive {
             params,

@@ -8,9 +8,9 @@ use crate::mechanics::geneva::Geneva;
 use crate::model::partials::{Put, Scalar, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
+use crate::solver::ShaftPath;
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel};
-use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
 crate::stages! {
@@ -310,11 +310,7 @@ impl Model for GenevaKnifeDrive {
         params.validate()?;
         let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
             let spring = KnifeOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]);
-            Chain::new(
-                KnifeChain { spring },
-                Integrator::new(chain::solver_settings(v)),
-                KnifeMemory::new(0.0),
-            )
+            Chain::new(KnifeChain { spring }, v, KnifeMemory::new(0.0))
         });
         Ok(GenevaKnifeDrive {
             geneva: params.geneva(),
@@ -369,18 +365,10 @@ impl Model for GenevaKnifeDrive {
     }
 }
 
-crate::chain_access!(GenevaKnifeDrive, dynamic, params);
-
-impl Dynamics<V> for GenevaKnifeDrive {
-    const STATES: usize = 3;
-    const EVENT_INDICATORS: usize = 8;
-
-    // Co-Simulation, Model Exchange and the FMU state from solver::chain; Model Exchange also
-    // applies a transition of the event indicators (cut-through, back above the stack) at a
-    // completed step ([`KnifeChain`]'s hooks)
-    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
-        me_event_indicators, me_event, me_completed_step, save_state, restore_state);
-}
+// Co-Simulation, Model Exchange and the FMU state from solver::chain; Model Exchange also applies
+// a transition of the event indicators (cut-through, back above the stack) at a completed step
+// ([`KnifeChain`]'s hooks)
+crate::chain_dynamics!(GenevaKnifeDrive, dynamic, params, EVENT_INDICATORS = 8);
 
 /// Puts the outputs of the elastodynamic level at one point `pt` (shaft acceleration `eps`);
 /// returns the shaft torque (any [`Scalar`]). The chain force replaces the rigid rod force:

@@ -13,7 +13,6 @@ use crate::mechanics::hertz::Roller;
 use crate::mechanics::{min_of, wrap_angle};
 use crate::mechanisms::contact_watch::{ContactWatch, WatchedContact, times};
 use crate::mechanisms::perforators::needles;
-use crate::mechanisms::perforators::physics::Params as NeedleParams;
 use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
 use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
 use crate::model::partials::{Put, Scalar, Seeded, put_zero};
@@ -155,22 +154,7 @@ impl LegacyNeedleDrive {
             kind: Kind::Translating,
             ..TableParams::default()
         };
-        let needles = NeedleParams {
-            unit: v[V::synth_unit],
-            table,
-            rise_fraction: v[V::travel_rise_fraction],
-            law_rise: motion_law(v.int(V::law_rise)),
-            law_fall: motion_law(v.int(V::law_fall)),
-            pierce_q: v[V::pierce_Q],
-            pierce_s_in: v[V::pierce_s_in],
-            pierce_s_out: v[V::pierce_s_out],
-            pierce_k_f: v[V::pierce_k_f],
-            perf_m: v[V::perf_m],
-            guide_mu: v[V::guide_mu],
-            joint_f: v[V::joint_f],
-            joint_r: v[V::joint_r],
-            ..NeedleParams::default()
-        };
+        let needles = needles::params(v, table);
         Params {
             l_k: v[V::kmk_lk],
             beta: v[V::kmk_beta],

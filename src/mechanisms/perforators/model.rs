@@ -18,13 +18,12 @@ use crate::mechanics::cyclogram::Phase;
 use crate::mechanics::hertz::Roller;
 use crate::mechanics::{clamp_of, max_of, min_of};
 use crate::mechanisms::contact_watch::{ContactWatch, WatchedContact, times};
-use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
-use crate::mechanisms::sewing_table::physics::{Kind, Params as TableParams};
+use crate::mechanisms::sewing_table::model::{MOTION_LAW, table_params};
 use crate::model::partials::{Dual64, Put, Scalar, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, Outcome, ParamError, Stage, Values};
 use crate::solver::chain::{self, Chain, ChainModel, Saved};
-use crate::solver::{Integrator, OdeSystem, ShaftPath};
+use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
 use std::f64::consts::TAU;
 
@@ -284,20 +283,6 @@ pub struct Perforators {
 impl Perforators {
     /// The physics parameters from the variables.
     pub fn params(v: &Values<V>) -> Params {
-        let table = TableParams {
-            l1: v[V::synth_l1],
-            r: v[V::synth_R],
-            alpha2: v[V::synth_alpha2],
-            unit: v[V::synth_unit],
-            forward: v[V::cycle_forward],
-            dwell_sew: v[V::cycle_dwell_sew],
-            ret: v[V::cycle_return],
-            phi0: v[V::cycle_phi0],
-            law_forward: motion_law(v.int(V::law_forward)),
-            law_return: motion_law(v.int(V::law_return)),
-            kind: Kind::Translating,
-            ..TableParams::default()
-        };
         Params {
             lambda_s: v[V::synth_lambda_S],
             lambda1: v[V::synth_lambda1],
@@ -307,29 +292,17 @@ impl Perforators {
             gamma0: v[V::synth_gamma0],
             gamma1: v[V::synth_gamma1],
             alpha: v[V::synth_alpha],
-            unit: v[V::synth_unit],
             mode: Mode::from_item(v.int(V::synth_mode)).unwrap_or(Mode::Exact),
-            table,
-            rise_fraction: v[V::travel_rise_fraction],
-            law_rise: motion_law(v.int(V::law_rise)),
-            law_fall: motion_law(v.int(V::law_fall)),
-            pierce_q: v[V::pierce_Q],
-            pierce_s_in: v[V::pierce_s_in],
-            pierce_s_out: v[V::pierce_s_out],
-            pierce_k_f: v[V::pierce_k_f],
-            perf_m: v[V::perf_m],
-            guide_mu: v[V::guide_mu],
             lever_j: v[V::lever_J],
             spring_m0: v[V::spring_M0],
             spring_kt: v[V::spring_kt],
-            joint_f: v[V::joint_f],
-            joint_r: v[V::joint_r],
             roller: Roller::new(v[V::roller_r], v[V::roller_b], v[V::ramp_E], v[V::roller_E]),
             made: Made {
                 d_rod: v[V::made_d_rod],
                 d_arm: v[V::made_d_arm],
                 d_line: v[V::made_d_line],
             },
+            ..needles::params(v, table_params(v))
         }
     }
 
@@ -511,7 +484,7 @@ impl Model for Perforators {
                 lost: Lost::default(),
                 liftoff: TurnDigest::default(),
             };
-            Chain::new(model, Integrator::new(chain::solver_settings(v)), memory)
+            Chain::new(model, v, memory)
         });
         Ok(Perforators {
             drive,

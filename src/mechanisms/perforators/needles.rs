@@ -3,8 +3,34 @@
 //! them in its `model_variables!` block (`loads`: the stages a load parameter feeds), so two
 //! FMUs set alike move their needles alike and carry the same piercing load.
 
-use crate::mechanisms::sewing_table::model::MOTION_LAW;
-use crate::model::{Stages, Var};
+use super::physics::Params;
+use crate::mechanisms::sewing_table::model::{MOTION_LAW, motion_law};
+use crate::mechanisms::sewing_table::physics::Params as TableParams;
+use crate::model::{Stages, Values, Var, VarSet};
+
+/// The needle parameters from the variables declared here (read by name: each needle model
+/// declares them in its own enum) and `synth.unit`, the needles moving with the table `table`;
+/// the rest of the linkage at its defaults.
+pub fn params<V: VarSet>(v: &Values<V>, table: TableParams) -> Params {
+    let x = |name| v.named(name);
+    let law = |name| motion_law(x(name) as i32);
+    Params {
+        unit: x("synth.unit"),
+        table,
+        rise_fraction: x("travel.rise_fraction"),
+        law_rise: law("law.rise"),
+        law_fall: law("law.fall"),
+        pierce_q: x("pierce.Q"),
+        pierce_s_in: x("pierce.s_in"),
+        pierce_s_out: x("pierce.s_out"),
+        pierce_k_f: x("pierce.k_f"),
+        perf_m: x("perf.m"),
+        guide_mu: x("guide.mu"),
+        joint_f: x("joint.f"),
+        joint_r: x("joint.r"),
+        ..Params::default()
+    }
+}
 
 /// For `@with crate::needle_variables { law_and_loads(LOADS) }` in a `model_variables!` block:
 /// the needle curve over the travel (`travel.rise_fraction`, `law.rise`, `law.fall`) and the

@@ -9,10 +9,10 @@ use crate::mechanics::motion_laws::MotionLaw;
 use crate::mechanics::{SpringDamper, clamp_of};
 use crate::model::partials::{Put, Scalar, Seeded, put_zero};
 use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
-use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values};
+use crate::model::{Dynamics, EnumType, Experiment, Log, Model, ParamError, Stage, Values, VarSet};
+use crate::solver::ShaftPath;
 use crate::solver::chain::ChainOde;
 use crate::solver::chain::{self, Chain, ChainModel, LastAt, Peaks};
-use crate::solver::{Integrator, ShaftPath};
 use std::cell::Cell;
 
 /// `law.*` (`motion-laws.md`), shared by SewingTable and Perforators.
@@ -35,6 +35,27 @@ pub fn motion_law(item: i32) -> MotionLaw {
         2 => MotionLaw::Harmonic,
         3 => MotionLaw::Poly345,
         _ => MotionLaw::Cycloidal,
+    }
+}
+
+/// The table's synthesis (`synth.l1`, `synth.R`, `synth.alpha2`, `synth.unit`) and cyclogram
+/// (`cycle.*`, `law.forward`, `law.return`) from the variables of those names (read by name:
+/// SewingTable and the Perforators riding on its table declare them, each in its own enum); the
+/// rest at its defaults (the translating table).
+pub fn table_params<V: VarSet>(v: &Values<V>) -> Params {
+    let x = |name| v.named(name);
+    Params {
+        l1: x("synth.l1"),
+        r: x("synth.R"),
+        alpha2: x("synth.alpha2"),
+        unit: x("synth.unit"),
+        forward: x("cycle.forward"),
+        dwell_sew: x("cycle.dwell_sew"),
+        ret: x("cycle.return"),
+        phi0: x("cycle.phi0"),
+        law_forward: motion_law(x("law.forward") as i32),
+        law_return: motion_law(x("law.return") as i32),
+        ..Params::default()
     }
 }
 
@@ -194,16 +215,6 @@ impl SewingTable {
     /// The physics parameters from the variables.
     pub fn params(v: &Values<V>) -> Params {
         Params {
-            l1: v[V::synth_l1],
-            r: v[V::synth_R],
-            alpha2: v[V::synth_alpha2],
-            unit: v[V::synth_unit],
-            forward: v[V::cycle_forward],
-            dwell_sew: v[V::cycle_dwell_sew],
-            ret: v[V::cycle_return],
-            phi0: v[V::cycle_phi0],
-            law_forward: motion_law(v.int(V::law_forward)),
-            law_return: motion_law(v.int(V::law_return)),
             kind: Kind::from_item(v.int(V::table_kind)).unwrap_or(Kind::Translating),
             cam_r0: v[V::cam_R0],
             cam_e: v[V::cam_e],
@@ -212,6 +223,7 @@ impl SewingTable {
             guide_f: v[V::guide_f],
             cam_j: v[V::cam_J],
             rocking_j: v[V::rocking_J],
+            ..table_params(v)
         }
     }
 }
@@ -243,14 +255,13 @@ impl Model for SewingTable {
                 spring: TableOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]),
                 gap: 0.5 * v[V::cam_clearance],
             };
-            let integ = Integrator::new(chain::solver_settings(v));
             let memory = TableMemory {
                 peaks: Peaks::new(0.0),
                 liftoffs: 0.0,
                 impact: 0.0,
                 landed: false,
             };
-            Some(Chain::new(model, integ, memory))
+            Some(Chain::new(model, v, memory))
         } else {
             None
         };
@@ -555,20 +566,12 @@ impl SewingTable {
     }
 }
 
-crate::chain_access!(SewingTable, dynamic, params);
-
-impl Dynamics<V> for SewingTable {
-    const STATES: usize = 3;
+// Co-Simulation, Model Exchange and the FMU state from solver::chain; at an event or a completed
+// step a flank contact that opened or closed counts a lift-off or marks a landing ([`TableChain`])
+crate::chain_dynamics!(SewingTable, dynamic, params,
     /// The cyclogram's phase boundaries, both slot flanks (with clearance) and the rigid
     /// velocity's sign ([`TableOde`]'s events).
-    const EVENT_INDICATORS: usize = 7;
-
-    // Co-Simulation, Model Exchange and the FMU state from solver::chain; at an event or a
-    // completed step a flank contact that opened or closed counts a lift-off or marks a landing
-    // ([`TableChain`])
-    crate::chain_hooks!(dynamic, params: do_step, me_states, me_set_states, me_derivatives,
-        me_event_indicators, me_event, me_completed_step, save_state, restore_state);
-}
+    EVENT_INDICATORS = 7);
 
 #[cfg(test)]
 mod tests {

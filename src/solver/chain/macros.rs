@@ -1,6 +1,7 @@
 //! The macros a mechanism with a compliant chain uses: [`crate::chain_variables!`] (its
 //! variables of the elastodynamic level, inside [`crate::model_variables!`]) and
-//! [`crate::chain_hooks!`] (its `impl Dynamics` items from the functions of [`super`]).
+//! [`crate::chain_hooks!`] (its `impl Dynamics` items from the functions of [`super`]; all of
+//! them and the states by [`crate::chain_dynamics!`]).
 
 /// The variables of the elastodynamic level every integrating model declares the same way,
 /// written once: used inside [`crate::model_variables!`] as `@with crate::chain_variables { .. }`.
@@ -132,6 +133,28 @@ macro_rules! chain_hooks {
     (@restore_state $chain:ident $physics:ident) => {
         fn restore_state(&mut self, s: &[f64]) -> Result<(), String> {
             $crate::solver::chain::restore_state(self.$chain.as_mut(), s)
+        }
+    };
+}
+
+/// The `impl Dynamics` of the model `$model` whose only internal state is the `Option<Chain<_>>`
+/// in field `$chain`, its ODE's physics in field `$physics`: the three states `y = [x, ẋ, W]`,
+/// `$n` event indicators (documented by the attributes before them) and every hook by
+/// [`crate::chain_hooks!`] (Co-Simulation, Model Exchange and the FMU state from
+/// [`crate::solver::chain`]); with [`crate::chain_access!`].
+#[macro_export]
+macro_rules! chain_dynamics {
+    ($model:ty, $chain:ident, $physics:ident, $(#[$doc:meta])* EVENT_INDICATORS = $n:expr $(,)?) => {
+        $crate::chain_access!($model, $chain, $physics);
+
+        impl $crate::model::Dynamics<<$model as $crate::model::Model>::Var> for $model {
+            const STATES: usize = 3;
+            $(#[$doc])*
+            const EVENT_INDICATORS: usize = $n;
+
+            $crate::chain_hooks!($chain, $physics: do_step, me_states, me_set_states,
+                me_derivatives, me_event_indicators, me_event, me_completed_step, save_state,
+                restore_state);
         }
     };
 }
