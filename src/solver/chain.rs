@@ -27,6 +27,7 @@
 //!    `evaluate` the outputs at [`Chain::held_state`] ([`write_states`], [`Peaks::dyn_factor`]).
 
 use super::{Integrator, Memory, Method, OdeSystem, Settings, ShaftPath};
+use num_dual::Dual64;
 use std::cell::Cell;
 
 mod macros;
@@ -60,6 +61,39 @@ pub trait ChainOde: OdeSystem {
     /// The chain's energy at `(t, y)`.
     fn energy_at(&self, t: f64, y: &[f64; 3]) -> f64 {
         self.energy(&self.point(t, y))
+    }
+}
+
+/// The Jacobian of a chain's right-hand side on `y = [x, ẋ, W]` (row-major 3×3) from the
+/// acceleration and the power as functions of `(x, ẋ)` on dual numbers (the same source as the
+/// right-hand side, so exact in every branch it takes): `ẋ' = ẋ`, W enters nothing.
+pub fn dual_jacobian(y: &[f64], j: &mut [f64], f: impl Fn(Dual64, Dual64) -> (Dual64, Dual64)) {
+    let (ax, px) = f(Dual64::new(y[0], 1.0), Dual64::from(y[1]));
+    let (av, pv) = f(Dual64::from(y[0]), Dual64::new(y[1], 1.0));
+    j.copy_from_slice(&[0.0, 1.0, 0.0, ax.eps, av.eps, 0.0, px.eps, pv.eps, 0.0]);
+}
+
+/// For the chains' unit tests: the Jacobian of `o` at `(t, y)` against central differences of
+/// its right-hand side with steps `h` in `x` and `ẋ`, rows `ẍ` and `Ẇ`, to 1e-4 relative.
+#[cfg(test)]
+pub fn assert_jacobian_at(o: &dyn OdeSystem, t: f64, y: [f64; 3], h: [f64; 2]) {
+    let mut jac = [0.0; 9];
+    o.jacobian(t, &y, &mut jac);
+    for (col, h) in h.into_iter().enumerate() {
+        let (mut fp, mut fm) = ([0.0; 3], [0.0; 3]);
+        let (mut yp, mut ym) = (y, y);
+        yp[col] += h;
+        ym[col] -= h;
+        o.rhs(t, &yp, &mut fp);
+        o.rhs(t, &ym, &mut fm);
+        for row in 1..3 {
+            let fd = (fp[row] - fm[row]) / (2.0 * h);
+            let an = jac[row * 3 + col];
+            assert!(
+                (fd - an).abs() <= 1e-4 * (1.0 + an.abs()),
+                "t {t} y {y:?} row {row} col {col}: {an} vs {fd}"
+            );
+        }
     }
 }
 

@@ -81,10 +81,10 @@ use super::physics::{
     Kinematics, Params, Vec2, dot, friction_sign_search, norm, sign_combinations,
 };
 use crate::mechanics::{Scalar, SpringDamper, sgn};
-use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
+use crate::solver::chain::{ChainOde, dual_jacobian};
 use crate::solver::{OdeSystem, ShaftPath};
-use num_dual::{Dual2, Dual64, DualNum};
+use num_dual::{Dual2, DualNum};
 use std::cell::Cell;
 
 /// What depends on time only: the rigid drive at one instant (any [`Scalar`]: `f64`, or dual
@@ -502,19 +502,10 @@ impl OdeSystem for RodOde<'_> {
     }
     fn jacobian(&self, t: f64, y: &[f64], j: &mut [f64]) {
         let r = self.rigid(t);
-        let ex = self.eval(&r, Dual64::new(y[0], 1.0), Dual64::from(y[1]));
-        let ev = self.eval(&r, Dual64::from(y[0]), Dual64::new(y[1], 1.0));
-        j.copy_from_slice(&[
-            0.0,
-            1.0,
-            0.0,
-            ex.xdd.eps,
-            ev.xdd.eps,
-            0.0,
-            ex.power.eps,
-            ev.power.eps,
-            0.0,
-        ]);
+        dual_jacobian(y, j, |x, xd| {
+            let ev = self.eval(&r, x, xd);
+            (ev.xdd, ev.power)
+        });
     }
     fn n_events(&self) -> usize {
         5

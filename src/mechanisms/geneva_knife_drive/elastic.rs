@@ -22,8 +22,8 @@
 use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
 use crate::mechanics::{STANDARD_GRAVITY, Scalar, SpringDamper, sgn};
-use crate::solver::chain::ChainOde;
 use crate::solver::chain::Peaks;
+use crate::solver::chain::{ChainOde, dual_jacobian};
 use crate::solver::{OdeSystem, ShaftPath};
 use num_dual::Dual64;
 use std::cell::Cell;
@@ -216,19 +216,10 @@ impl OdeSystem for KnifeOde<'_> {
         let (phi, w, a) = self.path.at(t);
         let c = Dual64::from;
         let kin = self.p.kinematics_of(&self.geneva, c(phi), c(w), c(a));
-        let ex = self.point_at(&kin, &[Dual64::new(y[0], 1.0), c(y[1])]);
-        let ev = self.point_at(&kin, &[c(y[0]), Dual64::new(y[1], 1.0)]);
-        j.copy_from_slice(&[
-            0.0,
-            1.0,
-            0.0,
-            ex.xdd.eps,
-            ev.xdd.eps,
-            0.0,
-            ex.power.eps,
-            ev.power.eps,
-            0.0,
-        ]);
+        dual_jacobian(y, j, |x, xd| {
+            let pt = self.point_at(&kin, &[x, xd]);
+            (pt.xdd, pt.power)
+        });
     }
     fn n_events(&self) -> usize {
         8
@@ -278,6 +269,7 @@ impl OdeSystem for KnifeOde<'_> {
 mod tests {
     use super::*;
     use crate::model::shaft::ShaftPath;
+    use crate::solver::chain::assert_jacobian_at;
 
     /// The Jacobian agrees with central differences of the right-hand side: sliding, in the
     /// stack and out of it, and in the sticking band at the cut front.
@@ -307,27 +299,10 @@ mod tests {
                 (stick, xd),
             ] {
                 let y = [x, xd, 0.0];
-                let mut jac = [0.0; 9];
-                o.jacobian(t, &y, &mut jac);
-                let pt = o.point(t, &y);
+                assert_jacobian_at(&o, t, y, [1e-9, 1e-3 * xd.abs().max(V_STICK)]);
                 // sticking: the cutting force balances the drive
+                let pt = o.point(t, &y);
                 in_band += usize::from(pt.f_cut != 0.0 && pt.xdd == 0.0);
-                for (col, h) in [(0usize, 1e-9), (1, 1e-3 * xd.abs().max(V_STICK))] {
-                    let (mut fp, mut fm) = ([0.0; 3], [0.0; 3]);
-                    let (mut yp, mut ym) = (y, y);
-                    yp[col] += h;
-                    ym[col] -= h;
-                    o.rhs(t, &yp, &mut fp);
-                    o.rhs(t, &ym, &mut fm);
-                    for row in 1..3 {
-                        let fd = (fp[row] - fm[row]) / (2.0 * h);
-                        let an = jac[row * 3 + col];
-                        assert!(
-                            (fd - an).abs() <= 1e-4 * (1.0 + an.abs()),
-                            "t {t} y {y:?} row {row} col {col}: {an} vs {fd}"
-                        );
-                    }
-                }
             }
         }
         assert!(in_band > 0, "no point sticks");
