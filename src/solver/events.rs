@@ -1,5 +1,5 @@
 //! Locating an event inside an accepted attempt: the interpolant's root, then real steps that
-//! bracket the crossing, the step ending just after it.
+//! bracket the crossing (regula falsi on their values), the step ending just after it.
 
 use super::*;
 

@@ -23,8 +23,11 @@
 //!
 //! Events: every step is checked for sign changes of the system's event functions; the earliest
 //! is located (a root of the method's dense output, then confirmed with real steps to a bracket of
-//! `1e-10` of the step) and the step ends just after it, so a discontinuity of the right-hand
-//! side is never stepped over. An event function that rests at exactly zero over an interval (a
+//! `1e-10` of the step, placed by regula falsi on their values) and the step ends just after it,
+//! so a discontinuity of the right-hand side is never stepped over. After an event Radau IIA
+//! starts its Newton iteration afresh and takes a new Jacobian (the old side's would misjudge the
+//! error); a step sized to end past a crossing that its Newton iteration cannot pass (a sticking
+//! band) is taken explicitly. An event function that rests at exactly zero over an interval (a
 //! rigid velocity in a dwell) keeps the sign it had before ([`hold_signs`]), so that a Model
 //! Exchange host's root finder (CVODE) sees an event where one takes the other sign and none
 //! while it rests; the integrators here see the same functions with their own test
