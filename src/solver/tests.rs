@@ -667,7 +667,7 @@ fn an_event_is_confirmed_with_a_few_real_steps_near_its_root() {
     // Dormand-Prince makes six right-hand sides an attempt, plus one at each call's start and
     // after each event: what is left over the accepted and rejected steps are the attempts that
     // confirm the events. Regula falsi on the real steps' values, started at the interpolant's
-    // root, needs about 2.5 an event here (bisection from the step's start needed 9.3)
+    // root, needs 2.6 an event here (bisection from the step's start needed 9.3)
     let mut it = Integrator::new(Settings {
         method: Method::Dopri5,
         rtol: 1e-9,
