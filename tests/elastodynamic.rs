@@ -23,11 +23,6 @@ struct Case {
 }
 
 fn geneva(c: &Case, stop: f64) -> Result<Run<G>, String> {
-    geneva_recording(c, stop, G::knife_s)
-}
-
-/// [`geneva`] recording `x` instead of the knife's position.
-fn geneva_recording(c: &Case, stop: f64, x: G) -> Result<Run<G>, String> {
     let d = Drive {
         rpm: c.rpm,
         dt: c.dt,
@@ -41,7 +36,7 @@ fn geneva_recording(c: &Case, stop: f64, x: G) -> Result<Run<G>, String> {
     v[G::elastic_zeta] = c.zeta;
     // energy scale: the work of the peak chain force over the stroke
     let rec = Record {
-        x,
+        x: G::knife_s,
         f: G::elastic_F,
         stroke: 0.14,
         scale0: 1.0,
