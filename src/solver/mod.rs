@@ -10,7 +10,9 @@
 //!   the simplified Newton iteration on the transformed system (a real and a complex `n×n`
 //!   matrix, factorized on the stack, `lu.rs`), started from the last step's collocation
 //!   polynomial, stopped early when its contraction says it cannot converge (the step shrinks;
-//!   the method never changes behind the user's choice); the Jacobian and the factorizations
+//!   the method does not change behind the user's choice, but for single explicit attempts,
+//!   counted in [`Stats::fallbacks`], where no Newton iteration converges across a jump of the
+//!   right-hand side); the Jacobian and the factorizations
 //!   kept while the iteration converges fast; the embedded error estimate (ESTRAD), the step
 //!   controller with Gustafsson's prediction and the tolerance transformation
 //!   (`rtol' = 0.1·rtol^(2/3)`);
@@ -310,7 +312,8 @@ impl Attempt {
 }
 
 /// Radau IIA's Newton iterations that fail in a row (each shrinking the step) before one
-/// explicit attempt is made instead ([`Stats::fallbacks`]).
+/// explicit attempt is made instead ([`Stats::fallbacks`]); one is enough on a step sized to end
+/// just past an event's crossing.
 const EXPLICIT_AFTER: usize = 2;
 
 /// Dormand–Prince's step controller (Hairer's DOPRI5): PI with `β = 0.04`, `h_new/h` within
