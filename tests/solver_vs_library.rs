@@ -28,6 +28,8 @@ fn ode(p: &Params, k: f64, zeta: f64) -> KnifeOde<'_> {
         spring: KnifeOde::spring(p, k, zeta),
         path: ShaftPath::new(0.0, 0.0, std::f64::consts::PI, 0.0),
         memory: Cell::new(KnifeMemory::new(0.0)),
+        rigid: Default::default(),
+        last: Default::default(),
     }
 }
 
@@ -63,13 +65,13 @@ use bindery_fmu::mechanisms::disc_knife_drive::elastic::{RodOde, dead_point_thre
 use bindery_fmu::mechanisms::disc_knife_drive::physics::Params as DiscParams;
 
 fn disc_ode(p: &DiscParams, k: f64, zeta: f64) -> RodOde<'_> {
-    RodOde {
+    RodOde::new(
         p,
-        spring: RodOde::spring(p, k, zeta),
-        path: ShaftPath::new(0.0, 170f64.to_radians(), p.drive_n, 0.0),
-        c_dead: dead_point_threshold(p),
-        peaks: Cell::new(bindery_fmu::solver::chain::Peaks::new(0.0)),
-    }
+        RodOde::spring(p, k, zeta),
+        ShaftPath::new(0.0, 170f64.to_radians(), p.drive_n, 0.0),
+        dead_point_threshold(p),
+        bindery_fmu::solver::chain::Peaks::new(0.0),
+    )
 }
 
 /// 170° to 192° at 300 rpm.
@@ -107,6 +109,7 @@ fn lever(d: &Drive, k: f64, zeta: f64) -> LeverOde<'_> {
         range: LeverOde::linkage_range(d),
         out_of_range: Cell::new(f64::NAN),
         rigid: Default::default(),
+        last: Default::default(),
     }
 }
 

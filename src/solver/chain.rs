@@ -28,12 +28,13 @@
 
 use super::{Integrator, Memory, Method, OdeSystem, Settings, ShaftPath};
 use num_dual::Dual64;
-use std::cell::Cell;
 
+mod kept;
 mod macros;
 mod memory;
 use crate::model::shaft;
 use crate::model::{Log, Values, VarSet};
+pub use kept::{LAST_AT, LastAt, LastPoint};
 pub use memory::{Peaks, Saved};
 use std::fmt::Debug;
 
@@ -51,9 +52,22 @@ macro_rules! at_accepted_steps {
 /// integration starts and the chain's energy.
 pub trait ChainOde: OdeSystem {
     /// The chain at one instant: positions, forces, the acceleration `ẍ` and the power `Ẇ`.
-    type Point;
+    type Point: Copy;
     /// The chain at `(t, y)`.
     fn point(&self, t: f64, y: &[f64]) -> Self::Point;
+    /// Where the last point computed is kept ([`LastPoint`]); `None`: nothing is kept.
+    fn last_point(&self) -> Option<&LastPoint<Self::Point>> {
+        None
+    }
+    /// The chain at `(t, y)`, the kept one if it is the last computed, at these very values
+    /// ([`ChainOde::last_point`]): the right-hand side and the checks after a step meet the
+    /// step's end one after the other.
+    fn point_kept(&self, t: f64, y: &[f64]) -> Self::Point {
+        match self.last_point() {
+            Some(kept) => kept.get_or(t, y, || self.point(t, y)),
+            None => self.point(t, y),
+        }
+    }
     /// The chain's energy (kinetic plus spring) at a point.
     fn energy(&self, pt: &Self::Point) -> f64;
     /// The states at the start of the integration, time `t` (equilibrium on the rigid motion).
@@ -204,43 +218,6 @@ pub fn transitions<O: OdeSystem>(
         }
     }
     *g_prev = g;
-}
-
-/// The last value computed of a function of time alone on one communication step's ODE (the
-/// rigid motion on the step's shaft path): DOPRI5's last two stages, the event indicators at a
-/// step's end and the checks after it are at one instant, so the value is kept for the next
-/// call at that time (keyed on the time's bits: the same value, not a near one).
-#[derive(Debug)]
-pub struct LastAt<K: Copy>(Cell<Option<(u64, K)>>);
-
-impl<K: Copy> Default for LastAt<K> {
-    /// Nothing kept yet.
-    fn default() -> Self {
-        LastAt(Cell::new(None))
-    }
-}
-
-impl<K: Copy> LastAt<K> {
-    /// The value at `t` of `at(φ, ω, ε)`, a function of the shaft's state on `path`
-    /// ([`LastAt::get_or`]).
-    pub fn on_path(&self, path: &ShaftPath, t: f64, at: impl FnOnce(f64, f64, f64) -> K) -> K {
-        self.get_or(t, || {
-            let (phi, w, a) = path.at(t);
-            at(phi, w, a)
-        })
-    }
-
-    /// The value at `t`: the kept one if it is `t`'s, else `at()`, then kept.
-    pub fn get_or(&self, t: f64, at: impl FnOnce() -> K) -> K {
-        match self.0.get() {
-            Some((bits, k)) if bits == t.to_bits() => k,
-            _ => {
-                let k = at();
-                self.0.set(Some((t.to_bits(), k)));
-                k
-            }
-        }
-    }
 }
 
 /// [`ChainModel::non_physical`] of a chain whose deflection `delta` at `t` must stay within the
@@ -592,23 +569,6 @@ mod tests {
             solver_atol = crate::solver::vars::atol(),
             solver_max_step = crate::solver::vars::max_step(),
         }
-    }
-
-    #[test]
-    fn last_at_computes_once_per_instant() {
-        let calls = Cell::new(0);
-        let kept = LastAt::default();
-        let f = |t: f64| {
-            kept.get_or(t, || {
-                calls.set(calls.get() + 1);
-                2.0 * t
-            })
-        };
-        assert_eq!((f(0.5), f(0.5), calls.get()), (1.0, 1.0, 1));
-        // another instant, however near, is computed
-        let near = f64::from_bits(0.5f64.to_bits() + 1);
-        assert_eq!((f(near), calls.get()), (2.0 * near, 2));
-        assert_eq!((f(0.5), calls.get()), (1.0, 3));
     }
 
     #[test]

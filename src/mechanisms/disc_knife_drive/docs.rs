@@ -318,13 +318,13 @@ fn rod_force_window(
     use super::elastic::{RodOde, dead_point_threshold};
     use crate::solver::{Integrator, Settings, ShaftPath};
     let w = p.drive_n;
-    let o = RodOde {
+    let o = RodOde::new(
         p,
-        spring: RodOde::spring(p, 2e8, 0.05),
-        path: ShaftPath::new(0.0, 0.0, w, 0.0),
-        c_dead: dead_point_threshold(p),
-        peaks: std::cell::Cell::new(crate::solver::chain::Peaks::new(0.0)),
-    };
+        RodOde::spring(p, 2e8, 0.05),
+        ShaftPath::new(0.0, 0.0, w, 0.0),
+        dead_point_threshold(p),
+        crate::solver::chain::Peaks::new(0.0),
+    );
     let mut y = o.initial_state(0.0);
     let mut it = Integrator::new(Settings::default());
     let turn = TAU / w;

@@ -82,7 +82,7 @@ use super::physics::{
 };
 use crate::mechanics::{Scalar, SpringDamper, sgn};
 use crate::solver::chain::Peaks;
-use crate::solver::chain::{ChainOde, dual_jacobian};
+use crate::solver::chain::{ChainOde, LastAt, LastPoint, dual_jacobian};
 use crate::solver::{OdeSystem, ShaftPath};
 use num_dual::{Dual2, DualNum};
 use std::cell::Cell;
@@ -229,6 +229,10 @@ pub struct RodOde<'a> {
     pub c_dead: f64,
     /// Peak tracking over accepted steps and the dynamic factor of the last complete turn.
     pub peaks: Cell<Peaks>,
+    /// The last rigid drives computed ([`RodOde::rigid`]).
+    rigid_last: LastAt<Rigid>,
+    /// The last balance computed ([`RodOde::eval_kept`]).
+    eval_last: LastPoint<Eval<f64>>,
 }
 
 /// Everything at one instant, for the outputs (any [`Scalar`]).
@@ -243,7 +247,7 @@ pub struct Point<T = f64> {
     pub shaft_tau: T,
 }
 
-impl RodOde<'_> {
+impl<'a> RodOde<'a> {
     /// The rod's spring `k` at the damping ratio `zeta` (reference mass: [`reduced_mass`] at
     /// the outer dead centre).
     pub fn spring(p: &Params, k: f64, zeta: f64) -> SpringDamper {
@@ -251,10 +255,36 @@ impl RodOde<'_> {
         SpringDamper::with_ratio(k, reduced_mass(p, x0), zeta)
     }
 
-    /// The rigid drive at time t.
+    /// The rod's ODE on `path`, with `c_dead` ([`dead_point_threshold`]) and the peaks so far.
+    pub fn new(
+        p: &'a Params,
+        spring: SpringDamper,
+        path: ShaftPath,
+        c_dead: f64,
+        peaks: Peaks,
+    ) -> Self {
+        RodOde {
+            p,
+            spring,
+            path,
+            c_dead,
+            peaks: Cell::new(peaks),
+            rigid_last: LastAt::default(),
+            eval_last: LastPoint::default(),
+        }
+    }
+
+    /// The rigid drive at time t (the last ones kept, [`LastAt`]).
     pub fn rigid(&self, t: f64) -> Rigid {
-        let (phi, w, a) = self.path.at(t);
-        self.rigid_at(phi, w, a)
+        self.rigid_last
+            .on_path(&self.path, t, |phi, w, a| self.rigid_at(phi, w, a))
+    }
+
+    /// The balance at `(t, y)` ([`RodOde::eval`]), the kept one if it is the last computed
+    /// there ([`LastPoint`]): the step's last right-hand side and `on_step` share it.
+    fn eval_kept(&self, t: f64, y: &[f64]) -> Eval<f64> {
+        self.eval_last
+            .get_or(t, y, || self.eval(&self.rigid(t), y[0], y[1]))
     }
 
     /// The rigid drive at the shaft angle `phi`, speed `w`, acceleration `a` (any [`Scalar`]).
@@ -494,8 +524,7 @@ impl OdeSystem for RodOde<'_> {
         3
     }
     fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        let r = self.rigid(t);
-        let ev = self.eval(&r, y[0], y[1]);
+        let ev = self.eval_kept(t, y);
         dy[0] = y[1];
         dy[1] = ev.xdd;
         dy[2] = ev.power;
@@ -535,7 +564,7 @@ impl OdeSystem for RodOde<'_> {
     }
     fn on_step(&self, t: f64, y: &[f64]) {
         let r = self.rigid(t);
-        let ev = self.eval(&r, y[0], y[1]);
+        let ev = self.eval_kept(t, y);
         let f_rigid = self.p.kinetostatics(&r.kin).rod_f.abs();
         let f_el = ev.force.abs();
         let cyc = self.path.cycle(t);

@@ -6,13 +6,13 @@ use approx::assert_abs_diff_eq;
 use std::f64::consts::{PI, TAU};
 
 fn ode(p: &Params, k: f64, zeta: f64, w: f64) -> RodOde<'_> {
-    RodOde {
+    RodOde::new(
         p,
-        spring: RodOde::spring(p, k, zeta),
-        path: ShaftPath::new(0.0, 0.0, w, 0.0),
-        c_dead: dead_point_threshold(p),
-        peaks: Cell::new(crate::solver::chain::Peaks::new(0.0)),
-    }
+        RodOde::spring(p, k, zeta),
+        ShaftPath::new(0.0, 0.0, w, 0.0),
+        dead_point_threshold(p),
+        crate::solver::chain::Peaks::new(0.0),
+    )
 }
 
 /// Without friction the swapped solve is Lagrange's equation of the one-DoF chain:

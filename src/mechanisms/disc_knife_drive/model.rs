@@ -144,13 +144,7 @@ impl ChainModel for RodChain {
 impl RodChain {
     /// The rod's ODE on `path` with the peaks `m` ([`ChainModel::ode`]: it reads no variable).
     fn rod_ode<'a>(&self, p: &'a Params, path: ShaftPath, m: &Peaks) -> RodOde<'a> {
-        RodOde {
-            p,
-            spring: self.spring,
-            path,
-            c_dead: self.c_dead,
-            peaks: std::cell::Cell::new(*m),
-        }
+        RodOde::new(p, self.spring, path, self.c_dead, *m)
     }
 }
 

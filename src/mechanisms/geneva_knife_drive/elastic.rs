@@ -23,7 +23,7 @@ use super::physics::{Kinematics, Params};
 use crate::mechanics::geneva::Geneva;
 use crate::mechanics::{STANDARD_GRAVITY, Scalar, SpringDamper, sgn};
 use crate::solver::chain::Peaks;
-use crate::solver::chain::{ChainOde, dual_jacobian};
+use crate::solver::chain::{ChainOde, LastAt, LastPoint, dual_jacobian};
 use crate::solver::{OdeSystem, ShaftPath};
 use num_dual::Dual64;
 use std::cell::Cell;
@@ -43,6 +43,19 @@ pub struct KnifeOde<'a> {
     pub path: ShaftPath,
     /// What it tracks over accepted steps and events.
     pub memory: Cell<KnifeMemory>,
+    /// The last shaft angles and rigid motions computed ([`KnifeOde::rigid_at`]).
+    pub rigid: LastAt<(f64, Kinematics)>,
+    /// The last point computed ([`ChainOde::point_kept`]).
+    pub last: LastPoint<Point>,
+}
+
+impl KnifeOde<'_> {
+    /// The shaft angle and the rigid motion at `t` on this step's path ([`LastAt`]).
+    fn rigid_at(&self, t: f64) -> (f64, Kinematics) {
+        self.rigid.on_path(&self.path, t, |phi, w, a| {
+            (phi, self.p.kinematics_of(&self.geneva, phi, w, a))
+        })
+    }
 }
 
 crate::chain_memory! {
@@ -184,9 +197,10 @@ impl ChainOde for KnifeOde<'_> {
 
     /// Evaluates the model at time t and state y.
     fn point(&self, t: f64, y: &[f64]) -> Point {
-        let (phi, w, a) = self.path.at(t);
-        let kin = self.p.kinematics_of(&self.geneva, phi, w, a);
-        self.point_at(&kin, y)
+        self.point_at(&self.rigid_at(t).1, y)
+    }
+    fn last_point(&self) -> Option<&LastPoint<Point>> {
+        Some(&self.last)
     }
     /// Energy of knife and chain spring, J.
     fn energy(&self, pt: &Point) -> f64 {
@@ -229,9 +243,8 @@ impl OdeSystem for KnifeOde<'_> {
     /// Exchange hooks hold its sign there ([`crate::solver::hold_signs`]), so that its events are
     /// its reversals: the bottom of the stroke and the start of the next working stroke.
     fn events(&self, t: f64, y: &[f64], g: &mut [f64]) {
-        let (phi, w, a) = self.path.at(t);
         let exit = 2.0 * self.geneva.half_engagement();
-        let kin = self.p.kinematics_of(&self.geneva, phi, w, a);
+        let (phi, kin) = self.rigid_at(t);
         // Geneva entry (ψ = 0) and exit (ψ = 2φe): γ'' jumps
         g[0] = phi.sin();
         g[1] = (phi - exit).sin();
@@ -257,7 +270,7 @@ impl OdeSystem for KnifeOde<'_> {
         self.memory.set(m);
     }
     fn on_step(&self, t: f64, y: &[f64]) {
-        let pt = self.point(t, y);
+        let pt = self.point_kept(t, y);
         let cyc = self.cycle(t);
         let mut m = self.memory.get();
         m.peaks.track(cyc, pt.f_el.abs(), pt.f_rigid.abs());
@@ -282,6 +295,8 @@ mod tests {
             spring: KnifeOde::spring(&p, 5e7, 0.05),
             path: ShaftPath::new(0.0, 0.3, std::f64::consts::PI, 0.0),
             memory: Cell::new(KnifeMemory::new(0.0)),
+            rigid: LastAt::default(),
+            last: LastPoint::default(),
         };
         let (s0, s1) = (p.cut_s_start, p.cut_s_full);
         let mut in_band = 0;

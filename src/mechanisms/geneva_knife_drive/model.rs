@@ -10,7 +10,7 @@ use crate::model::shaft::{self, Fidelity, ON_ALL, ON_PHI, ON_PHI_W, ShaftState};
 use crate::model::{Dynamics, Experiment, Log, Model, ParamError, Stage, Values};
 use crate::solver::ShaftPath;
 use crate::solver::chain::ChainOde;
-use crate::solver::chain::{self, Chain, ChainModel};
+use crate::solver::chain::{self, Chain, ChainModel, LastAt, LastPoint};
 use std::cell::Cell;
 
 crate::stages! {
@@ -122,6 +122,8 @@ impl KnifeChain {
             spring: self.spring,
             path,
             memory: Cell::new(*m),
+            rigid: LastAt::default(),
+            last: LastPoint::default(),
         }
     }
 }

@@ -39,7 +39,7 @@
 use super::physics::{Drive, Forces, Kinematics, Linkage};
 use crate::mechanics::hertz::{line_contact_energy, line_contact_force};
 use crate::mechanics::{STANDARD_GRAVITY, Scalar, dot, max_of, sgn};
-use crate::solver::chain::{ChainOde, LastAt};
+use crate::solver::chain::{ChainOde, LastAt, LastPoint};
 use crate::solver::{OdeSystem, ShaftPath};
 use std::cell::Cell;
 use std::f64::consts::TAU;
@@ -171,6 +171,8 @@ pub struct LeverOde<'a> {
     pub out_of_range: Cell<f64>,
     /// The last rigid motion computed ([`LeverOde::rigid_at`]).
     pub rigid: LastAt<Kinematics>,
+    /// The last point computed ([`ChainOde::point_kept`]).
+    pub last: LastPoint<Point>,
 }
 
 /// Everything at one instant (any [`Scalar`]: `f64` in the ODE, dual numbers for the exact
@@ -424,6 +426,9 @@ impl ChainOde for LeverOde<'_> {
     fn point(&self, t: f64, y: &[f64]) -> Point {
         self.point_at(&self.rigid_at(t), y)
     }
+    fn last_point(&self) -> Option<&LastPoint<Point>> {
+        Some(&self.last)
+    }
     /// Energy of lever, carriage, spring 13, weight and contact, table frame, J.
     fn energy(&self, pt: &Point) -> f64 {
         self.energy_of(pt)
@@ -511,7 +516,7 @@ impl OdeSystem for LeverOde<'_> {
         self.track.set(tr);
     }
     fn on_step(&self, t: f64, y: &[f64]) {
-        let pt = self.point(t, y);
+        let pt = self.point_kept(t, y);
         let mut tr = self.track.get();
         if tr.landed {
             tr.impact = tr.impact.max(pt.f_c);

@@ -455,6 +455,7 @@ impl Params {
     /// As [`Params::forces`]; with `hertz` false the Hertz stress is not computed (`sigma_h` is
     /// NaN), for what does not read it. Any [`Scalar`]: the signs of `v` and `F0` and the
     /// loaded flank are taken on the real parts.
+    #[inline]
     pub fn forces_with<T: Scalar>(
         &self,
         k: &Kinematics<T>,

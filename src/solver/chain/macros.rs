@@ -186,8 +186,9 @@ macro_rules! chain_access {
 
 /// Inside `impl OdeSystem for` a chain's ODE: its dimension (3), the right-hand side of
 /// `y = [x, ẋ, W]` ([`crate::solver::chain::ChainOde`]): `ẋ`, then the acceleration and the
-/// power the expressions after `=>` read off the chain's point `pt` at `(t, y)`, and the error
-/// norm without `W` (a work kept for the energy balance).
+/// power the expressions after `=>` read off the chain's point `pt` at `(t, y)`
+/// ([`crate::solver::chain::ChainOde::point_kept`]), and the error norm without `W` (a work kept
+/// for the energy balance).
 #[macro_export]
 macro_rules! chain_rhs {
     ($pt:ident => $xdd:expr, $power:expr) => {
@@ -195,7 +196,7 @@ macro_rules! chain_rhs {
             3
         }
         fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-            let $pt = $crate::solver::chain::ChainOde::point(self, t, y);
+            let $pt = $crate::solver::chain::ChainOde::point_kept(self, t, y);
             dy[0] = y[1];
             dy[1] = $xdd;
             dy[2] = $power;

@@ -156,6 +156,7 @@ impl ChainModel for LeverChain {
             range: self.range,
             out_of_range: Cell::new(f64::NAN),
             rigid: Default::default(),
+            last: Default::default(),
         }
     }
     fn start(_: &LeverOde, path: &ShaftPath, m: &mut LeverMemory) {
