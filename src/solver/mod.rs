@@ -572,7 +572,10 @@ impl Integrator {
                 hs = reach.max(0.05 * hs);
                 last = false;
             }
-            let mut stepper = self.stepper(n, h.min(max_step), st.steps, st);
+            // every accepted step so far, of this call and the earlier ones (a call of a few
+            // steps would otherwise count from 0 at each start)
+            let steps = self.mem.stats.steps + st.steps;
+            let mut stepper = self.stepper(n, h.min(max_step), steps, st);
             if stepper == Stepper::Radau && newton_failures >= EXPLICIT_AFTER {
                 // the Newton iteration failed at this step and at half of it: a right-hand side
                 // discontinuous in the state (a stick band) that no event function marks, which
