@@ -94,15 +94,44 @@ fn tab() -> Tab {
 }
 
 /// Largest modulus of the eigenvalues of an n×n row-major matrix.
+///
+/// A last column of zeros (a state that enters no derivative, as a chain's work `W`) makes the
+/// matrix block lower triangular: its eigenvalues are the leading block's and 0, so that block
+/// is taken instead. One or two rows are solved in closed form (the chain's `[x, ẋ]` block:
+/// `λ = tr/2 ± √(tr²/4 − det)`), more by nalgebra's Schur decomposition.
 pub fn spectral_radius(n: usize, jac: &[f64]) -> f64 {
-    let m = DMatrix::from_row_slice(n, n, &jac[..n * n]);
-    if m.iter().any(|x| !x.is_finite()) {
+    let jac = &jac[..n * n];
+    if jac.iter().any(|x| !x.is_finite()) {
         return f64::INFINITY;
     }
-    m.complex_eigenvalues()
-        .iter()
-        .map(|z| z.norm())
-        .fold(0.0, f64::max)
+    if n > 1 && (0..n).all(|i| jac[i * n + n - 1] == 0.0) {
+        let m = n - 1;
+        let mut lead = [0.0; MAX_DIM * MAX_DIM];
+        for i in 0..m {
+            lead[i * m..(i + 1) * m].copy_from_slice(&jac[i * n..i * n + m]);
+        }
+        return spectral_radius(m, &lead);
+    }
+    match n {
+        0 => 0.0,
+        1 => jac[0].abs(),
+        2 => {
+            let (half_tr, det) = (0.5 * (jac[0] + jac[3]), jac[0] * jac[3] - jac[1] * jac[2]);
+            let disc = half_tr * half_tr - det;
+            if disc >= 0.0 {
+                // real: the larger modulus is |tr/2| + √disc
+                half_tr.abs() + disc.sqrt()
+            } else {
+                // a complex pair: |λ|² = det
+                det.sqrt()
+            }
+        }
+        _ => DMatrix::from_row_slice(n, n, jac)
+            .complex_eigenvalues()
+            .iter()
+            .map(|z| z.norm())
+            .fold(0.0, f64::max),
+    }
 }
 
 /// The factorized Newton matrices `u1/h·I − J` and `(alph + i·beta)/h·I − J` for one Jacobian

@@ -690,3 +690,125 @@ fn an_event_is_confirmed_with_a_few_real_steps_near_its_root() {
         st.events
     );
 }
+
+/// The spectral radius in closed form (one or two rows, and a last column of zeros taken off)
+/// agrees with the eigenvalues of nalgebra's Schur decomposition of the whole matrix: real and
+/// complex pairs, a chain's Jacobian with its work column, stiff and soft.
+#[test]
+fn spectral_radius_agrees_with_the_eigenvalues() {
+    let by_schur = |n: usize, a: &[f64]| {
+        nalgebra::DMatrix::from_row_slice(n, n, a)
+            .complex_eigenvalues()
+            .iter()
+            .map(|z| z.norm())
+            .fold(0.0, f64::max)
+    };
+    // a small linear congruential sequence in [-1, 1), scaled over decades
+    let mut s = 12345u64;
+    let mut next = || {
+        s = s
+            .wrapping_mul(6364136223846793005)
+            .wrapping_add(1442695040888963407);
+        (s >> 11) as f64 / (1u64 << 52) as f64 - 1.0
+    };
+    let (mut real, mut complex) = (0, 0);
+    for case in 0..400 {
+        let scale = 10f64.powi(case % 13 - 2);
+        let (a, b, c, d) = (
+            next(),
+            next() * scale,
+            next() * scale,
+            next() * scale.sqrt(),
+        );
+        // [x, ẋ, W]: ẋ' = ẋ, ẍ = a·x + b·ẋ, Ẇ = c·x + d·ẋ, as a chain's Jacobian
+        let chain = [0.0, 1.0, 0.0, -scale * scale * a.abs(), b, 0.0, c, d, 0.0];
+        let two = [a * scale, b, c, d];
+        let four: Vec<f64> = (0..16).map(|_| next() * scale).collect();
+        for (n, m) in [(3, &chain[..]), (2, &two[..]), (4, &four[..])] {
+            let (ours, schur) = (spectral_radius(n, m), by_schur(n, m));
+            assert!(
+                (ours - schur).abs() <= 1e-9 * schur.max(1e-300),
+                "{n}x{n} {m:?}: {ours} against {schur}"
+            );
+        }
+        let (ht, det) = (0.5 * (two[0] + two[3]), two[0] * two[3] - two[1] * two[2]);
+        if ht * ht < det {
+            complex += 1
+        } else {
+            real += 1
+        }
+    }
+    // both branches of the 2×2 closed form were taken
+    assert!(real > 50 && complex > 50, "{real} real, {complex} complex");
+    assert_eq!(spectral_radius(3, &[f64::NAN; 9]), f64::INFINITY);
+}
+
+/// y' = −a(t)·y, stiff (a = 1e6 1/s) until `t_soft`, then soft (a = 1 1/s).
+struct StiffThenSoft {
+    t_soft: f64,
+}
+
+impl StiffThenSoft {
+    fn a(&self, t: f64) -> f64 {
+        if t < self.t_soft { 1e6 } else { 1.0 }
+    }
+}
+
+impl OdeSystem for StiffThenSoft {
+    fn dim(&self) -> usize {
+        1
+    }
+    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
+        dy[0] = -self.a(t) * y[0];
+    }
+    fn jacobian(&self, t: f64, _y: &[f64], j: &mut [f64]) {
+        j[0] = -self.a(t);
+    }
+    /// The change of `a` is an event, so Radau IIA takes a new Jacobian there.
+    fn n_events(&self) -> usize {
+        1
+    }
+    fn events(&self, t: f64, _y: &[f64], g: &mut [f64]) {
+        g[0] = t - self.t_soft;
+    }
+}
+
+/// `auto` leaves the implicit method after three stability checks in a row, a check every 20
+/// accepted steps counted over the calls: in calls of one step each it leaves 52 steps after
+/// the stiffness ended (it left after 3 when each call's first step counted as the 0th, a check).
+#[test]
+fn auto_checks_stability_every_twenty_steps_across_calls() {
+    let o = StiffThenSoft { t_soft: 0.01 };
+    let dt = 1e-3;
+    let mut it = Integrator::new(Settings {
+        method: Method::Auto,
+        rtol: 1e-6,
+        atol: 1e-9,
+        max_step: dt,
+        max_steps: 200_000,
+    });
+    let mut y = [1.0];
+    let mut soft_at = None;
+    let mut explicit_again = None;
+    for i in 0..400 {
+        let t = i as f64 * dt;
+        it.integrate(&o, t, t + dt, &mut y).unwrap();
+        if it.mem.stiff && t >= o.t_soft && soft_at.is_none() {
+            soft_at = Some(it.mem.stats.steps);
+        }
+        if soft_at.is_some() && !it.mem.stiff && explicit_again.is_none() {
+            explicit_again = Some(it.mem.stats.steps);
+        }
+    }
+    let (soft_at, back) = (
+        soft_at.expect("implicit on the stiff stretch"),
+        explicit_again,
+    );
+    let back = back.expect("explicit again on the soft stretch");
+    // at least two checks 20 steps apart after the one that first found the step stable
+    assert!(
+        back - soft_at >= 40,
+        "explicit again {} steps after the stiffness ended",
+        back - soft_at
+    );
+}
