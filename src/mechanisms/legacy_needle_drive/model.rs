@@ -377,7 +377,6 @@ mod tests {
     /// checks the default FMU over the C ABI).
     #[test]
     fn partials_equal_central_differences() {
-        let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
         for (level, timing, closure, mode, phi, w, a, time) in [
             (2.0, 1.0, 1.0, 1.0, 1.3, 10.0, 0.0, 0.0),
             (2.0, 1.0, 1.0, 1.0, 1.3, 10.0, 3.0, 0.0),
@@ -392,15 +391,13 @@ mod tests {
             v[V::cam_closure] = closure;
             v[V::drive_mode] = mode;
             let mut m = LegacyNeedleDrive::prepare(&v).unwrap();
-            v[V::shaft_phi] = phi;
-            v[V::shaft_w] = w;
-            v[V::shaft_a] = a;
+            check::set_shaft(&mut v, phi, w, a);
             check::inputs_and_states(
                 &mut m,
                 &v,
                 time,
-                &inputs,
                 &[],
+                false,
                 check::relative_step,
                 1e-14,
                 &format!("level {level} timing {timing} closure {closure} mode {mode} a {a}"),

@@ -672,8 +672,6 @@ mod tests {
     /// gap (tests/partials.rs checks the default FMU over the C ABI).
     #[test]
     fn partials_equal_central_differences() {
-        let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a, V::table_F_ext];
-        let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
         // level, table.kind, drive.mode, phi, w, a, time, cam.clearance, chain deflection
         for (level, kind, mode, phi, w, a, time, clearance, delta) in [
             (1.0, 1.0, 1.0, 0.5, 10.0, 3.0, 0.0, 0.0, 0.0),
@@ -695,9 +693,7 @@ mod tests {
             v[V::cam_clearance] = clearance;
             v[V::table_F_ext] = 40.0;
             let mut m = SewingTable::prepare(&v).unwrap();
-            v[V::shaft_phi] = phi;
-            v[V::shaft_w] = w;
-            v[V::shaft_a] = a;
+            check::set_shaft(&mut v, phi, w, a);
             m.evaluate(&mut v, time, &mut NoLog);
             let elastic = level == 3.0;
             if elastic {
@@ -709,8 +705,8 @@ mod tests {
                 &mut m,
                 &v,
                 time,
-                &inputs,
-                if elastic { &states } else { &[] },
+                &[V::table_F_ext],
+                elastic,
                 // the table's position on the scale of the chain's deflection
                 |k, x| {
                     if k == V::elastic_x {
