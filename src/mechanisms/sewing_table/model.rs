@@ -2,7 +2,7 @@
 //! [`super::physics`] (`../shared/spec/sewing-table.md`).
 
 use super::elastic::{TableMemory, TableOde};
-use super::physics::{Forces, Kind, Params, Rocking};
+use super::physics::{Forces, Kind, Kinematics, Params, Rocking};
 use crate::mechanics::cyclogram::Phase;
 use crate::mechanics::hertz::{Roller, Surface};
 use crate::mechanics::motion_laws::MotionLaw;
@@ -372,6 +372,28 @@ impl Wants {
     }
 }
 
+/// The rigid (kinetostatic) forces on the motion `k` at the shaft acceleration `a` where
+/// `wanted` (zero otherwise; the Hertz stress with `hertz`, [`Params::forces_with`]), with
+/// `cam.rho` put: the loaded flank's radius of curvature, infinite at an inflection of the pitch
+/// curve and reported as 1000 m there.
+fn rigid_forces<T: Scalar>(
+    p: &Params,
+    k: &Kinematics<T>,
+    a: T,
+    f_ext: T,
+    wanted: bool,
+    hertz: bool,
+    put: &mut impl FnMut(V, T),
+) -> Forces<T> {
+    let f = if wanted {
+        p.forces_with(k, a, f_ext, hertz)
+    } else {
+        Forces::zero()
+    };
+    put(V::cam_rho, clamp_of(f.rho_flank, -1000.0, 1000.0));
+    f
+}
+
 /// The outputs below the elastodynamic level that `evaluate` does not write (held), and the
 /// Model Exchange state derivatives there (0, as `fmi2GetDerivatives` gives): derivative 0.
 const HELD_BELOW_ELASTIC: [V; 7] = [
@@ -447,12 +469,7 @@ impl SewingTable {
             put(V::cam_theta, k.theta);
             put(V::elastic_deflection, pt.delta);
             put(V::elastic_F, pt.f_c);
-            let rigid = if w.flank {
-                p.forces_with(&k, st.a, f_ext, w.hertz)
-            } else {
-                Forces::zero()
-            };
-            put(V::cam_rho, clamp_of(rigid.rho_flank, -1000.0, 1000.0));
+            let rigid = rigid_forces(p, &k, st.a, f_ext, w.flank, w.hertz, &mut put);
             put(V::table_F_inertia, pt.xdd * -m);
             put(V::table_F_friction, -pt.f_fr);
             put(V::cam_F, pt.f_c / k.theta.cos());
@@ -504,13 +521,7 @@ impl SewingTable {
                 put(V::table_v, k.v);
                 put(V::table_a, k.a);
                 put(V::cam_theta, k.theta);
-                let f = if w.forces {
-                    p.forces_with(&k, st.a, f_ext, w.hertz)
-                } else {
-                    Forces::zero()
-                };
-                // at an inflection of the pitch curve the radius is infinite: reported as 1000 m
-                put(V::cam_rho, clamp_of(f.rho_flank, -1000.0, 1000.0));
+                let f = rigid_forces(p, &k, st.a, f_ext, w.forces, w.hertz, &mut put);
                 if w.kinetostatic {
                     put(V::table_F_inertia, f.f_inertia);
                     put(V::table_F_friction, f.f_friction);
