@@ -75,7 +75,7 @@ crate::model_variables! {
         roller_r = Var::parameter("roller.r", 0.010, "m", "Ramp roller radius (assumption)").min(0.0),
         roller_b = Var::parameter("roller.b", 0.010, "m", "Ramp roller width (assumption)").min(0.0).feeds(stage::HERTZ),
         ramp_E = Var::parameter("ramp.E", 2.1e11, "Pa", "Young's modulus of the ramp (assumption: steel)").min(0.0).feeds(stage::HERTZ),
-        roller_E = Var::parameter("roller.E", 2.1e11, "Pa", "Young's modulus of the roller (assumption: steel)").min(0.0).feeds(stage::HERTZ),
+        roller_E = crate::mechanisms::roller_e(stage::HERTZ),
         // ---- calculated parameters
         synth_nu = Var::calculated("synth.nu", "rad", "nu: rod to carriage line in the lowest position, eq. (2) (paper 000: 28.79 deg)").needs(stage::SYNTHESIS),
         synth_gamma_paper = Var::calculated("synth.gamma_paper", "rad", "The paper's lever swing gamma_sum, eq. (3) (28.93 deg)").needs(stage::SYNTHESIS),
