@@ -139,8 +139,11 @@ crate::model_variables! {
         elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the follower chain table.x_kin - table.x, play included (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
         elastic_F = Var::output("elastic.F", "N", "Dynamic force of the cam on the table along +x (0 while the roller crosses the play; elastodynamic level)").depends(ON_PHI_W).needs(stage::ELASTIC),
         dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) cam force along x, of the last complete shaft turn (the running one before), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
-        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller left a slot flank: contact-opening events, located by the FMU's integrator in Co-Simulation, by the host in Model Exchange (with play; elastodynamic level)").needs(stage::ELASTIC).event(),
-        contact_F_impact = Var::output("contact.F_impact", "N", concat!("Largest cam force after a landing of the roller on a flank, taken ", crate::at_accepted_steps!(), " (with play; elastodynamic level)")).needs(stage::ELASTIC),
+        @with crate::chain_variables { contact(stage::ELASTIC;
+            "Times the roller left a slot flank",
+            "cam force after a landing of the roller on a flank",
+            "with play; elastodynamic level",
+        ) },
         @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
         @with crate::chain_variables { states(stage::ELASTIC, length;
