@@ -79,7 +79,7 @@ impl<'a, V: VarSet> Seeded<'a, V> {
 #[cfg(test)]
 pub mod check {
     use super::{Seeded, Values, VarSet};
-    use crate::model::{Causality, Model, NoLog, VarType, Variability};
+    use crate::model::{Causality, Model, NoLog, VarType, Variability, shaft};
 
     /// The unknowns of a partial derivative: the continuous Real outputs, and with
     /// `derivatives` the state derivatives (Model Exchange), as value references.
@@ -103,9 +103,18 @@ pub mod check {
         1e-6 * x.abs().max(1.0)
     }
 
-    /// [`against_central_differences`] over a model's knowns and every unknown: the `inputs`
-    /// at their values in `base`, and `states`, the Model Exchange states (empty below the
-    /// elastodynamic level) at the values the model holds
+    /// Puts the shaft inputs `shaft.phi`, `shaft.w`, `shaft.a` ([`crate::model::shaft`]) of
+    /// the point a check is taken at into `v`.
+    pub fn set_shaft<V: VarSet>(v: &mut Values<V>, phi: f64, w: f64, a: f64) {
+        for (vr, x) in [(shaft::PHI, phi), (shaft::W, w), (shaft::A, a)] {
+            v.raw_mut()[vr as usize] = x;
+        }
+    }
+
+    /// [`against_central_differences`] over a model's knowns and every unknown: the shaft
+    /// inputs and the `more` inputs at their values in `base`, and with `states` (the
+    /// elastodynamic level) the Model Exchange states, the variables its state derivatives are
+    /// the derivatives of, at the values the model holds
     /// ([`crate::model::Dynamics::me_states`]), put in with
     /// [`crate::model::Dynamics::me_set_states`].
     #[allow(clippy::too_many_arguments)]
@@ -113,12 +122,28 @@ pub mod check {
         m: &mut M,
         base: &Values<M::Var>,
         time: f64,
-        inputs: &[M::Var],
-        states: &[M::Var],
+        more: &[M::Var],
+        states: bool,
         step: impl Fn(M::Var, f64) -> f64,
         noise: f64,
         what: &str,
     ) {
+        let all = M::Var::ALL;
+        let inputs: Vec<_> = [shaft::PHI, shaft::W, shaft::A]
+            .map(|vr| all[vr as usize])
+            .into_iter()
+            .chain(more.iter().copied())
+            .collect();
+        let states: Vec<_> = if states {
+            let table = M::Var::table();
+            table
+                .iter()
+                .filter_map(|v| v.derivative)
+                .map(|s| all[s as usize])
+                .collect()
+        } else {
+            vec![]
+        };
         let mut held = vec![0.0; states.len()];
         if !states.is_empty() {
             m.me_states(base, time, &mut held);

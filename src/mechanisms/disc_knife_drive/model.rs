@@ -597,8 +597,6 @@ mod tests {
     #[test]
     fn partials_equal_central_differences() {
         use crate::model::partials::check;
-        let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
-        let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
         // the phases covered: (level, working stroke, locked)
         let mut seen = vec![];
         // (level, drive.mode, series, phi, w, a, time, slider off its rigid position and speed)
@@ -620,9 +618,7 @@ mod tests {
             v[V::model_fidelity] = level;
             v[V::drive_mode] = mode;
             v[V::kinematics_series] = series;
-            v[V::shaft_phi] = phi;
-            v[V::shaft_w] = w;
-            v[V::shaft_a] = a;
+            check::set_shaft(&mut v, phi, w, a);
             let mut m = DiscKnifeDrive::prepare(&v).unwrap();
             // a started chain with a held state off the rigid motion
             let s = shaft::state(&v, time);
@@ -643,8 +639,8 @@ mod tests {
                 &mut m,
                 &v,
                 time,
-                &inputs,
-                if elastic { &states } else { &[] },
+                &[],
+                elastic,
                 // steps short of the stiff chain's curvature in the angle (2e8 N/m), long in
                 // the acceleration (the outputs are nearly affine in it, and their rounding
                 // is that of the large rod forces), the states within the rod's deflection

@@ -419,8 +419,6 @@ mod tests {
     /// deflected, cutting and not (tests/partials.rs checks the default FMU over the C ABI).
     #[test]
     fn partials_equal_central_differences() {
-        let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
-        let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
         // the phases covered: (level, cutting, in the dwell)
         let mut seen = vec![];
         // (level, drive.mode, phi, w, a, time, deflection and its rate at level 3)
@@ -442,9 +440,7 @@ mod tests {
             let mut v = Values::<V>::start();
             v[V::model_fidelity] = level;
             v[V::drive_mode] = mode;
-            v[V::shaft_phi] = phi;
-            v[V::shaft_w] = w;
-            v[V::shaft_a] = a;
+            check::set_shaft(&mut v, phi, w, a);
             let mut m = GenevaKnifeDrive::prepare(&v).unwrap();
             // the knife off its rigid motion: a started chain with a held state
             let k = m.params.kinematics(shaft::state(&v, time).phi, w, a);
@@ -460,8 +456,8 @@ mod tests {
                 &mut m,
                 &v,
                 time,
-                &inputs,
-                if elastic { &states } else { &[] },
+                &[],
+                elastic,
                 check::relative_step,
                 1e-14,
                 &format!("level {level} mode {mode} phi {phi} a {a} time {time}"),

@@ -77,8 +77,8 @@ crate::model_variables! {
         cam_closure = Var::enum_parameter("cam.closure", &Closure::FMI, "groove", "groove: either flank pushes; spring: the roller is held on the raising flank and lifts off where the cam would have to pull").feeds(stage::LOADS),
         roller_r = Var::parameter("roller.r", 0.015, "m", "Cam roller radius r_r (assumption)").min(0.0),
         roller_b = Var::parameter("roller.b", 0.015, "m", "Cam roller contact length B (assumption)").min(0.0).feeds(stage::HERTZ),
-        cam_E = Var::parameter("cam.E", 2.1e11, "Pa", "Young's modulus of the cam (assumption: steel)").min(0.0).feeds(stage::HERTZ),
-        roller_E = Var::parameter("roller.E", 2.1e11, "Pa", "Young's modulus of the roller (assumption: steel)").min(0.0).feeds(stage::HERTZ),
+        cam_E = crate::mechanisms::cam_e(stage::HERTZ),
+        roller_E = crate::mechanisms::roller_e(stage::HERTZ),
         cam_J = Var::parameter("cam.J", 0.0, "kg.m2", "Moment of inertia of the cams on the shaft (assumption)").min(0.0).feeds(stage::LOADS),
         // ---- calculated parameters
         kmk_L = Var::calculated("kmk.L", "m", "Rocker arm O2K, L = beta*l_k").needs(stage::SYNTHESIS),
@@ -377,7 +377,6 @@ mod tests {
     /// checks the default FMU over the C ABI).
     #[test]
     fn partials_equal_central_differences() {
-        let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
         for (level, timing, closure, mode, phi, w, a, time) in [
             (2.0, 1.0, 1.0, 1.0, 1.3, 10.0, 0.0, 0.0),
             (2.0, 1.0, 1.0, 1.0, 1.3, 10.0, 3.0, 0.0),
@@ -392,15 +391,13 @@ mod tests {
             v[V::cam_closure] = closure;
             v[V::drive_mode] = mode;
             let mut m = LegacyNeedleDrive::prepare(&v).unwrap();
-            v[V::shaft_phi] = phi;
-            v[V::shaft_w] = w;
-            v[V::shaft_a] = a;
+            check::set_shaft(&mut v, phi, w, a);
             check::inputs_and_states(
                 &mut m,
                 &v,
                 time,
-                &inputs,
                 &[],
+                false,
                 check::relative_step,
                 1e-14,
                 &format!("level {level} timing {timing} closure {closure} mode {mode} a {a}"),

@@ -75,7 +75,7 @@ crate::model_variables! {
         roller_r = Var::parameter("roller.r", 0.010, "m", "Ramp roller radius (assumption)").min(0.0),
         roller_b = Var::parameter("roller.b", 0.010, "m", "Ramp roller width (assumption)").min(0.0).feeds(stage::HERTZ),
         ramp_E = Var::parameter("ramp.E", 2.1e11, "Pa", "Young's modulus of the ramp (assumption: steel)").min(0.0).feeds(stage::HERTZ),
-        roller_E = Var::parameter("roller.E", 2.1e11, "Pa", "Young's modulus of the roller (assumption: steel)").min(0.0).feeds(stage::HERTZ),
+        roller_E = crate::mechanisms::roller_e(stage::HERTZ),
         // ---- calculated parameters
         synth_nu = Var::calculated("synth.nu", "rad", "nu: rod to carriage line in the lowest position, eq. (2) (paper 000: 28.79 deg)").needs(stage::SYNTHESIS),
         synth_gamma_paper = Var::calculated("synth.gamma_paper", "rad", "The paper's lever swing gamma_sum, eq. (3) (28.93 deg)").needs(stage::SYNTHESIS),
@@ -118,8 +118,11 @@ crate::model_variables! {
         elastic_F = Var::output("elastic.F", "N", "Dynamic contact force of the ramp on the roller, >= 0 (elastodynamic level; equals roller.F there)").depends(ON_PHI_W).needs(stage::ELASTIC),
         roller_F_kin = Var::output("roller.F_kin", "N", "Kinetostatic contact force on the rigid motion, the reference of elastic.F (elastodynamic level)").depends(ON_ALL).needs(stage::FORCES),
         dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak elastic.F over the peak |kinetostatic contact force| of the last complete shaft turn (the running one until a turn is complete), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
-        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller lifted off the ramp: contact-opening events, located by the FMU's integrator in Co-Simulation, by the host in Model Exchange (elastodynamic level)").needs(stage::ELASTIC).event(),
-        contact_F_impact = Var::output("contact.F_impact", "N", concat!("Largest contact force in the first compression after a landing of the roller, taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
+        @with crate::chain_variables { contact(stage::ELASTIC;
+            "Times the roller lifted off the ramp",
+            "contact force in the first compression after a landing of the roller",
+            "elastodynamic level",
+        ) },
         @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
         @with crate::chain_variables { states(stage::ELASTIC, angle;

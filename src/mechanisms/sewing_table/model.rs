@@ -2,7 +2,7 @@
 //! [`super::physics`] (`../shared/spec/sewing-table.md`).
 
 use super::elastic::{TableMemory, TableOde};
-use super::physics::{Forces, Kind, Params, Rocking};
+use super::physics::{Forces, Kind, Kinematics, Params, Rocking};
 use crate::mechanics::cyclogram::Phase;
 use crate::mechanics::hertz::{Roller, Surface};
 use crate::mechanics::motion_laws::MotionLaw;
@@ -93,8 +93,8 @@ crate::model_variables! {
         cam_e = Var::parameter("cam.e", 0.0, "m", "Offset of the follower line from the cam axis (assumption)"),
         roller_r = Var::parameter("roller.r", 0.015, "m", "Cam roller radius (assumption)").min(0.0).feeds(stage::FLANK.or(stage::HERTZ).or(stage::SYNTHESIS)),
         roller_b = Var::parameter("roller.b", 0.015, "m", "Cam roller width (assumption)").min(0.0).feeds(stage::HERTZ),
-        cam_E = Var::parameter("cam.E", 2.1e11, "Pa", "Young's modulus of the cam (assumption: steel)").min(0.0).feeds(stage::HERTZ),
-        roller_E = Var::parameter("roller.E", 2.1e11, "Pa", "Young's modulus of the roller (assumption: steel)").min(0.0).feeds(stage::HERTZ),
+        cam_E = crate::mechanisms::cam_e(stage::HERTZ),
+        roller_E = crate::mechanisms::roller_e(stage::HERTZ),
         table_m = Var::parameter("table.m", 8.0, "kg", "Mass of table, saddle, signature and perforator assembly (assumption)").min(0.0).feeds(stage::LOADS),
         guide_f = Var::parameter("guide.f", 0.005, "", "Rolling friction coefficient of the guide rollers on the load m*g + |Fn*sin(theta_p)| (assumption)").min(0.0).feeds(stage::LOADS),
         cam_J = Var::parameter("cam.J", 0.02, "kg.m2", "Moment of inertia of the cam on the main shaft (assumption)").min(0.0).feeds(stage::FORCES.or(stage::ELASTIC)),
@@ -139,8 +139,11 @@ crate::model_variables! {
         elastic_deflection = Var::output("elastic.deflection", "m", "Deflection of the follower chain table.x_kin - table.x, play included (elastodynamic level)").depends(ON_PHI).needs(stage::ELASTIC),
         elastic_F = Var::output("elastic.F", "N", "Dynamic force of the cam on the table along +x (0 while the roller crosses the play; elastodynamic level)").depends(ON_PHI_W).needs(stage::ELASTIC),
         dyn_factor = Var::output("dyn.factor", "", concat!("Dynamic factor K_d: peak |elastic.F| over the peak rigid (kinetostatic) cam force along x, of the last complete shaft turn (the running one before), the peaks taken ", crate::at_accepted_steps!(), " (elastodynamic level)")).needs(stage::ELASTIC),
-        contact_liftoffs = Var::int_output("contact.liftoffs", "Times the roller left a slot flank: contact-opening events, located by the FMU's integrator in Co-Simulation, by the host in Model Exchange (with play; elastodynamic level)").needs(stage::ELASTIC).event(),
-        contact_F_impact = Var::output("contact.F_impact", "N", concat!("Largest cam force after a landing of the roller on a flank, taken ", crate::at_accepted_steps!(), " (with play; elastodynamic level)")).needs(stage::ELASTIC),
+        @with crate::chain_variables { contact(stage::ELASTIC;
+            "Times the roller left a slot flank",
+            "cam force after a landing of the roller on a flank",
+            "with play; elastodynamic level",
+        ) },
         @with crate::chain_variables { results(stage::ELASTIC) },
         // ---- Model Exchange states of the elastodynamic level and their derivatives
         @with crate::chain_variables { states(stage::ELASTIC, length;
@@ -372,6 +375,28 @@ impl Wants {
     }
 }
 
+/// The rigid (kinetostatic) forces on the motion `k` at the shaft acceleration `a` where
+/// `wanted` (zero otherwise; the Hertz stress with `hertz`, [`Params::forces_with`]), with
+/// `cam.rho` put: the loaded flank's radius of curvature, infinite at an inflection of the pitch
+/// curve and reported as 1000 m there.
+fn rigid_forces<T: Scalar>(
+    p: &Params,
+    k: &Kinematics<T>,
+    a: T,
+    f_ext: T,
+    wanted: bool,
+    hertz: bool,
+    put: &mut impl FnMut(V, T),
+) -> Forces<T> {
+    let f = if wanted {
+        p.forces_with(k, a, f_ext, hertz)
+    } else {
+        Forces::zero()
+    };
+    put(V::cam_rho, clamp_of(f.rho_flank, -1000.0, 1000.0));
+    f
+}
+
 /// The outputs below the elastodynamic level that `evaluate` does not write (held), and the
 /// Model Exchange state derivatives there (0, as `fmi2GetDerivatives` gives): derivative 0.
 const HELD_BELOW_ELASTIC: [V; 7] = [
@@ -447,12 +472,7 @@ impl SewingTable {
             put(V::cam_theta, k.theta);
             put(V::elastic_deflection, pt.delta);
             put(V::elastic_F, pt.f_c);
-            let rigid = if w.flank {
-                p.forces_with(&k, st.a, f_ext, w.hertz)
-            } else {
-                Forces::zero()
-            };
-            put(V::cam_rho, clamp_of(rigid.rho_flank, -1000.0, 1000.0));
+            let rigid = rigid_forces(p, &k, st.a, f_ext, w.flank, w.hertz, &mut put);
             put(V::table_F_inertia, pt.xdd * -m);
             put(V::table_F_friction, -pt.f_fr);
             put(V::cam_F, pt.f_c / k.theta.cos());
@@ -504,13 +524,7 @@ impl SewingTable {
                 put(V::table_v, k.v);
                 put(V::table_a, k.a);
                 put(V::cam_theta, k.theta);
-                let f = if w.forces {
-                    p.forces_with(&k, st.a, f_ext, w.hertz)
-                } else {
-                    Forces::zero()
-                };
-                // at an inflection of the pitch curve the radius is infinite: reported as 1000 m
-                put(V::cam_rho, clamp_of(f.rho_flank, -1000.0, 1000.0));
+                let f = rigid_forces(p, &k, st.a, f_ext, w.forces, w.hertz, &mut put);
                 if w.kinetostatic {
                     put(V::table_F_inertia, f.f_inertia);
                     put(V::table_F_friction, f.f_friction);
@@ -672,8 +686,6 @@ mod tests {
     /// gap (tests/partials.rs checks the default FMU over the C ABI).
     #[test]
     fn partials_equal_central_differences() {
-        let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a, V::table_F_ext];
-        let states = [V::elastic_x, V::elastic_xd, V::elastic_W];
         // level, table.kind, drive.mode, phi, w, a, time, cam.clearance, chain deflection
         for (level, kind, mode, phi, w, a, time, clearance, delta) in [
             (1.0, 1.0, 1.0, 0.5, 10.0, 3.0, 0.0, 0.0, 0.0),
@@ -695,9 +707,7 @@ mod tests {
             v[V::cam_clearance] = clearance;
             v[V::table_F_ext] = 40.0;
             let mut m = SewingTable::prepare(&v).unwrap();
-            v[V::shaft_phi] = phi;
-            v[V::shaft_w] = w;
-            v[V::shaft_a] = a;
+            check::set_shaft(&mut v, phi, w, a);
             m.evaluate(&mut v, time, &mut NoLog);
             let elastic = level == 3.0;
             if elastic {
@@ -709,8 +719,8 @@ mod tests {
                 &mut m,
                 &v,
                 time,
-                &inputs,
-                if elastic { &states } else { &[] },
+                &[V::table_F_ext],
+                elastic,
                 // the table's position on the scale of the chain's deflection
                 |k, x| {
                     if k == V::elastic_x {

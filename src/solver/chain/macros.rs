@@ -19,6 +19,10 @@
 /// - `spring(STAGE; k, "k ...", "zeta ...")`: `elastic.k` (default `k`) and `elastic.zeta` of a
 ///   chain that is a spring-damper ([`crate::solver::vars::stiffness`],
 ///   [`crate::solver::vars::damping_ratio`]), described, feeding the stage.
+/// - `contact(STAGE; "Times the roller ...", "... force ...", "scope")`: `contact.liftoffs` (the
+///   roller's contact-opening events, counted) and `contact.F_impact` (the largest force after a
+///   landing, taken at the accepted steps) of a chain whose roller can lift off, needing the
+///   stage; the count's opening, the force's subject and the scope in brackets described.
 #[macro_export]
 macro_rules! chain_variables {
     (@callback $head:tt $done:tt { states($s:expr, $coordinate:ident; $x:literal, $xd:literal, $w:literal $(,)?) } $( $rest:tt )*) => {
@@ -42,6 +46,12 @@ macro_rules! chain_variables {
         $crate::model_variables!(@munch $head [ $( $done )*
             (elastic_k = $crate::solver::vars::stiffness($k, $dk).feeds($s))
             (elastic_zeta = $crate::solver::vars::damping_ratio($dz).feeds($s))
+        ] $( $rest )*);
+    };
+    (@callback $head:tt [ $( $done:tt )* ] { contact($s:expr; $liftoffs:literal, $impact:literal, $scope:literal $(,)?) } $( $rest:tt )*) => {
+        $crate::model_variables!(@munch $head [ $( $done )*
+            (contact_liftoffs = $crate::model::Var::int_output("contact.liftoffs", concat!($liftoffs, ": contact-opening events, located by the FMU's integrator in Co-Simulation, by the host in Model Exchange (", $scope, ")")).needs($s).event())
+            (contact_F_impact = $crate::model::Var::output("contact.F_impact", "N", concat!("Largest ", $impact, ", taken ", $crate::at_accepted_steps!(), " (", $scope, ")")).needs($s))
         ] $( $rest )*);
     };
     (@callback $head:tt [ $( $done:tt )* ] { solver($( $s:expr )?) } $( $rest:tt )*) => {

@@ -162,8 +162,6 @@ fn the_lift_off_flag_spans_the_hosts_steps_through_their_events() {
 #[test]
 fn partials_equal_central_differences() {
     use crate::model::partials::check;
-    let inputs = [V::shaft_phi, V::shaft_w, V::shaft_a];
-    let states = [V::elastic_q, V::elastic_qd, V::elastic_W];
     // level, drive.mode, phi, w, a, time, extra deflection of the lever (elastodynamic)
     for (level, mode, phi, w, a, time, dq) in [
         (1.0, 1.0, 0.5, 10.0, 3.0, 0.0, 0.0),
@@ -181,9 +179,7 @@ fn partials_equal_central_differences() {
         v[V::model_fidelity] = level;
         v[V::drive_mode] = mode;
         let mut m = Perforators::prepare(&v).unwrap();
-        v[V::shaft_phi] = phi;
-        v[V::shaft_w] = w;
-        v[V::shaft_a] = a;
+        check::set_shaft(&mut v, phi, w, a);
         // the elastodynamic level's penetration is the difference of two nearly equal roller
         // positions: its forces carry their rounding, some 1e-11 of the force
         let elastic = level == 3.0;
@@ -198,8 +194,8 @@ fn partials_equal_central_differences() {
             &mut m,
             &v,
             time,
-            &inputs,
-            if elastic { &states } else { &[] },
+            &[],
+            elastic,
             // the lever's deflection on the scale of the contact's penetration
             |k, x| {
                 if k == V::elastic_q {
