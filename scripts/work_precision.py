@@ -6,7 +6,8 @@ error estimate filters the stiff ringing of an undamped 1e12 N/m chain, Dormand-
 usage: .venv/bin/python scripts/work_precision.py [--fmu GenevaKnifeDrive] [--x knife.s]
        [--k-name elastic.k] [--k 5e7] [--zeta 0.05] [--rpm 30] [--stop 2.0]
 Prints one JSON object per run: method, tol, error (max |x - ref| in m over the output
-grid), seconds (median of 3)."""
+grid), seconds (the median of at least --repeat runs, repeated until they took --min-total
+seconds together, at most 51: a run of 10 ms alone moves by a third with the machine's load)."""
 
 from __future__ import annotations
 
@@ -35,7 +36,8 @@ def main() -> None:
     ap.add_argument("--zeta", type=float, default=None, help="elastic.zeta (default: the FMU's)")
     ap.add_argument("--stop", type=float, default=2.0)
     ap.add_argument("--dt", type=float, default=1e-3)
-    ap.add_argument("--repeat", type=int, default=3)
+    ap.add_argument("--repeat", type=int, default=3, help="at least this many runs of each")
+    ap.add_argument("--min-total", type=float, default=0.3, help="runs go on until they took this long, s")
     ap.add_argument("--only", default="", help="comma-separated methods (auto, dopri5, radau5, rk4, fmpy-cvode-me)")
     a = ap.parse_args()
     unzip = extract(str(ROOT / "out" / "fmus" / f"{a.fmu}.fmu"))
@@ -48,9 +50,9 @@ def main() -> None:
     if a.rpm is not None:
         base["drive.n"] = a.rpm * np.pi / 30.0
 
-    def run(fmi_type, start, **kw):
+    def run(fmi_type, start, repeat=True, **kw):
         times, res = [], None
-        for _ in range(a.repeat):
+        while not times or repeat and (len(times) < a.repeat or sum(times) < a.min_total) and len(times) < 51:
             t0 = time.perf_counter()
             res = simulate_fmu(unzip, fmi_type=fmi_type, start_time=0.0, stop_time=a.stop,
                                output_interval=a.dt, start_values=dict(base, **start),
@@ -58,7 +60,7 @@ def main() -> None:
             times.append(time.perf_counter() - t0)
         return res, statistics.median(times)
 
-    ref, _ = run("CoSimulation", {"solver.method": 2, "solver.rtol": 1e-11, "solver.atol": 1e-14})
+    ref, _ = run("CoSimulation", {"solver.method": 2, "solver.rtol": 1e-11, "solver.atol": 1e-14}, repeat=False)
     grid = ref["time"]
 
     def err(r):

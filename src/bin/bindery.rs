@@ -36,6 +36,8 @@ mod report;
 mod scene;
 #[path = "bindery/sweep.rs"]
 mod sweep;
+#[path = "bindery/timing.rs"]
+mod timing;
 
 use bindery_fmu::catalog::{self, Entry};
 use bindery_fmu::package::{self, Binaries, Fmi, FmuContents};

@@ -1,9 +1,10 @@
 //! The report's anchors: each case's chain ODE as the model builds it at the case's parameters
 //! (`ChainAccess`), integrated in this process by our methods (in calls of 1 ms, as inside
 //! `fmi2DoStep`) and by a kept library, `differential-equations` (its Radau5 and DOPRI5, in the
-//! same calls of 1 ms, the same right-hand side and Jacobian): the largest error of the first state on that grid against a reference (our
-//! dopri5 at rtol 1e-11, else radau5), the time (median of 3 runs) and the counts, which do not
-//! depend on the machine's load.
+//! same calls of 1 ms, the same right-hand side and Jacobian): the largest error of the first
+//! state on that grid against a reference (our dopri5 at rtol 1e-11, else radau5), the time (the
+//! median of repeated runs, [`crate::timing::timed`]) and the counts, which do not depend on the
+//! machine's load.
 
 use crate::report::{Case, case_values};
 use bindery_fmu::mechanisms::disc_knife_drive::DiscKnifeDrive;
@@ -15,7 +16,6 @@ use bindery_fmu::solver::chain::ChainAccess;
 use bindery_fmu::solver::library::Library;
 use bindery_fmu::solver::{Integrator, Method, OdeSystem, Settings, Stats};
 use differential_equations::prelude::*;
-use std::time::Instant;
 
 /// Work of one run.
 #[derive(Clone, Copy, Debug, Default)]
@@ -199,18 +199,7 @@ fn on_ode(
     let mut all = vec![];
     for &rtol in tols {
         for (method, runner) in RUNNERS {
-            let once = || run(o, y0, n, runner, rtol, atol(c, rtol));
-            let mut times = vec![];
-            let mut last = Err(String::new());
-            for _ in 0..3 {
-                let t0 = Instant::now();
-                last = once();
-                times.push(t0.elapsed().as_secs_f64());
-                if last.is_err() {
-                    break;
-                }
-            }
-            times.sort_by(f64::total_cmp);
+            let (secs, last) = crate::timing::timed(|| run(o, y0, n, runner, rtol, atol(c, rtol)));
             let a = match last {
                 Ok((xs, counts)) => Anchor {
                     method,
@@ -221,7 +210,7 @@ fn on_ode(
                             .map(|(a, b)| (a - b).abs())
                             .fold(0.0, f64::max),
                     ),
-                    secs: times[times.len() / 2],
+                    secs,
                     counts,
                     note: String::new(),
                 },
@@ -229,7 +218,7 @@ fn on_ode(
                     method,
                     rtol,
                     err: None,
-                    secs: times[0],
+                    secs,
                     counts: Counts::default(),
                     note: e.chars().take(90).collect(),
                 },
