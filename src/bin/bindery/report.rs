@@ -313,15 +313,14 @@ fn only_cases(only: &[String]) -> Result<Vec<Case>, String> {
         .collect())
 }
 
-/// Per method, its time at the target error.
-type MethodTimes = Vec<(String, Option<f64>)>;
+/// Per method, its work-precision line: `(seconds, error)` of its runs, sorted by time.
+type MethodLines = Vec<(String, Vec<(f64, f64)>)>;
 
 /// The error at which methods are compared (`dynamics.md` benchmark: equal error 1e-6), m.
 const TARGET: f64 = 1e-6;
 
-/// Per method line, the wall time at which its position error reaches `target`, interpolated
-/// log–log between the two runs of its ladder that bracket it (None: no run that reaches it).
-fn equal_error_times(pts: &[Point], target: f64) -> MethodTimes {
+/// Per method, its work-precision line (the runs with an error and a time, sorted by time).
+fn method_lines(pts: &[Point]) -> MethodLines {
     let mut names: Vec<&str> = vec![];
     for p in pts {
         if !names.contains(&p.method.as_str()) && !p.method.contains("ladder") {
@@ -337,9 +336,24 @@ fn equal_error_times(pts: &[Point], target: f64) -> MethodTimes {
                 .filter_map(|p| p.err.map(|(e, _)| (p.secs, e)))
                 .collect();
             run.sort_by(|a, b| a.0.total_cmp(&b.0));
-            (n.to_string(), time_at(&run, target))
+            (n.to_string(), run)
         })
         .collect()
+}
+
+/// The largest error a line reaches (its coarsest run).
+fn coarsest(run: &[(f64, f64)]) -> f64 {
+    run.iter().map(|r| r.1).fold(f64::NAN, f64::max)
+}
+
+/// Time of line `a` over time of line `b` at equal error: at [`TARGET`], or where one of them
+/// has no run as coarse as that, at the coarsest error both reach (a line whose cheapest run is
+/// already more accurate than the target is not slower there than that run, and a ratio taken
+/// at that run's time would compare two errors). With the error compared at when it is not
+/// [`TARGET`].
+fn ratio_at_equal_error(a: &[(f64, f64)], b: &[(f64, f64)]) -> Option<(f64, f64)> {
+    let e = TARGET.min(coarsest(a)).min(coarsest(b));
+    Some((time_at(a, e)? / time_at(b, e)?, e))
 }
 
 /// The time at which a work-precision line `(seconds, error)` (sorted by time) first reaches
@@ -358,44 +372,55 @@ fn time_at(run: &[(f64, f64)], target: f64) -> Option<f64> {
 /// The benchmark figures of issue 5: at equal error, FMPy + CVode on the Model Exchange
 /// interface against the FMU's own `auto` in the same FMPy loop, and `auto` against the best
 /// fixed internal method.
-fn summary_table(summary: &[(Case, MethodTimes)]) -> String {
+fn summary_table(summary: &[(Case, MethodLines)]) -> String {
     let mut md = format!(
-        "\n## At equal error ({TARGET:e} in position: m, rad for the Perforators' lever)\n\nWall time at which each method's error reaches {TARGET:e} m (log–log interpolation on its ladder; – where none does).\n\n| case | auto | dopri5 | radau5 | rk4 | library radau5 | library dopri5 | best fixed ÷ auto | auto, same ODE | faster library ÷ auto (same ODE) | FMPy: CS auto | FMPy: CVode on ME | CVode ÷ our CS (FMPy loop) |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
+        "\n## At equal error ({TARGET:e} in position: m, rad for the Perforators' lever)\n\nWall time at which each method's error reaches {TARGET:e} m (log–log interpolation on its ladder; – where none does; ≤ where even its cheapest run is more accurate, so its time at {TARGET:e} is at most that run's). A ratio compares two lines at {TARGET:e}, or, where one of them has no run as coarse as that, at the coarsest error both reach, given in brackets; of several methods (best fixed, faster library) the one that does best against `auto`.\n\n| case | auto | dopri5 | radau5 | rk4 | library radau5 | library dopri5 | best fixed ÷ auto | auto, same ODE | faster library ÷ auto (same ODE) | FMPy: CS auto | FMPy: CVode on ME | CVode ÷ our CS (FMPy loop) |\n| --- | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: | ---: |\n"
     );
-    let fmt = |t: Option<f64>| t.map_or("–".to_string(), |t| format!("{t:.4} s"));
-    for (c, times) in summary {
-        let get = |n: &str| times.iter().find(|(m, _)| m == n).and_then(|(_, t)| *t);
-        let auto = get("auto");
-        let best_fixed = ["dopri5", "radau5", "rk4"]
-            .iter()
-            .filter_map(|n| get(n))
-            .min_by(f64::total_cmp);
-        let ratio = |a: Option<f64>, b: Option<f64>| match (a, b) {
-            (Some(a), Some(b)) => format!("{:.2}", a / b),
-            _ => "–".into(),
+    for (c, lines) in summary {
+        let line = |n: &str| {
+            lines
+                .iter()
+                .find(|(m, _)| m == n)
+                .map_or(&[][..], |(_, r)| &r[..])
         };
-        let best_library = ["library radau5", "library dopri5"]
-            .iter()
-            .filter_map(|n| get(n))
-            .min_by(f64::total_cmp);
-        let (fa, fc) = (get("FMPy: CS auto"), get("FMPy: CVode on ME"));
+        let fmt = |n: &str| {
+            let run = line(n);
+            match time_at(run, TARGET) {
+                Some(t) if coarsest(run) < TARGET => format!("≤ {t:.4} s"),
+                Some(t) => format!("{t:.4} s"),
+                None => "–".into(),
+            }
+        };
+        // the smallest ratio of any of `over` to `under`, with the error it was taken at
+        let ratio = |over: &[&str], under: &str| {
+            over.iter()
+                .filter_map(|n| ratio_at_equal_error(line(n), line(under)))
+                .min_by(|a, b| a.0.total_cmp(&b.0))
+                .map_or("–".into(), |(r, e)| {
+                    if e < TARGET {
+                        format!("{r:.2} ({e:.1e})")
+                    } else {
+                        format!("{r:.2}")
+                    }
+                })
+        };
         let _ = writeln!(
             md,
             "| {} {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} | {} |",
             c.mech,
             c.label,
-            fmt(auto),
-            fmt(get("dopri5")),
-            fmt(get("radau5")),
-            fmt(get("rk4")),
-            fmt(get("library radau5")),
-            fmt(get("library dopri5")),
-            ratio(best_fixed, auto),
-            fmt(get("auto, same ODE")),
-            ratio(best_library, get("auto, same ODE")),
-            fmt(fa),
-            fmt(fc),
-            ratio(fc, fa)
+            fmt("auto"),
+            fmt("dopri5"),
+            fmt("radau5"),
+            fmt("rk4"),
+            fmt("library radau5"),
+            fmt("library dopri5"),
+            ratio(&["dopri5", "radau5", "rk4"], "auto"),
+            fmt("auto, same ODE"),
+            ratio(&["library radau5", "library dopri5"], "auto, same ODE"),
+            fmt("FMPy: CS auto"),
+            fmt("FMPy: CVode on ME"),
+            ratio(&["FMPy: CVode on ME"], "FMPy: CS auto")
         );
     }
     md
@@ -595,7 +620,7 @@ pub fn report(out: &Option<PathBuf>, with_fmpy: bool, only: &[String]) -> Result
         }
         let _ = writeln!(md, "\n![{}]({file}) ([SVG]({stem}.svg))", fig.title);
         md.push_str(&crate::anchors::counts_table(&anchors));
-        summary.push((c, equal_error_times(&pts, TARGET)));
+        summary.push((c, method_lines(&pts)));
         // written after every case, so a long run leaves what it has
         let partial = md.clone() + &summary_table(&summary);
         std::fs::write(out.join("report.md"), partial).map_err(|e| e.to_string())?;
@@ -609,7 +634,7 @@ pub fn report(out: &Option<PathBuf>, with_fmpy: bool, only: &[String]) -> Result
 
 #[cfg(test)]
 mod tests {
-    use super::time_at;
+    use super::{TARGET, ratio_at_equal_error, time_at};
 
     #[test]
     fn equal_error_time_is_interpolated_log_log_between_the_bracketing_runs() {
@@ -623,5 +648,23 @@ mod tests {
         // a non-monotone ladder: the first run at or below the target counts
         let t = time_at(&[(1.0, 1e-5), (2.0, 3e-5), (4.0, 1e-7)], 1e-6).unwrap();
         assert!(t > 2.0 && t < 4.0, "{t}");
+    }
+
+    #[test]
+    fn a_ratio_is_taken_at_an_error_both_lines_reach() {
+        // both bracket the target: at the target, error ∝ time^-2 and ∝ time^-4
+        let a = [(1e-3, 1e-4), (1e-1, 1e-8)];
+        let b = [(1e-3, 1e-2), (1e-2, 1e-6), (1e-1, 1e-10)];
+        let (r, e) = ratio_at_equal_error(&a, &b).unwrap();
+        assert_eq!(e, TARGET);
+        assert!((r - 1.0).abs() < 1e-9, "{r}");
+        // `c`'s cheapest run is already at 1e-8, 100 times below the target, in 2 ms: against
+        // `a` at 1e-8 (100 ms), not at 1e-6 (10 ms), which would compare 1e-8 with 1e-6
+        let c = [(2e-3, 1e-8), (1e-2, 1e-10)];
+        let (r, e) = ratio_at_equal_error(&a, &c).unwrap();
+        assert_eq!(e, 1e-8);
+        assert!((r - 50.0).abs() < 1e-9, "{r}");
+        // a line with no run at all: no ratio
+        assert_eq!(ratio_at_equal_error(&a, &[]), None);
     }
 }
