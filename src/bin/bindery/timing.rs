@@ -19,16 +19,21 @@ pub fn timed<T>(mut once: impl FnMut() -> Result<T, String>) -> (f64, Result<T, 
         let t0 = Instant::now();
         let r = once();
         times.push(t0.elapsed().as_secs_f64());
-        let total: f64 = times.iter().sum();
-        let enough = times.len() >= MIN_RUNS && (total >= MIN_TOTAL || times.len() >= MAX_RUNS);
         if r.is_err() {
             return (times[times.len() - 1], r);
         }
-        if enough {
+        if enough(&times) {
             times.sort_by(f64::total_cmp);
             return (times[times.len() / 2], r);
         }
     }
+}
+
+/// Whether the runs that took `times` (s) are enough: at least [`MIN_RUNS`], and together
+/// [`MIN_TOTAL`] or [`MAX_RUNS`] of them.
+fn enough(times: &[f64]) -> bool {
+    let total: f64 = times.iter().sum();
+    times.len() >= MIN_RUNS && (total >= MIN_TOTAL || times.len() >= MAX_RUNS)
 }
 
 #[cfg(test)]
@@ -36,29 +41,22 @@ mod tests {
     use super::*;
 
     #[test]
-    fn repeats_short_runs_and_stops_at_an_error() {
-        let mut n = 0;
-        let (secs, r) = timed(|| {
-            n += 1;
-            Ok::<_, String>(n)
-        });
-        // a run of nothing: the cap
-        assert_eq!((r, n), (Ok(MAX_RUNS), MAX_RUNS));
-        assert!(secs < 1e-3);
+    fn short_runs_are_repeated_to_the_total_long_ones_three_times() {
+        // runs of 40 ms: three (120 ms); of 1/64 s: seven (109 ms); of 1 µs: the cap
+        assert!(!enough(&[0.04; 2]) && enough(&[0.04; 3]));
+        assert!(!enough(&[0.015625; 6]) && enough(&[0.015625; 7]));
+        assert!(!enough(&[1e-6; MAX_RUNS - 1]) && enough(&[1e-6; MAX_RUNS]));
+        // a slow first run does not end it before three
+        assert!(!enough(&[1.0, 1.0]));
+    }
+
+    #[test]
+    fn an_error_ends_the_runs_with_it() {
         let mut m = 0;
         let (_, r) = timed(|| {
             m += 1;
             if m == 2 { Err("no".to_string()) } else { Ok(m) }
         });
         assert_eq!((r, m), (Err("no".to_string()), 2));
-        // a run of 40 ms: three runs
-        let mut k = 0;
-        let (secs, _) = timed(|| {
-            k += 1;
-            std::thread::sleep(std::time::Duration::from_millis(40));
-            Ok::<_, String>(())
-        });
-        assert_eq!(k, MIN_RUNS);
-        assert!(secs >= 0.04);
     }
 }
