@@ -371,7 +371,7 @@ fn the_energy_balance_holds_across_events_at_the_tolerance() {
     // of an event (a phase boundary, the knife reaching the stack or cutting through), a step
     // after it passed with far more error than the tolerance allows, seen as a jump of the energy
     // balance (the sewing table at 400 rpm: 3.3e-5 of its energy scale; Geneva in 2 ms calls:
-    // 4.8e-7). The integrator takes a new Jacobian at each event: at most 1.5e-6 and 3.8e-8 of
+    // 4.8e-7). The integrator takes a new Jacobian at each event: at most 5.2e-7 and 2.2e-8 of
     // the scale over these runs (measured)
     let rtol = 1e-6;
     for rpm in [100.0, 200.0, 400.0] {

@@ -752,9 +752,18 @@ impl Integrator {
                 ));
             }
             if !fixed {
-                // do not let the last (shortened) step or an event shrink the memory
-                let base = if (last || hacc < hs) && h > hs { h } else { hs };
-                h = (base * ratio).min(max_step);
+                // a step cut short of the one the error allowed (the call's end, an event): that
+                // one shrinks in proportion to the short step's error, and grows only to what the
+                // error allows the short step itself (Hairer's new step after his last). Its small
+                // error says little of the longer step's: grown by it, the next call's first
+                // attempt failed
+                let shortened = (last || hacc < hs) && h > hs;
+                h = if shortened {
+                    (h * ratio.min(1.0)).max(hs * ratio)
+                } else {
+                    hs * ratio
+                }
+                .min(max_step);
                 if hacc == hs {
                     self.mem.h_next = h;
                 }

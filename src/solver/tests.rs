@@ -812,3 +812,32 @@ fn auto_checks_stability_every_twenty_steps_across_calls() {
         back - soft_at
     );
 }
+
+#[test]
+fn a_call_cut_short_at_its_end_does_not_grow_the_next_calls_first_step() {
+    // calls of 1 ms whose last step is cut to the call's end: its error, tiny where the cut is
+    // short, grew the step beyond what the error allows, and the next call's first attempt failed
+    // (before: 249 rejected attempts in 607 steps at 4e6, rtol 1e-3; now none, and at most 8 %
+    // in the other runs, the controller's own)
+    for (k, rtol) in [(4e6, 1e-3), (4e6, 1e-6), (1e7, 1e-6), (1e8, 1e-8)] {
+        let o = Osc { k, c: 0.0, m: 1.0 };
+        let mut it = Integrator::new(Settings {
+            method: Method::Dopri5,
+            rtol,
+            atol: rtol * 1e-3,
+            max_step: 0.0,
+            max_steps: 100_000,
+        });
+        let mut y = [1.0, 0.0];
+        let mut total = Stats::default();
+        for i in 0..200 {
+            let (a, b) = (i as f64 * 1e-3, (i + 1) as f64 * 1e-3);
+            total.add(&it.integrate(&o, a, b, &mut y).unwrap());
+        }
+        assert!(total.steps > 400, "steps shorter than a call: {total:?}");
+        assert!(
+            10 * total.rejected <= total.steps,
+            "k {k}, rtol {rtol}: {total:?}"
+        );
+    }
+}
