@@ -99,11 +99,12 @@ use bindery_fmu::mechanisms::perforators::physics::{Drive, Params as PerfParams}
 fn lever(d: &Drive, k: f64, zeta: f64) -> LeverOde<'_> {
     LeverOde {
         d,
-        contact: Contact {
-            law: ContactLaw::Linear,
+        contact: Contact::new(
+            d,
+            ContactLaw::Linear,
             k,
-            c: 2.0 * zeta * (k * LeverOde::reduced_mass(d)).sqrt(),
-        },
+            2.0 * zeta * (k * LeverOde::reduced_mass(d)).sqrt(),
+        ),
         path: ShaftPath::new(0.0, 0.0, 100.0 * std::f64::consts::PI / 30.0, 0.0),
         track: Cell::new(Track::new(0.0)),
         range: LeverOde::linkage_range(d),

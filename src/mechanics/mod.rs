@@ -63,6 +63,8 @@ pub struct SpringDamper {
     pub k: f64,
     /// Damping c, N·s/m.
     pub c: f64,
+    /// Natural angular frequency √(k/m) with the mass m it carries, rad/s.
+    pub omega: f64,
 }
 
 impl SpringDamper {
@@ -71,6 +73,7 @@ impl SpringDamper {
         SpringDamper {
             k,
             c: viscous_damping(k, m, zeta),
+            omega: (k / m).sqrt(),
         }
     }
 

@@ -70,11 +70,33 @@ pub trait ChainOde: OdeSystem {
     }
     /// The chain's energy (kinetic plus spring) at a point.
     fn energy(&self, pt: &Self::Point) -> f64;
+    /// The chain's natural angular frequency √(k/m), rad/s ([`rate_tolerance`]).
+    fn natural_frequency(&self) -> f64;
     /// The states at the start of the integration, time `t` (equilibrium on the rigid motion).
     fn initial_state(&self, t: f64) -> [f64; 3];
     /// The chain's energy at `(t, y)`.
     fn energy_at(&self, t: f64, y: &[f64; 3]) -> f64 {
         self.energy(&self.point(t, y))
+    }
+}
+
+/// How many roundings of the coordinate `x` the rate's absolute tolerance spans at least
+/// ([`rate_tolerance`]).
+pub const RATE_ROUNDINGS: f64 = 1000.0;
+
+/// The absolute tolerance of a chain's state `i` of `y = [x, ẋ, W]`: `atol`, but for the rate
+/// `ẋ` never below `RATE_ROUNDINGS·ε·|x|·ω` (ω [`ChainOde::natural_frequency`]), the rate of an
+/// oscillation whose amplitude is that many roundings of `x`. A rounding of `x` changes the
+/// spring force by `k·ε·|x|` and so `ẋ` by about `h·ω²·ε·|x|` over a step `h`: a stiff chain
+/// (1e12 N/m) with `atol` at the force of a few newtons (3/k) asked `ẋ` for less than that
+/// noise at rest in a dwell, where `ẋ` is 0 and the relative tolerance gives nothing, and Radau
+/// IIA's Newton iteration stalled on the noise (contraction 0.5–0.9) at steps of a few
+/// microseconds.
+pub fn rate_tolerance<O: ChainOde + ?Sized>(o: &O, i: usize, atol: f64, y: &[f64]) -> f64 {
+    if i == 1 {
+        atol.max(RATE_ROUNDINGS * f64::EPSILON * y[0].abs() * o.natural_frequency())
+    } else {
+        atol
     }
 }
 
@@ -623,6 +645,9 @@ mod tests {
         }
         fn energy(&self, &[x, v]: &[f64; 2]) -> f64 {
             0.5 * v * v + 0.5 * self.k * x * x
+        }
+        fn natural_frequency(&self) -> f64 {
+            self.k.sqrt()
         }
         fn initial_state(&self, t: f64) -> [f64; 3] {
             [self.path.at(t).0.sin(), 0.0, 0.0]

@@ -86,7 +86,7 @@ impl Integrator {
     ) -> f64 {
         // Hairer's starting step: h = 0.01 * ||y|| / ||f||, refined by a second derivative.
         let n = y.len();
-        let sc = |i: usize| self.settings.atol + self.settings.rtol * y[i].abs();
+        let sc = |i: usize| sys.abs_tol(i, self.settings.atol, y) + self.settings.rtol * y[i].abs();
         let d0 = (0..n).map(|i| (y[i] / sc(i)).powi(2)).sum::<f64>().sqrt();
         let d1 = (0..n).map(|i| (f0[i] / sc(i)).powi(2)).sum::<f64>().sqrt();
         let h0 = if d0 < 1e-5 || d1 < 1e-5 {
@@ -173,7 +173,7 @@ impl Integrator {
             e[i] =
                 h * (E1 * k1[i] + E3 * k3[i] + E4 * k4[i] + E5 * k5[i] + E6 * k6[i] + E7 * k7[i]);
         }
-        let err = self.norm(sys, &e[..n], y, y1);
+        let err = self.norm(&e[..n], y, y1);
         // Hairer's stiffness estimate: h*|k7 - k6| / |y1 - ys|
         let mut num = 0.0;
         let mut den = 0.0;

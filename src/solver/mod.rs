@@ -167,6 +167,12 @@ pub trait OdeSystem {
     fn error_weight(&self, _i: usize) -> f64 {
         1.0
     }
+    /// The absolute tolerance of state `i` at `y` for [`Settings::atol`] `atol`: `atol` itself
+    /// unless the arithmetic cannot resolve it (a chain's rate,
+    /// [`crate::solver::chain::rate_tolerance`]).
+    fn abs_tol(&self, _i: usize, atol: f64, _y: &[f64]) -> f64 {
+        atol
+    }
 }
 
 /// The magnitude an event function reports while it rests at zero ([`hold_signs`]): far below
@@ -230,6 +236,7 @@ impl Method {
 pub struct Settings {
     pub method: Method,
     pub rtol: f64,
+    /// Absolute tolerance, in the states' units ([`OdeSystem::abs_tol`]).
     pub atol: f64,
     pub max_step: f64,
     /// A cap on the accepted steps of one `integrate` call besides its work budget
@@ -264,6 +271,21 @@ pub struct Integrator {
     pub settings: Settings,
     pub mem: Memory,
     factors: radau::Factors,
+    /// The error norms' weights at the start of the attempt under way (from its state alone:
+    /// nothing to save).
+    scale: Scale,
+}
+
+/// Per state, at an attempt's start `y`: its weight in the error norms
+/// ([`OdeSystem::error_weight`]) and its absolute tolerance ([`OdeSystem::abs_tol`]), asked of
+/// the system once per attempt rather than in every norm; for a Radau IIA attempt also Hairer's
+/// transformed tolerances ([`Integrator::radau_tolerances`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+struct Scale {
+    w: [f64; MAX_DIM],
+    atol: [f64; MAX_DIM],
+    rtol_radau: f64,
+    atol_radau: [f64; MAX_DIM],
 }
 
 /// Where a step attempt starts: the system, time, state and its derivative.
@@ -335,6 +357,22 @@ impl Integrator {
                 ..Memory::default()
             },
             factors: radau::Factors::default(),
+            scale: Scale::default(),
+        }
+    }
+
+    /// [`Scale`] at `y` for an attempt of `stepper`.
+    fn scale_at(&mut self, sys: &dyn OdeSystem, y: &[f64], stepper: Stepper) {
+        for i in 0..y.len() {
+            self.scale.w[i] = sys.error_weight(i);
+            self.scale.atol[i] = sys.abs_tol(i, self.settings.atol, y);
+        }
+        if stepper == Stepper::Radau {
+            let (rtol, atol) = self.radau_tolerances();
+            self.scale.rtol_radau = rtol;
+            for i in 0..y.len() {
+                self.scale.atol_radau[i] = sys.abs_tol(i, atol, y);
+            }
         }
     }
 
@@ -348,16 +386,17 @@ impl Integrator {
         self.mem = m;
     }
 
-    fn norm(&self, sys: &dyn OdeSystem, e: &[f64], y0: &[f64], y1: &[f64]) -> f64 {
+    /// The weighted RMS norm of `e` over a step from `y0` to `y1` ([`Scale`] of the attempt).
+    fn norm(&self, e: &[f64], y0: &[f64], y1: &[f64]) -> f64 {
         let n = e.len();
         let mut s = 0.0;
         let mut m = 0.0;
         for i in 0..n {
-            let w = sys.error_weight(i);
+            let w = self.scale.w[i];
             if w == 0.0 {
                 continue;
             }
-            let sc = self.settings.atol + self.settings.rtol * y0[i].abs().max(y1[i].abs());
+            let sc = self.scale.atol[i] + self.settings.rtol * y0[i].abs().max(y1[i].abs());
             let r = e[i] / sc;
             s += w * r * r;
             m += w;
@@ -797,6 +836,7 @@ impl Integrator {
         st: &mut Stats,
     ) -> Result<Attempt, radau::NewtonFailure> {
         let Start { sys, t, y, .. } = at;
+        self.scale_at(sys, y, stepper);
         match stepper {
             Stepper::Dopri => Ok(self.dopri(at, h, y1, f1, st)),
             Stepper::Rk4 => {

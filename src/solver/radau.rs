@@ -215,21 +215,21 @@ impl NewtonFailure {
 impl Integrator {
     /// Hairer's tolerance transformation for Radau IIA: `rtol' = 0.1·rtol^(2/3)` and `atol'` in
     /// the same ratio to it, so that the error the estimate controls matches the tolerance.
-    fn radau_tolerances(&self) -> (f64, f64) {
+    pub(super) fn radau_tolerances(&self) -> (f64, f64) {
         let s = self.settings;
         let rtol = 0.1 * s.rtol.powf(2.0 / 3.0);
         (rtol, rtol * (s.atol / s.rtol))
     }
 
     /// The weighted RMS norm of `e` with the transformed tolerances, scaled at `y` (Hairer's
-    /// `SCAL`); components of weight 0 left out.
-    pub(super) fn radau_norm(&self, sys: &dyn OdeSystem, e: &[f64], y: &[f64]) -> f64 {
-        let (rtol, atol) = self.radau_tolerances();
+    /// `SCAL`; the attempt's [`super::Scale`]); components of weight 0 left out.
+    pub(super) fn radau_norm(&self, e: &[f64], y: &[f64]) -> f64 {
+        let rtol = self.scale.rtol_radau;
         let (mut s, mut m) = (0.0, 0.0);
         for i in 0..e.len() {
-            let w = sys.error_weight(i);
+            let w = self.scale.w[i];
             if w != 0.0 {
-                let r = e[i] / (atol + rtol * y[i].abs());
+                let r = e[i] / (self.scale.atol_radau[i] + rtol * y[i].abs());
                 s += w * r * r;
                 m += w;
             }
@@ -280,7 +280,7 @@ impl Integrator {
         let Start { sys, t, y, f0 } = at;
         let n = y.len();
         let tb = tab();
-        let (rtol, _) = self.radau_tolerances();
+        let rtol = self.scale.rtol_radau;
         let fnewt = (10.0 * f64::EPSILON / rtol).max(0.03f64.min(rtol.sqrt()));
         let mut factors = std::mem::take(&mut self.factors);
         let Some(fa) = factors.of(n, &self.mem.radau.jac, self.mem.radau.lu_h) else {
@@ -344,7 +344,7 @@ impl Integrator {
             }
             let mut sq = 0.0;
             for s in 0..3 {
-                sq += self.radau_norm(sys, &dw[s * n..(s + 1) * n], y).powi(2);
+                sq += self.radau_norm(&dw[s * n..(s + 1) * n], y).powi(2);
             }
             let dyno = (sq / 3.0).sqrt();
             if !dyno.is_finite() {
@@ -419,7 +419,7 @@ impl Integrator {
             e[i] = f2[i] + f0[i];
         }
         fa.e1.solve(&mut e);
-        let mut err = self.radau_norm(sys, &e[..n], y).max(1e-10);
+        let mut err = self.radau_norm(&e[..n], y).max(1e-10);
         if err >= 1.0 && (self.mem.rejected || self.mem.stats.steps + st.steps == 0) {
             let mut yp = [0.0; MAX_DIM];
             for i in 0..n {
@@ -432,7 +432,7 @@ impl Integrator {
                 e[i] = fp[i] + f2[i];
             }
             fa.e1.solve(&mut e);
-            err = self.radau_norm(sys, &e[..n], y).max(1e-10);
+            err = self.radau_norm(&e[..n], y).max(1e-10);
         }
         self.factors = factors;
         sys.rhs(t + h, y1, f1);

@@ -235,8 +235,8 @@ fn estimate_and_truth(
         .err;
     let e: Vec<f64> = y1.iter().zip(exact(t0 + h)).map(|(a, b)| a - b).collect();
     let truth = match method {
-        Stepper::Radau => it.radau_norm(sys, &e, &y0),
-        _ => it.norm(sys, &e, &y0, &y1),
+        Stepper::Radau => it.radau_norm(&e, &y0),
+        _ => it.norm(&e, &y0, &y1),
     };
     (est, truth)
 }

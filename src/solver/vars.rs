@@ -29,7 +29,7 @@ pub fn atol() -> Var {
         "solver.atol",
         1e-9,
         "",
-        "Absolute tolerance of the adaptive integrators, in the states' SI units (elastodynamic level)",
+        "Absolute tolerance of the adaptive integrators, in the states' SI units; a chain's rate is never asked for less than the arithmetic resolves, 1000 roundings of its coordinate times its natural angular frequency sqrt(k/m) (elastodynamic level)",
     )
     .min(1e-20)
     .max(1.0)

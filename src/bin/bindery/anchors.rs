@@ -121,6 +121,8 @@ fn library_call(
 ) -> Result<(), String> {
     let lib = Library(o);
     let ivp = IVP::ode(&lib, a, b, *y);
+    // the absolute tolerance per state as ours at the call's start ([`OdeSystem::abs_tol`])
+    let atol: [f64; 3] = std::array::from_fn(|i| o.abs_tol(i, atol, &y[..]));
     let sol = if radau {
         ivp.method(
             ImplicitRungeKutta::radau5()

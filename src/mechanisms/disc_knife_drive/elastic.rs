@@ -493,6 +493,9 @@ impl ChainOde for RodOde<'_> {
     fn energy(&self, pt: &Point) -> f64 {
         self.energy_of(pt)
     }
+    fn natural_frequency(&self) -> f64 {
+        self.spring.omega
+    }
     /// The state in equilibrium on the rigid motion at time t: the rod shortened by the
     /// kinetostatic rod force over k (none where that is over 5 % of the rod's length: a
     /// start at the jamming wedge), the slider at the rigid velocity.
@@ -561,6 +564,9 @@ impl OdeSystem for RodOde<'_> {
     }
     fn error_weight(&self, i: usize) -> f64 {
         if i == 2 { 0.0 } else { 1.0 }
+    }
+    fn abs_tol(&self, i: usize, atol: f64, y: &[f64]) -> f64 {
+        crate::solver::chain::rate_tolerance(self, i, atol, y)
     }
     fn on_step(&self, t: f64, y: &[f64]) {
         let r = self.rigid(t);

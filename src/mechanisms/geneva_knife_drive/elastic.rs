@@ -206,6 +206,9 @@ impl ChainOde for KnifeOde<'_> {
     fn energy(&self, pt: &Point) -> f64 {
         self.energy_of(pt)
     }
+    fn natural_frequency(&self) -> f64 {
+        self.spring.omega
+    }
     /// The state in static equilibrium on the rigid motion at time t: at rest relative to the
     /// chain, the spring holding the weight.
     fn initial_state(&self, t: f64) -> [f64; 3] {

@@ -59,6 +59,10 @@ pub struct Contact {
     pub law: ContactLaw,
     pub k: f64,
     pub c: f64,
+    /// Natural angular frequency of the lever on the contact, rad/s: √(k_δ/m_red), k_δ the
+    /// law's slope at the spring's preload in the loading dwell, m_red
+    /// [`LeverOde::reduced_mass`] (1 where the preload presses nothing in).
+    pub omega: f64,
 }
 
 impl Contact {
@@ -68,7 +72,19 @@ impl Contact {
             ContactLaw::Hertz => d.p.roller.stiffness(),
             ContactLaw::Linear => k_linear,
         };
-        Contact { law, k, c }
+        let mut contact = Contact {
+            law,
+            k,
+            c,
+            omega: 1.0,
+        };
+        let preload = d.forces(&d.kinematics(d.cyc.phi0 - 0.1, 0.0, 0.0)).roller_f;
+        let omega =
+            (contact.elastic(contact.penetration_of(preload)).1 / LeverOde::reduced_mass(d)).sqrt();
+        if omega.is_finite() && omega > 0.0 {
+            contact.omega = omega;
+        }
+        contact
     }
 
     /// Elastic force at penetration δ and its slope (any [`Scalar`]).
@@ -432,6 +448,9 @@ impl ChainOde for LeverOde<'_> {
     /// Energy of lever, carriage, spring 13, weight and contact, table frame, J.
     fn energy(&self, pt: &Point) -> f64 {
         self.energy_of(pt)
+    }
+    fn natural_frequency(&self) -> f64 {
+        self.contact.omega
     }
     /// The lever in equilibrium on its rigid motion at time t: pressed in by the kinetostatic
     /// contact force (on the ramp without force if that is negative), at the rigid normal speed.

@@ -508,12 +508,7 @@ impl Model for Perforators {
             v[V::perforators_stroke] = d.stroke;
             v[V::table_stroke] = d.cyc.h;
         }
-        let c = self
-            .dynamic
-            .as_ref()
-            .map(|dy| dy.model.contact)
-            .unwrap_or_else(|| contact_of(d, v));
-        v[V::contact_K_hertz] = Contact::new(d, ContactLaw::Hertz, c.k, c.c).k;
+        v[V::contact_K_hertz] = d.p.roller.stiffness();
         v[V::contact_m_red] = LeverOde::reduced_mass(d);
         let st = shaft::state(v, time);
         let wants = Wants::of(v);

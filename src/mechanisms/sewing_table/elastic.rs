@@ -158,6 +158,9 @@ impl ChainOde for TableOde<'_> {
     fn energy(&self, pt: &Point) -> f64 {
         self.energy_of(pt)
     }
+    fn natural_frequency(&self) -> f64 {
+        self.spring.omega
+    }
     /// The table in equilibrium on its rigid motion at time t (roller on the flank that holds
     /// the rigid force, the spring carrying it).
     fn initial_state(&self, t: f64) -> [f64; 3] {
@@ -234,5 +237,67 @@ impl OdeSystem for TableOde<'_> {
         let cyc = self.path.cycle(t);
         m.peaks.track(cyc, pt.f_c.abs(), pt.f_rigid.abs());
         self.memory.set(m);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::solver::{Integrator, Method, Settings};
+
+    /// The table on a stiff chain (1e12 N/m, the shaft standing still, as in a dwell), released
+    /// 1 nm from its equilibrium: the ringing decays to the rounding of x within about a
+    /// millisecond. With `atol` at the force of 3 N (3/k), as the report sets it, the rate's
+    /// absolute tolerance (3e-12 m/s) lay below the noise a rounding of x puts into ẋ, and
+    /// Radau IIA's Newton iteration stalled on it at steps of microseconds
+    /// ([`crate::solver::chain::rate_tolerance`]).
+    #[test]
+    fn a_stiff_chain_at_rest_is_not_asked_for_its_rate_below_the_rounding_of_its_position() {
+        let p = Params::default();
+        let k = 1e12;
+        let o = TableOde {
+            p: &p,
+            spring: TableOde::spring(&p, k, 0.05),
+            gap: 0.0,
+            f_ext: 0.0,
+            path: ShaftPath::new(0.0, 1.0, 0.0, 0.0),
+            memory: Cell::new(TableMemory {
+                peaks: Peaks::new(0.0),
+                liftoffs: 0.0,
+                impact: 0.0,
+                landed: false,
+            }),
+            rigid: LastAt::default(),
+        };
+        let mut y = o.initial_state(0.0);
+        assert!(y[0].abs() > 0.01, "a position far from 0: {}", y[0]);
+        let rest = y[0];
+        y[0] += 1e-9;
+        let mut it = Integrator::new(Settings {
+            method: Method::Radau5,
+            rtol: 1e-4,
+            atol: 3.0 / k,
+            ..Settings::default()
+        });
+        let (mut steps, mut rejected) = (0, 0);
+        for i in 0..20 {
+            let st = it
+                .integrate(&o, i as f64 * 1e-3, (i + 1) as f64 * 1e-3, &mut y)
+                .expect("the chain at rest");
+            steps += st.steps;
+            rejected += st.rejected;
+        }
+        assert!(
+            (y[0] - rest).abs() < 1e-15,
+            "back at rest: {:e}",
+            y[0] - rest
+        );
+        // 281 steps and 46 rejected (the ringing's decay in the first millisecond, then a step
+        // a millisecond); with the rate's tolerance at atol, 777 and 154 (the noise stalled it
+        // through the second millisecond)
+        assert!(
+            steps <= 400 && rejected <= 80,
+            "{steps} steps, {rejected} rejected in 20 ms"
+        );
     }
 }

@@ -197,8 +197,9 @@ macro_rules! chain_access {
 /// Inside `impl OdeSystem for` a chain's ODE: its dimension (3), the right-hand side of
 /// `y = [x, ẋ, W]` ([`crate::solver::chain::ChainOde`]): `ẋ`, then the acceleration and the
 /// power the expressions after `=>` read off the chain's point `pt` at `(t, y)`
-/// ([`crate::solver::chain::ChainOde::point_kept`]), and the error norm without `W` (a work kept
-/// for the energy balance).
+/// ([`crate::solver::chain::ChainOde::point_kept`]), the error norm without `W` (a work kept
+/// for the energy balance), and `ẋ`'s absolute tolerance no finer than the arithmetic resolves
+/// ([`crate::solver::chain::rate_tolerance`]).
 #[macro_export]
 macro_rules! chain_rhs {
     ($pt:ident => $xdd:expr, $power:expr) => {
@@ -213,6 +214,9 @@ macro_rules! chain_rhs {
         }
         fn error_weight(&self, i: usize) -> f64 {
             if i == 2 { 0.0 } else { 1.0 }
+        }
+        fn abs_tol(&self, i: usize, atol: f64, y: &[f64]) -> f64 {
+            $crate::solver::chain::rate_tolerance(self, i, atol, y)
         }
     };
 }

@@ -209,3 +209,26 @@ fn partials_equal_central_differences() {
         );
     }
 }
+
+/// The contact's natural frequency (the floor of the lever rate's absolute tolerance,
+/// [`crate::solver::chain::rate_tolerance`]): √(k/m_red) for the linear law; for Hertz's the
+/// law's slope at the roller's force in the loading dwell (`contact.c`'s description: 3.0e8 N/m
+/// at 150 N, with m_red = 3.83 kg).
+#[test]
+fn the_contacts_natural_frequency_is_its_stiffness_at_the_preload_over_the_reduced_mass() {
+    let v = Values::<V>::start();
+    let d = Perforators::params(&v).drive().unwrap();
+    let m_red = LeverOde::reduced_mass(&d);
+    assert!((m_red - 3.83).abs() < 0.005, "m_red = {m_red}");
+    let linear = Contact::new(&d, ContactLaw::Linear, 1e8, 0.0);
+    assert!(((linear.omega / (1e8 / m_red).sqrt()) - 1.0).abs() < 1e-12);
+    let hertz = Contact::new(&d, ContactLaw::Hertz, 0.0, 0.0);
+    let k_preload = hertz.omega * hertz.omega * m_red;
+    let f = d.forces(&d.kinematics(d.cyc.phi0 - 0.1, 0.0, 0.0)).roller_f;
+    // the roller carries 180 N there (the preload through the lever); the slope goes as F^0.1
+    let stated = 3.0e8 * (f / 150.0).powf(0.1);
+    assert!(
+        (k_preload / stated - 1.0).abs() < 0.01,
+        "{k_preload:e} N/m at {f} N"
+    );
+}
