@@ -59,6 +59,7 @@ mod events;
 pub mod library;
 mod lu;
 mod memory;
+mod norm;
 mod radau;
 pub mod vars;
 
@@ -67,6 +68,7 @@ pub use memory::{Memory, RadauMemory, Stats};
 /// The shaft's path in a step (the shaft connector's, [`crate::model::shaft`]).
 pub use crate::model::shaft::ShaftPath;
 use dopri::hermite;
+use norm::Scale;
 pub use radau::spectral_radius;
 
 /// The largest system the integrators take.
@@ -276,18 +278,6 @@ pub struct Integrator {
     scale: Scale,
 }
 
-/// Per state, at an attempt's start `y`: its weight in the error norms
-/// ([`OdeSystem::error_weight`]) and its absolute tolerance ([`OdeSystem::abs_tol`]), asked of
-/// the system once per attempt rather than in every norm; for a Radau IIA attempt also Hairer's
-/// transformed tolerances ([`Integrator::radau_tolerances`]).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-struct Scale {
-    w: [f64; MAX_DIM],
-    atol: [f64; MAX_DIM],
-    rtol_radau: f64,
-    atol_radau: [f64; MAX_DIM],
-}
-
 /// Where a step attempt starts: the system, time, state and its derivative.
 #[derive(Clone, Copy)]
 struct Start<'a> {
@@ -361,21 +351,6 @@ impl Integrator {
         }
     }
 
-    /// [`Scale`] at `y` for an attempt of `stepper`.
-    fn scale_at(&mut self, sys: &dyn OdeSystem, y: &[f64], stepper: Stepper) {
-        for i in 0..y.len() {
-            self.scale.w[i] = sys.error_weight(i);
-            self.scale.atol[i] = sys.abs_tol(i, self.settings.atol, y);
-        }
-        if stepper == Stepper::Radau {
-            let (rtol, atol) = self.radau_tolerances();
-            self.scale.rtol_radau = rtol;
-            for i in 0..y.len() {
-                self.scale.atol_radau[i] = sys.abs_tol(i, atol, y);
-            }
-        }
-    }
-
     /// Its whole memory, for `fmi2GetFMUstate`.
     pub fn save(&self) -> Memory {
         self.mem
@@ -384,24 +359,6 @@ impl Integrator {
     /// Restores [`Integrator::save`].
     pub fn restore(&mut self, m: Memory) {
         self.mem = m;
-    }
-
-    /// The weighted RMS norm of `e` over a step from `y0` to `y1` ([`Scale`] of the attempt).
-    fn norm(&self, e: &[f64], y0: &[f64], y1: &[f64]) -> f64 {
-        let n = e.len();
-        let mut s = 0.0;
-        let mut m = 0.0;
-        for i in 0..n {
-            let w = self.scale.w[i];
-            if w == 0.0 {
-                continue;
-            }
-            let sc = self.scale.atol[i] + self.settings.rtol * y0[i].abs().max(y1[i].abs());
-            let r = e[i] / sc;
-            s += w * r * r;
-            m += w;
-        }
-        if m == 0.0 { 0.0 } else { (s / m).sqrt() }
     }
 
     /// Advances `y` from `t0` to `t1`. On `Err` the caller keeps its copy of the state before

@@ -213,30 +213,6 @@ impl NewtonFailure {
 }
 
 impl Integrator {
-    /// Hairer's tolerance transformation for Radau IIA: `rtol' = 0.1·rtol^(2/3)` and `atol'` in
-    /// the same ratio to it, so that the error the estimate controls matches the tolerance.
-    pub(super) fn radau_tolerances(&self) -> (f64, f64) {
-        let s = self.settings;
-        let rtol = 0.1 * s.rtol.powf(2.0 / 3.0);
-        (rtol, rtol * (s.atol / s.rtol))
-    }
-
-    /// The weighted RMS norm of `e` with the transformed tolerances, scaled at `y` (Hairer's
-    /// `SCAL`; the attempt's [`super::Scale`]); components of weight 0 left out.
-    pub(super) fn radau_norm(&self, e: &[f64], y: &[f64]) -> f64 {
-        let rtol = self.scale.rtol_radau;
-        let (mut s, mut m) = (0.0, 0.0);
-        for i in 0..e.len() {
-            let w = self.scale.w[i];
-            if w != 0.0 {
-                let r = e[i] / (self.scale.atol_radau[i] + rtol * y[i].abs());
-                s += w * r * r;
-                m += w;
-            }
-        }
-        if m == 0.0 { 0.0 } else { (s / m).sqrt() }
-    }
-
     /// Before a Radau IIA attempt over `h` from `(t, y)`: a new Jacobian where the memory asks
     /// for one, and the factorization for `h` (counted where the method decides it; made at
     /// hand by [`Factors::of`]).
