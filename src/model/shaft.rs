@@ -438,7 +438,19 @@ pub fn reduce_at<T: Scalar>(tau_a: T, a: T, mut torque_at: impl FnMut(T) -> T) -
             tau0,
             j_red: (tau_a - tau0) / a,
         }
-    } else if T::NDERIV == 0 && a.re() == 0.0 {
+    } else {
+        reduce_at_rest(tau_a, a, torque_at)
+    }
+}
+
+/// [`reduce`], given the torque `tau_a` already computed at the actual shaft acceleration `a`:
+/// at a constant speed (`a` exactly 0, `f64`) that is `τ0`, and one evaluation remains; else
+/// [`reduce`] as it is. The split of the elastodynamic levels, whose `τ0` and `J_red` stay
+/// [`reduce`]'s at every `a` (the secant of [`reduce_at`] over `[0, a]` would take the
+/// difference of two torques large against `J_red·a` at a large `a`).
+#[inline]
+pub fn reduce_at_rest<T: Scalar>(tau_a: T, a: T, mut torque_at: impl FnMut(T) -> T) -> Reduced<T> {
+    if T::NDERIV == 0 && a.re() == 0.0 {
         Reduced {
             tau0: tau_a,
             j_red: torque_at(T::one()) - tau_a,

@@ -207,6 +207,22 @@ fn reduce_splits_an_affine_torque_exactly() {
 }
 
 #[test]
+fn reduce_at_rest_reuses_the_torque_only_at_a_constant_speed() {
+    let kinked = |e: f64| 10.0 + 2.0 * e + if e > 1.5 { 5.0 * (e - 1.5) } else { 0.0 };
+    let plain = shaft::reduce(kinked);
+    for (a, evaluations) in [(0.0, 1), (0.5, 2), (4.0, 2)] {
+        let mut calls = 0;
+        let r = shaft::reduce_at_rest(kinked(a), a, |e| {
+            calls += 1;
+            kinked(e)
+        });
+        // reduce's split at every acceleration, bit for bit (not reduce_at's secant over [0, a])
+        assert_eq!((r.tau0, r.j_red), (plain.tau0, plain.j_red), "a = {a}");
+        assert_eq!(calls, evaluations, "a = {a}");
+    }
+}
+
+#[test]
 fn standalone_models_have_no_common_variables() {
     crate::model_variables! {
         enum D (standalone) {

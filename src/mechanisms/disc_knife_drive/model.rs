@@ -246,7 +246,7 @@ impl DiscKnifeDrive {
             }
             Self::write_elastic(p, &pt, &mut put);
             // the split of shaft.tau at the held state: only the shaft acceleration changes
-            let r = shaft::reduce(|a| {
+            let r = shaft::reduce_at_rest(pt.shaft_tau, a, |a| {
                 let (phi, w, a) = ShaftPath { a, ..path }.at(time);
                 ode.point_on(&ode.rigid_at(phi, w, a), &y).shaft_tau
             });

@@ -236,7 +236,7 @@ impl GenevaKnifeDrive {
                 put(var, x);
             }
             let tau = elastic_outputs(p, &pt, st.a, &mut put);
-            let r = shaft::reduce(|a| {
+            let r = shaft::reduce_at_rest(tau, st.a, |a| {
                 elastic_torques(p, &p.at_shaft_accel(&k, st.w, a), pt.f_el, a)[3]
             });
             put(V::shaft_J_red, r.j_red);

@@ -452,7 +452,7 @@ impl Perforators {
         put(V::der_elastic_q, y[1]);
         put(V::der_elastic_qd, pt.rigid.gamma_a - k.gamma_a);
         put(V::der_elastic_W, pt.power);
-        let r = shaft::reduce(|a| ode.point_at(&rigid_at(a), &y).forces.tau);
+        let r = shaft::reduce_at_rest(f.tau, a, |a| ode.point_at(&rigid_at(a), &y).forces.tau);
         put(V::shaft_J_red, r.j_red);
         put(V::shaft_tau0, r.tau0);
         (

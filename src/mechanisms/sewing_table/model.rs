@@ -504,7 +504,7 @@ impl SewingTable {
                 },
             );
             let tau = pt.f_c * k.c.dx + st.a * p.cam_j;
-            let red = shaft::reduce(|a| {
+            let red = shaft::reduce_at_rest(tau, st.a, |a| {
                 let ka = p.kinematics(st.phi, st.w, a);
                 ode.point_with(&ka, &y, f_ext).f_c * ka.c.dx + a * p.cam_j
             });
