@@ -68,6 +68,28 @@ pub struct SpringDamper {
 }
 
 impl SpringDamper {
+    /// Refuses a spring of the elastodynamic level that carries no mass (`m`, made of the
+    /// variable `param` = `value` as `what` says, not > 0): the chain's acceleration F/m would
+    /// be unbounded, and no step could be taken (nor its natural frequency √(k/m) be finite).
+    pub fn check_mass(
+        m: f64,
+        param: &'static str,
+        value: f64,
+        what: &str,
+    ) -> Result<(), ParamError> {
+        if m > 0.0 && m.is_finite() {
+            Ok(())
+        } else {
+            Err(ParamError {
+                param,
+                value,
+                condition: format!(
+                    "the elastodynamic level needs a mass on the chain's spring: {what} is {m} kg (raise {param})"
+                ),
+            })
+        }
+    }
+
     /// Stiffness `k` carrying the mass `m` at the damping ratio `zeta` ([`viscous_damping`]).
     pub fn with_ratio(k: f64, m: f64, zeta: f64) -> SpringDamper {
         SpringDamper {

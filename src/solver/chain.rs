@@ -93,8 +93,9 @@ pub const RATE_ROUNDINGS: f64 = 1000.0;
 /// IIA's Newton iteration stalled on the noise (contraction 0.5–0.9) at steps of a few
 /// microseconds.
 pub fn rate_tolerance<O: ChainOde + ?Sized>(o: &O, i: usize, atol: f64, y: &[f64]) -> f64 {
-    if i == 1 {
-        atol.max(RATE_ROUNDINGS * f64::EPSILON * y[0].abs() * o.natural_frequency())
+    let floor = RATE_ROUNDINGS * f64::EPSILON * y[0].abs() * o.natural_frequency();
+    if i == 1 && floor.is_finite() {
+        atol.max(floor)
     } else {
         atol
     }

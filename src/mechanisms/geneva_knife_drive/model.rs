@@ -310,10 +310,18 @@ impl Model for GenevaKnifeDrive {
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
         let params = Self::params(v);
         params.validate()?;
-        let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
+        let dynamic = if shaft::fidelity(v) == Fidelity::Elastodynamic {
+            SpringDamper::check_mass(
+                params.slider_mass(),
+                "knife.m",
+                params.knife_m,
+                "the slider mass knife.m + rod.m/2",
+            )?;
             let spring = KnifeOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]);
-            Chain::new(KnifeChain { spring }, v, KnifeMemory::new(0.0))
-        });
+            Some(Chain::new(KnifeChain { spring }, v, KnifeMemory::new(0.0)))
+        } else {
+            None
+        };
         Ok(GenevaKnifeDrive {
             geneva: params.geneva(),
             params,
@@ -410,6 +418,28 @@ mod tests {
     use super::*;
     use crate::model::NoLog;
     use crate::model::partials::check;
+
+    #[test]
+    fn a_massless_slider_is_refused_at_the_elastodynamic_level_naming_knife_m() {
+        let mut v = Values::<V>::start();
+        v[V::knife_m] = 0.0;
+        v[V::rod_m] = 0.0;
+        assert!(
+            GenevaKnifeDrive::prepare(&v).is_ok(),
+            "the rigid levels need no mass"
+        );
+        v[V::model_fidelity] = 3.0;
+        let e = GenevaKnifeDrive::prepare(&v).err().expect("refused");
+        assert_eq!((e.param, e.value), ("knife.m", 0.0));
+        assert!(
+            e.condition.contains("knife.m + rod.m/2 is 0 kg"),
+            "{}",
+            e.condition
+        );
+        // a rod's mass alone carries the chain
+        v[V::rod_m] = 1.0;
+        assert!(GenevaKnifeDrive::prepare(&v).is_ok());
+    }
 
     /// The exact partial derivatives against central differences of `evaluate` at every level:
     /// the knife before the stack, cutting through it and rising, the cross locked in the dwell,

@@ -78,7 +78,7 @@ impl Contact {
             c,
             omega: 1.0,
         };
-        let preload = d.forces(&d.kinematics(d.cyc.phi0 - 0.1, 0.0, 0.0)).roller_f;
+        let preload = d.loading_force();
         let omega =
             (contact.elastic(contact.penetration_of(preload)).1 / LeverOde::reduced_mass(d)).sqrt();
         if omega.is_finite() && omega > 0.0 {
@@ -260,7 +260,7 @@ impl LeverOde<'_> {
     /// Effective mass at the roller along the ramp normal in the lowest position (dwell at
     /// loading): `J_eff/a²`, kg; `c = 2·ζ·√(k·m)` gives a damping ratio ζ.
     pub fn reduced_mass(d: &Drive) -> f64 {
-        let k = d.kinematics(d.cyc.phi0 - 0.1, 0.0, 0.0);
+        let k = d.at_loading();
         let (_, r1, _) = d.p.roller(k.gamma);
         let a = dot(k.normal, r1);
         Self::j_eff(d, k.gamma) / (a * a)

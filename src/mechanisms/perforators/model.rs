@@ -255,7 +255,7 @@ pub fn contact_of(d: &Drive, v: &Values<V>) -> Contact {
 /// laws are laws of small penetrations, and the lever would leave its linkage.
 fn check_contact(d: &Drive, v: &Values<V>) -> Result<(), ParamError> {
     let c = contact_of(d, v);
-    let f = d.forces(&d.kinematics(d.cyc.phi0 - 0.1, 0.0, 0.0)).roller_f;
+    let f = d.loading_force();
     let pen = c.penetration_of(f);
     let limit = 0.1 * d.p.roller.r;
     if pen > limit {

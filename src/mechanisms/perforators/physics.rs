@@ -586,6 +586,17 @@ impl Drive {
         Ok(())
     }
 
+    /// At rest in the loading dwell, 0.1 rad before the forward travel: the lowest position,
+    /// where the spring's preload alone presses the roller on the ramp.
+    pub fn at_loading(&self) -> Kinematics {
+        self.kinematics(self.cyc.phi0 - 0.1, 0.0, 0.0)
+    }
+
+    /// The roller's force at rest in the loading dwell ([`Drive::at_loading`]), N.
+    pub fn loading_force(&self) -> f64 {
+        self.forces(&self.at_loading()).roller_f
+    }
+
     /// Kinematics at shaft angle `phi`, speed `w`, acceleration `eps` (any [`Scalar`]).
     pub fn kinematics<T: Scalar>(&self, phi: T, w: T, eps: T) -> Kinematics<T> {
         let c: CyclePoint<T> = self.cyc.at(phi);

@@ -254,6 +254,7 @@ impl Model for SewingTable {
                     condition: "the elastodynamic level models the translating table only".into(),
                 });
             }
+            SpringDamper::check_mass(params.table_m, "table.m", params.table_m, "table.m")?;
             let model = TableChain {
                 spring: TableOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]),
                 gap: 0.5 * v[V::cam_clearance],
@@ -592,6 +593,20 @@ mod tests {
     use super::*;
     use crate::model::NoLog;
     use crate::model::partials::check;
+
+    #[test]
+    fn a_massless_table_is_refused_at_the_elastodynamic_level_naming_table_m() {
+        let mut v = Values::<V>::start();
+        v[V::table_m] = 0.0;
+        assert!(
+            SewingTable::prepare(&v).is_ok(),
+            "the rigid levels need no mass"
+        );
+        v[V::model_fidelity] = 3.0;
+        let e = SewingTable::prepare(&v).err().expect("refused");
+        assert_eq!((e.param, e.value), ("table.m", 0.0));
+        assert!(e.condition.contains("needs a mass"), "{}", e.condition);
+    }
 
     #[test]
     fn outputs_from_the_variables() {
