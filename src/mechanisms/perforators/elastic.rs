@@ -274,12 +274,7 @@ impl LeverOde<'_> {
         link: &Linkage<T>,
         (g, gw, ga): (T, T, T),
     ) -> Kinematics<T> {
-        let p = &self.d.p;
         let pose = link.pose;
-        let (_, r1, _) = link.r;
-        let l4 = p.lambda4 * p.unit;
-        let tr = (r1.0 / l4, r1.1 / l4);
-        let n = rigid.normal;
         Kinematics {
             s: pose.s - self.d.made_s0,
             v: pose.ds * gw,
@@ -287,9 +282,7 @@ impl LeverOde<'_> {
             gamma: g,
             gamma_w: gw,
             gamma_a: ga,
-            nu: pose.sin_nu.asin(),
-            rise: (T::from(p.gamma1.cos()) - (g + p.gamma1).cos()) * l4,
-            theta: (tr.0 * n.1 - tr.1 * n.0).atan2(dot(tr, n)),
+            sin_nu: pose.sin_nu,
             ..*rigid
         }
     }

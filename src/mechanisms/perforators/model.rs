@@ -174,16 +174,17 @@ impl WatchedContact for Drive {
 }
 
 /// The linkage's positions and rates of a [`Kinematics`] (every level puts them).
-fn write_kinematics<T: Scalar>(k: &Kinematics<T>, put: &mut impl FnMut(V, T)) {
+fn write_kinematics<T: Scalar>(d: &Drive, k: &Kinematics<T>, put: &mut impl FnMut(V, T)) {
+    let (nu, rise, theta) = d.output_angles(k);
     put(V::perforators_s, k.s);
     put(V::perforators_v, k.v);
     put(V::perforators_a, k.a);
     put(V::lever_gamma, k.gamma);
     put(V::lever_w, k.gamma_w);
     put(V::lever_a, k.gamma_a);
-    put(V::rod_nu, k.nu);
-    put(V::roller_rise, k.rise);
-    put(V::ramp_theta, k.theta);
+    put(V::rod_nu, nu);
+    put(V::roller_rise, rise);
+    put(V::ramp_theta, theta);
 }
 
 /// The kinetostatic level's forces, held at the kinematic level (with `roller.F_margin`).
@@ -346,7 +347,7 @@ impl Perforators {
             put(V::shaft_P, tau * st.w);
             return discrete;
         }
-        write_kinematics(&k, &mut put);
+        write_kinematics(d, &k, &mut put);
         put(V::elastic_deflection, T::zero());
         put(V::contact_pen, T::zero());
         put(V::dyn_factor, T::one());
@@ -396,7 +397,7 @@ impl Perforators {
         let pt = ode.point_at(&rigid_at(a), &y);
         let k = &pt.kin;
         let f = &pt.forces;
-        write_kinematics(k, put);
+        write_kinematics(&self.drive, k, put);
         put(V::pierce_Q_out, f.pierce_q);
         put(V::perforators_F_inertia, f.f_inertia);
         put(V::rod_F, f.rod_f);

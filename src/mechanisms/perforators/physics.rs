@@ -202,15 +202,14 @@ pub struct Kinematics<T = f64> {
     pub gamma_a: T,
     pub gamma_x: T,
     pub gamma_xx: T,
-    /// `rod.nu`, rad.
-    pub nu: T,
-    /// `roller.rise`, m.
-    pub rise: T,
-    /// Ramp: upward unit normal (ground frame), `ramp.theta`, `ramp.rho` (profile, + convex).
+    /// `sin ν` of the rod to the carriage line (`rod.nu`, with `roller.rise` and `ramp.theta`
+    /// outputs only: [`Drive::output_angles`] makes them where they are written, not in every
+    /// right-hand side of the elastodynamic level).
+    pub sin_nu: T,
+    /// Ramp: upward unit normal (ground frame), `ramp.rho` (profile, + convex).
     pub normal: (T, T),
     /// `dn/dx_t` of that normal, 1/m (the elastodynamic level's penetration rate).
     pub normal_x: (T, T),
-    pub theta: T,
     pub rho: T,
 }
 
@@ -618,9 +617,6 @@ impl Drive {
         let roller = self.p.roller(g);
         let (_, c1, c2) = self.ramp_at(c.x, roller, gx, gxx);
         let (n, rho, _, n_x) = self.frame_of(c1, c2);
-        let (_, r1, _) = roller;
-        let l4 = self.p.lambda4 * self.p.unit;
-        let tr = (r1.0 / l4, r1.1 / l4);
         Kinematics {
             phase: c.phase as i32,
             x_t: c.x,
@@ -635,13 +631,27 @@ impl Drive {
             gamma_a: g_dd * w * w + g_d * eps,
             gamma_x: gx,
             gamma_xx: gxx,
-            nu: pose.sin_nu.asin(),
-            rise: (T::from(self.p.gamma1.cos()) - (g + self.p.gamma1).cos()) * l4,
+            sin_nu: pose.sin_nu,
             normal: n,
             normal_x: n_x,
-            theta: cross(tr, n).atan2(dot(tr, n)),
             rho,
         }
+    }
+
+    /// `rod.nu`, `roller.rise` (m) and `ramp.theta` (the pressure angle: the ramp's normal
+    /// against the roller centre's direction of motion on the lever) of a [`Kinematics`] (any
+    /// [`Scalar`]).
+    pub fn output_angles<T: Scalar>(&self, k: &Kinematics<T>) -> (T, T, T) {
+        let p = &self.p;
+        let l4 = p.lambda4 * p.unit;
+        let (_, r1, _) = p.roller(k.gamma);
+        let tr = (r1.0 / l4, r1.1 / l4);
+        let n = k.normal;
+        (
+            k.sin_nu.asin(),
+            (T::from(p.gamma1.cos()) - (k.gamma + p.gamma1).cos()) * l4,
+            cross(tr, n).atan2(dot(tr, n)),
+        )
     }
 
     /// Piercing load magnitude (`perforators.md`): forward travel only; rising: 0 below s_in,
