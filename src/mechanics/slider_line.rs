@@ -24,6 +24,9 @@ pub struct SliderLine {
     pub e: f64,
     /// Angle α of the line from the vertical (the line's normal `n` from the x-axis), rad.
     pub alpha: f64,
+    /// `n` and `u` ([`Self::n`], [`Self::u`]), made once: every pose needs them.
+    n: (f64, f64),
+    u: (f64, f64),
 }
 
 /// Slider position and link angle for a joint position and its derivatives in a parameter q
@@ -49,14 +52,25 @@ fn of<T: Scalar>(x: (f64, f64)) -> (T, T) {
 }
 
 impl SliderLine {
+    /// The line at distance `e` and angle `alpha` with a link of length `l`.
+    pub fn new(l: f64, e: f64, alpha: f64) -> SliderLine {
+        SliderLine {
+            l,
+            e,
+            alpha,
+            n: (alpha.cos(), alpha.sin()),
+            u: (-alpha.sin(), alpha.cos()),
+        }
+    }
+
     /// Unit normal `n = (cos α, sin α)`.
     pub fn n(&self) -> (f64, f64) {
-        (self.alpha.cos(), self.alpha.sin())
+        self.n
     }
 
     /// Unit direction `u = (−sin α, cos α)` of the line.
     pub fn u(&self) -> (f64, f64) {
-        (-self.alpha.sin(), self.alpha.cos())
+        self.u
     }
 
     /// The slider B at position `s` (any [`Scalar`]).
@@ -113,11 +127,7 @@ mod tests {
     use approx::assert_abs_diff_eq;
 
     fn paper() -> SliderLine {
-        SliderLine {
-            l: 1.07,
-            e: 2.0,
-            alpha: 37f64.to_radians(),
-        }
+        SliderLine::new(1.07, 2.0, 37f64.to_radians())
     }
 
     /// A joint on a circle of radius 2.03 at angle t − 6°, as the perforators' lever arm λ3.

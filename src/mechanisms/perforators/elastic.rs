@@ -229,7 +229,7 @@ impl LeverOde<'_> {
 
     /// Reduced inertia at lever angle Δγ (any [`Scalar`]).
     pub fn j_eff<T: Scalar>(d: &Drive, g: T) -> T {
-        Self::j_eff_of(d, d.made.carriage(g).ds)
+        Self::j_eff_of(d, d.carriage(g).ds)
     }
 
     /// [`LeverOde::j_eff`] from the carriage's `ds/dΔγ` there.
@@ -242,7 +242,7 @@ impl LeverOde<'_> {
     /// 0.02 rad.
     pub fn linkage_range(d: &Drive) -> (f64, f64) {
         let ok = |g: f64| {
-            let c = d.made.carriage(g);
+            let c = d.carriage(g);
             c.s.is_finite() && c.ds > 0.0
         };
         let step = 1e-3;
@@ -296,7 +296,7 @@ impl LeverOde<'_> {
         let n = rigid.normal;
         let (rr, rr1, _) = p.roller(rigid.gamma);
         // the angle's linkage (the roller arm is as designed), once for the whole balance
-        let link = d.made.linkage(g);
+        let link = d.linkage(g);
         let (r, r1, _) = link.r;
         let arm = dot(n, r1);
         let arm_r = dot(n, rr1);
@@ -509,7 +509,7 @@ impl OdeSystem for LeverOde<'_> {
         // the rigid lever velocity: the friction's and the piercing load's direction
         g[6] = rigid.gamma_w;
         // the piercing load's corners at the elastic needle position
-        let q = (self.d.made.carriage(g_el).s - self.d.made_s0) / self.d.stroke;
+        let q = (self.d.carriage(g_el).s - self.d.made_s0) / self.d.stroke;
         g[7] = q - p.pierce_s_in;
         g[8] = q - 0.5 * (p.pierce_s_in + p.pierce_s_out);
         g[9] = q - p.pierce_s_out;

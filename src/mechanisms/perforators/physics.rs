@@ -288,11 +288,7 @@ impl Params {
     }
 
     fn slider_line(&self) -> SliderLine {
-        SliderLine {
-            l: self.lambda1 * self.unit,
-            e: self.lambda2 * self.unit,
-            alpha: self.alpha,
-        }
+        SliderLine::new(self.lambda1 * self.unit, self.lambda2 * self.unit, self.alpha)
     }
 
     /// Rod joint A, `dA/dΔγ`, `d²A/dΔγ²`, m (any [`Scalar`]).
@@ -457,6 +453,22 @@ impl Params {
 }
 
 impl Drive {
+    /// [`Params::carriage`] of the linkage as made, on its line made once (the same values).
+    pub fn carriage<T: Scalar>(&self, g: T) -> SliderPose<T> {
+        let (a, a1, a2) = self.made.joint_a(g);
+        self.made_line.pose(a, a1, a2)
+    }
+
+    /// [`Params::linkage`] of the linkage as made, on its line made once (the same values).
+    pub fn linkage<T: Scalar>(&self, g: T) -> Linkage<T> {
+        let a = self.made.joint_a(g);
+        Linkage {
+            a,
+            pose: self.made_line.pose(a.0, a.1, a.2),
+            r: self.made.roller(g),
+        }
+    }
+
     /// `synth.stroke_error`: the paper's stroke over the exact one, minus 1.
     pub fn stroke_error(&self) -> f64 {
         (self.p.carriage(self.gamma_paper).s - self.s0) / (self.p.lambda_s * self.p.unit) - 1.0
@@ -494,7 +506,8 @@ impl Drive {
     pub fn gamma_of_x<T: Scalar>(&self, x_t: T) -> (T, T, T, T, T, T) {
         let (s, sx, sxx) = self.needle_law(x_t);
         let g = self.gamma_of(s);
-        let c = self.p.carriage(g);
+        let (a, a1, a2) = self.p.joint_a(g);
+        let c = self.line.pose(a, a1, a2);
         let gs = T::one() / c.ds;
         let gss = -c.dds * gs * gs * gs;
         (g, gs * sx, gss * sx * sx + gs * sxx, s, sx, sxx)
@@ -603,7 +616,7 @@ impl Drive {
         let (g, gx, gxx, s, sx, sxx) = self.gamma_of_x(c.x);
         let g_d = gx * c.dx;
         let g_dd = gxx * c.dx * c.dx + gx * c.ddx;
-        let pose = self.made.carriage(g);
+        let pose = self.carriage(g);
         // the needles follow their law exactly; as made, the linkage's travel for the lever angle
         let (s, s_d, s_dd) = if self.p.made.exact() {
             (s, sx * c.dx, sxx * c.dx * c.dx + sx * c.ddx)
@@ -707,7 +720,7 @@ impl Drive {
         sw: f64,
         hertz: bool,
     ) -> Forces<T> {
-        self.forces_in(k, &self.made.linkage(k.gamma), sv, sw, hertz)
+        self.forces_in(k, &self.linkage(k.gamma), sv, sw, hertz)
     }
 
     /// [`Drive::forces_full`] with the linkage as made at the lever angle `k.gamma` given
