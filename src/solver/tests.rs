@@ -47,6 +47,27 @@ fn run(method: Method, o: &Osc, t1: f64, rtol: f64, max_step: f64) -> Result<f64
     Ok(y[0])
 }
 
+/// Radau IIA at `rtol` (`atol` the same), no step limit.
+fn radau_at(rtol: f64) -> Integrator {
+    Integrator::new(Settings {
+        method: Method::Radau5,
+        rtol,
+        atol: rtol,
+        max_step: 0.0,
+        max_steps: 100_000,
+    })
+}
+
+/// `calls` calls of 1 ms from t = 0, as `fmi2DoStep` makes them: the work of them all.
+fn in_ms_calls(it: &mut Integrator, sys: &dyn OdeSystem, y: &mut [f64], calls: usize) -> Stats {
+    let mut total = Stats::default();
+    for i in 0..calls {
+        let (a, b) = (i as f64 * 1e-3, (i + 1) as f64 * 1e-3);
+        total.add(&it.integrate(sys, a, b, y).unwrap());
+    }
+    total
+}
+
 #[test]
 fn every_method_converges_on_a_damped_oscillator() {
     let o = Osc {
@@ -637,13 +658,7 @@ fn radau_steps_of_a_call_are_equal_and_share_their_factorization() {
         (2000.0, 1e-10),
     ] {
         let sys = sys(omega);
-        let mut it = Integrator::new(Settings {
-            method: Method::Radau5,
-            rtol,
-            atol: rtol,
-            max_step: 0.0,
-            max_steps: 100_000,
-        });
+        let mut it = radau_at(rtol);
         let mut y = [1.0];
         let mut worst: f64 = 0.0;
         let mut total = Stats::default();
@@ -828,12 +843,7 @@ fn a_call_cut_short_at_its_end_does_not_grow_the_next_calls_first_step() {
             max_step: 0.0,
             max_steps: 100_000,
         });
-        let mut y = [1.0, 0.0];
-        let mut total = Stats::default();
-        for i in 0..200 {
-            let (a, b) = (i as f64 * 1e-3, (i + 1) as f64 * 1e-3);
-            total.add(&it.integrate(&o, a, b, &mut y).unwrap());
-        }
+        let total = in_ms_calls(&mut it, &o, &mut [1.0, 0.0], 200);
         assert!(total.steps > 400, "steps shorter than a call: {total:?}");
         assert!(
             10 * total.rejected <= total.steps,
@@ -859,19 +869,9 @@ fn growing_steps_after_a_transient_share_their_factorizations() {
             lambda,
             omega: 50.0,
         };
-        let mut it = Integrator::new(Settings {
-            method: Method::Radau5,
-            rtol,
-            atol: rtol,
-            max_step: 0.0,
-            max_steps: 100_000,
-        });
+        let mut it = radau_at(rtol);
         let mut y = [y0];
-        let mut total = Stats::default();
-        for i in 0..20 {
-            let (a, b) = (i as f64 * 1e-3, (i + 1) as f64 * 1e-3);
-            total.add(&it.integrate(&sys, a, b, &mut y).unwrap());
-        }
+        let total = in_ms_calls(&mut it, &sys, &mut y, 20);
         assert!(total.steps > 40, "lambda {lambda}: {total:?}");
         assert!(
             3 * total.decomps <= total.steps,
