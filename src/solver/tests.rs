@@ -877,6 +877,10 @@ fn growing_steps_after_a_transient_share_their_factorizations() {
             3 * total.decomps <= total.steps,
             "lambda {lambda}, rtol {rtol}: {total:?}"
         );
-        assert!((y[0] - (50.0f64 * 0.02).cos()).abs() < 100.0 * rtol, "{}", y[0]);
+        assert!(
+            (y[0] - (50.0f64 * 0.02).cos()).abs() < 100.0 * rtol,
+            "{}",
+            y[0]
+        );
     }
 }

@@ -288,7 +288,11 @@ impl Params {
     }
 
     fn slider_line(&self) -> SliderLine {
-        SliderLine::new(self.lambda1 * self.unit, self.lambda2 * self.unit, self.alpha)
+        SliderLine::new(
+            self.lambda1 * self.unit,
+            self.lambda2 * self.unit,
+            self.alpha,
+        )
     }
 
     /// Rod joint A, `dA/dΔγ`, `d²A/dΔγ²`, m (any [`Scalar`]).
