@@ -22,8 +22,9 @@ pub struct SliderLine {
     pub l: f64,
     /// Distance of the line from the origin λ2 ("eccentricity"), m.
     pub e: f64,
-    /// Angle α of the line from the vertical (the line's normal `n` from the x-axis), rad.
-    pub alpha: f64,
+    /// Angle α of the line from the vertical (the line's normal `n` from the x-axis), rad
+    /// (private: `n` and `u` are made from it once, in [`SliderLine::new`]).
+    alpha: f64,
     /// `n` and `u` ([`Self::n`], [`Self::u`]), made once: every pose needs them.
     n: (f64, f64),
     u: (f64, f64),
