@@ -172,6 +172,19 @@ pub fn reduced_mass(p: &Params, x: f64) -> f64 {
         + p.holder_j * beta.v1 * beta.v1
 }
 
+/// The least [`reduced_mass`] over the slider positions of a turn of the rigid motion (3600
+/// samples), kg: the elastodynamic level needs it > 0 (`SpringDamper::check_mass`).
+pub fn least_reduced_mass(p: &Params) -> f64 {
+    (0..3600)
+        .map(|j| {
+            reduced_mass(
+                p,
+                p.slider_x(std::f64::consts::TAU * f64::from(j) / 3600.0).0,
+            )
+        })
+        .fold(f64::INFINITY, f64::min)
+}
+
 /// Solves a 7×7 system by Gaussian elimination with partial pivoting on the real parts (generic:
 /// on dual numbers it carries the exact derivative of the solution). `None` if singular.
 fn solve7<T: DualNum<Primitive = f64> + Copy>(a: [[T; 7]; 7], b: [T; 7]) -> Option<[T; 7]> {

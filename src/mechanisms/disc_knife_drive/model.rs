@@ -1,7 +1,7 @@
 //! The DiscKnifeDrive FMU: its variables, declared once, and the glue from them to
 //! [`super::physics`] (`../shared/spec/disc-knife-drive.md`).
 
-use super::elastic::{Point, RodOde, dead_point_threshold};
+use super::elastic::{Point, RodOde, dead_point_threshold, least_reduced_mass};
 use super::physics::{Forces, Kinematics, LinScalar, Params, norm};
 use crate::mechanics::{SpringDamper, hypot};
 use crate::model::partials::{Put, Seeded, put_zero};
@@ -340,13 +340,21 @@ impl Model for DiscKnifeDrive {
     fn prepare(v: &Values<V>) -> Result<Self, ParamError> {
         let params = Self::params(v);
         params.validate()?;
-        let dynamic = (shaft::fidelity(v) == Fidelity::Elastodynamic).then(|| {
+        let dynamic = if shaft::fidelity(v) == Fidelity::Elastodynamic {
+            SpringDamper::check_mass(
+                least_reduced_mass(&params),
+                "slider5.m",
+                params.slider5_m,
+                "the least reduced mass of the chain behind the rod over a turn (slider5.m + rod.m/2 + slider7.m*|D'|^2 + holder.m*|S'|^2 + holder.J*beta'^2)",
+            )?;
             let model = RodChain {
                 spring: RodOde::spring(&params, v[V::elastic_k], v[V::elastic_zeta]),
                 c_dead: dead_point_threshold(&params),
             };
-            Chain::new(model, v, Peaks::new(0.0))
-        });
+            Some(Chain::new(model, v, Peaks::new(0.0)))
+        } else {
+            None
+        };
         Ok(DiscKnifeDrive {
             params,
             was_locked: false,
@@ -501,6 +509,28 @@ mod tests {
         fn log(&mut self, s: Severity, m: &str) {
             self.0.push((s, m.to_string()));
         }
+    }
+
+    #[test]
+    fn a_chain_without_mass_is_refused_at_the_elastodynamic_level_naming_slider5_m() {
+        let mut v = Values::<V>::start();
+        for x in [V::holder_m, V::slider5_m, V::slider7_m, V::rod_m] {
+            v[x] = 0.0;
+        }
+        assert!(
+            DiscKnifeDrive::prepare(&v).is_ok(),
+            "the rigid levels need no mass"
+        );
+        // a step used to fail with "step-size collapse ... error estimate inf"
+        v[V::model_fidelity] = 3.0;
+        let e = DiscKnifeDrive::prepare(&v).err().expect("refused");
+        assert_eq!((e.param, e.value), ("slider5.m", 0.0));
+        assert!(e.condition.contains("needs a mass"), "{}", e.condition);
+        // the holder's mass alone carries the chain wherever it moves with the slider
+        v[V::holder_m] = 0.8;
+        let mut m = DiscKnifeDrive::prepare(&v).expect("a chain with mass");
+        let mut log = Recorder(vec![]);
+        m.step(&mut v, 0.0, 1e-3, &mut log).expect("a step");
     }
 
     #[test]
