@@ -33,18 +33,23 @@ impl Integrator {
 
     /// The weighted RMS norm of `e` over a step from `y0` to `y1` ([`Scale`] of the attempt).
     pub(super) fn norm(&self, e: &[f64], y0: &[f64], y1: &[f64]) -> f64 {
-        let n = e.len();
-        let mut s = 0.0;
-        let mut m = 0.0;
-        for i in 0..n {
+        let rtol = self.settings.rtol;
+        self.weighted_rms(e, |i| {
+            self.scale.atol[i] + rtol * y0[i].abs().max(y1[i].abs())
+        })
+    }
+
+    /// `√(Σ wᵢ·(eᵢ/scᵢ)² / Σ wᵢ)` with the attempt's weights, components of weight 0 left out
+    /// (0 if all are): the one formula of both norms.
+    fn weighted_rms(&self, e: &[f64], sc: impl Fn(usize) -> f64) -> f64 {
+        let (mut s, mut m) = (0.0, 0.0);
+        for (i, ei) in e.iter().enumerate() {
             let w = self.scale.w[i];
-            if w == 0.0 {
-                continue;
+            if w != 0.0 {
+                let r = ei / sc(i);
+                s += w * r * r;
+                m += w;
             }
-            let sc = self.scale.atol[i] + self.settings.rtol * y0[i].abs().max(y1[i].abs());
-            let r = e[i] / sc;
-            s += w * r * r;
-            m += w;
         }
         if m == 0.0 { 0.0 } else { (s / m).sqrt() }
     }
@@ -61,15 +66,6 @@ impl Integrator {
     /// `SCAL`; the attempt's [`Scale`]); components of weight 0 left out.
     pub(super) fn radau_norm(&self, e: &[f64], y: &[f64]) -> f64 {
         let rtol = self.scale.rtol_radau;
-        let (mut s, mut m) = (0.0, 0.0);
-        for i in 0..e.len() {
-            let w = self.scale.w[i];
-            if w != 0.0 {
-                let r = e[i] / (self.scale.atol_radau[i] + rtol * y[i].abs());
-                s += w * r * r;
-                m += w;
-            }
-        }
-        if m == 0.0 { 0.0 } else { (s / m).sqrt() }
+        self.weighted_rms(e, |i| self.scale.atol_radau[i] + rtol * y[i].abs())
     }
 }
