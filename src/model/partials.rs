@@ -81,6 +81,26 @@ pub mod check {
     use super::{Seeded, Values, VarSet};
     use crate::model::{Causality, Model, NoLog, VarType, Variability, shaft};
 
+    /// For the mechanisms' mass checks: `v` is accepted at the rigid levels and refused at the
+    /// elastodynamic one, naming `param` with its value; the refusal.
+    pub fn refused_only_elastodynamic<M: Model>(
+        v: &mut Values<M::Var>,
+        param: &str,
+    ) -> crate::model::ParamError {
+        assert!(M::prepare(v).is_ok(), "the rigid levels need no mass");
+        v.raw_mut()[shaft::FIDELITY as usize] = 3.0;
+        let e = M::prepare(v)
+            .err()
+            .expect("refused at the elastodynamic level");
+        let value = M::Var::table()
+            .iter()
+            .position(|d| d.name == param)
+            .map(|i| v.raw()[i]);
+        assert_eq!((e.param, Some(e.value)), (param, value));
+        assert!(e.condition.contains("needs a mass"), "{}", e.condition);
+        e
+    }
+
     /// The unknowns of a partial derivative: the continuous Real outputs, and with
     /// `derivatives` the state derivatives (Model Exchange), as value references.
     pub fn unknowns<V: VarSet>(derivatives: bool) -> Vec<usize> {

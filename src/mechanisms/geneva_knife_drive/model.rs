@@ -424,13 +424,7 @@ mod tests {
         let mut v = Values::<V>::start();
         v[V::knife_m] = 0.0;
         v[V::rod_m] = 0.0;
-        assert!(
-            GenevaKnifeDrive::prepare(&v).is_ok(),
-            "the rigid levels need no mass"
-        );
-        v[V::model_fidelity] = 3.0;
-        let e = GenevaKnifeDrive::prepare(&v).err().expect("refused");
-        assert_eq!((e.param, e.value), ("knife.m", 0.0));
+        let e = check::refused_only_elastodynamic::<GenevaKnifeDrive>(&mut v, "knife.m");
         assert!(
             e.condition.contains("knife.m + rod.m/2 is 0 kg"),
             "{}",

@@ -598,14 +598,7 @@ mod tests {
     fn a_massless_table_is_refused_at_the_elastodynamic_level_naming_table_m() {
         let mut v = Values::<V>::start();
         v[V::table_m] = 0.0;
-        assert!(
-            SewingTable::prepare(&v).is_ok(),
-            "the rigid levels need no mass"
-        );
-        v[V::model_fidelity] = 3.0;
-        let e = SewingTable::prepare(&v).err().expect("refused");
-        assert_eq!((e.param, e.value), ("table.m", 0.0));
-        assert!(e.condition.contains("needs a mass"), "{}", e.condition);
+        check::refused_only_elastodynamic::<SewingTable>(&mut v, "table.m");
     }
 
     #[test]
