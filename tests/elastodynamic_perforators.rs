@@ -467,3 +467,88 @@ fn a_long_step_of_the_liftoff_run_is_refused_early_and_what_fits_completes() {
     m.step(&mut v, 0.0, 0.5 * at_most, &mut NoLog)
         .unwrap_or_else(|e| panic!("a step of {} s: {e}", 0.5 * at_most));
 }
+
+/// The lever flung far off the ramp, where the roller's arm about the ramp normal passes through
+/// zero (a weak spring at 130 rpm bounced it there in a sweep): the lever's acceleration still
+/// balances the moments about O1 with the contact force the penetration gives (none, lifted
+/// off), and it varies smoothly with the angle. The balance once found the hinge friction by a
+/// fixed point on the contact force divided by that arm, which diverged there.
+#[test]
+fn the_lever_far_off_the_ramp_balances_its_moments_where_the_roller_arm_vanishes() {
+    use bindery_fmu::mechanics::{dot, sgn};
+    use bindery_fmu::mechanisms::perforators::elastic::{Contact, ContactLaw, LeverOde, Track};
+    use bindery_fmu::mechanisms::perforators::physics::Params;
+    use bindery_fmu::solver::ShaftPath;
+    use std::cell::Cell;
+    let p = Params {
+        spring_m0: 4.0,
+        spring_kt: 10.0,
+        ..Params::default()
+    };
+    let d = p.drive().unwrap();
+    let w = 130.0 * std::f64::consts::PI / 30.0;
+    let ode = LeverOde {
+        d: &d,
+        contact: Contact::new(&d, ContactLaw::Hertz, 0.0, 100.0),
+        path: ShaftPath::new(0.0, 0.0, w, 0.0),
+        track: Cell::new(Track::new(0.0)),
+        range: LeverOde::linkage_range(&d),
+        out_of_range: Cell::new(f64::NAN),
+        rigid: Default::default(),
+        last: Default::default(),
+    };
+    let mut checked = 0;
+    // every millisecond of a turn; the arm vanishes in the range where the ramp is steep
+    for t in (0..462).map(|i| i as f64 * 1e-3) {
+        let (phi, w, eps) = ode.path.at(t);
+        let rigid = d.kinematics(phi, w, eps);
+        let arm = |g: f64| dot(rigid.normal, d.p.roller(g).1);
+        // the lever angle in the linkage's range where the arm changes sign
+        let n = 2000;
+        let at = |i: usize| ode.range.0 + (ode.range.1 - ode.range.0) * i as f64 / n as f64;
+        // above the ramp (below it the roller would be pressed deep in)
+        let Some(i) =
+            (0..n).find(|&i| at(i) > rigid.gamma + 0.1 && arm(at(i)) * arm(at(i + 1)) <= 0.0)
+        else {
+            continue;
+        };
+        let g0 = at(i).clamp(ode.range.0 + 5e-3, ode.range.1 - 5e-3);
+        let mut last: Option<f64> = None;
+        for j in -50..=50 {
+            let g = g0 + j as f64 * 1e-4;
+            let y = [rigid.gamma - g, rigid.gamma_w - 9.8];
+            let pt = ode.point_at(&rigid, &[y[0], y[1], 0.0]);
+            assert!(
+                pt.pen < 0.0 && pt.f_c == 0.0,
+                "t {t}, angle {g}: off the ramp"
+            );
+            let ga = pt.kin.gamma_a;
+            assert!(ga.is_finite(), "t {t}, angle {g}: {ga}");
+            // the moments about O1 at that acceleration, from the balance itself
+            let (left, _, f) = d.moment_left(
+                &pt.kin,
+                &d.linkage(g),
+                (sgn(rigid.v), sgn(rigid.gamma_w)),
+                0.0,
+            );
+            let scale = (ga * LeverOde::j_eff(&d, g)).abs() + f.spring_m.abs() + f.joint_m.abs();
+            assert!(
+                left.abs() <= 1e-9 * scale,
+                "t {t}, angle {g}: {left} of {scale}"
+            );
+            // smooth in the angle: 1e-4 rad changes it by far less than itself
+            if let Some(prev) = last {
+                assert!(
+                    (ga - prev).abs() <= 0.01 * ga.abs().max(prev.abs()),
+                    "t {t}, angle {g}: {prev} -> {ga}"
+                );
+            }
+            last = Some(ga);
+            checked += 1;
+        }
+    }
+    assert!(
+        checked >= 10 * 101,
+        "the arm vanishes in the linkage's range at {checked} points"
+    );
+}

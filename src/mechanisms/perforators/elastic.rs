@@ -15,8 +15,8 @@
 //! (`contact.law`): Hertz line contact `K·δ^(10/9)` ([`crate::mechanics::hertz`], K from the
 //! roller width and moduli) or linear `contact.k·δ`, plus the damping `contact.c·δ̇`, and never
 //! pulling: `F_c = max(0, F_el(δ) + c·δ̇)` for δ > 0, 0 otherwise. The lever's angular
-//! acceleration follows from the kinetostatic level's own balance
-//! ([`super::physics::Drive::forces_dir`], rod, carriage, spring, gravity, piercing, guide and
+//! acceleration follows from the kinetostatic level's own balance about O1
+//! ([`super::physics::Drive::moment_left`], rod, carriage, spring, gravity, piercing, guide and
 //! hinge friction, the table's acceleration) solved for Δγ̈ with the contact force given. The
 //! friction and piercing loads take their directions from the rigid motion (assumption, as in
 //! the Geneva drive: the lever's ringing does not reverse the sliding; no chattering at rest).
@@ -315,44 +315,44 @@ impl LeverOde<'_> {
         let sw = sgn(rigid.gamma_w.re());
         let j_eff = Self::j_eff_of(d, link.pose.ds);
         let outside = !(g.re() >= self.range.0 && g.re() <= self.range.1);
-        // the balance is affine in the lever acceleration but for the friction's corners:
-        // a Newton step with the frictionless slope J_eff/a, then secant steps; only the
-        // accelerations change from one to the next
+        // the balance with the contact force given is affine in the lever acceleration but for
+        // the friction's corners: a Newton step with the frictionless slope J_eff, then secant
+        // steps; only the accelerations change from one to the next
         let a0 = rigid.gamma_a;
         let at_a0 = self.kin_at(rigid, &link, (g, gw, a0));
-        let resid = |ga: T| {
+        let left = |ga: T| {
             let (pose, k) = (&link.pose, at_a0);
             let k = Kinematics {
                 a: pose.dds * gw * gw + pose.ds * ga,
                 gamma_a: ga,
                 ..k
             };
-            let f = d.forces_in(&k, &link, sv, sw, true);
-            (f.roller_f - f_c, k, f)
+            let (m, dm, f) = d.moment_left(&k, &link, (sv, sw), f_c);
+            (m, k, f, dm)
         };
-        let (r0, mut kin, mut forces) = resid(a0);
-        let mut ga_fc = arm / j_eff;
-        if r0.re() != 0.0 && r0.re().is_finite() {
+        let (r0, mut kin, mut forces, mut d_left_fc) = left(a0);
+        // ∂Δγ̈/∂(moment left), −1/J_eff without friction
+        let mut slope = -j_eff.recip();
+        let tol = 1e-12 * (f_c.re().max(1.0) * arm.re().abs() + (a0.re() * j_eff.re()).abs());
+        if r0.re().abs() > tol && r0.re().is_finite() {
             let (mut a0, mut r0) = (a0, r0);
-            let mut a1 = a0 - r0 * ga_fc;
+            let mut a1 = a0 + r0 * slope;
             for _ in 0..4 {
-                let (r1, k1, f1) = resid(a1);
-                kin = k1;
-                forces = f1;
+                let (r1, k1, f1, dm1) = left(a1);
+                (kin, forces, d_left_fc) = (k1, f1, dm1);
                 if r1.re() != r0.re() && r1.re().is_finite() {
-                    ga_fc = (a1 - a0) / (r1 - r0);
+                    slope = -(a1 - a0) / (r1 - r0);
                 }
-                if r1.re().abs() <= 1e-12 * f_c.re().max(1.0)
-                    || r1.re() == r0.re()
-                    || !r1.re().is_finite()
-                {
+                if r1.re().abs() <= tol || r1.re() == r0.re() || !r1.re().is_finite() {
                     break;
                 }
-                let a2 = a1 - r1 * ga_fc;
+                let a2 = a1 + r1 * slope;
                 (a0, r0) = (a1, r1);
                 a1 = a2;
             }
         }
+        // ∂Δγ̈/∂F_c: the contact's moment and the hinge friction's share of it
+        let ga_fc = slope * d_left_fc;
         if outside {
             // no position of the linkage: the integrator meets a non-finite derivative and
             // fails the step; the model names the angle
