@@ -46,6 +46,8 @@ const BASE: Case = Case {
 struct Run {
     run: elastic::Run<P>,
     f_kin: Vec<f64>,
+    /// The communication steps (their indices) in which the roller lifted off.
+    lift_steps: Vec<usize>,
     liftoffs: i32,
     impact: f64,
     k_d: f64,
@@ -102,11 +104,17 @@ fn run(c: &Case, stop: f64) -> Result<Run, String> {
     };
     let mut log = Warnings::default();
     let mut f_kin = vec![];
+    let (mut lift_steps, mut lifts) = (vec![], 0.0);
     let run = elastic::run::<Perforators>(v, c.dt, stop, &rec, &mut log, |v| {
+        if v[P::contact_liftoffs] != lifts {
+            lift_steps.push(f_kin.len());
+            lifts = v[P::contact_liftoffs];
+        }
         f_kin.push(v[P::roller_F_kin])
     })
     .map_err(|e| format!("{c:?}: {e}"))?;
     Ok(Run {
+        lift_steps,
         liftoffs: run.values.int(P::contact_liftoffs),
         impact: run.values[P::contact_F_impact],
         k_d: run.values[P::dyn_factor],
@@ -314,9 +322,12 @@ fn no_liftoff_at_the_nominal_speed_liftoffs_and_impacts_above_the_rigid_threshol
     assert!(r.liftoffs >= 2, "{}", r.liftoffs);
     assert!(r.impact > rigid_peak, "{} vs {rigid_peak}", r.impact);
     assert!(r.k_d > 1.5, "{}", r.k_d);
-    // the flights and landings are located, not stepped over: the tight-tolerance reference
-    // counts the same lift-offs and the same largest impact (tracked at every internal step)
-    // over the first turn
+    // the flights and landings are located, not stepped over: over the first turn the
+    // tight-tolerance reference lifts off in the same milliseconds and has the same largest
+    // impact (tracked at every internal step). The first lift-off grazes (the contact force
+    // reaches zero with almost no slope, at the rigid threshold): at rtol 1e-6 and 3e-6 `auto`
+    // (and dopri5 at 3e-6) sees it as lift-off, touch, lift-off within that millisecond, where
+    // every tighter tolerance and radau5 at any see one; so the counts may differ by that one
     let r = run(&Case { rpm: 130.0, ..BASE }, 60.0 / 130.0).unwrap();
     let reference = run(
         &Case {
@@ -328,7 +339,18 @@ fn no_liftoff_at_the_nominal_speed_liftoffs_and_impacts_above_the_rigid_threshol
         60.0 / 130.0,
     )
     .unwrap();
-    assert_eq!(r.liftoffs, reference.liftoffs);
+    assert_eq!(r.lift_steps, reference.lift_steps);
+    assert!(
+        reference.lift_steps.len() >= 20,
+        "{:?}",
+        reference.lift_steps
+    );
+    assert!(
+        (r.liftoffs - reference.liftoffs).abs() <= 1,
+        "{} vs {}",
+        r.liftoffs,
+        reference.liftoffs
+    );
     assert!(
         (r.impact - reference.impact).abs() < 2e-2 * reference.impact,
         "{} vs {}",

@@ -583,7 +583,7 @@ impl Integrator {
             if stepper == Stepper::Radau && !last && !self.mem.rejected {
                 // the rest of the call in equal steps no longer than the one the error allows:
                 // the steps of a call, and of the calls after it, then share one factorization
-                // (the controller keeps a step it would grow by less than 20 %), where a
+                // (the controller keeps a step it would grow by at most a factor 2), where a
                 // shortened last step would need its own and the next call's first another. Not
                 // right after a rejection: that step is the controller's retreat, taken as it is
                 hs = rest / (rest / hs * (1.0 - 1e-9)).ceil();
