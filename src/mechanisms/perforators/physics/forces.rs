@@ -52,38 +52,16 @@ impl Drive {
     }
 
     /// As [`Drive::forces`]; with `hertz` false the Hertz stress is not computed (`sigma_h` 0).
-    pub fn forces_with<T: Scalar>(&self, k: &Kinematics<T>, hertz: bool) -> Forces<T> {
-        self.forces_full(k, sgn(k.v.re()), sgn(k.gamma_w.re()), hertz)
-    }
-
-    /// As [`Drive::forces`], with the directions of the friction and piercing loads given (`sv`
-    /// of the perforators' motion, `sw` of the lever's) and the Hertz stress optional (`sigma_h`
-    /// 0 without it).
-    fn forces_full<T: Scalar>(
-        &self,
-        k: &Kinematics<T>,
-        sv: f64,
-        sw: f64,
-        hertz: bool,
-    ) -> Forces<T> {
-        self.forces_in(k, &self.linkage(k.gamma), sv, sw, hertz)
-    }
-
-    /// [`Drive::forces_full`] with the linkage as made at the lever angle `k.gamma` given
-    /// (`link`: [`super::Params::linkage`] of [`Drive::made`]; the roller arm is as designed). Any
+    /// The friction and piercing loads take their directions from the motion `k`, the linkage
+    /// is the one as made at the lever angle `k.gamma` (the roller arm as designed). Any
     /// [`Scalar`]: the carriage's guide side, the contact's sign and the profile's shape are
     /// taken on the real parts. The contact force is what the lever's balance about O1 leaves
     /// for the ramp; the hinge friction depends on it, found by a fixed point (the roller is on
     /// the ramp here, so its arm about the normal is the linkage's).
-    pub fn forces_in<T: Scalar>(
-        &self,
-        k: &Kinematics<T>,
-        link: &Linkage<T>,
-        sv: f64,
-        sw: f64,
-        hertz: bool,
-    ) -> Forces<T> {
-        let c = self.carriage_balance(k, link, sv);
+    pub fn forces_with<T: Scalar>(&self, k: &Kinematics<T>, hertz: bool) -> Forces<T> {
+        let (sv, sw) = (sgn(k.v.re()), sgn(k.gamma_w.re()));
+        let link = self.linkage(k.gamma);
+        let c = self.carriage_balance(k, &link, sv);
         let spring_m = self.spring_moment(k.gamma);
         let (r, _, _) = link.r;
         let arm = cross(r, k.normal);
