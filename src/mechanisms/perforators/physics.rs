@@ -289,16 +289,22 @@ impl Params {
 
     /// Carriage position `s(Δγ)` along `u` and its derivatives, m (any [`Scalar`]).
     pub fn carriage<T: Scalar>(&self, g: T) -> SliderPose<T> {
-        let (a, a1, a2) = self.joint_a(g);
-        self.slider_line().pose(a, a1, a2)
+        self.carriage_on(&self.slider_line(), g)
     }
 
-    /// The linkage at lever angle Δγ ([`Linkage`]; any [`Scalar`]).
-    pub fn linkage<T: Scalar>(&self, g: T) -> Linkage<T> {
+    /// [`Params::carriage`] on `line`, this linkage's line made once ([`Drive`] keeps it).
+    fn carriage_on<T: Scalar>(&self, line: &SliderLine, g: T) -> SliderPose<T> {
+        let (a, a1, a2) = self.joint_a(g);
+        line.pose(a, a1, a2)
+    }
+
+    /// The linkage at lever angle Δγ on `line`, this linkage's line made once ([`Linkage`];
+    /// any [`Scalar`]).
+    fn linkage_on<T: Scalar>(&self, line: &SliderLine, g: T) -> Linkage<T> {
         let a = self.joint_a(g);
         Linkage {
             a,
-            pose: self.slider_line().pose(a.0, a.1, a.2),
+            pose: line.pose(a.0, a.1, a.2),
             r: self.roller(g),
         }
     }
@@ -437,18 +443,12 @@ impl Params {
 impl Drive {
     /// [`Params::carriage`] of the linkage as made, on its line made once (the same values).
     pub fn carriage<T: Scalar>(&self, g: T) -> SliderPose<T> {
-        let (a, a1, a2) = self.made.joint_a(g);
-        self.made_line.pose(a, a1, a2)
+        self.made.carriage_on(&self.made_line, g)
     }
 
-    /// [`Params::linkage`] of the linkage as made, on its line made once (the same values).
+    /// The linkage as made at lever angle Δγ, on its line made once ([`Linkage`]).
     pub fn linkage<T: Scalar>(&self, g: T) -> Linkage<T> {
-        let a = self.made.joint_a(g);
-        Linkage {
-            a,
-            pose: self.made_line.pose(a.0, a.1, a.2),
-            r: self.made.roller(g),
-        }
+        self.made.linkage_on(&self.made_line, g)
     }
 
     /// `synth.stroke_error`: the paper's stroke over the exact one, minus 1.
@@ -488,8 +488,7 @@ impl Drive {
     pub fn gamma_of_x<T: Scalar>(&self, x_t: T) -> (T, T, T, T, T, T) {
         let (s, sx, sxx) = self.needle_law(x_t);
         let g = self.gamma_of(s);
-        let (a, a1, a2) = self.p.joint_a(g);
-        let c = self.line.pose(a, a1, a2);
+        let c = self.p.carriage_on(&self.line, g);
         let gs = T::one() / c.ds;
         let gss = -c.dds * gs * gs * gs;
         (g, gs * sx, gss * sx * sx + gs * sxx, s, sx, sxx)
