@@ -15,22 +15,19 @@ use bindery_fmu::mechanisms::{
     disc_knife_drive::DiscKnifeDrive, geneva_knife_drive::GenevaKnifeDrive,
     perforators::Perforators, sewing_table::SewingTable,
 };
-use bindery_fmu::model::{Model, NoLog, Values, VarSet};
+use bindery_fmu::model::{Model, NoLog, Values};
 
 /// One case: `(name, value)` start values, the run's length (s) and its position output.
 fn run<M: Model>(set: &[(&str, f64)], stop: f64, x: &str) -> f64 {
-    let index = |name: &str| {
-        <M::Var as VarSet>::table()
-            .iter()
-            .position(|d| d.name == name)
-            .unwrap_or_else(|| panic!("{} has no {name}", M::IDENTIFIER))
-    };
     let mut v = Values::<M::Var>::start();
     for (name, value) in set {
-        v.raw_mut()[index(name)] = *value;
+        v.set_named(name, *value);
     }
     let mut m = M::prepare(&v).expect("the case's parameters");
-    let (ix, n) = (index(x), (stop / 1e-3_f64).round() as usize);
+    let (ix, n) = (
+        Values::<M::Var>::index_of(x),
+        (stop / 1e-3_f64).round() as usize,
+    );
     let mut sum = 0.0;
     for i in 0..n {
         m.step(&mut v, i as f64 * 1e-3, 1e-3, &mut NoLog)

@@ -13,19 +13,13 @@ use bindery_fmu::mechanisms::{
     disc_knife_drive::DiscKnifeDrive, geneva_knife_drive::GenevaKnifeDrive,
     sewing_table::SewingTable,
 };
-use bindery_fmu::model::{Model, NoLog, Values, VarSet};
+use bindery_fmu::model::{Model, NoLog, Values};
 
 const TOLS: [f64; 6] = [1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8];
 
 /// `elastic.F` of `M` on the 1 ms grid over `stop` s at `rpm` with `elastic.k = k`, `auto` at
 /// `rtol`.
 fn forces<M: Model>(rpm: f64, stop: f64, k: f64, rtol: f64) -> Vec<f64> {
-    let index = |name: &str| {
-        <M::Var as VarSet>::table()
-            .iter()
-            .position(|d| d.name == name)
-            .unwrap_or_else(|| panic!("{} has no {name}", M::IDENTIFIER))
-    };
     let mut v = Values::<M::Var>::start();
     for (name, x) in [
         ("model.fidelity", 3.0),
@@ -35,16 +29,15 @@ fn forces<M: Model>(rpm: f64, stop: f64, k: f64, rtol: f64) -> Vec<f64> {
         ("solver.rtol", rtol),
         ("solver.atol", (rtol * 1e-3).min(3.0 / k)),
     ] {
-        v.raw_mut()[index(name)] = x;
+        v.set_named(name, x);
     }
     let mut m = M::prepare(&v).expect("the case's parameters");
-    let f = index("elastic.F");
     (0..(stop / 1e-3_f64).round() as usize)
         .map(|i| {
             m.step(&mut v, i as f64 * 1e-3, 1e-3, &mut NoLog)
                 .expect("a step");
             m.evaluate(&mut v, (i + 1) as f64 * 1e-3, &mut NoLog);
-            v.raw()[f]
+            v.named("elastic.F")
         })
         .collect()
 }

@@ -55,11 +55,19 @@ impl<V: VarSet> Values<V> {
     /// same variables, each in its own enum ([`crate::solver::chain::solver_settings`], the
     /// needle and table parameters). Panics if the model declares no such variable.
     pub fn named(&self, name: &str) -> f64 {
-        let i = V::table()
+        self.data[Self::index_of(name)]
+    }
+    /// Sets the variable named `name` (start values by name: the report's cases, benchmarks,
+    /// tests). Panics if the model declares no such variable.
+    pub fn set_named(&mut self, name: &str, x: f64) {
+        self.data[Self::index_of(name)] = x;
+    }
+    /// The value reference of the variable named `name`. Panics if the model declares none.
+    pub fn index_of(name: &str) -> usize {
+        V::table()
             .iter()
             .position(|d| d.name == name)
-            .unwrap_or_else(|| panic!("the model declares no {name}"));
-        self.data[i]
+            .unwrap_or_else(|| panic!("the model declares no {name}"))
     }
     /// A Boolean value.
     pub fn flag(&self, v: V) -> bool {
