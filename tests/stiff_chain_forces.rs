@@ -70,8 +70,9 @@ fn largest_errors<M: Model>(rpm: f64, stop: f64, k: f64) -> [f64; 6] {
 }
 
 /// At its default stiffness every chain's force at the default rtol 1e-6 is within 0.1 % of its
-/// peak; stiffened to 1e12 N/m it is within 0.5 % at rtol 1e-8 and 1.5 % at 1e-7 (the
-/// README's advice), and it converges: rtol 1e-8 is at least ten times closer than 1e-5.
+/// peak; stiffened to 1e12 N/m it is within 0.5 % at rtol 1e-8 and 2 % at 1e-7 (the README's
+/// advice: about 1 %; measured 0.22 % and 1.13 % on the disc knives' rod, the largest), and it
+/// converges: rtol 1e-8 is at least ten times closer than 1e-5.
 #[test]
 fn a_stiff_chains_force_needs_a_tighter_tolerance_than_its_position_and_gets_it() {
     let soft = [
@@ -88,7 +89,7 @@ fn a_stiff_chains_force_needs_a_tighter_tolerance_than_its_position_and_gets_it(
         largest_errors::<GenevaKnifeDrive>(30.0, 0.5, 1e12),
     ];
     for e in stiff {
-        assert!(e[5] < 5e-3 && e[4] < 1.5e-2, "{e:?}");
+        assert!(e[5] < 5e-3 && e[4] < 2e-2, "{e:?}");
         assert!(e[5] < 0.1 * e[2], "{e:?}");
     }
 }
