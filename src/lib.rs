@@ -13,6 +13,9 @@
 //! - [`scene`]: scene files and the FMU tailored to one (`scenes.md`); knows no mechanism.
 //! - `sweep` (feature `tools`): design sweeps, every run native and in this process.
 //! - `docs` (feature `tools`): the FMU's `documentation/` page, figures and icon; knows no mechanism.
+// The documentation is for those who work on the crate (`cargo doc --document-private-items`):
+// it links to private items where they say how a public one works.
+#![allow(rustdoc::private_intra_doc_links)]
 // model_variables! reads a model's list one variable per expansion step (about 100 in a
 // mechanism); the default limit of 128 is too close.
 #![recursion_limit = "256"]

@@ -11,6 +11,9 @@
 //!
 //! The checkout is the folder at or above the current one holding `Cargo.toml` and
 //! `modelDescription/` (or `--root`); relative `--out` paths are relative to the current folder.
+// The subcommands' doc comments are clap's help text, where `<id>` and `<machine>` are
+// placeholders of a path, not HTML.
+#![allow(rustdoc::invalid_html_tags)]
 
 #[path = "bindery/anchors.rs"]
 mod anchors;

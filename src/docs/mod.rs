@@ -1,6 +1,6 @@
 //! The `documentation/` folder of every FMU and its `model.png` icon, generic over mechanisms:
 //! a page ([`page_html`]) in the order a designer reads (what it is, the questions it answers
-//! with numbers at the defaults from [`sweep`], the figures, how it is modelled, every variable
+//! with numbers at the defaults from [`mod@sweep`], the figures, how it is modelled, every variable
 //! grouped), each figure a PNG line plot ([`render_png`]).
 //!
 //! No system library and no system font: plots are drawn with plotters into memory, text in

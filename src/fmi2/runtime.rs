@@ -773,7 +773,7 @@ pub(crate) unsafe fn slice<'a, T>(p: *const T, n: usize, what: &str) -> Result<&
     Ok(unsafe { std::slice::from_raw_parts(p, n) })
 }
 
-/// As [`slice`], mutable.
+/// As [`fn@slice`], mutable.
 ///
 /// # Safety
 /// `p` must point to `n` valid elements when non-NULL.

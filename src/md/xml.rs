@@ -10,7 +10,7 @@ use crate::model::{Causality, EnumType, Initial, Model, Var, VarType, Variabilit
 use serde::Serialize;
 
 /// A description written by [`describe`] with its `generationDateAndTime` set to `date`
-/// (xs:dateTime, e.g. from [`date_time`]); the GUID does not change.
+/// (xs:dateTime, e.g. from [`super::date_time`]); the GUID does not change.
 pub fn stamp(xml: &str, date: &str) -> String {
     xml.replacen(
         &format!("generationDateAndTime=\"{VERSION_DATE}\""),

@@ -221,7 +221,7 @@ fn variable(vr: u32, v: &Var) -> Variable {
     }
 }
 
-/// The description with this instantiation token, dated [`VERSION_DATE`].
+/// The description with this instantiation token, dated [`crate::md::VERSION_DATE`].
 fn build(info: &ModelInfo, vars: &[(u32, &Var)], token: &str) -> Fmd {
     let enumerations = enum_types(vars)
         .into_iter()

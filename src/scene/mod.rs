@@ -1,7 +1,7 @@
 //! Scenes (`scenes.md`): one simulation set-up in a small TOML file, and the FMU tailored to it.
 //!
 //! [`Scene::parse`] reads the file and refuses what is malformed, naming the key, its line and
-//! the valid choices. [`tailor`] holds a scene against one mechanism's declarations: which
+//! the valid choices. [`mod@tailor`] holds a scene against one mechanism's declarations: which
 //! outputs it keeps (the scene's), which parameters (those that feed a computation stage the
 //! outputs need, [`crate::model::Var::feeds`]), which inputs (those the kept outputs depend on;
 //! none of the shaft's with a `constant_speed` drive), which stages run

@@ -1,4 +1,4 @@
-//! The FMU tailored to a scene ([`tailor`]): which variables it lists, which stages run, its
+//! The FMU tailored to a scene ([`fn@tailor`]): which variables it lists, which stages run, its
 //! start values and GUID; computed by the CLI when it packages the FMU and by the FMU's binary
 //! from `resources/scene.toml` at instantiation ([`cached`]).
 
@@ -438,7 +438,7 @@ pub fn tailor<M: Model>(scene: &Scene) -> Result<Tailored, SceneError> {
     })
 }
 
-/// [`tailor`] from the text of a scene file.
+/// [`fn@tailor`] from the text of a scene file.
 pub fn tailor_text<M: Model>(text: &str) -> Result<Tailored, SceneError> {
     tailor::<M>(&Scene::parse(text)?)
 }

@@ -539,7 +539,7 @@ pub fn save_state<C: ChainModel>(chain: Option<&Chain<C>>) -> Vec<f64> {
     chain.map(Chain::save).unwrap_or_default()
 }
 
-/// [`crate::model::Model::restore_state`] of a model whose only internal state is the chain.
+/// [`crate::model::Dynamics::restore_state`] of a model whose only internal state is the chain.
 pub fn restore_state<C: ChainModel>(chain: Option<&mut Chain<C>>, s: &[f64]) -> Result<(), String> {
     match chain {
         Some(d) => d.restore(s),

@@ -4,7 +4,7 @@
 //! shaft turn or the whole run; event counts; flags; the log's warnings).
 //!
 //! - [`plan`]: what a checked sweep file says ([`Plan`]: the runs, their columns, the metrics);
-//! - [`file`]: a model's sweep file (TOML), refused with the key and its line when malformed;
+//! - [`mod@file`]: a model's sweep file (TOML), refused with the key and its line when malformed;
 //!   [`read`]: what every sweep file has (which model, scene or machine; the axes, the design);
 //!   a whole machine's sweep is `crate::machines::sweep`, which builds on these;
 //! - [`sample`]: the design, which values run `k` takes, the same in every process;
