@@ -29,6 +29,16 @@ const QUOT1: f64 = 0.99;
 const QUOT2: f64 = 2.0;
 /// A step size this close (relative) to the factorized one keeps the factorization.
 const LU_SLACK: f64 = 1e-3;
+/// Largest stopping tolerance of the Newton iteration, as a fraction of the (transformed)
+/// tolerance: Hairer's `FNEWT`, `min(0.03, rtol'^0.5)`, is 0.03 at rtol 1e-3 and above 0.01 for
+/// rtol above 3.2e-5 (his "smaller values make the code slower, but safer"). There the iterate
+/// left a stiff chain's coordinate off by 0.03 of the tolerance, kilonewtons of force at
+/// 1e12 N/m, which near the disc knives' jamming window flipped the guides' friction and ended
+/// in Newton failures and steps of microseconds; converged to 0.01, that chain's run at rtol 1e-3
+/// takes a third of the right-hand sides and a quarter of the factorizations, and the other
+/// chains' counts move by about 1 % (`bindery report`'s counts; BENCHMARKS.md). At rtol 3.2e-5
+/// and below nothing changes.
+const FNEWT_MAX: f64 = 0.01;
 
 /// The method's constants (`radau5.f`): nodes, error-estimate weights, the eigenvalues of the
 /// inverse of the coefficient matrix (`u1` real, `alph ± i·beta`) and the transformation `T`,
@@ -260,7 +270,7 @@ impl Integrator {
         let n = y.len();
         let tb = tab();
         let rtol = self.scale.rtol_radau;
-        let fnewt = (10.0 * f64::EPSILON / rtol).max(0.03f64.min(rtol.sqrt()));
+        let fnewt = (10.0 * f64::EPSILON / rtol).max(0.03f64.min(rtol.sqrt()).min(FNEWT_MAX));
         let mut factors = std::mem::take(&mut self.factors);
         let Some(fa) = factors.of(n, &self.mem.radau.jac, self.mem.radau.lu_h) else {
             self.factors = factors;
