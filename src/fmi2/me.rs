@@ -1,9 +1,9 @@
 //! FMI 2.0 Model Exchange on the same runtime: the host integrates the model's continuous
 //! states with its own solver (e.g. FMPy with CVode) through states, derivatives and event
-//! indicators ([`crate::model::Dynamics::STATES`], [`crate::model::Dynamics::me_derivatives`], ...). A submodule of the runtime:
-//! it uses the same instance and entry wrapper; [`entry`] checks each call against the Model
-//! Exchange column of `state::LEGAL`, whose event and continuous-time modes both run in the
-//! runtime's state `StepComplete`, told apart by [`Mode`].
+//! indicators ([`crate::model::Dynamics::STATES`], [`crate::model::Dynamics::me_derivatives`],
+//! ...). A submodule of the runtime: it uses the same instance and entry wrapper; [`entry`]
+//! checks each call against the Model Exchange column of `state::LEGAL`, whose event and
+//! continuous-time modes both run in the runtime's state `StepComplete`, told apart by [`Mode`].
 
 use super::*;
 
