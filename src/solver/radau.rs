@@ -32,7 +32,7 @@ const LU_SLACK: f64 = 1e-3;
 /// Largest stopping tolerance of the Newton iteration, as a fraction of the (transformed)
 /// tolerance: Hairer's `FNEWT`, `min(0.03, rtol'^0.5)`, is 0.03 at rtol 1e-3 and above 0.01 for
 /// rtol above 3.2e-5 (his "smaller values make the code slower, but safer"). There the iterate
-/// left a stiff chain's coordinate off by 0.03 of the tolerance, kilonewtons of force at
+/// left a stiff chain's coordinate off by up to 0.03 of the tolerance, kilonewtons of force at
 /// 1e12 N/m, which near the disc knives' jamming window flipped the guides' friction and ended
 /// in Newton failures and steps of microseconds; converged to 0.01, that chain's run at rtol 1e-3
 /// takes a third of the right-hand sides and a quarter of the factorizations, and the other
