@@ -45,6 +45,10 @@ struct CarriageBalance<T> {
     m_rod: T,
 }
 
+/// At most this many Newton iterations on the lever's balance with hinge friction
+/// ([`Drive::forces_with`]); it takes two or three.
+const BALANCE_ITERATIONS: usize = 8;
+
 impl Drive {
     /// Forces (kinetostatic level) for kinematics `k`.
     pub fn forces<T: Scalar>(&self, k: &Kinematics<T>) -> Forces<T> {
@@ -56,8 +60,10 @@ impl Drive {
     /// is the one as made at the lever angle `k.gamma` (the roller arm as designed). Any
     /// [`Scalar`]: the carriage's guide side, the contact's sign and the profile's shape are
     /// taken on the real parts. The contact force is what the lever's balance about O1 leaves
-    /// for the ramp; the hinge friction depends on it, found by a fixed point (the roller is on
-    /// the ramp here, so its arm about the normal is the linkage's).
+    /// for the ramp; the hinge friction depends on it, so the balance is solved by Newton's
+    /// method from the frictionless force until its step is at the rounding of the force (two
+    /// or three iterations: the friction's share of the moment is a few per cent). The roller
+    /// is on the ramp here, so its arm about the normal is the linkage's.
     pub fn forces_with<T: Scalar>(&self, k: &Kinematics<T>, hertz: bool) -> Forces<T> {
         let (sv, sw) = (sgn(k.v.re()), sgn(k.gamma_w.re()));
         let link = self.linkage(k.gamma);
@@ -65,12 +71,18 @@ impl Drive {
         let spring_m = self.spring_moment(k.gamma);
         let (r, _, _) = link.r;
         let arm = cross(r, k.normal);
-        let mut joint_m = T::zero();
-        let mut fc = T::zero();
-        for _ in 0..4 {
-            fc = (k.gamma_a * self.made.lever_j - c.m_rod - spring_m - joint_m) / arm;
-            joint_m = self.joint_moment(&c, fc, k.normal, sw);
+        // the lever's balance without the contact: J·Δγ̈ − M_rod − M_spring = F_c·a + M_joint(F_c)
+        let m = k.gamma_a * self.made.lever_j - c.m_rod - spring_m;
+        let mut fc = m / arm;
+        for _ in 0..BALANCE_ITERATIONS {
+            let (joint_m, joint_fc) = self.joint_moment_fc(&c, fc, k.normal, sw);
+            let step = (fc * arm + joint_m - m) / (arm + joint_fc);
+            fc -= step;
+            if !(step.re().abs() > 4.0 * f64::EPSILON * fc.re().abs()) {
+                break;
+            }
         }
+        let joint_m = self.joint_moment(&c, fc, k.normal, sw);
         self.forces_of(k, &c, spring_m, joint_m, fc, hertz)
     }
 

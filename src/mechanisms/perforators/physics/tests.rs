@@ -408,3 +408,28 @@ fn the_linkage_as_made_moves_the_needles_by_its_own_geometry() {
         assert_eq!(f, f0);
     }
 }
+
+/// The kinetostatic contact force balances the lever about O1 with the hinge friction it
+/// causes, to the rounding of the moments (the balance is solved, not iterated a fixed number
+/// of times: four fixed-point passes left 2e-8 of the force), over a turn in both modes.
+#[test]
+fn kinetostatic_contact_force_balances_the_lever_with_its_hinge_friction() {
+    for mode in [Mode::Paper, Mode::Exact] {
+        let d = drive(mode);
+        let mut worst: f64 = 0.0;
+        for i in 0..720 {
+            let phi = i as f64 * 2.0 * PI / 720.0;
+            let k = d.kinematics(phi, W100, 0.0);
+            let f = d.forces_with(&k, false);
+            let signs = (crate::mechanics::sgn(k.v), crate::mechanics::sgn(k.gamma_w));
+            let (left, d_left, _) = d.moment_left(&k, &d.linkage(k.gamma), signs, f.roller_f);
+            // the moment left over, as a force at the roller (d_left: the arm and the friction)
+            let err = (left / d_left).abs() / f.roller_f.abs().max(1.0);
+            worst = worst.max(err);
+        }
+        assert!(
+            worst < 1e-13,
+            "{mode:?}: the balance is off by {worst:e} of the force"
+        );
+    }
+}
