@@ -536,15 +536,7 @@ impl ChainOde for RodOde<'_> {
 }
 
 impl OdeSystem for RodOde<'_> {
-    fn dim(&self) -> usize {
-        3
-    }
-    fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-        let ev = self.eval_kept(t, y);
-        dy[0] = y[1];
-        dy[1] = ev.xdd;
-        dy[2] = ev.power;
-    }
+    crate::chain_rhs!(via Self::eval_kept: ev => ev.xdd, ev.power);
     fn jacobian(&self, t: f64, y: &[f64], j: &mut [f64]) {
         let r = self.rigid(t);
         dual_jacobian(y, j, |x, xd| {
@@ -574,12 +566,6 @@ impl OdeSystem for RodOde<'_> {
         g[3] = lock_g - WEDGE_BAND;
         // the shaft reversing
         g[4] = r.kin.w;
-    }
-    fn error_weight(&self, i: usize) -> f64 {
-        if i == 2 { 0.0 } else { 1.0 }
-    }
-    fn abs_tol(&self, i: usize, atol: f64, y: &[f64]) -> f64 {
-        crate::solver::chain::rate_tolerance(self, i, atol, y)
     }
     fn on_step(&self, t: f64, y: &[f64]) {
         let r = self.rigid(t);

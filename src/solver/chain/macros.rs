@@ -199,15 +199,19 @@ macro_rules! chain_access {
 /// power the expressions after `=>` read off the chain's point `pt` at `(t, y)`
 /// ([`crate::solver::chain::ChainOde::point_kept`]), the error norm without `W` (a work kept
 /// for the energy balance), and `ẋ`'s absolute tolerance no finer than the arithmetic resolves
-/// ([`crate::solver::chain::rate_tolerance`]).
+/// ([`crate::solver::chain::rate_tolerance`]). With `via f:` first, the point is `f(self, t, y)`
+/// instead (a chain whose right-hand side needs less than its point, e.g. `via Self::eval_kept:`).
 #[macro_export]
 macro_rules! chain_rhs {
     ($pt:ident => $xdd:expr, $power:expr) => {
+        $crate::chain_rhs!(via $crate::solver::chain::ChainOde::point_kept: $pt => $xdd, $power);
+    };
+    (via $get:path: $pt:ident => $xdd:expr, $power:expr) => {
         fn dim(&self) -> usize {
             3
         }
         fn rhs(&self, t: f64, y: &[f64], dy: &mut [f64]) {
-            let $pt = $crate::solver::chain::ChainOde::point_kept(self, t, y);
+            let $pt = $get(self, t, y);
             dy[0] = y[1];
             dy[1] = $xdd;
             dy[2] = $power;
