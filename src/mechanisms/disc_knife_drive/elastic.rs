@@ -29,7 +29,11 @@
 //! reduced mass `M = m5 + m7·|D'|² + m_h·|S'|² + J_h·β'²` (test
 //! `frictionless_solve_is_lagrange`); with friction the normal forces N5, N7 come out of the same
 //! solve, and Coulomb friction `μ·|N|` is resolved by the same sign search as the kinetostatic
-//! level.
+//! level. Friction adds two rank-one terms to the matrix ([`friction_columns`]), so one
+//! elimination of the frictionless system serves every sign combination (the Sherman–Morrison–
+//! Woodbury formula, [`with_friction`]; test
+//! `friction_by_the_rank_two_update_is_the_direct_solve`), as one of the kinetostatic system
+//! serves the jamming indicator's four ([`RodOde::lock_indicator`]).
 //!
 //! # Assumptions (as the Geneva model)
 //! - The friction in both guides is directed against the **rigid** velocities (slider 5: ẋ_C(φ),
@@ -185,14 +189,47 @@ pub fn least_reduced_mass(p: &Params) -> f64 {
         .fold(f64::INFINITY, f64::min)
 }
 
-/// Solves a 7×7 system by Gaussian elimination with partial pivoting on the real parts (generic:
-/// on dual numbers it carries the exact derivative of the solution). `None` if singular.
-fn solve7<T: DualNum<Primitive = f64> + Copy>(a: [[T; 7]; 7], b: [T; 7]) -> Option<[T; 7]> {
-    solve7_for(a, [b]).map(|[z]| z)
+/// The two columns friction adds to the module docs' system ([`Params::system_matrix`]): with
+/// the friction factors `k5`, `k7` the matrix is `A0 − k5·e0·e5ᵀ − k7·w·e6ᵀ`, A0 the frictionless
+/// one, `e0` the unit vector of row 0 (slider 5's balance along its guide) and `w = u_x·e2 +
+/// u_y·e3` (slider 7's, along EQ); `e5`, `e6` pick the unknowns N5, N7.
+fn friction_columns<T: DualNum<Primitive = f64> + Copy>(p: &Params) -> [[T; 7]; 2] {
+    let u = p.support_dir();
+    let mut e0 = [T::zero(); 7];
+    e0[0] = T::one();
+    let mut w = [T::zero(); 7];
+    (w[2], w[3]) = (T::from(u.x), T::from(u.y));
+    [e0, w]
 }
 
-/// [`solve7`] for several right-hand sides `bs` at once: one elimination of `a`, each `b` taking
-/// the same row operations it would alone (so each solution is [`solve7`]'s, bit for bit).
+/// `det A / det A0` for the friction factors `k5`, `k7` ([`friction_columns`]), by the matrix
+/// determinant lemma, from `pv = A0⁻¹·e0` and `qv = A0⁻¹·w`.
+fn friction_det<T: DualNum<Primitive = f64> + Copy>(pv: &[T; 7], qv: &[T; 7], k5: T, k7: T) -> T {
+    (-pv[5] * k5 + 1.0) * (-qv[6] * k7 + 1.0) - qv[5] * pv[6] * (k5 * k7)
+}
+
+/// The solution of the system with friction, `A·z = b` ([`friction_columns`]), from the
+/// frictionless one `z0 = A0⁻¹·b` and `pv`, `qv` ([`friction_det`]) by the Sherman–Morrison–
+/// Woodbury formula: `z = z0 + k5·z5·pv + k7·z6·qv`, with N5 = z5 and N7 = z6 from the 2×2 system
+/// those two components make. No elimination per sign combination; NaN where `det A = 0`.
+fn with_friction<T: DualNum<Primitive = f64> + Copy>(
+    [z0, pv, qv]: &[[T; 7]; 3],
+    k5: T,
+    k7: T,
+) -> [T; 7] {
+    let det = friction_det(pv, qv, k5, k7);
+    if det.re() == 0.0 {
+        return [T::from(f64::NAN); 7];
+    }
+    let z5 = ((-qv[6] * k7 + 1.0) * z0[5] + qv[5] * k7 * z0[6]) / det;
+    let z6 = ((-pv[5] * k5 + 1.0) * z0[6] + pv[6] * k5 * z0[5]) / det;
+    let (a, b) = (k5 * z5, k7 * z6);
+    std::array::from_fn(|i| z0[i] + a * pv[i] + b * qv[i])
+}
+
+/// Solves a 7×7 system for several right-hand sides `bs` at once, by Gaussian elimination with
+/// partial pivoting on the real parts (generic: on dual numbers it carries the exact derivative
+/// of the solution). `None` if singular.
 fn solve7_for<T: DualNum<Primitive = f64> + Copy, const M: usize>(
     mut a: [[T; 7]; 7],
     mut bs: [[T; 7]; M],
@@ -351,18 +388,13 @@ impl<'a> RodOde<'a> {
             T::zero(),
             T::zero(),
         );
-        let u = p.support_dir();
-        let mut e0 = [T::zero(); 7];
-        e0[0] = T::one();
-        let mut w = [T::zero(); 7];
-        (w[2], w[3]) = (T::from(u.x), T::from(u.y));
-        let Some([pv, qv]) = solve7_for(a, [e0, w]) else {
+        let Some([pv, qv]) = solve7_for(a, friction_columns(p)) else {
             return T::from(-1.0); // a singular frictionless system: the holder's dead point
         };
         let (m5, m7) = (p.guide_mu, p.support_mu);
         let mut best = T::from(f64::INFINITY);
         for (k5, k7) in sign_combinations(m5, m7) {
-            let g = (-pv[5] * k5 + 1.0) * (-qv[6] * k7 + 1.0) - qv[5] * pv[6] * (k5 * k7);
+            let g = friction_det(&pv, &qv, T::from(k5), T::from(k7));
             if g.re() < best.re() {
                 best = g;
             }
@@ -409,9 +441,10 @@ impl<'a> RodOde<'a> {
         rhs[0] -= force * cd[0];
         rhs[1] -= force * cd[1];
         let (cp, dp, sp) = ([x, T::from(e)], [d[0].re, d[1].re], [s[0].re, s[1].re]);
-        let solve = |k5: T, k7: T| {
-            solve7(p.system_matrix(col0, cp, dp, sp, k5, k7), rhs).unwrap_or([T::from(f64::NAN); 7])
-        };
+        // one elimination of the frictionless system for z0 and what friction adds
+        let [e0, w] = friction_columns(p);
+        let a0 = p.system_matrix(col0, cp, dp, sp, T::zero(), T::zero());
+        let solved = solve7_for(a0, [rhs, e0, w]).unwrap_or([[T::from(f64::NAN); 7]; 3]);
         let lock_g = self.lock_indicator(x, cd);
         let locked = lock_g.re() <= 0.0;
         let fade = friction_fade(lock_g);
@@ -419,12 +452,12 @@ impl<'a> RodOde<'a> {
             fade * (p.guide_mu * r.slip.0),
             fade * (p.support_mu * r.slip.1),
         );
-        let z0 = solve(T::zero(), T::zero());
+        let z0 = solved[0];
         let (z, k5, k7) = if f5.re() == 0.0 && f7.re() == 0.0 {
             (z0, T::zero(), T::zero())
         } else {
             // as the kinetostatic level
-            friction_sign_search(z0, f5, f7, solve)
+            friction_sign_search(z0, f5, f7, |k5, k7| with_friction(&solved, k5, k7))
         };
         let c_abs = p.assembly_cos(x.re()).abs();
         let xdd = if c_abs.is_nan() || c_abs >= self.c_dead {
