@@ -81,9 +81,11 @@
 //! numbers seeded in x and in ẋ (the discrete choices — friction signs, locking — are constant
 //! near the point, between events).
 
-use super::physics::{
-    Kinematics, Params, Vec2, dot, friction_sign_search, norm, sign_combinations,
+use super::friction::{
+    friction_columns, friction_det, friction_sign_search, sign_combinations, solve7_for,
+    with_friction,
 };
+use super::physics::{Kinematics, Params, Vec2, dot, norm};
 use crate::mechanics::{Scalar, SpringDamper, sgn};
 use crate::solver::chain::Peaks;
 use crate::solver::chain::{ChainOde, LastAt, LastPoint, dual_jacobian};
@@ -187,86 +189,6 @@ pub fn least_reduced_mass(p: &Params) -> f64 {
             )
         })
         .fold(f64::INFINITY, f64::min)
-}
-
-/// The two columns friction adds to the module docs' system ([`Params::system_matrix`]): with
-/// the friction factors `k5`, `k7` the matrix is `A0 − k5·e0·e5ᵀ − k7·w·e6ᵀ`, A0 the frictionless
-/// one, `e0` the unit vector of row 0 (slider 5's balance along its guide) and `w = u_x·e2 +
-/// u_y·e3` (slider 7's, along EQ); `e5`, `e6` pick the unknowns N5, N7.
-fn friction_columns<T: DualNum<Primitive = f64> + Copy>(p: &Params) -> [[T; 7]; 2] {
-    let u = p.support_dir();
-    let mut e0 = [T::zero(); 7];
-    e0[0] = T::one();
-    let mut w = [T::zero(); 7];
-    (w[2], w[3]) = (T::from(u.x), T::from(u.y));
-    [e0, w]
-}
-
-/// `det A / det A0` for the friction factors `k5`, `k7` ([`friction_columns`]), by the matrix
-/// determinant lemma, from `pv = A0⁻¹·e0` and `qv = A0⁻¹·w`.
-fn friction_det<T: DualNum<Primitive = f64> + Copy>(pv: &[T; 7], qv: &[T; 7], k5: T, k7: T) -> T {
-    (-pv[5] * k5 + 1.0) * (-qv[6] * k7 + 1.0) - qv[5] * pv[6] * (k5 * k7)
-}
-
-/// The solution of the system with friction, `A·z = b` ([`friction_columns`]), from the
-/// frictionless one `z0 = A0⁻¹·b` and `pv`, `qv` ([`friction_det`]) by the Sherman–Morrison–
-/// Woodbury formula: `z = z0 + k5·z5·pv + k7·z6·qv`, with N5 = z5 and N7 = z6 from the 2×2 system
-/// those two components make. No elimination per sign combination; NaN where `det A = 0`.
-fn with_friction<T: DualNum<Primitive = f64> + Copy>(
-    [z0, pv, qv]: &[[T; 7]; 3],
-    k5: T,
-    k7: T,
-) -> [T; 7] {
-    let det = friction_det(pv, qv, k5, k7);
-    if det.re() == 0.0 {
-        return [T::from(f64::NAN); 7];
-    }
-    let z5 = ((-qv[6] * k7 + 1.0) * z0[5] + qv[5] * k7 * z0[6]) / det;
-    let z6 = ((-pv[5] * k5 + 1.0) * z0[6] + pv[6] * k5 * z0[5]) / det;
-    let (a, b) = (k5 * z5, k7 * z6);
-    std::array::from_fn(|i| z0[i] + a * pv[i] + b * qv[i])
-}
-
-/// Solves a 7×7 system for several right-hand sides `bs` at once, by Gaussian elimination with
-/// partial pivoting on the real parts (generic: on dual numbers it carries the exact derivative
-/// of the solution). `None` if singular.
-fn solve7_for<T: DualNum<Primitive = f64> + Copy, const M: usize>(
-    mut a: [[T; 7]; 7],
-    mut bs: [[T; 7]; M],
-) -> Option<[[T; 7]; M]> {
-    for col in 0..7 {
-        let piv =
-            (col..7).max_by(|&i, &j| a[i][col].re().abs().total_cmp(&a[j][col].re().abs()))?;
-        if a[piv][col].re() == 0.0 || !a[piv][col].re().is_finite() {
-            return None;
-        }
-        a.swap(col, piv);
-        for b in &mut bs {
-            b.swap(col, piv);
-        }
-        let pivot = a[col];
-        for r in col + 1..7 {
-            let f = a[r][col] / pivot[col];
-            for (x, &t) in a[r].iter_mut().zip(pivot.iter()).skip(col) {
-                *x -= f * t;
-            }
-            for b in &mut bs {
-                let bp = b[col];
-                b[r] -= f * bp;
-            }
-        }
-    }
-    Some(bs.map(|b| {
-        let mut z = [T::zero(); 7];
-        for r in (0..7).rev() {
-            let mut acc = b[r];
-            for c in r + 1..7 {
-                acc -= a[r][c] * z[c];
-            }
-            z[r] = acc / a[r][r];
-        }
-        z
-    }))
 }
 
 /// The ODE of one communication step.
@@ -388,7 +310,7 @@ impl<'a> RodOde<'a> {
             T::zero(),
             T::zero(),
         );
-        let Some([pv, qv]) = solve7_for(a, friction_columns(p)) else {
+        let Some([pv, qv]) = solve7_for(a, friction_columns(p.support_dir())) else {
             return T::from(-1.0); // a singular frictionless system: the holder's dead point
         };
         let (m5, m7) = (p.guide_mu, p.support_mu);
@@ -442,7 +364,7 @@ impl<'a> RodOde<'a> {
         rhs[1] -= force * cd[1];
         let (cp, dp, sp) = ([x, T::from(e)], [d[0].re, d[1].re], [s[0].re, s[1].re]);
         // one elimination of the frictionless system for z0 and what friction adds
-        let [e0, w] = friction_columns(p);
+        let [e0, w] = friction_columns(p.support_dir());
         let a0 = p.system_matrix(col0, cp, dp, sp, T::zero(), T::zero());
         let solved = solve7_for(a0, [rhs, e0, w]).unwrap_or([[T::from(f64::NAN); 7]; 3]);
         let lock_g = self.lock_indicator(x, cd);

@@ -130,7 +130,7 @@ fn friction_by_the_rank_two_update_is_the_direct_solve() {
         let inertia = [-m5, 0.0, -m7 * 0.4, -m7 * 0.9, -1.0, 0.5, -0.2];
         for col0 in [rod, inertia] {
             let a0 = p.system_matrix(col0, c, d, s, 0.0, 0.0);
-            let [e0, w] = friction_columns(&p);
+            let [e0, w] = friction_columns(p.support_dir());
             let Some(solved) = solve7_for(a0, [rhs, e0, w]) else {
                 continue; // the holder's dead point
             };

@@ -89,20 +89,21 @@
 //! `τ = J_A·ε + P·(B × ĉ) + rod.m/2·g·l1·cos φ`; the crank sits on the shaft, so
 //! `shaft.tau = τ` and `shaft.P = τ·ω`.
 
+use super::friction::{
+    friction_columns, friction_det, friction_sign_search, sign_combinations, solve7_for,
+    with_friction,
+};
 use crate::mechanics::slider_crank::SliderCrank;
 use crate::mechanics::{
     ParamError, Scalar, check_finite, check_non_negative, check_positive, sgn, wrap_angle_of,
 };
-use nalgebra::{SMatrix, SVector, Vector2};
+use nalgebra::Vector2;
 use num_dual::{Dual2, DualNum};
 use std::f64::consts::{PI, TAU};
-use std::ops::{Index, Mul};
 
 /// A point or vector in the plane of the mechanism, m (or m/s, m/s², N); of dual numbers for
 /// the partial derivatives.
 pub type Vec2<T = f64> = Vector2<T>;
-type Matrix7<T> = SMatrix<T, 7, 7>;
-type Vector7<T> = SVector<T, 7>;
 
 /// A [`Scalar`] nalgebra's LU solves the force system with: `f64`, and the dual numbers of the
 /// partial derivatives (num-dual's nalgebra traits; the pivots chosen on the values, so the
@@ -294,48 +295,6 @@ pub struct AssemblyFailure {
     pub worst: f64,
     /// The crank angle of that largest |c|, rad.
     pub worst_at: f64,
-}
-
-/// The four combinations of the signs σ5, σ7 starting with `(g5, g7)`: `(g5, g7)`, `(−g5, g7)`,
-/// `(g5, −g7)`, `(−g5, −g7)` (module docs, kinetostatics).
-#[inline]
-pub(super) fn sign_combinations(g5: f64, g7: f64) -> [(f64, f64); 4] {
-    [(g5, g7), (-g5, g7), (g5, -g7), (-g5, -g7)]
-}
-
-/// The sign search of the module docs' system with Coulomb friction: `solve(k5, k7)` solves it
-/// for `z = [P or ẍ, C_x, C_y, D_x, D_y, N5, N7]` with the friction factors `k5`, `k7` (`f5`,
-/// `f7` times the signs σ5, σ7). The signs of the frictionless solution `z0`'s N5, N7 first, then
-/// the other combinations ([`sign_combinations`]); the one solution that agrees with its assumed
-/// signs is returned with its `k5`, `k7`. Should none agree to rounding (|N| ≈ 0), the least
-/// disagreeing one. The kinetostatic level ([`Params::kinetostatics_with_load`]) and the
-/// elastodynamic one ([`super::elastic::RodOde::eval`]) search so; `z` any [`Scalar`] vector,
-/// `f5`, `f7` of `f64` or of `z`'s numbers.
-pub(super) fn friction_sign_search<T, Z, F>(
-    z0: Z,
-    f5: F,
-    f7: F,
-    solve: impl Fn(F, F) -> Z,
-) -> (Z, F, F)
-where
-    T: Scalar,
-    Z: Index<usize, Output = T>,
-    F: Copy + From<f64> + Mul<f64, Output = F>,
-{
-    let sig = |x: T| if x.re() < 0.0 { -1.0 } else { 1.0 };
-    let (g5, g7) = (sig(z0[5]), sig(z0[6]));
-    let mut best = (f64::INFINITY, z0, F::from(0.0), F::from(0.0));
-    for (a5, a7) in sign_combinations(g5, g7) {
-        let z = solve(f5 * a5, f7 * a7);
-        let miss = (-a5 * z[5].re()).max(0.0) + (-a7 * z[6].re()).max(0.0);
-        if miss < best.0 {
-            best = (miss, z, f5 * a5, f7 * a7);
-        }
-        if miss == 0.0 {
-            break;
-        }
-    }
-    (best.1, best.2, best.3)
 }
 
 /// 2-D cross product (z component; any [`Scalar`]).
@@ -532,22 +491,6 @@ impl Params {
         }
     }
 
-    /// The 7×7 matrix of the module docs for friction factors `k5`, `k7` (rows as there).
-    #[inline]
-    fn matrix<T: LinScalar>(&self, k: &Kinematics<T>, k5: f64, k7: f64) -> Matrix7<T> {
-        let cd = k.rod_dir;
-        let o = T::zero();
-        let a = self.system_matrix(
-            [cd.x, cd.y, o, o, o, o, o],
-            [k.x_c, T::from(self.crank_e)],
-            [k.d.x, k.d.y],
-            [k.s.x, k.s.y],
-            T::from(k5),
-            T::from(k7),
-        );
-        Matrix7::from_row_slice(a.as_flattened())
-    }
-
     /// The module docs' 7×7 matrix with the first column `col0` (the rod force P's
     /// coefficients at the kinetostatic level; the slider's acceleration's at the elastic level)
     /// and the holder's points C, D, S; generic so that the elastic level differentiates it
@@ -641,29 +584,47 @@ impl Params {
         k: &Kinematics<T>,
         load: Vec2<T>,
     ) -> Forces<T> {
-        let rhs = Vector7::from_column_slice(&self.system_rhs(
+        let rhs = self.system_rhs(
             k.a_c,
             [k.a_d.x, k.a_d.y],
             [k.a_s.x, k.a_s.y],
             k.beta_eps,
             load,
-        ));
-        let nan = || Vector7::repeat(<T as From<f64>>::from(f64::NAN));
-        let lu0 = self.matrix(k, 0.0, 0.0).lu();
-        let det0 = lu0.determinant().re();
-        let z0 = lu0.solve(&rhs).unwrap_or_else(nan);
+        );
+        // one elimination of the frictionless system for z0 and what friction adds to it
+        let cd = k.rod_dir;
+        let o = T::zero();
+        let a0 = self.system_matrix(
+            [cd.x, cd.y, o, o, o, o, o],
+            [k.x_c, T::from(self.crank_e)],
+            [k.d.x, k.d.y],
+            [k.s.x, k.s.y],
+            o,
+            o,
+        );
+        let [e0, w] = friction_columns(self.support_dir());
+        let solved = solve7_for(a0, [rhs, e0, w]);
         let (s5, s7) = self.slip_signs(k, sgn(k.w.re()));
         let (f5, f7) = (self.guide_mu * s5, self.support_mu * s7);
-        let locked = (f5 != 0.0 || f7 != 0.0)
-            && sign_combinations(1.0, 1.0)
-                .iter()
-                .any(|&(a5, a7)| self.matrix(k, f5 * a5, f7 * a7).determinant().re() * det0 <= 0.0);
-        let (z, k5, k7) = if (f5 == 0.0 && f7 == 0.0) || locked {
-            (z0, 0.0, 0.0)
-        } else {
-            friction_sign_search(z0, f5, f7, |k5, k7| {
-                self.matrix(k, k5, k7).lu().solve(&rhs).unwrap_or_else(nan)
-            })
+        let friction = f5 != 0.0 || f7 != 0.0;
+        let (z, k5, k7, locked) = match solved {
+            // a singular frictionless system (the holder's dead point): no solution
+            None => ([T::from(f64::NAN); 7], 0.0, 0.0, friction),
+            Some(solved) => {
+                let det = |k5: f64, k7: f64| friction_det(&solved[1], &solved[2], o + k5, o + k7);
+                let locked = friction
+                    && sign_combinations(1.0, 1.0)
+                        .iter()
+                        .any(|&(a5, a7)| det(f5 * a5, f7 * a7).re() <= 0.0);
+                if !friction || locked {
+                    (solved[0], 0.0, 0.0, locked)
+                } else {
+                    let (z, k5, k7) = friction_sign_search(solved[0], f5, f7, |k5, k7| {
+                        with_friction(&solved, o + k5, o + k7)
+                    });
+                    (z, k5, k7, false)
+                }
+            }
         };
         let (p, n5, n7) = (z[0], z[5], z[6]);
         let tau = self.crank_torque(k, p, k.rod_dir);
