@@ -130,6 +130,8 @@ pub struct Eval<T> {
     pub k7: T,
     /// The jamming criterion holds at this geometry: friction dropped.
     pub locked: bool,
+    /// The jamming indicator at this geometry ([`RodOde::lock_indicator`]).
+    pub lock_g: T,
 }
 
 /// Width of the band of the jamming indicator ([`RodOde::lock_indicator`], 1 without friction,
@@ -310,13 +312,19 @@ impl<'a> RodOde<'a> {
             T::zero(),
             T::zero(),
         );
-        let Some([pv, qv]) = solve7_for(a, friction_columns(p.support_dir())) else {
-            return T::from(-1.0); // a singular frictionless system: the holder's dead point
-        };
-        let (m5, m7) = (p.guide_mu, p.support_mu);
+        match solve7_for(a, friction_columns(p.support_dir())) {
+            Some([pv, qv]) => self.lock_of(&pv, &qv),
+            None => T::from(-1.0), // a singular frictionless system: the holder's dead point
+        }
+    }
+
+    /// The jamming indicator from `pv = A0⁻¹·e0`, `qv = A0⁻¹·w` of the kinetostatic system
+    /// ([`friction_columns`]): the smallest [`friction_det`] over the sign combinations.
+    fn lock_of<T: DualNum<Primitive = f64> + Copy>(&self, pv: &[T; 7], qv: &[T; 7]) -> T {
+        let (m5, m7) = (self.p.guide_mu, self.p.support_mu);
         let mut best = T::from(f64::INFINITY);
         for (k5, k7) in sign_combinations(m5, m7) {
-            let g = friction_det(&pv, &qv, T::from(k5), T::from(k7));
+            let g = friction_det(pv, qv, T::from(k5), T::from(k7));
             if g.re() < best.re() {
                 best = g;
             }
@@ -363,18 +371,43 @@ impl<'a> RodOde<'a> {
         rhs[0] -= force * cd[0];
         rhs[1] -= force * cd[1];
         let (cp, dp, sp) = ([x, T::from(e)], [d[0].re, d[1].re], [s[0].re, s[1].re]);
-        // one elimination of the frictionless system for z0 and what friction adds
+        // one elimination of the frictionless system for z0, what friction adds, and the
+        // jamming indicator: the kinetostatic system differs from this one in its first column
+        // only (the rod's direction for the acceleration's coefficients), `A0 + d·e0ᵀ`
         let [e0, w] = friction_columns(p.support_dir());
         let a0 = p.system_matrix(col0, cp, dp, sp, T::zero(), T::zero());
-        let solved = solve7_for(a0, [rhs, e0, w]).unwrap_or([[T::from(f64::NAN); 7]; 3]);
-        let lock_g = self.lock_indicator(x, cd);
+        let d_col = [
+            cd[0] - col0[0],
+            cd[1] - col0[1],
+            -col0[2],
+            -col0[3],
+            -col0[4],
+            -col0[5],
+            -col0[6],
+        ];
+        let all = solve7_for(a0, [rhs, e0, w, d_col]);
+        let [z0, pv, qv, dv] = all.unwrap_or([[T::from(f64::NAN); 7]; 4]);
+        let solved = [z0, pv, qv];
+        let den = dv[0] + 1.0; // det of the kinetostatic system over this one's
+        let lock_g = if p.guide_mu == 0.0 && p.support_mu == 0.0 {
+            T::one()
+        } else if all.is_none() || den.re() == 0.0 || !den.re().is_finite() {
+            // a singular system (the holder's dead point), or none (it does not assemble)
+            T::from(-1.0)
+        } else {
+            // its A⁻¹·e0 and A⁻¹·w by Sherman–Morrison: A⁻¹·v = A0⁻¹·v − dv·(A0⁻¹·v)₀/(1 + dv₀)
+            let sm = |v: &[T; 7]| {
+                let f = v[0] / den;
+                std::array::from_fn(|i| v[i] - dv[i] * f)
+            };
+            self.lock_of(&sm(&pv), &sm(&qv))
+        };
         let locked = lock_g.re() <= 0.0;
         let fade = friction_fade(lock_g);
         let (f5, f7) = (
             fade * (p.guide_mu * r.slip.0),
             fade * (p.support_mu * r.slip.1),
         );
-        let z0 = solved[0];
         let (z, k5, k7) = if f5.re() == 0.0 && f7.re() == 0.0 {
             (z0, T::zero(), T::zero())
         } else {
@@ -410,6 +443,7 @@ impl<'a> RodOde<'a> {
             k5,
             k7,
             locked,
+            lock_g,
         }
     }
 

@@ -158,3 +158,26 @@ fn friction_by_the_rank_two_update_is_the_direct_solve() {
         "the update is off by {worst:e} of the solution"
     );
 }
+
+/// The jamming indicator the right-hand side takes from its own elimination (Sherman–Morrison
+/// on the swapped first column) is [`RodOde::lock_indicator`]'s, which the event functions
+/// use, over a turn and through the window: within 1e-12.
+#[test]
+fn the_rhs_jamming_indicator_is_the_event_functions() {
+    let p = Params::default();
+    let o = ode(&p, 2e8, 0.05, p.drive_n);
+    let (mut worst, mut near): (f64, usize) = (0.0, 0);
+    for j in 0..3600 {
+        let t = 0.2 * (j as f64 + 0.37) / 3600.0;
+        let r = o.rigid(t);
+        for (dx, xd) in [(0.0, r.kin.v_c), (3e-6, 0.2)] {
+            let x = r.kin.x_c + dx;
+            let ev = o.eval(&r, x, xd);
+            let g = o.lock_indicator(x, ev.rod_dir);
+            worst = worst.max((ev.lock_g - g).abs() / g.abs().max(1.0));
+            near += usize::from(g.abs() < WEDGE_BAND);
+        }
+    }
+    assert!(near > 0, "the window was not met");
+    assert!(worst < 1e-12, "off by {worst:e}");
+}
