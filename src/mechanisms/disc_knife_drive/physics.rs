@@ -66,9 +66,10 @@
 //! | holder, moment about S / l4 | `((C − S) × (C_x, C_y) + (D − S) × (D_x, D_y))/l4 = J_h·β̈/l4` |
 //!
 //! with `k5 = μ5·σ5·sgn(ẋ_C)`, `k7 = μ7·σ7·sgn(v_D·u)` and `F = (F_x, F_y)` the cutting force at S.
-//! It is solved by a stack-allocated 7×7 LU (nalgebra `SMatrix`): first without friction, whose
-//! normal-force signs give σ, then with friction, trying the other sign combinations until the
-//! solution agrees with its σ. The system is a piecewise-linear map of z; where every sign
+//! It is solved by one Gaussian elimination of the frictionless system on the stack
+//! ([`super::friction`]): its normal-force signs give σ; friction adds two rank-one terms, so each
+//! sign combination's solution and determinant follow from that elimination, and the other
+//! combinations are tried until the solution agrees with its σ. The system is a piecewise-linear map of z; where every sign
 //! combination gives a determinant of the sign the frictionless one has, that map is a bijection
 //! (coherent orientation), so exactly one combination agrees.
 //!
@@ -105,9 +106,9 @@ use std::f64::consts::{PI, TAU};
 /// the partial derivatives.
 pub type Vec2<T = f64> = Vector2<T>;
 
-/// A [`Scalar`] nalgebra's LU solves the force system with: `f64`, and the dual numbers of the
-/// partial derivatives (num-dual's nalgebra traits; the pivots chosen on the values, so the
-/// values are the `f64` solve's).
+/// A [`Scalar`] the outputs are computed in: `f64`, and the dual numbers of the partial
+/// derivatives (with num-dual's nalgebra traits; the force system's pivots are chosen on the
+/// values, so the values are the `f64` solve's).
 pub trait LinScalar: Scalar + nalgebra::ComplexField {}
 impl<T: Scalar + nalgebra::ComplexField> LinScalar for T {}
 
