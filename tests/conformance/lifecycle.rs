@@ -111,22 +111,7 @@ fn input_derivative_calls_are_checked_and_atomic() {
         ] {
             let mut b = bytes.clone();
             b[at + 8 * k..at + 8 * k + 8].copy_from_slice(&x.to_bits().to_le_bytes());
-            let mut bad: FMUstate = std::ptr::null_mut();
-            let de = s.deserialize(&b, &mut bad);
-            if de == Status::Ok {
-                assert_eq!(
-                    s.set_state(bad),
-                    Status::Error,
-                    "{} tampered {k} = {x}",
-                    e.identifier
-                );
-                assert_eq!(s.free_state(&mut bad), Status::Ok);
-            }
-            assert!(
-                s.last_error().contains(why),
-                "{k} = {x}: {}",
-                s.last_error()
-            );
+            refuse_tampered(&s, &b, why, &format!("{} tampered {k} = {x}", e.identifier));
             assert_eq!(s.state_bytes(), bytes);
         }
         // not on a Model Exchange instance (of an FMU that has one): the host integrates and

@@ -64,6 +64,18 @@ fn is_mechanism(e: &Entry) -> bool {
     .is_some()
 }
 
+/// A tampered serialized FMU state is refused: it either does not deserialize, or setting it
+/// is an Error whose message contains `why` (and the state is freed). The caller checks that
+/// the instance is unchanged.
+fn refuse_tampered(s: &Slave, bytes: &[u8], why: &str, case: &str) {
+    let mut bad: FMUstate = std::ptr::null_mut();
+    if s.deserialize(bytes, &mut bad) == Status::Ok {
+        assert_eq!(s.set_state(bad), Status::Error, "{case}: accepted");
+        assert_eq!(s.free_state(&mut bad), Status::Ok);
+    }
+    assert!(s.last_error().contains(why), "{case}: {}", s.last_error());
+}
+
 /// Every state of the co-simulation state machine that a bindery FMU can be in.
 const STATES: [State; 6] = REACHABLE_STATES;
 
