@@ -29,9 +29,10 @@
 //! reduced mass `M = m5 + m7·|D'|² + m_h·|S'|² + J_h·β'²` (test
 //! `frictionless_solve_is_lagrange`); with friction the normal forces N5, N7 come out of the same
 //! solve, and Coulomb friction `μ·|N|` is resolved by the same sign search as the kinetostatic
-//! level. Friction adds two rank-one terms to the matrix ([`friction_columns`]), so one
-//! elimination of the frictionless system serves every sign combination (the Sherman–Morrison–
-//! Woodbury formula, [`with_friction`]; test
+//! level. The frictionless system is solved by its structure ([`Params::solve_system`], a 2×2
+//! system in ẍ and N7 once the hinge forces are eliminated). Friction adds two rank-one terms
+//! to the matrix ([`friction_columns`]), so that one solve serves every sign combination (the
+//! Sherman–Morrison–Woodbury formula, [`with_friction`]; test
 //! `friction_by_the_rank_two_update_is_the_direct_solve`), as one of the kinetostatic system
 //! serves the jamming indicator's four ([`RodOde::lock_indicator`]).
 //!
@@ -82,8 +83,7 @@
 //! near the point, between events).
 
 use super::friction::{
-    friction_columns, friction_det, friction_sign_search, sign_combinations, solve7_for,
-    with_friction,
+    friction_columns, friction_det, friction_sign_search, sign_combinations, with_friction,
 };
 use super::physics::{Kinematics, Params, Vec2, dot, norm};
 use crate::mechanics::{Scalar, SpringDamper, sgn};
@@ -289,30 +289,17 @@ impl<'a> RodOde<'a> {
     /// Friction changes the frictionless matrix A0 by two rank-one terms, `−k5·e0·e5ᵀ` (row 0,
     /// column N5) and `−k7·w·e6ᵀ` (w = u_x·e2 + u_y·e3, column N7), so by the matrix determinant
     /// lemma `det A/det A0 = (1 − k5·p5)·(1 − k7·q6) − k5·k7·q5·p6` with `p = A0⁻¹·e0`,
-    /// `q = A0⁻¹·w`: one LU for all four combinations.
+    /// `q = A0⁻¹·w`: one solve ([`Params::solve_system`]) for all four combinations.
     pub fn lock_indicator<T: DualNum<Primitive = f64> + Copy>(&self, x: T, rod_dir: [T; 2]) -> T {
         let p = self.p;
         if p.guide_mu == 0.0 && p.support_mu == 0.0 {
             return T::one();
         }
         let (_, d, s) = p.holder(x);
-        let a = p.system_matrix(
-            [
-                rod_dir[0],
-                rod_dir[1],
-                T::zero(),
-                T::zero(),
-                T::zero(),
-                T::zero(),
-                T::zero(),
-            ],
-            [x, T::from(p.crank_e)],
-            d,
-            s,
-            T::zero(),
-            T::zero(),
-        );
-        match solve7_for(a, friction_columns(p.support_dir())) {
+        let o = T::zero();
+        let col0 = [rod_dir[0], rod_dir[1], o, o, o, o, o];
+        let cp = [x, T::from(p.crank_e)];
+        match p.solve_system(col0, cp, d, s, friction_columns(p.support_dir())) {
             Some([pv, qv]) => self.lock_of(&pv, &qv),
             None => T::from(-1.0), // a singular frictionless system: the holder's dead point
         }
@@ -371,11 +358,10 @@ impl<'a> RodOde<'a> {
         rhs[0] -= force * cd[0];
         rhs[1] -= force * cd[1];
         let (cp, dp, sp) = ([x, T::from(e)], [d[0].re, d[1].re], [s[0].re, s[1].re]);
-        // one elimination of the frictionless system for z0, what friction adds, and the
+        // one solve of the frictionless system for z0, what friction adds, and the
         // jamming indicator: the kinetostatic system differs from this one in its first column
         // only (the rod's direction for the acceleration's coefficients), `A0 + d·e0ᵀ`
         let [e0, w] = friction_columns(p.support_dir());
-        let a0 = p.system_matrix(col0, cp, dp, sp, T::zero(), T::zero());
         let d_col = [
             cd[0] - col0[0],
             cd[1] - col0[1],
@@ -385,7 +371,7 @@ impl<'a> RodOde<'a> {
             -col0[5],
             -col0[6],
         ];
-        let all = solve7_for(a0, [rhs, e0, w, d_col]);
+        let all = p.solve_system(col0, cp, dp, sp, [rhs, e0, w, d_col]);
         let [z0, pv, qv, dv] = all.unwrap_or([[T::from(f64::NAN); 7]; 4]);
         let solved = [z0, pv, qv];
         let den = dv[0] + 1.0; // det of the kinetostatic system over this one's

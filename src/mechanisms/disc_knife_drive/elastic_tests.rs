@@ -1,5 +1,6 @@
 //! Tests of `elastic.rs`.
 
+use super::super::friction::solve7_for;
 use super::*;
 use crate::solver::chain::assert_jacobian_at;
 use approx::assert_abs_diff_eq;

@@ -1,7 +1,8 @@
 //! The module docs' 7×7 system with Coulomb friction in both guides, shared by the kinetostatic
 //! level ([`super::physics::Params::kinetostatics_with_load`]) and the elastodynamic one
 //! ([`super::elastic::RodOde::eval`]): the friction factors change the frictionless matrix A0 by
-//! two rank-one terms ([`friction_columns`]), so one elimination of A0 gives the solution for every
+//! two rank-one terms ([`friction_columns`]), so one solve with A0
+//! ([`super::physics::Params::solve_system`]) gives the solution for every
 //! sign combination ([`with_friction`]) and every determinant ratio `det A / det A0`
 //! ([`friction_det`], the self-locking test); the sign search picks the combination whose normal
 //! forces agree with the signs it assumed ([`friction_sign_search`]).
@@ -93,7 +94,9 @@ pub fn with_friction<T: DualNum<Primitive = f64> + Copy>(
 
 /// Solves a 7×7 system for several right-hand sides `bs` at once, by Gaussian elimination with
 /// partial pivoting on the real parts (generic: on dual numbers it carries the exact derivative
-/// of the solution). `None` if singular.
+/// of the solution). `None` if singular. The tests' reference for the structured solve
+/// ([`super::physics::Params::solve_system`]) and the rank-two update ([`with_friction`]).
+#[cfg(test)]
 pub fn solve7_for<T: DualNum<Primitive = f64> + Copy, const M: usize>(
     mut a: [[T; 7]; 7],
     mut bs: [[T; 7]; M],

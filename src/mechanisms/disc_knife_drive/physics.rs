@@ -66,9 +66,10 @@
 //! | holder, moment about S / l4 | `((C − S) × (C_x, C_y) + (D − S) × (D_x, D_y))/l4 = J_h·β̈/l4` |
 //!
 //! with `k5 = μ5·σ5·sgn(ẋ_C)`, `k7 = μ7·σ7·sgn(v_D·u)` and `F = (F_x, F_y)` the cutting force at S.
-//! It is solved by one Gaussian elimination of the frictionless system on the stack
-//! ([`super::friction`]): its normal-force signs give σ; friction adds two rank-one terms, so each
-//! sign combination's solution and determinant follow from that elimination, and the other
+//! The frictionless system is solved once, by its structure ([`Params::solve_system`]: the
+//! hinge forces and N5 eliminated by the rows they stand in, a 2×2 system in P and N7 left); its
+//! normal-force signs give σ; friction adds two rank-one terms ([`super::friction`]), so each
+//! sign combination's solution and determinant follow from that one solve, and the other
 //! combinations are tried until the solution agrees with its σ. The system is a piecewise-linear map of z; where every sign
 //! combination gives a determinant of the sign the frictionless one has, that map is a bijection
 //! (coherent orientation), so exactly one combination agrees.
@@ -91,8 +92,7 @@
 //! `shaft.tau = τ` and `shaft.P = τ·ω`.
 
 use super::friction::{
-    friction_columns, friction_det, friction_sign_search, sign_combinations, solve7_for,
-    with_friction,
+    friction_columns, friction_det, friction_sign_search, sign_combinations, with_friction,
 };
 use crate::mechanics::slider_crank::SliderCrank;
 use crate::mechanics::{
@@ -494,8 +494,8 @@ impl Params {
 
     /// The module docs' 7×7 matrix with the first column `col0` (the rod force P's
     /// coefficients at the kinetostatic level; the slider's acceleration's at the elastic level)
-    /// and the holder's points C, D, S; generic so that the elastic level differentiates it
-    /// exactly on dual numbers.
+    /// and the holder's points C, D, S. The models solve it by its structure
+    /// ([`Params::solve_system`]); the tests take it as the reference, with friction too.
     #[inline]
     pub fn system_matrix<T: DualNum<Primitive = f64> + Copy>(
         &self,
@@ -521,6 +521,55 @@ impl Params {
             [col0[5], o, l, o, l, o, o],
             [col0[6], -r_c[1], r_c[0], -r_d[1], r_d[0], o, o],
         ]
+    }
+
+    /// The module docs' system without friction ([`Params::system_matrix`] with `k5 = k7 = 0`)
+    /// solved for each right-hand side of `bs`, by its structure: the hinge forces C, D and N5
+    /// each stand with a unit coefficient in one row, so eliminating them leaves two equations
+    /// in `z0` (P, or ẍ at the elastic level) and N7 (`cᵢ = col0[i]`, `bᵢ` a right-hand side,
+    /// `r_C = (C − S)/l4`, `r_D = (D − S)/l4`):
+    /// - the chain's balance along x (rows slider 5 x + slider 7 x + holder x):
+    ///   `(c0 + c2 + c4)·z0 + n_x·N7 = b0 + b2 + b4`;
+    /// - the holder's moment with `C_x = c0·z0 − b0`, `D_x = c2·z0 + n_x·N7 − b2`,
+    ///   `D_y = c3·z0 + n_y·N7 − b3` and `C_y = b5 − c5·z0 − D_y`:
+    ///   `(c6 − r_Cy·c0 − r_Cx·(c3 + c5) − r_Dy·c2 + r_Dx·c3)·z0 + ((r_Dx − r_Cx)·n_y − r_Dy·n_x)·N7
+    ///   = b6 − r_Cy·b0 − r_Cx·(b3 + b5) − r_Dy·b2 + r_Dx·b3`;
+    ///
+    /// then `N5 = b1 − c1·z0 + C_y`. About 60 operations a right-hand side where Gaussian
+    /// elimination of the 7×7 matrix takes some 800 (test
+    /// `the_structured_solve_is_the_elimination`). `None` where the 2×2 determinant is 0 or not
+    /// finite (the holder's dead point, or a holder that does not assemble). Generic, so that
+    /// the elastic level differentiates it exactly on dual numbers.
+    #[inline]
+    pub fn solve_system<T: DualNum<Primitive = f64> + Copy, const M: usize>(
+        &self,
+        col0: [T; 7],
+        c: [T; 2],
+        d: [T; 2],
+        s: [T; 2],
+        bs: [[T; 7]; M],
+    ) -> Option<[[T; 7]; M]> {
+        let n = self.support_normal();
+        let inv_l4 = 1.0 / self.holder_l4;
+        let r_c = [(c[0] - s[0]) * inv_l4, (c[1] - s[1]) * inv_l4];
+        let r_d = [(d[0] - s[0]) * inv_l4, (d[1] - s[1]) * inv_l4];
+        let [c0, c1, c2, c3, c4, c5, c6] = col0;
+        let (a11, a12) = (c0 + c2 + c4, n.x);
+        let a21 = c6 - r_c[1] * c0 - r_c[0] * (c3 + c5) - r_d[1] * c2 + r_d[0] * c3;
+        let a22 = (r_d[0] - r_c[0]) * n.y - r_d[1] * n.x;
+        let det = a11 * a22 - a21 * a12;
+        if det.re() == 0.0 || !det.re().is_finite() {
+            return None;
+        }
+        Some(bs.map(|[b0, b1, b2, b3, b4, b5, b6]| {
+            let r1 = b0 + b2 + b4;
+            let r2 = b6 - r_c[1] * b0 - r_c[0] * (b3 + b5) - r_d[1] * b2 + r_d[0] * b3;
+            let z0 = (r1 * a22 - r2 * a12) / det;
+            let n7 = (a11 * r2 - a21 * r1) / det;
+            let (dx, dy) = (c2 * z0 + n7 * n.x - b2, c3 * z0 + n7 * n.y - b3);
+            let cy = b5 - c5 * z0 - dy;
+            [z0, c0 * z0 - b0, cy, dx, dy, b1 - c1 * z0 + cy, n7]
+        }))
     }
 
     /// The module docs' right-hand side: inertia forces of slider 5 (acceleration `a_c` along
@@ -592,19 +641,17 @@ impl Params {
             k.beta_eps,
             load,
         );
-        // one elimination of the frictionless system for z0 and what friction adds to it
+        // one solve of the frictionless system for z0 and what friction adds to it
         let cd = k.rod_dir;
         let o = T::zero();
-        let a0 = self.system_matrix(
+        let [e0, w] = friction_columns(self.support_dir());
+        let solved = self.solve_system(
             [cd.x, cd.y, o, o, o, o, o],
             [k.x_c, T::from(self.crank_e)],
             [k.d.x, k.d.y],
             [k.s.x, k.s.y],
-            o,
-            o,
+            [rhs, e0, w],
         );
-        let [e0, w] = friction_columns(self.support_dir());
-        let solved = solve7_for(a0, [rhs, e0, w]);
         let (s5, s7) = self.slip_signs(k, sgn(k.w.re()));
         let (f5, f7) = (self.guide_mu * s5, self.support_mu * s7);
         let friction = f5 != 0.0 || f7 != 0.0;

@@ -728,3 +728,85 @@ proptest! {
         prop_assert!((k2.beta - k.beta).abs() < 1e-12);
     }
 }
+
+/// The structured solve ([`Params::solve_system`]) is Gaussian elimination with partial
+/// pivoting of the module docs' frictionless 7×7 matrix ([`Params::system_matrix`],
+/// `super::friction::solve7_for`): over a turn of every case, for the kinetostatic level's
+/// first column (the rod's direction) and an elastic one (inertia coefficients), for several
+/// right-hand sides at once, within 1e-12 of the solution's scale (the holder's dead point,
+/// where both are singular, left out); and on dual numbers its derivative is the
+/// elimination's.
+#[test]
+fn the_structured_solve_is_the_elimination() {
+    use super::super::friction::solve7_for;
+    use num_dual::Dual64;
+    let bs = [
+        [3.0, -20.0, 7.0, 40.0, -5.0, 11.0, 0.7],
+        [1.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+        [0.0, 0.0, 0.6, -0.8, 0.0, 0.0, 0.0],
+        [-2.0, 5.0, 0.1, 0.0, 30.0, -7.0, -0.4],
+    ];
+    let (mut worst, mut worst_dual, mut solved): (f64, f64, usize) = (0.0, 0.0, 0);
+    for p in cases() {
+        for phi in turn(720) {
+            let k = p.kinematics(phi, p.drive_n, 0.0);
+            let (beta, d, s) = p.holder(Dual64::new(k.x_c, 1.0));
+            let c = [k.x_c, p.crank_e];
+            let (dr, sr) = ([d[0].re, d[1].re], [s[0].re, s[1].re]);
+            let rod = [k.rod_dir.x, k.rod_dir.y, 0.0, 0.0, 0.0, 0.0, 0.0];
+            let inertia = [
+                -p.mass_c(),
+                0.0,
+                -p.slider7_m * d[0].eps,
+                -p.slider7_m * d[1].eps,
+                -p.holder_m * s[0].eps,
+                -p.holder_m * s[1].eps,
+                -p.holder_j / p.holder_l4 * beta.eps,
+            ];
+            for col0 in [rod, inertia] {
+                let a = p.system_matrix(col0, c, dr, sr, 0.0, 0.0);
+                let (Some(direct), Some(ours)) =
+                    (solve7_for(a, bs), p.solve_system(col0, c, dr, sr, bs))
+                else {
+                    continue;
+                };
+                solved += 1;
+                for (u, v) in ours.iter().zip(&direct) {
+                    let scale = v.iter().fold(1.0f64, |m, z| m.max(z.abs()));
+                    for (x, y) in u.iter().zip(v) {
+                        worst = worst.max((x - y).abs() / scale);
+                    }
+                }
+                // on dual numbers along x: the matrix's entries and the first column move
+                let dual = |v: &[f64; 7], e: &[f64; 7]| -> [Dual64; 7] {
+                    std::array::from_fn(|i| Dual64::new(v[i], e[i]))
+                };
+                let col0_d = dual(&col0, &[0.3, -0.1, 0.2, 0.0, 1.0, -0.5, 0.05]);
+                let (cd, dd, sd) = (
+                    [Dual64::new(k.x_c, 1.0), Dual64::from(p.crank_e)],
+                    [d[0], d[1]],
+                    [s[0], s[1]],
+                );
+                let z = Dual64::from(0.0);
+                let bd = bs.map(|b| b.map(Dual64::from));
+                let a = p.system_matrix(col0_d, cd, dd, sd, z, z);
+                if let (Some(direct), Some(ours)) =
+                    (solve7_for(a, bd), p.solve_system(col0_d, cd, dd, sd, bd))
+                {
+                    for (u, v) in ours.iter().zip(&direct) {
+                        let scale = v
+                            .iter()
+                            .fold(1.0f64, |m, z| m.max(z.re.abs() + z.eps.abs()));
+                        for (x, y) in u.iter().zip(v) {
+                            worst_dual = worst_dual.max((x.eps - y.eps).abs() / scale);
+                        }
+                    }
+                }
+            }
+        }
+    }
+    println!("{solved} systems, worst {worst:e}, derivatives {worst_dual:e}");
+    assert!(solved > 5000, "{solved} systems solved");
+    assert!(worst < 1e-12, "off by {worst:e} of the solution");
+    assert!(worst_dual < 1e-10, "derivatives off by {worst_dual:e}");
+}
