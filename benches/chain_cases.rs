@@ -1,6 +1,7 @@
 //! The report's chain cases (`bindery report`) run in-process through the model's
 //! Co-Simulation step, for instruction counts with callgrind (repeatable on a loaded machine;
-//! no timing here): the case at its elastodynamic level, a constant speed, `auto` at `rtol`,
+//! no timing here): the case at its elastodynamic level, a constant speed, `auto` (or the method
+//! named) at `rtol`,
 //! in calls of 1 ms as inside `fmi2DoStep`, `prepare` included. Prints the sum of the position
 //! output over the run, so two builds can be seen to compute the same.
 //!
@@ -9,13 +10,15 @@
 //! valgrind --tool=callgrind target/release/deps/chain_cases-<hash> sewing 1e-3
 //! ```
 //! Cases: `geneva` (k = 5e7 N/m), `sewing` (1e7), `perforators` (linear contact 1e8),
-//! `disc` (rod 2e8); a third argument sets the stiffness.
+//! `disc` (rod 2e8); a third argument sets the stiffness, a fourth the method (`auto`, the
+//! default, `dopri5` or `radau5`).
 
 use bindery_fmu::mechanisms::{
     disc_knife_drive::DiscKnifeDrive, geneva_knife_drive::GenevaKnifeDrive,
     perforators::Perforators, sewing_table::SewingTable,
 };
 use bindery_fmu::model::{Model, NoLog, Values};
+use bindery_fmu::solver::Method;
 
 /// One case: `(name, value)` start values, the run's length (s) and its position output.
 fn run<M: Model>(set: &[(&str, f64)], stop: f64, x: &str) -> f64 {
@@ -44,11 +47,22 @@ fn main() {
         .filter(|a| a != "--bench")
         .collect();
     let (Some(case), Some(rtol)) = (args.first(), args.get(1).and_then(|s| s.parse().ok())) else {
-        eprintln!("usage: chain_cases geneva|sewing|perforators|disc RTOL [STIFFNESS]");
+        eprintln!(
+            "usage: chain_cases geneva|sewing|perforators|disc RTOL [STIFFNESS [auto|dopri5|radau5]]"
+        );
         return;
     };
     let rtol: f64 = rtol;
     let k = |default: f64| args.get(2).and_then(|s| s.parse().ok()).unwrap_or(default);
+    let method = match args.get(3).map(String::as_str) {
+        None | Some("auto") => Method::Auto,
+        Some("dopri5") => Method::Dopri5,
+        Some("radau5") => Method::Radau5,
+        Some(other) => {
+            eprintln!("unknown method {other}: auto, dopri5 or radau5");
+            return;
+        }
+    };
     let common = |rpm: f64, k_name: &'static str, k: f64| {
         vec![
             ("model.fidelity", 3.0),
@@ -57,6 +71,7 @@ fn main() {
             (k_name, k),
             ("solver.rtol", rtol),
             ("solver.atol", (rtol * 1e-3).min(3.0 / k)),
+            ("solver.method", f64::from(method as i32)),
         ]
     };
     let sum = match case.as_str() {
