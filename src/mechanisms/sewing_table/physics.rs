@@ -288,7 +288,9 @@ impl Params {
             self.cam_r0
         );
         if self.kind == Kind::Translating {
-            if let Some((phi, _)) = self.undercut(self.cam_r0) {
+            // the travel's points once, for both checks
+            let pts = self.travel_points();
+            if let Some((phi, _)) = self.undercut_on(&pts, self.cam_r0) {
                 let r0_min = self.smallest_r0();
                 return Err(ParamError::new(
                     "cam.R0",
@@ -302,7 +304,7 @@ impl Params {
                     ),
                 ));
             }
-            let worst = self.max_tan_pressure_angle();
+            let worst = self.max_tan_pressure_angle(&pts);
             crate::require!(
                 !(self.guide_f * worst.0 >= 1.0),
                 "guide.f",
@@ -390,12 +392,10 @@ impl Params {
         (hi * 1e4).ceil() / 1e4
     }
 
-    /// Largest `|tan θp|` over the travel, and where.
-    fn max_tan_pressure_angle(&self) -> (f64, f64) {
-        let c = self.cyclogram();
+    /// Largest `|tan θp|` over the travel's points `pts` ([`Params::travel_points`]), and where.
+    fn max_tan_pressure_angle(&self, pts: &[(f64, CyclePoint)]) -> (f64, f64) {
         let mut worst = (0.0, self.phi0);
-        for phi in self.travel_samples() {
-            let p = c.at(phi);
+        for &(phi, p) in pts {
             let t = pressure_angle(self.cam_r0, self.cam_e, p.x, p.dx)
                 .tan()
                 .abs();
