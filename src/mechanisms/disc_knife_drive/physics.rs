@@ -492,6 +492,22 @@ impl Params {
         }
     }
 
+    /// The holder's hinges C and D seen from S over l4, `(C − S)/l4` and `(D − S)/l4`: the arms
+    /// of the hinge forces in the holder's moment row (module docs).
+    #[inline]
+    fn holder_arms<T: DualNum<Primitive = f64> + Copy>(
+        &self,
+        c: [T; 2],
+        d: [T; 2],
+        s: [T; 2],
+    ) -> ([T; 2], [T; 2]) {
+        let inv_l4 = 1.0 / self.holder_l4;
+        (
+            [(c[0] - s[0]) * inv_l4, (c[1] - s[1]) * inv_l4],
+            [(d[0] - s[0]) * inv_l4, (d[1] - s[1]) * inv_l4],
+        )
+    }
+
     /// The module docs' 7×7 matrix with the first column `col0` (the rod force P's
     /// coefficients at the kinetostatic level; the slider's acceleration's at the elastic level)
     /// and the holder's points C, D, S. The models solve it by its structure
@@ -507,9 +523,7 @@ impl Params {
         k7: T,
     ) -> [[T; 7]; 7] {
         let (u, n) = (self.support_dir(), self.support_normal());
-        let inv_l4 = 1.0 / self.holder_l4;
-        let r_c = [(c[0] - s[0]) * inv_l4, (c[1] - s[1]) * inv_l4];
-        let r_d = [(d[0] - s[0]) * inv_l4, (d[1] - s[1]) * inv_l4];
+        let (r_c, r_d) = self.holder_arms(c, d, s);
         let (o, l) = (T::zero(), T::one());
         let f = T::from;
         [
@@ -550,9 +564,7 @@ impl Params {
         bs: [[T; 7]; M],
     ) -> Option<[[T; 7]; M]> {
         let n = self.support_normal();
-        let inv_l4 = 1.0 / self.holder_l4;
-        let r_c = [(c[0] - s[0]) * inv_l4, (c[1] - s[1]) * inv_l4];
-        let r_d = [(d[0] - s[0]) * inv_l4, (d[1] - s[1]) * inv_l4];
+        let (r_c, r_d) = self.holder_arms(c, d, s);
         let [c0, c1, c2, c3, c4, c5, c6] = col0;
         let (a11, a12) = (c0 + c2 + c4, n.x);
         let a21 = c6 - r_c[1] * c0 - r_c[0] * (c3 + c5) - r_d[1] * c2 + r_d[0] * c3;
