@@ -110,8 +110,8 @@ fn lock_indicator_marks_the_kinetostatic_window() {
     let _ = (PI, TAU);
 }
 
-/// The system with friction solved by the rank-two update of the frictionless one
-/// ([`with_friction`]) is the direct elimination of the full matrix, for every sign combination
+/// The system with friction solved by the rank-two update ([`with_friction`]) of the
+/// frictionless solve ([`Params::solve_system`]) is the direct elimination of the full matrix, for every sign combination
 /// of both friction factors, over a turn: with the kinetostatic system's first column (the rod
 /// force's direction, whose determinant ratio is the jamming indicator: the wedge included, where
 /// the update divides by a small ratio) and with an inertia column as the elastic level's. Within
@@ -130,9 +130,10 @@ fn friction_by_the_rank_two_update_is_the_direct_solve() {
         let rod = [k.rod_dir.x, k.rod_dir.y, 0.0, 0.0, 0.0, 0.0, 0.0];
         let inertia = [-m5, 0.0, -m7 * 0.4, -m7 * 0.9, -1.0, 0.5, -0.2];
         for col0 in [rod, inertia] {
-            let a0 = p.system_matrix(col0, c, d, s, 0.0, 0.0);
+            // the frictionless solve as the models make it, the update on it, against the
+            // elimination of the full matrix
             let [e0, w] = friction_columns(p.support_dir());
-            let Some(solved) = solve7_for(a0, [rhs, e0, w]) else {
+            let Some(solved) = p.solve_system(col0, c, d, s, [rhs, e0, w]) else {
                 continue; // the holder's dead point
             };
             for (k5, k7) in sign_combinations(p.guide_mu, p.support_mu) {
