@@ -3,7 +3,8 @@
 //! `fmi2DoStep`) and by a kept library, `differential-equations` (its Radau5 and DOPRI5, in the
 //! same calls of 1 ms, the same right-hand side and Jacobian): the largest error of the first
 //! state on that grid against a reference (our dopri5 at rtol 1e-11, else radau5), the time (the
-//! median of repeated runs, [`crate::timing::timed`]) and the counts, which do not depend on the
+//! median of repeated runs, all of a case's timed together in rounds,
+//! [`crate::timing::timed_in_rounds`]) and the counts, which do not depend on the
 //! machine's load.
 
 use crate::report::{Case, case_values};
@@ -198,37 +199,50 @@ fn on_ode(
 ) -> Result<Vec<Anchor>, String> {
     let tight = |m| run(o, y0, n, Runner::Ours(m), 1e-11, atol(c, 1e-11));
     let reference = tight(Method::Dopri5).or_else(|_| tight(Method::Radau5))?.0;
-    let mut all = vec![];
-    for &rtol in tols {
-        for (method, runner) in RUNNERS {
-            let (secs, last) = crate::timing::timed(|| run(o, y0, n, runner, rtol, atol(c, rtol)));
-            let a = match last {
-                Ok((xs, counts)) => Anchor {
-                    method,
-                    rtol,
-                    err: Some(
-                        xs.iter()
-                            .zip(&reference)
-                            .map(|(a, b)| (a - b).abs())
-                            .fold(0.0, f64::max),
-                    ),
-                    secs,
-                    counts,
-                    note: String::new(),
-                },
-                Err(e) => Anchor {
-                    method,
-                    rtol,
-                    err: None,
-                    secs,
-                    counts: Counts::default(),
-                    note: e.chars().take(90).collect(),
-                },
-            };
-            each(&a);
-            all.push(a);
+    let rungs: Vec<(f64, &str, Runner)> = tols
+        .iter()
+        .flat_map(|&rtol| RUNNERS.map(|(method, runner)| (rtol, method, runner)))
+        .collect();
+    let anchor = |i: usize, secs: f64, last: &Result<(Vec<f64>, Counts), String>| {
+        let (rtol, method, _) = rungs[i];
+        match last {
+            Ok((xs, counts)) => Anchor {
+                method,
+                rtol,
+                err: Some(
+                    xs.iter()
+                        .zip(&reference)
+                        .map(|(a, b)| (a - b).abs())
+                        .fold(0.0, f64::max),
+                ),
+                secs,
+                counts: *counts,
+                note: String::new(),
+            },
+            Err(e) => Anchor {
+                method,
+                rtol,
+                err: None,
+                secs,
+                counts: Counts::default(),
+                note: e.chars().take(90).collect(),
+            },
         }
-    }
+    };
+    // all rungs timed together in rounds: the machine's load falls on ours and the library's alike
+    let timed = crate::timing::timed_in_rounds(
+        rungs.len(),
+        |i| {
+            let (rtol, _, runner) = rungs[i];
+            run(o, y0, n, runner, rtol, atol(c, rtol))
+        },
+        |i, secs, last| each(&anchor(i, secs, last)),
+    );
+    let all = timed
+        .iter()
+        .enumerate()
+        .map(|(i, (secs, last))| anchor(i, *secs, last))
+        .collect();
     Ok(all)
 }
 
