@@ -2,10 +2,10 @@
 //! against run time"). For every mechanism in [`CASES`], at a non-stiff and a stiff chain, every
 //! internal method over a ladder of tolerances (rk4: of steps), `auto` also over a ladder of
 //! communication steps, all in this process (the median of repeated runs, every run of a case
-//! timed in rounds with the others: [`crate::timing::timed_in_rounds`]) on the plain Rust models, against a Dormand–Prince reference at
-//! rtol 1e-11; and the baseline, FMPy + CVode on the Model Exchange interface of the built FMU,
-//! with the FMU's own `auto` through the same FMPy loop for a like-for-like ratio, measured in
-//! the same run by `scripts/work_precision.py`.
+//! timed in rounds with the others: [`crate::timing::timed_in_rounds`]) on the plain Rust
+//! models, against a Dormand–Prince reference at rtol 1e-11; and the baseline, FMPy + CVode on
+//! the Model Exchange interface of the built FMU, with the FMU's own `auto` through the same
+//! FMPy loop for a like-for-like ratio, measured in the same run by `scripts/work_precision.py`.
 //! Writes `report.md` and one work-precision plot per case (log10 axes), as PNG and SVG.
 
 use crate::place::{folder, root};
