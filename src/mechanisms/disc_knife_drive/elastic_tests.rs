@@ -111,11 +111,12 @@ fn lock_indicator_marks_the_kinetostatic_window() {
 }
 
 /// The system with friction solved by the rank-two update ([`with_friction`]) of the
-/// frictionless solve ([`Params::solve_system`]) is the direct elimination of the full matrix, for every sign combination
-/// of both friction factors, over a turn: with the kinetostatic system's first column (the rod
-/// force's direction, whose determinant ratio is the jamming indicator: the wedge included, where
-/// the update divides by a small ratio) and with an inertia column as the elastic level's. Within
-/// 1e-11 of the solution's scale (measured: 1.5e-13, with the ratio down to 8e-4).
+/// frictionless solve ([`Params::solve_system`]) is the direct elimination of the full matrix,
+/// for every sign combination of both friction factors, over a turn: with the kinetostatic
+/// system's first column (the rod force's direction, whose determinant ratio is the jamming
+/// indicator: the wedge included, where the update divides by a small ratio) and with an inertia
+/// column as the elastic level's. Within 1e-11 of the solution's scale (measured: 1.5e-13, with
+/// the ratio down to 8e-4).
 #[test]
 fn friction_by_the_rank_two_update_is_the_direct_solve() {
     let p = Params::default();
