@@ -80,11 +80,13 @@ impl KnifeMemory {
     }
 }
 
-/// Everything at one instant (any [`Scalar`]: `f64` for the ODE, dual numbers along the
-/// knowns for the exact partial derivatives).
+/// The knife and its chain at one instant (any [`Scalar`]: `f64` for the ODE, dual numbers
+/// along the knowns for the exact partial derivatives). The rigid motion it was computed on is
+/// not copied in: the right-hand side needs two of these numbers, and a copy of the
+/// [`Kinematics`] with each point was about 8 % of a stiff run's instructions (the outputs
+/// take the kinematics beside the point).
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Point<T = f64> {
-    pub kin: Kinematics<T>,
     pub x: T,
     pub xd: T,
     pub xdd: T,
@@ -137,7 +139,6 @@ impl KnifeOde<'_> {
             }
         };
         Point {
-            kin: *kin,
             x,
             xd,
             xdd,
@@ -306,7 +307,7 @@ mod tests {
         for j in 0..40 {
             let t = 0.5 * (j as f64 + 0.37) / 40.0;
             // sticking in the stack: the chain's force half the cutting force the front holds
-            let kin = o.point(t, &[0.0; 3]).kin;
+            let kin = o.rigid_at(t).1;
             let xd = 0.3 * V_STICK;
             let f = 0.25 * p.cut_f_max;
             let stick = kin.s - (f - o.spring.c * (kin.v - xd)) / o.spring.k;

@@ -235,7 +235,7 @@ impl GenevaKnifeDrive {
             for (var, x) in ders.into_iter().zip([y[1], pt.xdd, pt.power]) {
                 put(var, x);
             }
-            let tau = elastic_outputs(p, &pt, st.a, &mut put);
+            let tau = elastic_outputs(p, &k, &pt, st.a, &mut put);
             let r = shaft::reduce_at_rest(tau, st.a, |a| {
                 elastic_torques(p, &p.at_shaft_accel(&k, st.w, a), pt.f_el, a)[3]
             });
@@ -384,8 +384,13 @@ crate::chain_dynamics!(GenevaKnifeDrive, dynamic, params, EVENT_INDICATORS = 8);
 /// returns the shaft torque (any [`Scalar`]). The chain force replaces the rigid rod force:
 /// crank, gear pair, cross and shaft follow the kinetostatic chain (rigid links behind the
 /// compliant one).
-fn elastic_outputs<T: Scalar>(p: &Params, pt: &Point<T>, eps: T, put: &mut impl FnMut(V, T)) -> T {
-    let k = &pt.kin;
+fn elastic_outputs<T: Scalar>(
+    p: &Params,
+    k: &Kinematics<T>,
+    pt: &Point<T>,
+    eps: T,
+    put: &mut impl FnMut(V, T),
+) -> T {
     put(V::knife_s, pt.x);
     put(V::knife_v, pt.xd);
     put(V::knife_a, pt.xdd);
