@@ -54,8 +54,15 @@ struct Tab {
     ti: [[f64; 3]; 3],
 }
 
+/// The method's constants, computed once per process ([`make_tab`]; made at each attempt, their
+/// cube and square roots were 3 % of a stiff GenevaKnifeDrive run's instructions).
+fn tab() -> &'static Tab {
+    static TAB: std::sync::OnceLock<Tab> = std::sync::OnceLock::new();
+    TAB.get_or_init(make_tab)
+}
+
 #[allow(clippy::excessive_precision)] // `radau5.f`'s digits, as printed there
-fn tab() -> Tab {
+fn make_tab() -> Tab {
     let sq6 = 6f64.sqrt();
     let (c81, c9) = (81f64.cbrt(), 9f64.cbrt());
     let u1 = (6.0 + c81 - c9) / 30.0;
