@@ -182,7 +182,7 @@ impl Factors {
         let current = self
             .0
             .as_ref()
-            .is_some_and(|f| f.h.to_bits() == h.to_bits() && f.jac == *jac);
+            .is_some_and(|f| f.h.to_bits() == h.to_bits() && f.jac[..n * n] == jac[..n * n]);
         if !current {
             let tb = tab();
             let (fac1, alphn, betan) = (tb.u1 / h, tb.alph / h, tb.beta / h);
