@@ -82,9 +82,9 @@ impl KnifeMemory {
 
 /// The knife and its chain at one instant (any [`Scalar`]: `f64` for the ODE, dual numbers
 /// along the knowns for the exact partial derivatives). The rigid motion it was computed on is
-/// not copied in: the right-hand side needs two of these numbers, and a copy of the
-/// [`Kinematics`] with each point was about 8 % of a stiff run's instructions (the outputs
-/// take the kinematics beside the point).
+/// not copied in: the right-hand side reads only `xdd` and `power`, and a copy of the
+/// [`Kinematics`] with each point was about 8 % of a stiff run's instructions; the outputs take
+/// the kinematics beside the point.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Point<T = f64> {
     pub x: T,

@@ -380,8 +380,8 @@ impl Model for GenevaKnifeDrive {
 // ([`KnifeChain`]'s hooks)
 crate::chain_dynamics!(GenevaKnifeDrive, dynamic, params, EVENT_INDICATORS = 8);
 
-/// Puts the outputs of the elastodynamic level at one point `pt` (shaft acceleration `eps`);
-/// returns the shaft torque (any [`Scalar`]). The chain force replaces the rigid rod force:
+/// Puts the outputs of the elastodynamic level at one point `pt` on the rigid kinematics `k`
+/// (shaft acceleration `eps`); returns the shaft torque (any [`Scalar`]). The chain force replaces the rigid rod force:
 /// crank, gear pair, cross and shaft follow the kinetostatic chain (rigid links behind the
 /// compliant one).
 fn elastic_outputs<T: Scalar>(
